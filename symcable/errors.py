@@ -1,0 +1,39 @@
+"""Error types raised by symcable.
+
+Every error a user can trigger derives from :class:`SymcableError`, so the CLI can turn
+any of them into a one-line message without a traceback.
+"""
+from __future__ import annotations
+
+from typing import Any
+
+
+class SymcableError(Exception):
+    """Base class of every error symcable raises on purpose."""
+
+
+class SceneError(SymcableError, ValueError):
+    """A scene (TOML file or dict) is invalid.
+
+    The message is one line naming the key, the value received and what is allowed, e.g.
+    ``sections[0].length = -3.0 m: must be > 0``.
+    """
+
+
+class ConvergenceError(SymcableError, RuntimeError):
+    """A solver did not converge.
+
+    Attributes
+    ----------
+    partial : object or None
+        The last iterate wrapped as the solver's usual result object (its ``status`` says
+        it did not converge), so a user can inspect or plot where the solver stopped.
+    diagnostics : dict
+        Iteration history and the reason for stopping (residual norms in N, step sizes,
+        continuation parameters reached).
+    """
+
+    def __init__(self, message: str, partial: Any = None, diagnostics: dict | None = None):
+        super().__init__(message)
+        self.partial = partial
+        self.diagnostics = dict(diagnostics or {})

@@ -1,0 +1,32 @@
+"""Formulations: each turns a Scene into a :class:`~symcable.models.base.Model`."""
+from __future__ import annotations
+
+from collections import OrderedDict
+
+from ..scene import Model as ModelKind, Scene
+from .base import Guess, Model
+from .planar import build_planar
+
+__all__ = ["Guess", "Model", "build_model"]
+
+_BUILDERS = {ModelKind.PLANAR: build_planar}
+_CACHE: "OrderedDict[str, Model]" = OrderedDict()
+_CACHE_SIZE = 16
+
+
+def build_model(scene: Scene) -> Model:
+    """The scene's formulation, discretised, as CasADi expressions.
+
+    Models are cached by the scene's content (the 16 most recent), so solving the same
+    scene twice builds its symbolic graph and functions once.
+    """
+    key = repr(scene.to_dict())
+    model = _CACHE.get(key)
+    if model is None:
+        model = _BUILDERS[scene.model](scene)
+        _CACHE[key] = model
+        if len(_CACHE) > _CACHE_SIZE:
+            _CACHE.popitem(last=False)
+    else:
+        _CACHE.move_to_end(key)
+    return model

@@ -1,0 +1,487 @@
+"""Planar cable with extension and bending (seed 001, Algorithm S1), as CasADi expressions.
+
+Discretisation
+--------------
+The unstretched line ``0 <= s <= L`` is cut into ``N`` segments (section by section, each
+section uniformly) with nodes ``i = 0..N`` at arc lengths ``s_i``; segment ``j`` joins nodes
+``j`` and ``j + 1`` and has unstretched length ``ds_j``.
+
+Unknowns ``w``, interleaved node/segment so the Jacobian is banded:
+
+* on every node whose position is not prescribed (interior nodes, and a ``free`` end):
+  the position ``(x_i, z_i)``, m;
+* on every segment: the tangent angle ``phi_j`` (rad, from +x towards +z) and the axial
+  strain ``eps_j``, both taken at the segment midpoint.
+
+Derived quantities:
+
+* axial force ``T_j = EA_j eps_j`` (N) and tangent/normal ``t_j = (cos, sin) phi_j``,
+  ``n_j = (-sin, cos) phi_j`` on segments;
+* curvature and moment on nodes: ``kappa_i = (phi_i - phi_{i-1}) / h_i`` with
+  ``h_i = (ds_{i-1} + ds_i) / 2``, ``M_i = EI_i kappa_i`` (``EI_i`` the mean of the two
+  segments). Pinned and free ends carry no moment; at a clamped end the tangent angle
+  ``phi_e`` is given and ``kappa`` there is the derivative at the end of the quadratic
+  through ``phi_e`` and the first two segment angles (second-order one-sided);
+* shear on segments from the exact moment balance of a segment,
+  ``Q_j = -(M_{j+1} - M_j) / (ds_j (1 + eps_j))``;
+* internal force on segments ``F_j = T_j t_j + Q_j n_j`` (the force the part beyond the
+  segment's midpoint exerts on the part before it).
+
+Residuals (every row a force, N):
+
+* compatibility per segment, scaled by ``EA_j / ds_j``:
+  ``r_{j+1} - r_j - ds_j (1 + eps_j) t_j = 0``  (the seed's geometric closure, midpoint rule);
+* equilibrium per unknown node: ``F_i - F_{i-1} + P_i = 0`` with ``F_{-1} = F_N = 0`` and
+  ``P_i`` the external load lumped on the node: half of each adjacent segment's weight
+  and drag, the seabed contact over the node's tributary length, and at a free end its
+  applied force. A held (pinned or clamped) end node cannot press into the seabed, so its
+  contact is evaluated at its neighbour's penetration: an anchor lying on the seabed then
+  carries the horizontal pull only, as on a rigid seabed, not its half segment's weight. These are the seed's R1 (tangential) and R2 (normal) balances in
+  Cartesian components; with ``Q = -EI phi''`` R2's ``-EI phi'''`` appears exactly.
+
+Prescribed positions and angles of the ends enter as parameters, not unknowns, so the
+system is square: ``4N - 2`` unknowns for two fixed ends, ``+2`` per free end.
+
+End values are recovered from the equilibrium of the end node: the force the line exerts
+on end A is ``F_0 + P_0`` and on end B ``P_N - F_{N-1}`` (``P`` without an applied end
+force), second-order accurate; fairlead/anchor tension are their magnitudes.
+
+Parameters ``p``: ``load`` (factor on weight, drag and applied forces), ``bending`` (factor
+on EI), the fixed end positions ``xa, za, xb, zb`` (m), clamped angles ``angle_a, angle_b``
+(rad) and the current ``ux, uz`` (m/s). The first two drive continuation.
+"""
+from __future__ import annotations
+
+import math
+from types import MappingProxyType
+
+import casadi as ca
+import numpy as np
+
+from ..errors import ConvergenceError
+from ..scene import EndCondition, Scene
+from . import terms
+from .base import Guess, Model
+
+P_NAMES = ("load", "bending", "xa", "za", "xb", "zb", "angle_a", "angle_b", "ux", "uz")
+
+
+def segment_table(scene: Scene) -> dict[str, np.ndarray]:
+    """Per-segment properties (arrays of shape (N,)) and node arc lengths (N+1,)."""
+    cols: dict[str, list] = {k: [] for k in ("ds", "EA", "EI", "w", "d", "cdn", "cdt", "mass", "can")}
+    for sec in scene.sections:
+        lt = sec.line_type
+        for _ in range(sec.segments):
+            cols["ds"].append(sec.ds)
+            cols["EA"].append(lt.EA)
+            cols["EI"].append(lt.EI)
+            cols["w"].append(lt.weight)
+            cols["d"].append(lt.diameter)
+            cols["cdn"].append(lt.cd_normal)
+            cols["cdt"].append(lt.cd_tangential)
+            cols["mass"].append(lt.mass)
+            cols["can"].append(lt.ca_normal)
+    table = {k: np.asarray(v, dtype=float) for k, v in cols.items()}
+    table["s"] = np.concatenate([[0.0], np.cumsum(table["ds"])])
+    return table
+
+
+def _lumping_matrix(n_seg: int) -> ca.DM:
+    """(N+1, N) matrix giving each node half of each adjacent segment's quantity."""
+    A = np.zeros((n_seg + 1, n_seg))
+    idx = np.arange(n_seg)
+    A[idx, idx] = 0.5
+    A[idx + 1, idx] = 0.5
+    return ca.DM(A)
+
+
+def _end_slope_weights(h0: float, h1: float | None) -> tuple[float, float, float]:
+    """Weights (on phi_end, phi_first, phi_second) of d(phi)/d(sigma) at the end, sigma the
+    distance from the end, for angles at sigma = 0, h0/2 and h0 + h1/2 (quadratic fit);
+    a linear fit when there is only one segment (h1 None)."""
+    s1 = 0.5 * h0
+    if h1 is None:
+        return -1.0 / s1, 1.0 / s1, 0.0
+    s2 = h0 + 0.5 * h1
+    return -(1.0 / s1 + 1.0 / s2), s2 / (s1 * (s2 - s1)), -s1 / (s2 * (s2 - s1))
+
+
+def build_planar(scene: Scene) -> Model:
+    """Discretise a planar scene and write its static equations (see module docstring)."""
+    seg = segment_table(scene)
+    N = len(seg["ds"])
+    env, sb = scene.environment, scene.seabed
+    a, b = scene.end_a, scene.end_b
+    free_a, free_b = a.condition is EndCondition.FREE, b.condition is EndCondition.FREE
+
+    p = ca.SX.sym("p", len(P_NAMES))
+    lam, mu, xa, za, xb, zb, ang_a, ang_b, ux, uz = (p[k] for k in range(len(P_NAMES)))
+
+    # --- unknowns, interleaved: [node 0], seg 0, node 1, seg 1, ..., seg N-1, [node N]
+    X: list = [None] * (N + 1)
+    Z: list = [None] * (N + 1)
+    phi_l, eps_l, w_list, kinds = [], [], [], []
+
+    def add_node(i):
+        X[i], Z[i] = ca.SX.sym(f"x_{i}"), ca.SX.sym(f"z_{i}")
+        w_list.extend([X[i], Z[i]])
+        kinds.extend(["x", "z"])
+
+    if free_a:
+        add_node(0)
+    else:
+        X[0], Z[0] = xa, za
+    for j in range(N):
+        ph, ep = ca.SX.sym(f"phi_{j}"), ca.SX.sym(f"eps_{j}")
+        phi_l.append(ph)
+        eps_l.append(ep)
+        w_list.extend([ph, ep])
+        kinds.extend(["phi", "eps"])
+        if j + 1 < N or free_b:
+            add_node(j + 1)
+    X[N], Z[N] = (X[N], Z[N]) if free_b else (xb, zb)
+
+    Xv, Zv = ca.vertcat(*X), ca.vertcat(*Z)
+    phi, eps = ca.vertcat(*phi_l), ca.vertcat(*eps_l)
+    ds, EA, EI, wt = (ca.DM(seg[k]) for k in ("ds", "EA", "EI", "w"))
+    (c, s), _ = terms.tangent(phi)
+    stretch = 1.0 + eps
+    term_names = ["elastic", "weight"]
+
+    # --- compatibility (geometric closure), in N
+    comp_x = EA / ds * (Xv[1:] - Xv[:-1] - ds * stretch * c)
+    comp_z = EA / ds * (Zv[1:] - Zv[:-1] - ds * stretch * s)
+
+    # --- bending: nodal moments, segment shear
+    T = terms.axial_force(EA, eps)
+    M = ca.SX.zeros(N + 1)
+    bending = bool(np.any(seg["EI"] > 0.0))
+    if bending:
+        term_names.append("bending")
+        if N > 1:
+            h_int = 0.5 * (seg["ds"][:-1] + seg["ds"][1:])
+            EI_int = 0.5 * (seg["EI"][:-1] + seg["EI"][1:])
+            kappa_int = (phi[1:] - phi[:-1]) / ca.DM(h_int)
+            M[1:N] = mu * terms.bending_moment(ca.DM(EI_int), kappa_int)
+        second = (lambda k: phi[k]) if N > 1 else (lambda k: 0.0)
+        if a.condition is EndCondition.CLAMPED:
+            wa = _end_slope_weights(seg["ds"][0], seg["ds"][1] if N > 1 else None)
+            kappa_a = wa[0] * ang_a + wa[1] * phi[0] + wa[2] * second(1)
+            M[0] = mu * terms.bending_moment(seg["EI"][0], kappa_a)
+        if b.condition is EndCondition.CLAMPED:
+            wb = _end_slope_weights(seg["ds"][-1], seg["ds"][-2] if N > 1 else None)
+            kappa_b = -(wb[0] * ang_b + wb[1] * phi[N - 1] + wb[2] * second(N - 2))
+            M[N] = mu * terms.bending_moment(seg["EI"][-1], kappa_b)
+        Q = terms.shear_from_moments(M[:-1], M[1:], ds, eps)
+    else:
+        Q = ca.SX.zeros(N)
+    Fx = T * c - Q * s
+    Fz = T * s + Q * c
+
+    # --- external loads lumped on nodes (N per node)
+    lump = _lumping_matrix(N)
+    seg_fx = ca.SX.zeros(N)
+    seg_fz = -lam * wt * ds
+    current = tuple(env.current)
+    if not env.in_air and any(u != 0.0 for u in current):
+        term_names.append("drag")
+        u_t = ux * c + uz * s
+        u_n = -ux * s + uz * c
+        f_t, f_n = terms.morison_drag(env.water_density, ca.DM(seg["d"]), ca.DM(seg["cdn"]),
+                                      ca.DM(seg["cdt"]), u_t, u_n, eps)
+        seg_fx += lam * ds * (f_t * c - f_n * s)
+        seg_fz += lam * ds * (f_t * s + f_n * c)
+    Px = ca.mtimes(lump, seg_fx)
+    Pz = ca.mtimes(lump, seg_fz)
+    contact = ca.SX.zeros(N + 1)
+    if sb is not None:
+        term_names.append("seabed")
+        delta = terms.contact_smoothing(float(np.max(seg["w"])), sb.stiffness, float(np.min(seg["d"])))
+        trib_width = np.asarray(ca.mtimes(lump, ca.DM(seg["d"] * seg["ds"]))).ravel()
+        # a held end node cannot press into the seabed; the half segment beside it rests
+        # where its neighbour does, so it takes the neighbour's penetration
+        probe = list(Z)
+        if not free_a:
+            probe[0] = Z[1]
+        if not free_b:
+            probe[N] = Z[N - 1]
+        contact = ca.vertcat(*[
+            trib_width[i] * sb.stiffness * terms.smooth_ramp(-env.depth - probe[i], delta)
+            for i in range(N + 1)])
+        Pz = Pz + contact
+    line_Px, line_Pz = Px, Pz
+    applied = np.zeros((N + 1, 2))
+    for end, node in ((a, 0), (b, N)):
+        if end.condition is EndCondition.FREE and end.force is not None:
+            applied[node] = end.force
+    if np.any(applied):
+        term_names.append("end force")
+        Px = Px + lam * ca.DM(applied[:, 0])
+        Pz = Pz + lam * ca.DM(applied[:, 1])
+
+    # --- node equilibrium, in N
+    zero = ca.SX.zeros(1)
+    Fx_pad, Fz_pad = ca.vertcat(zero, Fx, zero), ca.vertcat(zero, Fz, zero)
+    eq_x = Fx_pad[1:] - Fx_pad[:-1] + Px
+    eq_z = Fz_pad[1:] - Fz_pad[:-1] + Pz
+
+    rows, row_kind = [], []
+    if free_a:
+        rows += [eq_x[0], eq_z[0]]
+        row_kind += [-1, -1]
+    for j in range(N):
+        rows += [comp_x[j], comp_z[j]]
+        row_kind += [j, j]
+        if j + 1 < N or free_b:
+            rows += [eq_x[j + 1], eq_z[j + 1]]
+            row_kind += [-1, -1]
+    residual = ca.vertcat(*rows)
+    w = ca.vertcat(*w_list)
+
+    # --- outputs
+    end_force_a = ca.horzcat(Fx[0] + line_Px[0], Fz[0] + line_Pz[0])
+    end_force_b = ca.horzcat(line_Px[N] - Fx[N - 1], line_Pz[N] - Fz[N - 1])
+    Fmag = ca.sqrt(Fx * Fx + Fz * Fz)
+    tension_nodes = ca.vertcat(ca.norm_2(end_force_a),
+                               0.5 * (Fmag[:-1] + Fmag[1:]),
+                               ca.norm_2(end_force_b))
+    outputs = {
+        "positions": ca.horzcat(Xv, Zv),
+        "angle": phi,
+        "strain": eps,
+        "axial_force": T,
+        "shear": Q,
+        "moment": M,
+        "force": ca.horzcat(Fx, Fz),
+        "tension": tension_nodes,
+        "end_force_a": end_force_a,
+        "end_force_b": end_force_b,
+        "contact_force": contact,
+    }
+
+    p_target = np.array([
+        1.0, 1.0,
+        *(a.position if a.position is not None else (0.0, 0.0)),
+        *(b.position if b.position is not None else (0.0, 0.0)),
+        a.angle or 0.0, b.angle or 0.0,
+        *current,
+    ], dtype=float)
+
+    L = scene.length
+    kinds_arr = np.array(kinds)
+    max_strain = max(sec.line_type.max_strain for sec in scene.sections)
+    w_scale = np.select([kinds_arr == "phi", kinds_arr == "eps"], [0.5, 0.5 * max_strain], 0.1 * L)
+    applied = [np.hypot(*e.force) for e in (a, b) if e.force is not None]
+    force_scale = max(float(np.sum(np.abs(seg["w"]) * seg["ds"])), *applied, 1e-6 * float(np.min(seg["EA"])), 1.0)
+
+    # merit weights: a compatibility row measures a length mismatch times EA/ds; weigh it
+    # as that mismatch relative to the line length times the force scale, so a rotation
+    # whose second-order stretch error the next Newton step removes is not rejected
+    row_kind = np.array(row_kind)
+    geo = row_kind >= 0
+    merit_weights = np.ones(len(row_kind))
+    merit_weights[geo] = (force_scale / L) / (seg["EA"][row_kind[geo]] / seg["ds"][row_kind[geo]])
+
+    # round-off floor of the residual: compatibility rows amplify a coordinate's last bit
+    # by EA/ds, moment rows an angle's by EI/ds^2
+    coord = L + max(abs(v) for e in (a, b) if e.position is not None for v in e.position)
+    residual_floor = 100.0 * np.finfo(float).eps * float(
+        np.max(seg["EA"] / seg["ds"]) * coord + np.max(seg["EI"] / seg["ds"] ** 2) * 2.0 * math.pi)
+
+    info = MappingProxyType({"n_segments": N, "s_nodes": seg["s"], "segments": seg,
+                             "unknown_kinds": tuple(kinds), "bending": bending})
+
+    def initial_guess() -> tuple[Guess, ...]:
+        return _initial_guess(scene, seg, kinds_arr, p_target, bending)
+
+    def postprocess(out: dict) -> dict:
+        return _postprocess(scene, seg, out)
+
+    return Model(name="planar", scene=scene, terms=tuple(term_names), w=w, p=p,
+                 p_names=P_NAMES, p_target=p_target, residual=residual, outputs=outputs,
+                 w_scale=w_scale, merit_weights=merit_weights, force_scale=force_scale,
+                 residual_floor=residual_floor,
+                 initial_guess=initial_guess,
+                 postprocess=postprocess, info=info)
+
+
+# --------------------------------------------------------------------------- start
+
+def _pack(kinds: np.ndarray, pos: np.ndarray, phi: np.ndarray, eps: np.ndarray,
+          free_a: bool, free_b: bool) -> np.ndarray:
+    """Unknown vector from node positions (N+1, 2) and segment angle/strain (N,)."""
+    N = len(phi)
+    out = []
+    if free_a:
+        out += list(pos[0])
+    for j in range(N):
+        out += [phi[j], eps[j]]
+        if j + 1 < N or free_b:
+            out += list(pos[j + 1])
+    w = np.asarray(out, dtype=float)
+    assert w.size == kinds.size
+    return w
+
+
+def _from_positions(pos: np.ndarray, seg: dict, tension_mid: np.ndarray | None):
+    d = np.diff(pos, axis=0)
+    phi = np.unwrap(np.arctan2(d[:, 1], d[:, 0]))
+    if tension_mid is None:
+        eps = np.hypot(d[:, 0], d[:, 1]) / seg["ds"] - 1.0
+    else:
+        eps = tension_mid / seg["EA"]
+    return phi, eps
+
+
+def _catenary_start(pa, pb, seg, scene):
+    """Node positions and midpoint tensions from the closed-form elastic catenary of an
+    equivalent uniform line (total weight, series stiffness) between the two ends."""
+    from ..analytic import elastic_catenary
+
+    s, ds = seg["s"], seg["ds"]
+    L = s[-1]
+    w_eq = float(np.sum(seg["w"] * ds) / L)
+    EA_eq = float(L / np.sum(ds / seg["EA"]))
+    s_mid = s[:-1] + 0.5 * ds
+    if abs(w_eq) * L < 1e-9 * EA_eq:
+        return None
+    depth = scene.environment.depth
+    start, end, s_eval, mid_eval, reverse = pa, pb, s, s_mid, False
+    seabed = False
+    if depth is not None and w_eq > 0:
+        low_first = pa[1] <= pb[1]
+        low = pa if low_first else pb
+        if low[1] + depth < 0.01 * L:
+            seabed = True
+            if not low_first:
+                start, end, s_eval, mid_eval, reverse = pb, pa, L - s, L - s_mid, True
+    dx, dz = end[0] - start[0], end[1] - start[1]
+    sx = 1.0 if dx >= 0 else -1.0
+    sz = 1.0 if w_eq > 0 else -1.0
+    sol = elastic_catenary(abs(dx), sz * dz, L, EA_eq, abs(w_eq), seabed=seabed)
+    pos = sol.positions(s_eval) * np.array([sx, sz]) + np.asarray(start)
+    if depth is not None:
+        pos[:, 1] = np.maximum(pos[:, 1], -depth)
+    return pos, sol.tension(mid_eval), ("elastic catenary with seabed" if seabed else "elastic catenary")
+
+
+def _hanging_start(scene, seg, free_a: bool):
+    """Exact discrete equilibrium of a line without bending, drag or seabed that hangs from
+    its fixed end: integrating F_{i-1} = F_i + P_i from the free end gives every segment
+    force, hence its angle and strain, and compatibility gives the positions."""
+    N = len(seg["ds"])
+    fixed, free = (scene.end_b, scene.end_a) if free_a else (scene.end_a, scene.end_b)
+    node_w = np.zeros(N + 1)
+    node_w[:-1] += 0.5 * seg["w"] * seg["ds"]
+    node_w[1:] += 0.5 * seg["w"] * seg["ds"]
+    f_free = np.array(free.force or (0.0, 0.0))
+    F = np.zeros((N, 2))
+    if free_a:  # node 0 free: F_0 = -P_0, F_j = F_{j-1} - P_j
+        acc = -(f_free + [0.0, -node_w[0]])
+        for j in range(N):
+            F[j] = acc
+            acc = acc - [0.0, -node_w[j + 1]]
+    else:       # node N free: F_{N-1} = P_N, F_{j-1} = F_j + P_j
+        acc = f_free + [0.0, -node_w[N]]
+        for j in range(N - 1, -1, -1):
+            F[j] = acc
+            acc = acc + [0.0, -node_w[j]]
+    T = np.hypot(F[:, 0], F[:, 1])
+    if np.any(T <= 0):
+        return None
+    phi = np.unwrap(np.arctan2(F[:, 1], F[:, 0]))
+    eps = T / seg["EA"]
+    steps = (seg["ds"] * (1 + eps))[:, None] * np.stack([np.cos(phi), np.sin(phi)], axis=1)
+    origin = np.array(fixed.position)
+    if free_a:
+        pos = origin - np.concatenate([np.cumsum(steps[::-1], axis=0)[::-1], np.zeros((1, 2))])
+    else:
+        pos = origin + np.concatenate([np.zeros((1, 2)), np.cumsum(steps, axis=0)])
+    return pos, phi, eps
+
+
+def _initial_guess(scene, seg, kinds, p_target, bending) -> tuple[Guess, ...]:
+    """Starting points in order of preference (the solver tries each)."""
+    a, b = scene.end_a, scene.end_b
+    free_a, free_b = a.condition is EndCondition.FREE, b.condition is EndCondition.FREE
+    s, L = seg["s"], seg["s"][-1]
+    no_bending = np.array(p_target)
+    no_bending[P_NAMES.index("bending")] = 0.0
+    cable_p, cable_h = (no_bending, "bending") if bending else (np.array(p_target), "")
+    guesses = []
+
+    def add(pos, phi, eps, p0, source, homotopy):
+        guesses.append(Guess(w=_pack(kinds, pos, phi, eps, free_a, free_b), p=p0,
+                             source=source, homotopy=homotopy))
+
+    if not free_a and not free_b:
+        pa, pb = np.array(a.position), np.array(b.position)
+        try:
+            start = _catenary_start(pa, pb, seg, scene)
+        except (ConvergenceError, ValueError, FloatingPointError):
+            start = None
+        if start is not None:
+            pos, ten, source = start
+            add(pos, *_from_positions(pos, seg, ten), cable_p, source, cable_h)
+        pos = pa + np.outer(s / L, pb - pa)
+        phi, eps = _from_positions(pos, seg, None)
+        add(pos, phi, np.maximum(eps, 0.0), cable_p, "straight line", cable_h)
+        return tuple(guesses)
+
+    fixed, free = (b, a) if free_a else (a, b)
+    hanging = _hanging_start(scene, seg, free_a)
+    if hanging is not None:
+        add(hanging[0], hanging[1], hanging[2], cable_p, "hanging line", cable_h)
+    if fixed.condition is EndCondition.CLAMPED:
+        t = np.array([math.cos(fixed.angle), math.sin(fixed.angle)])
+        pos = np.array(fixed.position) + np.outer(s - (0.0 if free_b else L), t)
+        unloaded = np.array(p_target)
+        unloaded[P_NAMES.index("load")] = 0.0
+        add(pos, np.full(len(seg["ds"]), math.atan2(t[1], t[0])), np.zeros(len(seg["ds"])),
+            unloaded, "straight clamped line, unloaded", "load")
+        load = float(np.hypot(*(free.force or (0.0, 0.0))) + np.sum(np.abs(seg["w"]) * seg["ds"]))
+        if np.max(seg["EI"]) > 0.1 * load * L**2:
+            # bending dominates: a cantilever is best reached from its unloaded state
+            guesses.reverse()
+    return tuple(guesses)
+
+
+# --------------------------------------------------------------------------- results
+
+def _postprocess(scene: Scene, seg: dict, out: dict) -> dict:
+    """Fairlead/anchor tension, grounded length (m, unstretched) and touchdown point."""
+    fa = np.ravel(out["end_force_a"])
+    fb = np.ravel(out["end_force_b"])
+    res = {"anchor_force": fa, "fairlead_force": fb,
+           "anchor_tension": float(np.hypot(*fa)), "fairlead_tension": float(np.hypot(*fb))}
+    contact = np.ravel(out["contact_force"])
+    s = seg["s"]
+    grounded, touchdown, s_td = 0.0, None, None
+    if scene.seabed is not None and np.any(contact > 0):
+        trib = np.zeros_like(s)
+        trib[:-1] += 0.5 * seg["ds"]
+        trib[1:] += 0.5 * seg["ds"]
+        w_node = np.zeros_like(s)
+        w_node[:-1] += 0.5 * seg["ds"] * seg["w"]
+        w_node[1:] += 0.5 * seg["ds"] * seg["w"]
+        w_node /= trib
+        # the grounded length is the length whose weight the seabed carries: the contact
+        # forces, plus what a held end lying on the seabed props up of the grounded line
+        # next to it (on a penalty seabed the end sits above the sunken line beside it)
+        grounded = float(np.sum(contact / np.where(w_node > 0, w_node, np.inf)))
+        for node, force, end in ((0, fa, scene.end_a), (len(s) - 1, fb, scene.end_b)):
+            if end.is_fixed and w_node[node] > 0 and contact[node] > 0.1 * w_node[node] * trib[node]:
+                grounded += max(0.0, -float(force[1])) / w_node[node]
+        grounded = min(grounded, float(s[-1]))
+        in_contact = contact > 0.5 * np.max(contact)
+        if grounded > 0:
+            if in_contact[0] and not in_contact[-1]:
+                s_td = grounded
+            elif in_contact[-1] and not in_contact[0]:
+                s_td = float(s[-1]) - grounded
+            else:
+                s_td = float(s[np.argmax(in_contact)])
+            pos = np.asarray(out["positions"])
+            touchdown = np.array([np.interp(s_td, s, pos[:, 0]), np.interp(s_td, s, pos[:, 1])])
+    res.update(grounded_length=grounded, touchdown_arclength=s_td, touchdown=touchdown)
+    return res

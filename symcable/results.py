@@ -1,0 +1,168 @@
+"""Solution objects: arrays with documented units and shapes, status, stats, export."""
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass, field, fields
+from pathlib import Path
+
+import numpy as np
+
+from .errors import SymcableError
+
+__all__ = ["StaticSolution"]
+
+
+def _jsonable(v):
+    if isinstance(v, np.ndarray):
+        return v.tolist()
+    if isinstance(v, (np.floating, np.integer)):
+        return v.item()
+    if isinstance(v, dict):
+        return {k: _jsonable(x) for k, x in v.items()}
+    if isinstance(v, (list, tuple)):
+        return [_jsonable(x) for x in v]
+    return v
+
+
+@dataclass(frozen=True)
+class StaticSolution:
+    """Static configuration of a line. ``n`` is the number of nodes, ``n - 1`` of segments.
+
+    Attributes
+    ----------
+    scene_name : str
+    s : ndarray (n,)
+        Unstretched arc length of the nodes from end A, m.
+    positions : ndarray (n, 2)
+        Node positions (x, z), m.
+    angle : ndarray (n-1,)
+        Tangent angle of each segment from +x towards +z, rad.
+    strain : ndarray (n-1,)
+        Axial strain of each segment, -.
+    axial_force : ndarray (n-1,)
+        Axial force EA * strain of each segment, N.
+    shear : ndarray (n-1,)
+        Shear force of each segment, N (0 without bending).
+    moment : ndarray (n,)
+        Bending moment at the nodes, N m (0 without bending).
+    tension : ndarray (n,)
+        Magnitude of the internal force at the nodes, N (at the ends: the end forces).
+    contact_force : ndarray (n,)
+        Seabed contact force carried by each node, N.
+    fairlead_force, anchor_force : ndarray (2,)
+        Force the line exerts on its end B (fairlead) and end A (anchor), N.
+    fairlead_tension, anchor_tension : float
+        Their magnitudes, N.
+    grounded_length : float
+        Unstretched length resting on the seabed, m.
+    touchdown : ndarray (2,) or None
+        Position of the touchdown point, m (None without seabed contact).
+    status : str
+        ``"converged"`` or ``"failed"`` (only on a ConvergenceError's partial result).
+    stats : dict
+        ``iterations``, ``residual_norm`` (N), ``tolerance`` (N), ``wall_time`` (s),
+        ``path``, ``start``, ``continuation_steps``, ``unknowns``, ``terms``.
+    warnings : tuple of str
+    unknowns : ndarray
+        The solver's unknown vector (to restart from).
+    """
+
+    scene_name: str
+    s: np.ndarray
+    positions: np.ndarray
+    angle: np.ndarray
+    strain: np.ndarray
+    axial_force: np.ndarray
+    shear: np.ndarray
+    moment: np.ndarray
+    tension: np.ndarray
+    contact_force: np.ndarray
+    fairlead_force: np.ndarray
+    anchor_force: np.ndarray
+    fairlead_tension: float
+    anchor_tension: float
+    grounded_length: float
+    touchdown: np.ndarray | None
+    status: str
+    stats: dict = field(default_factory=dict)
+    warnings: tuple = ()
+    unknowns: np.ndarray | None = None
+
+    # ------------------------------------------------------------------ summary
+    def summary(self) -> str:
+        """A few lines a person reads: end tensions (kN), grounded length (m), solver stats."""
+        st = self.stats
+        lines = [
+            f"scene             {self.scene_name}",
+            f"status            {self.status} via {st.get('path', '?')} from {st.get('start', '?')}",
+            f"fairlead tension  {self.fairlead_tension / 1e3:.4f} kN  "
+            f"(Fx {self.fairlead_force[0] / 1e3:.4f}, Fz {self.fairlead_force[1] / 1e3:.4f} kN)",
+            f"anchor tension    {self.anchor_tension / 1e3:.4f} kN  "
+            f"(Fx {self.anchor_force[0] / 1e3:.4f}, Fz {self.anchor_force[1] / 1e3:.4f} kN)",
+            f"grounded length   {self.grounded_length:.3f} m",
+            f"max |moment|      {np.max(np.abs(self.moment)) / 1e3:.4f} kN m",
+            f"solver            {st.get('iterations', '?')} iterations, residual "
+            f"{st.get('residual_norm', float('nan')):.3g} N (tol {st.get('tolerance', float('nan')):.3g} N), "
+            f"{1e3 * st.get('wall_time', float('nan')):.1f} ms",
+        ]
+        lines += [f"warning           {w}" for w in self.warnings]
+        return "\n".join(lines)
+
+    # ------------------------------------------------------------------ export
+    def to_dict(self) -> dict:
+        """Every field as plain JSON-able Python (lists for arrays), units as documented."""
+        return {f.name: _jsonable(getattr(self, f.name)) for f in fields(self)}
+
+    def to_json(self, path: str | Path | None = None) -> str:
+        """JSON text of :meth:`to_dict`; also written to ``path`` when given."""
+        text = json.dumps(self.to_dict(), indent=1)
+        if path is not None:
+            Path(path).write_text(text)
+        return text
+
+    def save(self, path: str | Path) -> Path:
+        """Save to ``.npz`` (arrays, with stats as JSON inside) or ``.json``, by suffix."""
+        path = Path(path)
+        if path.suffix == ".json":
+            self.to_json(path)
+        elif path.suffix == ".npz":
+            arrays, meta = {}, {}
+            for f in fields(self):
+                v = getattr(self, f.name)
+                if isinstance(v, np.ndarray):
+                    arrays[f.name] = v
+                else:
+                    meta[f.name] = _jsonable(v)
+            np.savez(path, __meta__=np.array(json.dumps(meta)), **arrays)
+        else:
+            raise SymcableError(f"save path = '{path}': suffix must be .npz or .json")
+        return path
+
+    @classmethod
+    def load(cls, path: str | Path) -> "StaticSolution":
+        """Read a solution written by :meth:`save`."""
+        path = Path(path)
+        if path.suffix == ".json":
+            d = json.loads(path.read_text())
+        elif path.suffix == ".npz":
+            with np.load(path, allow_pickle=False) as z:
+                d = json.loads(str(z["__meta__"]))
+                d.update({k: z[k] for k in z.files if k != "__meta__"})
+        else:
+            raise SymcableError(f"load path = '{path}': suffix must be .npz or .json")
+        kw = {}
+        for f in fields(cls):
+            v = d.get(f.name)
+            if f.name in ("warnings",):
+                v = tuple(v or ())
+            elif isinstance(v, list) or (isinstance(v, np.ndarray)):
+                v = np.asarray(v, dtype=float)
+            kw[f.name] = v
+        return cls(**kw)
+
+    # ------------------------------------------------------------------ plots
+    def plot(self, path: str | Path | None = None):
+        """Profile, and tension and moment along the line, in one figure (saved to
+        ``path`` when given). Returns the matplotlib Figure."""
+        from .plotting import plot_static
+        return plot_static(self, path)

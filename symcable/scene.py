@@ -1,0 +1,274 @@
+"""Scenes: the validated, frozen description of one cable problem.
+
+A scene comes from a TOML file or a plain dict (the contract of ``design.md``, "Scene file,
+version 1") through :func:`load_scene`, which checks every key and raises a one-line
+:class:`~symcable.errors.SceneError` naming the key, the value and what is allowed.
+
+Units are SI throughout; angles are degrees in the file and radians in the dataclasses
+(attributes ending in ``_deg`` keep degrees, as the file gave them).
+"""
+from __future__ import annotations
+
+import enum
+import math
+from dataclasses import dataclass, field
+from typing import Mapping
+
+__all__ = [
+    "EndCondition", "Model", "LineType", "Section", "Motion", "End", "Environment", "Seabed",
+    "Scene",
+]
+
+
+class EndCondition(str, enum.Enum):
+    """How an end of the line is held."""
+
+    PINNED = "pinned"    #: position given, free to rotate, no moment
+    CLAMPED = "clamped"  #: position and tangent angle given (needs EI > 0 at that end)
+    FREE = "free"        #: external force given, position unknown, no moment
+
+
+class Model(str, enum.Enum):
+    """Formulations a scene can ask for (``model = ...``)."""
+
+    PLANAR = "planar"
+
+
+@dataclass(frozen=True)
+class LineType:
+    """Properties of one line type (``[line_types.NAME]``).
+
+    Attributes
+    ----------
+    name : str
+    EA : float
+        Axial stiffness, N (> 0).
+    EI : float
+        Bending stiffness, N m^2 (>= 0; 0 builds no bending term).
+    mass : float
+        Structural mass per unstretched length, kg/m (> 0).
+    diameter : float
+        Hydrodynamic (and buoyancy) diameter, m (> 0).
+    weight : float
+        Submerged weight per unstretched length, N/m; the file may give it, else it is
+        ``(mass - water_density*pi*diameter**2/4) * gravity``. May be <= 0 (buoyant line).
+    cd_normal, cd_tangential : float
+        Morison drag coefficients on the normal and tangential relative velocity (>= 0).
+    ca_normal : float
+        Normal added-mass coefficient (>= 0).
+    max_strain : float
+        Largest admissible axial strain (> 0), used to decide whether a fairlead is out of
+        reach; default 0.1.
+    """
+
+    name: str
+    EA: float
+    EI: float
+    mass: float
+    diameter: float
+    weight: float
+    cd_normal: float = 1.2
+    cd_tangential: float = 0.008
+    ca_normal: float = 1.0
+    max_strain: float = 0.1
+
+
+@dataclass(frozen=True)
+class Section:
+    """A stretch of line of one type, from end A towards end B (``[[sections]]``).
+
+    Attributes
+    ----------
+    line_type : LineType
+        The resolved line type.
+    length : float
+        Unstretched length, m (> 0).
+    segments : int
+        Number of segments it is divided into (>= 1).
+    """
+
+    line_type: LineType
+    length: float
+    segments: int
+
+    @property
+    def ds(self) -> float:
+        """Unstretched segment length, m."""
+        return self.length / self.segments
+
+
+@dataclass(frozen=True)
+class Motion:
+    """Prescribed motion of an end about its position (``[end_b.motion]``).
+
+    ``x_i(t) = amplitude[i] * cos(2*pi*t/period + phase[i])``.
+
+    Attributes
+    ----------
+    kind : str
+        ``"harmonic"`` (the only kind so far).
+    period : float
+        s (> 0).
+    amplitude : tuple of float
+        m, one per coordinate (x, z) or (x, y, z).
+    phase_deg : tuple of float
+        degrees, one per coordinate.
+    """
+
+    kind: str
+    period: float
+    amplitude: tuple[float, ...]
+    phase_deg: tuple[float, ...]
+
+    @property
+    def omega(self) -> float:
+        """Angular frequency, rad/s."""
+        return 2.0 * math.pi / self.period
+
+    @property
+    def phase(self) -> tuple[float, ...]:
+        """Phases, rad."""
+        return tuple(math.radians(p) for p in self.phase_deg)
+
+
+@dataclass(frozen=True)
+class End:
+    """One end of the line (``[end_a]``, the anchor; ``[end_b]``, the fairlead).
+
+    Attributes
+    ----------
+    condition : EndCondition
+    position : tuple of float or None
+        m; given for pinned and clamped ends, None for a free end.
+    angle_deg : float or None
+        Clamped ends only: angle of the line's tangent (direction of increasing arc length,
+        i.e. pointing from A towards B) from +x, counter-clockwise, degrees.
+    force : tuple of float or None
+        Free ends only: external force applied to the end, N (zero vector if not given).
+    motion : Motion or None
+        Prescribed motion about ``position`` (pinned/clamped ends only).
+    """
+
+    condition: EndCondition
+    position: tuple[float, ...] | None = None
+    angle_deg: float | None = None
+    force: tuple[float, ...] | None = None
+    motion: Motion | None = None
+
+    @property
+    def angle(self) -> float | None:
+        """Clamped tangent angle, rad (None unless clamped)."""
+        return None if self.angle_deg is None else math.radians(self.angle_deg)
+
+    @property
+    def is_fixed(self) -> bool:
+        """True when the position is given (pinned or clamped)."""
+        return self.condition is not EndCondition.FREE
+
+
+@dataclass(frozen=True)
+class Environment:
+    """Gravity, water and current (``[environment]``).
+
+    Attributes
+    ----------
+    gravity : float
+        m/s^2 (> 0), default 9.80665.
+    water_density : float
+        kg/m^3 (>= 0), default 1025; 0 means the cable is in air (no buoyancy, drag or
+        added mass).
+    depth : float or None
+        m (> 0); a flat seabed at z = -depth, or None for no seabed.
+    current : tuple of float
+        Uniform current velocity [U_x, U_z], m/s; default zero.
+    """
+
+    gravity: float = 9.80665
+    water_density: float = 1025.0
+    depth: float | None = None
+    current: tuple[float, ...] = (0.0, 0.0)
+
+    @property
+    def in_air(self) -> bool:
+        return self.water_density == 0.0
+
+
+@dataclass(frozen=True)
+class Seabed:
+    """Seabed contact (``[seabed]``; present whenever ``environment.depth`` is given).
+
+    Attributes
+    ----------
+    stiffness : float
+        Pa/m (> 0): vertical contact pressure per metre of penetration; the contact force per
+        unstretched length is ``stiffness * diameter * penetration``. Default 1e5.
+    friction : float
+        Coulomb coefficient (>= 0). Statics treat the seabed as frictionless (friction is
+        statically indeterminate); the key is kept for the dynamics.
+    """
+
+    stiffness: float = 1.0e5
+    friction: float = 0.0
+
+
+@dataclass(frozen=True)
+class Scene:
+    """A validated scene. Build it with :func:`load_scene`, not by hand.
+
+    Attributes
+    ----------
+    name : str
+    model : Model
+    environment : Environment
+    seabed : Seabed or None
+        None when the scene has no seabed (no ``environment.depth``).
+    line_types : Mapping[str, LineType]
+        Read-only mapping, name -> type.
+    sections : tuple of Section
+        From end A to end B.
+    end_a, end_b : End
+    source : str
+        Where the scene came from (file path or ``"<dict>"``), for messages.
+    """
+
+    name: str
+    model: Model
+    environment: Environment
+    seabed: Seabed | None
+    line_types: Mapping[str, LineType]
+    sections: tuple[Section, ...]
+    end_a: End
+    end_b: End
+    source: str = field(default="<dict>", compare=False)
+
+    @property
+    def dim(self) -> int:
+        """Number of space dimensions (2 for the planar model)."""
+        return 2
+
+    @property
+    def length(self) -> float:
+        """Total unstretched length, m."""
+        return sum(s.length for s in self.sections)
+
+    @property
+    def n_segments(self) -> int:
+        return sum(s.segments for s in self.sections)
+
+    @property
+    def n_nodes(self) -> int:
+        return self.n_segments + 1
+
+    def to_dict(self) -> dict:
+        """The scene as a plain dict in the file's layout (angles in degrees), such that
+        ``load_scene(scene.to_dict())`` gives an equal scene."""
+        from .scene_loader import scene_to_dict
+        return scene_to_dict(self)
+
+    def replace(self, **changes) -> "Scene":
+        """A validated copy with some top-level file keys changed, given in file layout
+        (e.g. ``scene.replace(end_b={"position": [...], "condition": "pinned"})``)."""
+        from .scene_loader import load_scene
+        d = self.to_dict()
+        d.update(changes)
+        return load_scene(d)

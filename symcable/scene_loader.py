@@ -1,0 +1,466 @@
+"""Reading, validating and writing scenes (``design.md``, "Scene file (TOML), version 1").
+
+:func:`load_scene` turns a TOML file or a dict in the file's layout into a frozen
+:class:`~symcable.scene.Scene`; :func:`scene_to_dict` and :func:`scene_to_toml` go back.
+Every bad input raises a one-line :class:`~symcable.errors.SceneError` of the form
+``<key path> = <value> [unit]: <what is allowed>``, for example
+``sections[0].length = -3.0 m: must be > 0``.
+A key given as ``None`` (possible in a dict, not in TOML) counts as not given.
+"""
+from __future__ import annotations
+
+import difflib
+import json
+import math
+import numbers
+import os
+import re
+import sys
+from types import MappingProxyType
+from typing import Any, Mapping
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # pragma: no cover - exercised on Python 3.10 only
+    import tomli as tomllib
+
+from .errors import SceneError
+from .scene import End, EndCondition, Environment, LineType, Model, Motion, Scene, Seabed, Section
+
+__all__ = ["load_scene", "scene_to_dict", "scene_to_toml"]
+
+_DIM = 2  # the planar model: vectors are (x, z)
+_MISSING = object()
+_BARE_KEY = re.compile(r"[A-Za-z0-9_-]+")
+
+_TOP_KEYS = ("name", "model", "environment", "seabed", "line_types", "sections", "end_a", "end_b")
+_ENV_KEYS = ("gravity", "water_density", "depth", "current")
+_SEABED_KEYS = ("stiffness", "friction")
+_LINE_KEYS = ("EA", "EI", "mass", "diameter", "weight", "cd_normal", "cd_tangential", "ca_normal",
+              "max_strain")
+_SECTION_KEYS = ("type", "length", "segments")
+_END_KEYS = ("condition", "position", "angle_deg", "force", "motion")
+_MOTION_KEYS = ("kind", "period", "amplitude", "phase_deg")
+_MOTION_KINDS = ("harmonic",)
+_CONDITIONS = tuple(c.value for c in EndCondition)
+_MODELS = tuple(m.value for m in Model)
+
+# Defaults come from the dataclasses, so the file and the code cannot disagree.
+_ENV = Environment()
+_SEABED = Seabed()
+_LT = LineType(name="", EA=1.0, EI=0.0, mass=1.0, diameter=1.0, weight=0.0)
+
+
+# ----------------------------------------------------------------------------- messages
+
+def _key(path: str, key: str) -> str:
+    """Dotted key path ``path.key`` (TOML-quoting keys that are not bare)."""
+    k = key if _BARE_KEY.fullmatch(key) else _quote(key)
+    return f"{path}.{k}" if path else k
+
+
+def _quote(text: str) -> str:
+    """A TOML basic string (JSON's escapes are TOML's, except DEL must be escaped too)."""
+    return json.dumps(text, ensure_ascii=False).replace("\x7f", "\\u007f")
+
+
+def _show(value: Any) -> str:
+    text = repr(value)
+    return text if len(text) <= 100 else text[:97] + "..."
+
+
+def _err(path: str, value: Any, unit: str, allowed: str) -> SceneError:
+    """``<path> = <value> [unit]: <allowed>`` as a one-line SceneError."""
+    unit = f" {unit}" if unit else ""
+    return SceneError(f"{path} = {_show(value)}{unit}: {allowed}".replace("\n", " "))
+
+
+def _suggest(word: Any, choices) -> str:
+    """``"; did you mean 'x'?"`` when a choice is close to ``word``, else ``""``."""
+    if not isinstance(word, str):
+        return ""
+    close = difflib.get_close_matches(word, list(choices), n=1)
+    return f"; did you mean {close[0]!r}?" if close else ""
+
+
+def _fmt(x: float) -> str:
+    """About four significant digits, at least one decimal (lengths in messages)."""
+    digits = 3 - math.floor(math.log10(abs(x))) if x != 0 else 1
+    return f"{x:.{max(1, digits)}f}"
+
+
+# ----------------------------------------------------------------------------- validators
+
+def _check_keys(path: str, table: Mapping, allowed) -> None:
+    """Reject keys of ``table`` that are not in ``allowed``, suggesting the closest one."""
+    for key in table:
+        if not isinstance(key, str):
+            raise SceneError(f"{path or 'scene'}: key {_show(key)} must be a string "
+                             f"(allowed: {', '.join(allowed)})")
+        if key not in allowed:
+            raise SceneError(f"{_key(path, key)}: unknown key{_suggest(key, allowed)} "
+                             f"(allowed: {', '.join(allowed)})")
+
+
+def _table(path: str, value: Any, allowed) -> Mapping:
+    """A table (dict) with only ``allowed`` keys."""
+    if not isinstance(value, Mapping):
+        raise _err(path, value, "", f"must be a table with keys {', '.join(allowed)}")
+    _check_keys(path, value, allowed)
+    return value
+
+
+def _get(table: Mapping, key: str, default: Any = None) -> Any:
+    value = table.get(key)
+    return default if value is None else value
+
+
+def _required(path: str, table: Mapping, key: str, what: str) -> Any:
+    value = table.get(key)
+    if value is None:
+        raise SceneError(f"{_key(path, key)}: required key missing ({what})")
+    return value
+
+
+def _number(path: str, value: Any, unit: str = "", *, gt: float | None = None,
+            ge: float | None = None) -> float:
+    """A finite real number (bools rejected), optionally ``> gt`` or ``>= ge``; as float."""
+    bound = f" > {gt:g}" if gt is not None else f" >= {ge:g}" if ge is not None else ""
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        raise _err(path, value, unit, f"must be a number{bound}")
+    try:
+        x = float(value)
+    except (OverflowError, ValueError, TypeError):
+        x = math.nan
+    if not math.isfinite(x):
+        raise _err(path, value, unit, f"must be a finite number{bound}")
+    if (gt is not None and not x > gt) or (ge is not None and not x >= ge):
+        raise _err(path, value, unit, f"must be{bound}")
+    return x
+
+
+def _integer(path: str, value: Any, *, ge: int) -> int:
+    """An int (not a bool, not a float even if integral) ``>= ge``."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral):
+        raise _err(path, value, "", f"must be an integer >= {ge}")
+    if value < ge:
+        raise _err(path, value, "", f"must be >= {ge}")
+    return int(value)
+
+
+def _vector(path: str, value: Any, n: int, unit: str = "", what: str = "") -> tuple[float, ...]:
+    """A list of ``n`` finite numbers, as a tuple of float."""
+    if hasattr(value, "tolist") and not isinstance(value, (str, bytes)):
+        value = value.tolist()  # NumPy arrays in dict input
+    if not isinstance(value, (list, tuple)) or len(value) != n:
+        raise _err(path, value, unit, f"must be a list of {n} numbers {what}".rstrip())
+    return tuple(_number(f"{path}[{i}]", v, unit) for i, v in enumerate(value))
+
+
+def _choice(path: str, value: Any, allowed: tuple[str, ...], what: str) -> str:
+    """One of the strings ``allowed``."""
+    if not isinstance(value, str) or value not in allowed:
+        raise _err(path, value, "", f"unknown {what}{_suggest(value, allowed)} "
+                                    f"(allowed: {', '.join(map(repr, allowed))})")
+    return str(value.value if isinstance(value, Model | EndCondition) else value)
+
+
+def _num_reader(path: str, table: Mapping):
+    """``num(key, unit, default=<required>, gt=, ge=)`` reading numbers from ``table``."""
+    def num(key: str, unit: str, default: Any = _MISSING, *, gt=None, ge=None) -> float:
+        value = _get(table, key, default)
+        if value is _MISSING:
+            bound = f" > {gt:g}" if gt is not None else f" >= {ge:g}" if ge is not None else ""
+            what = f"{unit}, a number{bound}" if unit else f"a number{bound}"
+            raise SceneError(f"{_key(path, key)}: required key missing ({what})")
+        return _number(_key(path, key), value, unit, gt=gt, ge=ge)
+    return num
+
+
+# ----------------------------------------------------------------------------- tables
+
+def _environment(data: Mapping) -> Environment:
+    t = _table("environment", _get(data, "environment", {}), _ENV_KEYS)
+    num = _num_reader("environment", t)
+    depth = _get(t, "depth")
+    return Environment(
+        gravity=num("gravity", "m/s^2", _ENV.gravity, gt=0),
+        water_density=num("water_density", "kg/m^3", _ENV.water_density, ge=0),
+        depth=None if depth is None else num("depth", "m", gt=0),
+        current=_vector("environment.current", _get(t, "current", _ENV.current), _DIM, "m/s",
+                        "[U_x, U_z]"),
+    )
+
+
+def _seabed(data: Mapping, env: Environment) -> Seabed | None:
+    raw = _get(data, "seabed")
+    if env.depth is None:
+        if raw is not None:
+            raise _err("seabed", raw, "", "a seabed needs environment.depth (flat seabed at "
+                                          "z = -depth); give the depth or remove [seabed]")
+        return None
+    num = _num_reader("seabed", _table("seabed", _get(data, "seabed", {}), _SEABED_KEYS))
+    return Seabed(stiffness=num("stiffness", "Pa/m", _SEABED.stiffness, gt=0),
+                  friction=num("friction", "", _SEABED.friction, ge=0))
+
+
+def _line_type(path: str, name: str, raw: Any, env: Environment) -> LineType:
+    num = _num_reader(path, _table(path, raw, _LINE_KEYS))
+    mass = num("mass", "kg/m", gt=0)
+    diameter = num("diameter", "m", gt=0)
+    default_weight = (mass - env.water_density * math.pi * diameter**2 / 4.0) * env.gravity
+    return LineType(
+        name=name, EA=num("EA", "N", gt=0), EI=num("EI", "N m^2", 0.0, ge=0), mass=mass,
+        diameter=diameter, weight=num("weight", "N/m", default_weight),
+        cd_normal=num("cd_normal", "", _LT.cd_normal, ge=0),
+        cd_tangential=num("cd_tangential", "", _LT.cd_tangential, ge=0),
+        ca_normal=num("ca_normal", "", _LT.ca_normal, ge=0),
+        max_strain=num("max_strain", "", _LT.max_strain, gt=0),
+    )
+
+
+def _line_types(data: Mapping, env: Environment) -> dict[str, LineType]:
+    raw = _required("", data, "line_types", "a table of line types, [line_types.NAME]")
+    if not isinstance(raw, Mapping) or not raw:
+        raise _err("line_types", raw, "", "must be a non-empty table of line types "
+                                          "([line_types.NAME] with EA, mass, diameter, ...)")
+    out = {}
+    for name, table in raw.items():
+        if not isinstance(name, str) or not name:
+            raise _err("line_types", name, "", "line type names must be non-empty strings")
+        out[name] = _line_type(_key("line_types", name), name, table, env)
+    return out
+
+
+def _sections(data: Mapping, types: Mapping[str, LineType]) -> tuple[Section, ...]:
+    raw = _required("", data, "sections", "a non-empty array of tables [[sections]]")
+    if not isinstance(raw, (list, tuple)) or not raw:
+        raise _err("sections", raw, "", "must be a non-empty array of tables ([[sections]] with "
+                                        "type, length, segments), from end A to end B")
+    out = []
+    for i, table in enumerate(raw):
+        path = f"sections[{i}]"
+        t = _table(path, table, _SECTION_KEYS)
+        name = _required(path, t, "type", f"the name of a line type: {', '.join(map(repr, types))}")
+        if not isinstance(name, str) or name not in types:
+            raise _err(f"{path}.type", name, "", f"unknown line type{_suggest(name, types)} "
+                                                 f"(defined: {', '.join(map(repr, types))})")
+        length = _num_reader(path, t)("length", "m", gt=0)
+        segments = _integer(f"{path}.segments",
+                            _required(path, t, "segments", "an integer >= 1"), ge=1)
+        out.append(Section(line_type=types[name], length=length, segments=segments))
+    return tuple(out)
+
+
+def _motion(path: str, raw: Any) -> Motion:
+    t = _table(path, raw, _MOTION_KEYS)
+    kind = _choice(f"{path}.kind", _get(t, "kind", "harmonic"), _MOTION_KINDS, "motion kind")
+    amplitude = _required(path, t, "amplitude", "[A_x, A_z], m")
+    return Motion(
+        kind=kind,
+        period=_num_reader(path, t)("period", "s", gt=0),
+        amplitude=_vector(f"{path}.amplitude", amplitude, _DIM, "m", "[A_x, A_z]"),
+        phase_deg=_vector(f"{path}.phase_deg", _get(t, "phase_deg", (0.0,) * _DIM), _DIM, "deg",
+                          "[phase_x, phase_z]"),
+    )
+
+
+def _end(path: str, data: Mapping) -> End:
+    t = _table(path, _required("", data, path, "a table with condition and position"), _END_KEYS)
+    cond = EndCondition(_choice(f"{path}.condition", _required(
+        path, t, "condition", f"one of {', '.join(map(repr, _CONDITIONS))}"), _CONDITIONS,
+        "end condition"))
+    position, angle, force, motion = (_get(t, k) for k in _END_KEYS[1:])
+    this = f"(this end is {cond.value})"
+    if cond is EndCondition.FREE:
+        if position is not None:
+            raise _err(f"{path}.position", position, "m", "a free end has no position: it is "
+                       "unknown and solved for (remove it, or make the end pinned)")
+        if motion is not None:
+            raise _err(f"{path}.motion", motion, "", f"only a pinned or clamped end moves {this}")
+    else:
+        if position is None:
+            raise SceneError(f"{path}.position: required key missing ([x, z], m; "
+                             f"a {cond.value} end needs its position)")
+        if force is not None:
+            raise _err(f"{path}.force", force, "N", f"only a free end takes a force {this}")
+    if cond is EndCondition.CLAMPED:
+        angle = _number(f"{path}.angle_deg", _required(
+            path, t, "angle_deg", "deg; a clamped end needs its tangent angle from +x"), "deg")
+    elif angle is not None:
+        raise _err(f"{path}.angle_deg", angle, "deg", f"only a clamped end takes angle_deg {this}")
+    if position is not None:
+        position = _vector(f"{path}.position", position, _DIM, "m", "[x, z]")
+    if cond is EndCondition.FREE:
+        force = _vector(f"{path}.force", _get(t, "force", (0.0,) * _DIM), _DIM, "N", "[F_x, F_z]")
+    if motion is not None:
+        motion = _motion(f"{path}.motion", motion)
+    return End(condition=cond, position=position, angle_deg=angle, force=force, motion=motion)
+
+
+def _check_geometry(env: Environment, sections: tuple[Section, ...], ends: dict[str, End]) -> None:
+    """Checks that need the whole scene: a held end, bending at clamps, seabed, reach."""
+    if not any(e.is_fixed for e in ends.values()):
+        raise _err("end_b.condition", "free", "", "at least one end must be pinned or clamped "
+                                                   "(both ends are free)")
+    for name, end in ends.items():
+        section = sections[0] if name == "end_a" else sections[-1]
+        lt = section.line_type
+        if end.condition is EndCondition.CLAMPED and not lt.EI > 0:
+            ei = _key(_key("line_types", lt.name), "EI")
+            raise _err(f"{name}.condition", "clamped", "", "a clamped end needs bending stiffness "
+                       f"EI > 0, but {ei} = {lt.EI!r} N m^2 in the section touching it "
+                       "(give EI > 0 or pin the end)")
+        if end.position is not None and env.depth is not None \
+                and end.position[-1] < -env.depth - 1e-9 * env.depth:
+            raise _err(f"{name}.position", list(end.position), "m", "below the seabed at "
+                       f"z = {-env.depth!r} m (environment.depth = {env.depth!r})")
+    a, b = ends["end_a"].position, ends["end_b"].position
+    if a is not None and b is not None:
+        distance = math.dist(a, b)
+        length = sum(s.length for s in sections)
+        reach = sum(s.length * (1.0 + s.line_type.max_strain) for s in sections)
+        if distance > reach:
+            strains = {s.line_type.max_strain for s in sections}
+            strain = f"max_strain {strains.pop()!r}" if len(strains) == 1 else "max_strain per type"
+            raise SceneError(f"end_b.position = {list(b)!r}: the ends are {_fmt(distance)} m apart "
+                             f"but the line stretches to at most {_fmt(reach)} m (length "
+                             f"{_fmt(length)} m at {strain})")
+
+
+# ----------------------------------------------------------------------------- public API
+
+def _read_toml(path: str) -> dict:
+    try:
+        with open(path, "rb") as f:
+            return tomllib.load(f)
+    except FileNotFoundError:
+        raise SceneError(f"{path}: scene file not found") from None
+    except OSError as exc:
+        raise SceneError(f"{path}: cannot read scene file ({exc.strerror or exc})") from None
+    except ValueError as exc:  # TOMLDecodeError, or bytes that are not UTF-8
+        raise SceneError(f"{path}: invalid TOML: {exc}".replace("\n", " ")) from None
+
+
+def load_scene(source: str | os.PathLike | Mapping | Scene) -> Scene:
+    """Read and validate a scene.
+
+    Parameters
+    ----------
+    source : str, os.PathLike, dict or Scene
+        Path of a TOML scene file, a dict in the same layout, or a Scene (returned unchanged).
+
+    Returns
+    -------
+    Scene
+        Frozen and validated; SI units, vectors as tuples of float, ``line_types`` read-only.
+
+    Raises
+    ------
+    SceneError
+        With a one-line message naming the key, the value and what is allowed.
+    """
+    if isinstance(source, Scene):
+        return source
+    if isinstance(source, (str, os.PathLike)):
+        name = os.fspath(source)
+        data: Any = _read_toml(name)
+    elif isinstance(source, Mapping):
+        name, data = "<dict>", source
+    else:
+        raise _err("scene", source, "", "must be a path to a TOML file, a dict or a Scene")
+    try:
+        return _build(data, str(name))
+    except SceneError:
+        raise
+    except Exception as exc:  # a gap in the checks above: still report it as a scene error
+        raise SceneError(f"{name}: invalid scene ({type(exc).__name__}: {exc})"
+                         .replace("\n", " ")) from exc
+
+
+def _build(data: Mapping, source: str) -> Scene:
+    _check_keys("", data, _TOP_KEYS)
+    name = _get(data, "name", "unnamed")
+    if not isinstance(name, str):
+        raise _err("name", name, "", "must be a string")
+    model = Model(_choice("model", _get(data, "model", Model.PLANAR.value), _MODELS, "model"))
+    env = _environment(data)
+    seabed = _seabed(data, env)
+    types = _line_types(data, env)
+    sections = _sections(data, types)
+    ends = {"end_a": _end("end_a", data), "end_b": _end("end_b", data)}
+    _check_geometry(env, sections, ends)
+    return Scene(name=name, model=model, environment=env, seabed=seabed,
+                 line_types=MappingProxyType(types), sections=sections,
+                 end_a=ends["end_a"], end_b=ends["end_b"], source=source)
+
+
+def scene_to_dict(scene: Scene) -> dict:
+    """The scene as a plain dict in the file's layout, every key written out.
+
+    Angles are in degrees, vectors are lists, the (possibly computed) ``weight`` is explicit,
+    ``environment.depth`` and ``[seabed]`` are omitted when there is no seabed.
+    ``load_scene(scene_to_dict(s))`` equals ``s`` except for ``source``.
+    """
+    env = scene.environment
+    environment: dict[str, Any] = {"gravity": env.gravity, "water_density": env.water_density}
+    if env.depth is not None:
+        environment["depth"] = env.depth
+    environment["current"] = list(env.current)
+    out: dict[str, Any] = {"name": scene.name, "model": Model(scene.model).value,
+                           "environment": environment}
+    if scene.seabed is not None:
+        out["seabed"] = {"stiffness": scene.seabed.stiffness, "friction": scene.seabed.friction}
+    types = dict(scene.line_types)
+    for s in scene.sections:  # a hand-built Scene may hold types missing from the mapping
+        types.setdefault(s.line_type.name, s.line_type)
+    out["line_types"] = {name: {k: getattr(lt, k) for k in _LINE_KEYS}
+                         for name, lt in types.items()}
+    out["sections"] = [{"type": s.line_type.name, "length": s.length, "segments": s.segments}
+                       for s in scene.sections]
+    for key, end in (("end_a", scene.end_a), ("end_b", scene.end_b)):
+        e: dict[str, Any] = {"condition": EndCondition(end.condition).value}
+        if end.position is not None:
+            e["position"] = list(end.position)
+        if end.angle_deg is not None:
+            e["angle_deg"] = end.angle_deg
+        if end.force is not None:
+            e["force"] = list(end.force)
+        if end.motion is not None:
+            m = end.motion
+            e["motion"] = {"kind": m.kind, "period": m.period, "amplitude": list(m.amplitude),
+                           "phase_deg": list(m.phase_deg)}
+        out[key] = e
+    return out
+
+
+def _toml_value(v: Any) -> str:
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, (int, float)):
+        return repr(v)
+    if isinstance(v, str):
+        return _quote(v)
+    return "[" + ", ".join(_toml_value(x) for x in v) + "]"
+
+
+def _toml_lines(d: Mapping, prefix: str = "") -> list[str]:
+    """Key/value lines of ``d``, then its tables and arrays of tables, recursively."""
+    def array_of_tables(v):
+        return isinstance(v, list) and bool(v) and all(isinstance(x, Mapping) for x in v)
+    lines = [f"{_key('', k)} = {_toml_value(v)}" for k, v in d.items()
+             if not isinstance(v, Mapping) and not array_of_tables(v)]
+    for k, v in d.items():
+        if isinstance(v, Mapping):
+            body = _toml_lines(v, _key(prefix, k))
+            # a table holding only sub-tables ([line_types]) needs no header of its own
+            lines += (["", f"[{_key(prefix, k)}]"] if not body or body[0] else []) + body
+        elif array_of_tables(v):
+            for item in v:
+                lines += ["", f"[[{_key(prefix, k)}]]"] + _toml_lines(item, _key(prefix, k))
+    return lines
+
+
+def scene_to_toml(scene: Scene) -> str:
+    """The scene as TOML text (the layout of :func:`scene_to_dict`), ready to write to a file."""
+    return "\n".join(_toml_lines(scene_to_dict(scene))).lstrip("\n") + "\n"

@@ -1,0 +1,1 @@
+"""Solvers, generic over every formulation: they see a Model's functions, never a cable."""

@@ -1,0 +1,123 @@
+"""Damped Newton iteration on a square system with an exact Jacobian.
+
+Generic: it sees two callables, ``step(x, p) -> (r, dx)`` (residual and full Newton step)
+and nothing about what the unknowns mean, apart from a per-unknown scale that bounds the
+step length.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Callable
+
+import numpy as np
+
+
+@dataclass
+class NewtonResult:
+    """Outcome of :func:`newton`.
+
+    Attributes
+    ----------
+    x : ndarray (n,)       last iterate (the solution when ``converged``)
+    converged : bool
+    iterations : int       Newton steps taken
+    residual_norm : float  max-norm of the residual at ``x``, in the residual's units
+    message : str          why it stopped
+    history : list of dict per iteration: ``residual_norm``, ``step_factor`` (line search)
+    """
+
+    x: np.ndarray
+    converged: bool
+    iterations: int
+    residual_norm: float
+    message: str
+    history: list = field(default_factory=list)
+
+
+StepFn = Callable[[np.ndarray, np.ndarray], tuple]
+
+
+class _Singular(Exception):
+    """The Jacobian could not be factorised."""
+
+
+def _call(step: StepFn, x, p):
+    try:
+        r, dx = step(x, p)
+    except RuntimeError as exc:  # CasADi refuses to factorise a singular Jacobian
+        raise _Singular(str(exc).strip().splitlines()[-1]) from None
+    return np.asarray(r, dtype=float).ravel(), np.asarray(dx, dtype=float).ravel()
+
+
+def newton(step: StepFn, x0: np.ndarray, p: np.ndarray, *, tol: float, max_iter: int = 50,
+           x_scale: np.ndarray | None = None, merit_weights: np.ndarray | None = None,
+           armijo: float = 1e-4,
+           min_step: float = 1.0 / 1024) -> NewtonResult:
+    """Solve r(x; p) = 0 by Newton's method with a backtracking (Armijo) line search.
+
+    Parameters
+    ----------
+    step : callable
+        ``step(x, p) -> (r, dx)`` with ``dx = -J(x)^-1 r(x)``.
+    x0 : ndarray (n,)
+        Start.
+    p : ndarray
+        Parameters passed through to ``step``.
+    tol : float
+        Converged when ``max |r| <= tol`` (units of r).
+    max_iter : int
+        Largest number of Newton steps.
+    x_scale : ndarray (n,), optional
+        A step is shortened so that no unknown moves by more than its scale.
+    merit_weights : ndarray (n,), optional
+        Row weights D of the line-search merit 0.5 |D r|^2 (the Newton direction is a
+        descent direction for any such weighting).
+    armijo : float
+        Sufficient-decrease constant of the line search on 0.5 |r|^2.
+    min_step : float
+        Smallest step factor the line search tries before giving up.
+    """
+    x = np.array(x0, dtype=float)
+    D = np.ones_like(x) if merit_weights is None else np.asarray(merit_weights, dtype=float)
+    history: list = []
+    try:
+        return _iterate(step, x, p, D, tol, max_iter, x_scale, armijo, min_step, history)
+    except _Singular as exc:
+        return NewtonResult(x, False, 0, float("nan"), f"singular Jacobian at the start ({exc})",
+                            history)
+
+
+def _iterate(step, x, p, D, tol, max_iter, x_scale, armijo, min_step, history) -> NewtonResult:
+    r, dx = _call(step, x, p)
+    for it in range(max_iter + 1):
+        nr = float(np.max(np.abs(r))) if r.size else 0.0
+        if not np.isfinite(nr):
+            return NewtonResult(x, False, it, nr, "residual is not finite", history)
+        if nr <= tol:
+            return NewtonResult(x, True, it, nr, "converged", history)
+        if it == max_iter:
+            break
+        if not np.all(np.isfinite(dx)):
+            return NewtonResult(x, False, it, nr, "singular Jacobian (Newton step not finite)", history)
+        if x_scale is not None:
+            worst = float(np.max(np.abs(dx) / x_scale))
+            if worst > 1.0:
+                dx = dx / worst
+        merit = 0.5 * float(np.sum((D * r) ** 2))
+        alpha = 1.0
+        while True:
+            x_new = x + alpha * dx
+            try:
+                r_new, dx_new = _call(step, x_new, p)
+                merit_new = 0.5 * float(np.sum((D * r_new) ** 2))
+            except _Singular:  # a trial point where the Jacobian is singular: step shorter
+                merit_new = np.inf
+            if np.isfinite(merit_new) and merit_new <= (1.0 - 2.0 * armijo * alpha) * merit:
+                break
+            alpha *= 0.5
+            if alpha < min_step:
+                history.append({"residual_norm": nr, "step_factor": 0.0})
+                return NewtonResult(x, False, it, nr, "line search found no decrease", history)
+        history.append({"residual_norm": nr, "step_factor": alpha})
+        x, r, dx = x_new, r_new, dx_new
+    return NewtonResult(x, False, max_iter, nr, f"no convergence in {max_iter} iterations", history)

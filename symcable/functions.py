@@ -1,7 +1,7 @@
 """Turning a Model into named CasADi Functions, built once per model and reused."""
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import casadi as ca
 
@@ -21,10 +21,22 @@ class StaticFunctions:
     outputs : casadi.Function   ``static_outputs(w, p) -> named outputs of the model``
     """
 
+    def rootfinder(self, tol: float, max_iter: int) -> ca.Function:
+        """Plain Newton inside CasADi (no globalisation): ``static_rootfinder(w0, p) -> w``,
+        one call for the whole iteration. Built once per (tol, max_iter)."""
+        key = (tol, max_iter)
+        if key not in self._rootfinders:
+            self._rootfinders[key] = ca.rootfinder(
+                "static_rootfinder", "newton", self.residual,
+                {"abstol": tol, "max_iter": max_iter, "linear_solver": "csparse",
+                 "error_on_fail": False})
+        return self._rootfinders[key]
+
     residual: ca.Function
     jacobian: ca.Function
     step: ca.Function
     outputs: ca.Function
+    _rootfinders: dict = field(default_factory=dict, repr=False, compare=False)
 
 
 def static_functions(model: Model) -> StaticFunctions:

@@ -264,11 +264,3 @@ class Scene:
         ``load_scene(scene.to_dict())`` gives an equal scene."""
         from .scene_loader import scene_to_dict
         return scene_to_dict(self)
-
-    def replace(self, **changes) -> "Scene":
-        """A validated copy with some top-level file keys changed, given in file layout
-        (e.g. ``scene.replace(end_b={"position": [...], "condition": "pinned"})``)."""
-        from .scene_loader import load_scene
-        d = self.to_dict()
-        d.update(changes)
-        return load_scene(d)

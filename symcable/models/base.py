@@ -7,7 +7,7 @@ starting point. It never asks which formulation it solves.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Callable, Mapping
+from typing import Callable, Iterable, Mapping
 
 import casadi as ca
 import numpy as np
@@ -73,8 +73,8 @@ class Model:
     residual_floor : float
         N, the smallest residual max-norm that float64 round-off lets the equations reach;
         the default tolerance is never set below it.
-    initial_guess : callable () -> tuple of Guess
-        Starting points in order of preference.
+    initial_guess : callable () -> iterable of Guess
+        Starting points in order of preference, built lazily.
     postprocess : callable (dict of ndarray) -> dict of ndarray
         Derived quantities computed from evaluated outputs (e.g. grounded length).
     info : Mapping
@@ -94,7 +94,7 @@ class Model:
     merit_weights: np.ndarray
     force_scale: float
     residual_floor: float
-    initial_guess: Callable[[], tuple[Guess, ...]]
+    initial_guess: Callable[[], Iterable[Guess]]
     postprocess: Callable[[dict], dict]
     info: Mapping = field(default_factory=dict)
     _cache: dict = field(default_factory=dict, repr=False, compare=False)

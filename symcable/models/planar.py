@@ -122,10 +122,13 @@ def build_planar(scene: Scene) -> Model:
     Z: list = [None] * (N + 1)
     phi_l, eps_l, w_list, kinds = [], [], [], []
 
+    unknown_nodes = []
+
     def add_node(i):
         X[i], Z[i] = ca.SX.sym(f"x_{i}"), ca.SX.sym(f"z_{i}")
         w_list.extend([X[i], Z[i]])
         kinds.extend(["x", "z"])
+        unknown_nodes.append(i)
 
     if free_a:
         add_node(0)
@@ -291,8 +294,10 @@ def build_planar(scene: Scene) -> Model:
     info = MappingProxyType({"n_segments": N, "s_nodes": seg["s"], "segments": seg,
                              "unknown_kinds": tuple(kinds), "bending": bending})
 
-    def initial_guess() -> tuple[Guess, ...]:
-        return _initial_guess(scene, seg, kinds_arr, p_target, bending)
+    layout = _Layout(kinds_arr, np.array(unknown_nodes, dtype=int))
+
+    def initial_guess():
+        return _initial_guess(scene, seg, layout, p_target, bending)
 
     def postprocess(out: dict) -> dict:
         return _postprocess(scene, seg, out)
@@ -307,20 +312,21 @@ def build_planar(scene: Scene) -> Model:
 
 # --------------------------------------------------------------------------- start
 
-def _pack(kinds: np.ndarray, pos: np.ndarray, phi: np.ndarray, eps: np.ndarray,
-          free_a: bool, free_b: bool) -> np.ndarray:
-    """Unknown vector from node positions (N+1, 2) and segment angle/strain (N,)."""
-    N = len(phi)
-    out = []
-    if free_a:
-        out += list(pos[0])
-    for j in range(N):
-        out += [phi[j], eps[j]]
-        if j + 1 < N or free_b:
-            out += list(pos[j + 1])
-    w = np.asarray(out, dtype=float)
-    assert w.size == kinds.size
-    return w
+class _Layout:
+    """Where node positions and segment angle/strain sit in the unknown vector."""
+
+    def __init__(self, kinds: np.ndarray, unknown_nodes: np.ndarray):
+        self.n = kinds.size
+        self.nodes = unknown_nodes
+        self.ix, self.iz = np.flatnonzero(kinds == "x"), np.flatnonzero(kinds == "z")
+        self.iphi, self.ieps = np.flatnonzero(kinds == "phi"), np.flatnonzero(kinds == "eps")
+
+    def pack(self, pos: np.ndarray, phi: np.ndarray, eps: np.ndarray) -> np.ndarray:
+        """Unknown vector from node positions (N+1, 2) and segment angle/strain (N,)."""
+        w = np.empty(self.n)
+        w[self.ix], w[self.iz] = pos[self.nodes, 0], pos[self.nodes, 1]
+        w[self.iphi], w[self.ieps] = phi, eps
+        return w
 
 
 def _from_positions(pos: np.ndarray, seg: dict, tension_mid: np.ndarray | None):
@@ -400,19 +406,18 @@ def _hanging_start(scene, seg, free_a: bool):
     return pos, phi, eps
 
 
-def _initial_guess(scene, seg, kinds, p_target, bending) -> tuple[Guess, ...]:
-    """Starting points in order of preference (the solver tries each)."""
+def _initial_guess(scene, seg, layout: _Layout, p_target, bending):
+    """Starting points in order of preference (the solver tries each), built lazily: a
+    generator, so a start is only computed when the ones before it have failed."""
     a, b = scene.end_a, scene.end_b
     free_a, free_b = a.condition is EndCondition.FREE, b.condition is EndCondition.FREE
     s, L = seg["s"], seg["s"][-1]
     no_bending = np.array(p_target)
     no_bending[P_NAMES.index("bending")] = 0.0
     cable_p, cable_h = (no_bending, "bending") if bending else (np.array(p_target), "")
-    guesses = []
 
-    def add(pos, phi, eps, p0, source, homotopy):
-        guesses.append(Guess(w=_pack(kinds, pos, phi, eps, free_a, free_b), p=p0,
-                             source=source, homotopy=homotopy))
+    def make(pos, phi, eps, p0, source, homotopy):
+        return Guess(w=layout.pack(pos, phi, eps), p=p0, source=source, homotopy=homotopy)
 
     if not free_a and not free_b:
         pa, pb = np.array(a.position), np.array(b.position)
@@ -422,28 +427,35 @@ def _initial_guess(scene, seg, kinds, p_target, bending) -> tuple[Guess, ...]:
             start = None
         if start is not None:
             pos, ten, source = start
-            add(pos, *_from_positions(pos, seg, ten), cable_p, source, cable_h)
+            yield make(pos, *_from_positions(pos, seg, ten), cable_p, source, cable_h)
         pos = pa + np.outer(s / L, pb - pa)
         phi, eps = _from_positions(pos, seg, None)
-        add(pos, phi, np.maximum(eps, 0.0), cable_p, "straight line", cable_h)
-        return tuple(guesses)
+        yield make(pos, phi, np.maximum(eps, 0.0), cable_p, "straight line", cable_h)
+        return
 
     fixed, free = (b, a) if free_a else (a, b)
-    hanging = _hanging_start(scene, seg, free_a)
-    if hanging is not None:
-        add(hanging[0], hanging[1], hanging[2], cable_p, "hanging line", cable_h)
-    if fixed.condition is EndCondition.CLAMPED:
+
+    def hanging():
+        start = _hanging_start(scene, seg, free_a)
+        return None if start is None else make(*start, cable_p, "hanging line", cable_h)
+
+    def unloaded():
         t = np.array([math.cos(fixed.angle), math.sin(fixed.angle)])
         pos = np.array(fixed.position) + np.outer(s - (0.0 if free_b else L), t)
-        unloaded = np.array(p_target)
-        unloaded[P_NAMES.index("load")] = 0.0
-        add(pos, np.full(len(seg["ds"]), math.atan2(t[1], t[0])), np.zeros(len(seg["ds"])),
-            unloaded, "straight clamped line, unloaded", "load")
+        p0 = np.array(p_target)
+        p0[P_NAMES.index("load")] = 0.0
+        return make(pos, np.full(len(seg["ds"]), math.atan2(t[1], t[0])), np.zeros(len(seg["ds"])),
+                    p0, "straight clamped line, unloaded", "load")
+
+    order = [hanging]
+    if fixed.condition is EndCondition.CLAMPED:
         load = float(np.hypot(*(free.force or (0.0, 0.0))) + np.sum(np.abs(seg["w"]) * seg["ds"]))
-        if np.max(seg["EI"]) > 0.1 * load * L**2:
-            # bending dominates: a cantilever is best reached from its unloaded state
-            guesses.reverse()
-    return tuple(guesses)
+        # when bending dominates a cantilever is best reached from its unloaded state
+        order = [unloaded, hanging] if np.max(seg["EI"]) > 0.1 * load * L**2 else [hanging, unloaded]
+    for build in order:
+        g = build()
+        if g is not None:
+            yield g
 
 
 # --------------------------------------------------------------------------- results
@@ -469,11 +481,12 @@ def _postprocess(scene: Scene, seg: dict, out: dict) -> dict:
         # forces, plus what a held end lying on the seabed props up of the grounded line
         # next to it (on a penalty seabed the end sits above the sunken line beside it)
         grounded = float(np.sum(contact / np.where(w_node > 0, w_node, np.inf)))
+        # in contact: the seabed carries more than a tenth of the local weight per length
+        in_contact = contact / trib > 0.1 * np.abs(w_node)
         for node, force, end in ((0, fa, scene.end_a), (len(s) - 1, fb, scene.end_b)):
-            if end.is_fixed and w_node[node] > 0 and contact[node] > 0.1 * w_node[node] * trib[node]:
+            if end.is_fixed and w_node[node] > 0 and in_contact[node]:
                 grounded += max(0.0, -float(force[1])) / w_node[node]
         grounded = min(grounded, float(s[-1]))
-        in_contact = contact > 0.5 * np.max(contact)
         if grounded > 0:
             if in_contact[0] and not in_contact[-1]:
                 s_td = grounded

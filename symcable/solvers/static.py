@@ -2,6 +2,7 @@
 with continuation from the model's starting point when a plain Newton solve fails."""
 from __future__ import annotations
 
+import itertools
 import time
 
 import numpy as np
@@ -66,17 +67,32 @@ def solve_static(scene, *, tol: float | None = None, max_iter: int = 50,
     opts = dict(tol=tol, max_iter=max_iter, x_scale=model.w_scale, merit_weights=model.merit_weights)
 
     attempts, total_it, n_steps = [], 0, 0
-    res, path, guess = None, "newton", guesses[0]
+    res, path, guess, tried = None, "newton", None, []
+    guesses = iter(guesses)
+    first = next(guesses)
+    # fast path: plain Newton from the first start, iterated inside CasADi in one call
+    res = _fast_newton(fns, first.w, target, tol, max_iter)
+    attempts.append({"path": "newton (CasADi rootfinder)", "start": first.source,
+                     "message": res.message, "iterations": res.iterations,
+                     "residual_norm": res.residual_norm})
+    total_it += res.iterations
+    if res.converged:
+        guess = first
+        guesses = iter(())
+    else:
+        guesses = itertools.chain([first], guesses)
     for g in guesses:
+        tried.append(g)
         res = newton(step, g.w, target, **opts)
         total_it += res.iterations
         attempts.append({"path": "newton", "start": g.source, "message": res.message,
                          "iterations": res.iterations, "residual_norm": res.residual_norm})
+        guess = guess or g
         if res.converged:
             guess = g
             break
     if not res.converged and continuation:
-        for g in (g for g in guesses if g.homotopy):
+        for g in (g for g in tried if g.homotopy):
             res, n_steps, it_cont, log = _continuation(step, g.w, g.p, target, **opts)
             total_it += it_cont
             path, guess = f"continuation in {g.homotopy}", g
@@ -102,6 +118,17 @@ def solve_static(scene, *, tol: float | None = None, max_iter: int = 50,
             f"(residual {res.residual_norm:.3g} N > tolerance {tol:.3g} N after {path})",
             partial=sol, diagnostics={"attempts": attempts, "history": res.history})
     return sol
+
+
+def _fast_newton(fns, w0, p, tol, max_iter) -> NewtonResult:
+    rf = fns.rootfinder(tol, max_iter)
+    w = np.asarray(rf(w0, p), dtype=float).ravel()
+    st = rf.stats()
+    r = np.asarray(fns.residual(w, p), dtype=float).ravel()
+    nr = float(np.max(np.abs(r)))
+    ok = bool(st.get("success")) and np.isfinite(nr) and nr <= tol
+    return NewtonResult(w, ok, int(st.get("iter_count", 0)), nr,
+                        "converged" if ok else f"plain Newton failed ({st.get('return_status', '?')})")
 
 
 def _continuation(step, w0, p_start, p_target, **opts):

@@ -1,0 +1,118 @@
+"""The command line, result export and plots."""
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import symcable as sc
+from symcable.cli import main
+
+from conftest import OC3, two_point
+
+
+def _write_scene(tmp_path, text):
+    p = tmp_path / "scene.toml"
+    p.write_text(text)
+    return p
+
+
+GOOD = """
+name = "small"
+[environment]
+water_density = 1025.0
+[line_types.rope]
+EA = 1e7
+mass = 20.0
+diameter = 0.05
+[[sections]]
+type = "rope"
+length = 100.0
+segments = 20
+[end_a]
+condition = "pinned"
+position = [0.0, 0.0]
+[end_b]
+condition = "pinned"
+position = [80.0, 10.0]
+"""
+
+
+def test_cli_check_and_static_json(tmp_path, capsys):
+    """`check` reports what the scene builds; `static --json` prints the same numbers as the
+    Python object (to JSON round-off) and writes the plot it was asked for."""
+    path = _write_scene(tmp_path, GOOD)
+    assert main(["check", str(path)]) == 0
+    out = capsys.readouterr().out
+    assert "terms: elastic, weight" in out and "ok" in out
+    png = tmp_path / "static.png"
+    assert main(["static", str(path), "--json", "--plot", str(png)]) == 0
+    d = json.loads(capsys.readouterr().out)
+    st = sc.solve_static(path)
+    assert d["fairlead_tension"] == pytest.approx(st.fairlead_tension, rel=1e-12)
+    assert d["status"] == "converged"
+    assert png.stat().st_size > 10_000
+
+
+@pytest.mark.parametrize("text, key", [
+    (GOOD.replace("length = 100.0", "length = -3.0"), "sections[0].length = -3.0"),
+    (GOOD.replace("diameter = 0.05", "diamter = 0.05"), "did you mean 'diameter'"),
+    (GOOD.replace("[80.0, 10.0]", "[500.0, 10.0]"), "end_b.position"),
+])
+def test_cli_errors_are_one_line(tmp_path, capsys, text, key):
+    """Bad input: exit status 2 and one line on stderr naming the key, no traceback."""
+    path = _write_scene(tmp_path, text)
+    assert main(["static", str(path)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err and "Traceback" not in err
+    assert err.startswith("symcable: SceneError:") and key in err
+
+
+def test_cli_missing_file(capsys):
+    assert main(["check", "/nonexistent/scene.toml"]) == 2
+    assert "/nonexistent/scene.toml" in capsys.readouterr().err
+
+
+def test_console_script_demo(tmp_path):
+    """`symcable demo` (the installed console script) solves the built-in OC3 scene and
+    writes its plot, with no input."""
+    script = Path(sys.executable).parent / "symcable"
+    assert script.exists(), "the package's console script is not installed beside python"
+    exe = [str(script)]
+    out = subprocess.run(exe + ["demo", "--plot", str(tmp_path / "d.png")], capture_output=True,
+                         text=True, cwd=tmp_path, timeout=300)
+    assert out.returncode == 0, out.stderr
+    assert "fairlead tension" in out.stdout and (tmp_path / "d.png").exists()
+
+
+@pytest.mark.parametrize("suffix", [".npz", ".json"])
+def test_save_and_load_round_trip(tmp_path, suffix):
+    """A saved solution reloads with the same arrays and stats (exact for NPZ; JSON keeps
+    17 significant digits, so exact too)."""
+    st = sc.solve_static(OC3)
+    path = st.save(tmp_path / f"sol{suffix}")
+    back = sc.StaticSolution.load(path)
+    for name in ("positions", "tension", "moment", "strain", "fairlead_force"):
+        np.testing.assert_array_equal(getattr(back, name), getattr(st, name))
+    assert back.fairlead_tension == st.fairlead_tension
+    assert back.stats["iterations"] == st.stats["iterations"]
+    assert back.status == "converged"
+
+
+def test_summary_has_units():
+    text = sc.solve_static(two_point((0, 0), (80, 10))).summary()
+    assert "kN" in text and " m" in text and " N (tol" in text
+
+
+def test_plot_has_profile_and_forces(tmp_path):
+    """The report figure has the profile (equal axes) and tension/moment panels."""
+    d = two_point((0.0, 0.0), (80.0, 10.0), EI=1e4)
+    fig = sc.solve_static(d).plot(tmp_path / "p.png")
+    axes = fig.get_axes()
+    assert len(axes) == 3  # profile, tension, moment (twin axis)
+    assert axes[0].get_xlabel() == "x (m)" and "kN" in axes[1].get_ylabel()
+    assert (tmp_path / "p.png").exists()

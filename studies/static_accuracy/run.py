@@ -41,6 +41,7 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+from matplotlib import ticker  # noqa: E402
 import numpy as np  # noqa: E402
 from moorpy.Catenary import catenary  # noqa: E402
 
@@ -209,11 +210,13 @@ def plot(res: dict, path: Path) -> None:
     rows = res["rows"]
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4.5), constrained_layout=True)
     colors = dict(zip(LINES, ("C0", "C1", "C2")))
+    labels = {"taut": "taut (0.8 % strain)", "slack": "slack (deep sag)",
+              "seabed": "OC3 on 1e8 Pa/m seabed"}
     for name in LINES:
         rr = [r for r in rows if r["line"] == name]
         n = np.array([r["segments"] for r in rr])
         ax1.loglog(n, [abs(r["fairlead_rel_err"]) for r in rr], "o-", color=colors[name],
-                   label=name)
+                   label=labels[name])
         ax2.loglog(n, [r["symcable_solve_ms"] for r in rr], "o-", color=colors[name],
                    label=f"symcable, {name}")
         ax2.loglog(n, [r["moorpy_ms"] for r in rr], "s--", color=colors[name], alpha=0.7,
@@ -225,7 +228,12 @@ def plot(res: dict, path: Path) -> None:
             title="Error against the closed-form elastic catenary")
     ax2.set(xlabel="segments N (-)", ylabel=f"solve time, median of {res['repeats']} (ms)",
             title="Static solve time (pre-built model) vs MoorPy catenary")
+    ax2.yaxis.set_major_formatter(ticker.FormatStrFormatter("%g"))
+    ax2.yaxis.set_minor_formatter(ticker.FormatStrFormatter("%g"))
     for ax in (ax1, ax2):
+        ax.set_xticks(n)
+        ax.xaxis.set_major_formatter(ticker.FormatStrFormatter("%d"))
+        ax.xaxis.set_minor_locator(ticker.NullLocator())
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=8)
     fig.suptitle("symcable statics: accuracy and speed")

@@ -352,7 +352,7 @@ def _catenary_start(pa, pb, seg, scene):
     if abs(w_eq) * L < 1e-9 * EA_eq:
         return None
     depth = scene.environment.depth
-    start, end, s_eval, mid_eval, reverse = pa, pb, s, s_mid, False
+    start, end, s_eval, mid_eval = pa, pb, s, s_mid
     seabed = False
     if depth is not None and w_eq > 0:
         low_first = pa[1] <= pb[1]
@@ -360,7 +360,7 @@ def _catenary_start(pa, pb, seg, scene):
         if low[1] + depth < 0.01 * L:
             seabed = True
             if not low_first:
-                start, end, s_eval, mid_eval, reverse = pb, pa, L - s, L - s_mid, True
+                start, end, s_eval, mid_eval = pb, pa, L - s, L - s_mid
     dx, dz = end[0] - start[0], end[1] - start[1]
     sx = 1.0 if dx >= 0 else -1.0
     sz = 1.0 if w_eq > 0 else -1.0

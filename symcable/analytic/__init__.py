@@ -1,0 +1,37 @@
+"""Closed-form and semi-analytic reference solutions (oracles for the tests and studies).
+
+Everything here uses only NumPy and the standard library: the special functions (Carlson's
+symmetric elliptic integrals) and the root finders (a damped 2x2 Newton, Brent's method) are
+written out, so that the oracles do not share code with the solvers they check.
+
+Contents
+--------
+* :func:`elastic_catenary` -- Irvine's elastic catenary between two points in a vertical
+  plane, optionally touching down on a flat frictionless seabed at the level of end A.
+* :func:`cantilever_tip_load` -- the inextensible elastica of a cantilever under a dead tip
+  load (Bisshopp & Drucker 1945), in incomplete elliptic integrals.
+* :func:`cantilever_tip_load_small`, :func:`heavy_cantilever_small` -- linear beam theory.
+* :func:`carlson_rf`, :func:`carlson_rd`, :func:`elliptic_f`, :func:`elliptic_e` -- the
+  special functions these need.
+
+Conventions (``design.md``): SI units, planar (x, z) with z up, arc length ``s`` is the
+unstretched length measured from end A (origin) to end B.
+"""
+from __future__ import annotations
+
+from .catenary import VERTICAL_SPAN_RATIO, CatenarySolution, elastic_catenary
+from .elastica import cantilever_tip_load, cantilever_tip_load_small, heavy_cantilever_small
+from .special import carlson_rd, carlson_rf, elliptic_e, elliptic_f
+
+__all__ = [
+    "CatenarySolution",
+    "VERTICAL_SPAN_RATIO",
+    "elastic_catenary",
+    "cantilever_tip_load",
+    "cantilever_tip_load_small",
+    "heavy_cantilever_small",
+    "carlson_rf",
+    "carlson_rd",
+    "elliptic_f",
+    "elliptic_e",
+]

@@ -18,6 +18,8 @@ from .newton import NewtonResult, newton
 
 #: default residual tolerance, relative to the model's force scale
 RTOL = 1e-9
+#: plain Newton from a good start converges in a handful of steps or not at all
+FAST_MAX_ITER = 12
 
 
 def solve_static(scene, *, tol: float | None = None, max_iter: int = 50,
@@ -44,7 +46,8 @@ def solve_static(scene, *, tol: float | None = None, max_iter: int = 50,
     -------
     StaticSolution
         ``stats`` gives ``iterations``, ``residual_norm`` (N), ``tolerance`` (N),
-        ``wall_time`` (s), ``path`` (``"newton"`` or ``"continuation in <what>"``) and
+        ``wall_time`` (s), ``path`` (``"newton"``: plain Newton inside CasADi;
+        ``"damped newton"``: with a line search; ``"continuation in <what>"``) and
         ``start`` (where the initial guess came from).
 
     Raises
@@ -71,7 +74,7 @@ def solve_static(scene, *, tol: float | None = None, max_iter: int = 50,
     guesses = iter(guesses)
     first = next(guesses)
     # fast path: plain Newton from the first start, iterated inside CasADi in one call
-    res = _fast_newton(fns, first.w, target, tol, max_iter)
+    res = _fast_newton(fns, first.w, target, tol, min(max_iter, FAST_MAX_ITER))
     attempts.append({"path": "newton (CasADi rootfinder)", "start": first.source,
                      "message": res.message, "iterations": res.iterations,
                      "residual_norm": res.residual_norm})
@@ -85,7 +88,8 @@ def solve_static(scene, *, tol: float | None = None, max_iter: int = 50,
         tried.append(g)
         res = newton(step, g.w, target, **opts)
         total_it += res.iterations
-        attempts.append({"path": "newton", "start": g.source, "message": res.message,
+        path = "damped newton"
+        attempts.append({"path": path, "start": g.source, "message": res.message,
                          "iterations": res.iterations, "residual_norm": res.residual_norm})
         guess = guess or g
         if res.converged:

@@ -11,7 +11,7 @@ See the README for the scene-file contract and the CLI.
 from __future__ import annotations
 
 from .errors import ConvergenceError, SceneError, SymcableError
-from .models import build_model
+from .models import build_dynamic_model, build_model
 from .results import StaticSolution
 from .scene import Scene
 from .scene_loader import load_scene
@@ -27,6 +27,7 @@ __all__ = [
     "Scene",
     "StaticSolution",
     "analytic",
+    "build_dynamic_model",
     "build_model",
     "load_scene",
     "solve_static",

@@ -40,3 +40,28 @@ def two_point(a, b, *, length=100.0, segments=40, EA=1e7, weight=100.0, EI=0.0,
 @pytest.fixture
 def oc3():
     return copy.deepcopy(OC3)
+
+
+def seed001(**env):
+    """The seed-001 line: OC3 geometry, EA 3.84243e7 N, Cd 1.6 both ways, Ca 1, suspended
+    (no seabed), elliptic fairlead motion X = 2 cos wt, Z = 1 sin wt, T = 10 s."""
+    d = copy.deepcopy(OC3)
+    d["name"] = "seed-001 line"
+    d["environment"] = {"water_density": 1025.0, "current": [0.5, 0.0], **env}
+    d.pop("seabed")
+    d["line_types"]["chain"].update(EA=3.84243e7, cd_normal=1.6, cd_tangential=1.6, ca_normal=1.0)
+    d["end_b"]["motion"] = {"period": 10.0, "amplitude": [2.0, 1.0], "phase_deg": [0.0, -90.0]}
+    return d
+
+
+def taut_string(T=1e5, L=100.0, mass=10.0, EA=1e9, segments=50):
+    """A weightless string in air pinned at both ends and pulled to tension T (N)."""
+    eps = T / EA
+    return {
+        "name": "taut string",
+        "environment": {"water_density": 0.0},
+        "line_types": {"wire": {"EA": EA, "mass": mass, "diameter": 0.01, "weight": 0.0}},
+        "sections": [{"type": "wire", "length": L, "segments": segments}],
+        "end_a": {"condition": "pinned", "position": [0.0, 0.0]},
+        "end_b": {"condition": "pinned", "position": [L * (1 + eps), 0.0]},
+    }

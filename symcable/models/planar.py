@@ -106,6 +106,41 @@ def _end_slope_weights(h0: float, h1: float | None) -> tuple[float, float, float
     return -(1.0 / s1 + 1.0 / s2), s2 / (s1 * (s2 - s1)), -s1 / (s2 * (s2 - s1))
 
 
+def internal_forces(phi, eps, seg: dict, cond_a: EndCondition, cond_b: EndCondition,
+                    mu=1.0, ang_a=0.0, ang_b=0.0):
+    """Internal forces of the planar line from segment angles and strains (see the module
+    docstring): axial force ``T`` (N,), shear ``Q`` (N,), nodal moments ``M`` (N+1,), the
+    Cartesian internal force ``Fx, Fz`` (N,) and whether a bending term was built.
+
+    ``mu`` scales EI (continuation); ``ang_a``, ``ang_b`` are clamped end angles, rad.
+    Works on any CasADi expressions, so the dynamics can linearise exactly this."""
+    N = len(seg["ds"])
+    ds, EA = ca.DM(seg["ds"]), ca.DM(seg["EA"])
+    c, s = ca.cos(phi), ca.sin(phi)
+    T = terms.axial_force(EA, eps)
+    M = ca.SX.zeros(N + 1) if isinstance(phi, ca.SX) else ca.MX.zeros(N + 1)
+    bending = bool(np.any(seg["EI"] > 0.0))
+    if bending:
+        if N > 1:
+            h_int = 0.5 * (seg["ds"][:-1] + seg["ds"][1:])
+            EI_int = 0.5 * (seg["EI"][:-1] + seg["EI"][1:])
+            kappa_int = (phi[1:] - phi[:-1]) / ca.DM(h_int)
+            M[1:N] = mu * terms.bending_moment(ca.DM(EI_int), kappa_int)
+        second = (lambda k: phi[k]) if N > 1 else (lambda k: 0.0)
+        if cond_a is EndCondition.CLAMPED:
+            wa = _end_slope_weights(seg["ds"][0], seg["ds"][1] if N > 1 else None)
+            kappa_a = wa[0] * ang_a + wa[1] * phi[0] + wa[2] * second(1)
+            M[0] = mu * terms.bending_moment(seg["EI"][0], kappa_a)
+        if cond_b is EndCondition.CLAMPED:
+            wb = _end_slope_weights(seg["ds"][-1], seg["ds"][-2] if N > 1 else None)
+            kappa_b = -(wb[0] * ang_b + wb[1] * phi[N - 1] + wb[2] * second(N - 2))
+            M[N] = mu * terms.bending_moment(seg["EI"][-1], kappa_b)
+        Q = terms.shear_from_moments(M[:-1], M[1:], ds, eps)
+    else:
+        Q = 0.0 * eps
+    return T, Q, M, T * c - Q * s, T * s + Q * c, bending
+
+
 def build_planar(scene: Scene) -> Model:
     """Discretise a planar scene and write its static equations (see module docstring)."""
     seg = segment_table(scene)
@@ -155,31 +190,10 @@ def build_planar(scene: Scene) -> Model:
     comp_x = EA / ds * (Xv[1:] - Xv[:-1] - ds * stretch * c)
     comp_z = EA / ds * (Zv[1:] - Zv[:-1] - ds * stretch * s)
 
-    # --- bending: nodal moments, segment shear
-    T = terms.axial_force(EA, eps)
-    M = ca.SX.zeros(N + 1)
-    bending = bool(np.any(seg["EI"] > 0.0))
+    # --- internal forces: axial, bending moment on nodes, shear on segments
+    T, Q, M, Fx, Fz, bending = internal_forces(phi, eps, seg, a.condition, b.condition, mu, ang_a, ang_b)
     if bending:
         term_names.append("bending")
-        if N > 1:
-            h_int = 0.5 * (seg["ds"][:-1] + seg["ds"][1:])
-            EI_int = 0.5 * (seg["EI"][:-1] + seg["EI"][1:])
-            kappa_int = (phi[1:] - phi[:-1]) / ca.DM(h_int)
-            M[1:N] = mu * terms.bending_moment(ca.DM(EI_int), kappa_int)
-        second = (lambda k: phi[k]) if N > 1 else (lambda k: 0.0)
-        if a.condition is EndCondition.CLAMPED:
-            wa = _end_slope_weights(seg["ds"][0], seg["ds"][1] if N > 1 else None)
-            kappa_a = wa[0] * ang_a + wa[1] * phi[0] + wa[2] * second(1)
-            M[0] = mu * terms.bending_moment(seg["EI"][0], kappa_a)
-        if b.condition is EndCondition.CLAMPED:
-            wb = _end_slope_weights(seg["ds"][-1], seg["ds"][-2] if N > 1 else None)
-            kappa_b = -(wb[0] * ang_b + wb[1] * phi[N - 1] + wb[2] * second(N - 2))
-            M[N] = mu * terms.bending_moment(seg["EI"][-1], kappa_b)
-        Q = terms.shear_from_moments(M[:-1], M[1:], ds, eps)
-    else:
-        Q = ca.SX.zeros(N)
-    Fx = T * c - Q * s
-    Fz = T * s + Q * c
 
     # --- external loads lumped on nodes (N per node)
     lump = _lumping_matrix(N)

@@ -1,0 +1,251 @@
+"""Planar cable dynamics linearised about the static state (seed 001, Algorithm S2).
+
+Discretisation (the statics' own, see :mod:`symcable.models.planar`)
+-------------------------------------------------------------------
+State ``y``, interleaved like the static unknowns:
+
+* on every node whose motion is not prescribed (interior nodes, a free end): the velocity
+  in the node's static frame, tangential ``u_i`` and normal ``v_i`` (m/s). The frame angle
+  ``theta_i`` is the mean of the adjacent static segment angles (an end node takes its
+  segment's);
+* on every segment: the dynamic strain ``e_j`` and dynamic angle ``phi_j`` (rad), increments
+  on the static ``eps_j``, ``phi_j`` at the segment midpoint.
+
+Equations (everything linear in the state except drag):
+
+* kinematics, the time derivative of the statics' compatibility linearised at rest:
+  ``de_j/dt = t_j . (V_{j+1} - V_j) / ds_j`` and
+  ``dphi_j/dt = n_j . (V_{j+1} - V_j) / (ds_j (1 + eps_j))``, where ``V_i`` is the node's
+  Cartesian velocity (from ``u, v``, or the prescribed end motion) and ``t_j, n_j`` the static
+  segment frame. These are the seed's ``de/dt = du/ds - v dphi_s/ds`` and
+  ``dphi/dt = dv/ds + u dphi_s/ds``;
+* momentum per free node, projected on its static frame:
+  ``m_t,i du_i/dt = t_i . R_i`` and ``m_n,i dv_i/dt = n_i . R_i`` with
+  ``R_i = dF_i - dF_{i-1} + dP_i``. The lumped masses are ``m`` times the tributary length,
+  plus the normal added mass ``rho Ca pi d^2/4`` in the normal direction. ``dF_j`` is the exact
+  linearisation (CasADi ``jtimes``) of the statics' internal force ``T t + Q n`` in the
+  direction ``(phi_j, e_j)``: the increments ``EA e t``, the rotated static tension
+  ``T phi n`` and the bending shear are all in it, written out by CasADi. Weight does not
+  change in Cartesian components, so it gives no increment (the seed's ``W phi`` terms are
+  the rotated static tension, by the static balance);
+* drag: per segment, Morison on the water's velocity relative to the segment's mean velocity,
+  in the static segment frame, minus the same drag at rest (``U`` alone), which the static
+  balance already holds. So the static state is an exact rest state of the dynamics.
+
+Boundaries: a pinned or clamped end node moves with its prescribed velocity (zero for an
+anchor; the harmonic ``x_i(t) = A_i cos(omega t + phase_i)`` of the scene's ``motion``); a
+clamped end keeps its static angle; a free end carries its dead load, which does not change.
+
+Outputs (S3): the force the line exerts on its ends, static plus ``-dF_{N-1}`` at B and
+``+dF_0`` at A (the seed's ``T_static + EA e[N]``), their magnitudes, the segment tension
+``|F + dF|``, and ``e``, ``phi``. Shapes are reconstructed from the total angle and strain by
+:func:`reconstruct_positions`.
+"""
+from __future__ import annotations
+
+import math
+from types import MappingProxyType
+
+import casadi as ca
+import numpy as np
+
+from ..errors import SceneError
+from ..scene import EndCondition, Scene
+from . import terms
+from .dynamic import DynamicModel
+from .planar import _lumping_matrix, internal_forces, segment_table
+
+
+def _node_frames(phi_s):
+    """Static frame angle of each node (N+1,) from the segment angles (N,)."""
+    N = phi_s.numel() if hasattr(phi_s, "numel") else len(phi_s)
+    if N == 1:
+        return ca.vertcat(phi_s[0], phi_s[0])
+    return ca.vertcat(phi_s[0], 0.5 * (phi_s[:-1] + phi_s[1:]), phi_s[N - 1])
+
+
+def _check_scene(scene: Scene, static) -> None:
+    if static.status != "converged":
+        raise SceneError("static solution: status = %r: the dynamics needs a converged static state"
+                         % static.status)
+    if scene.seabed is not None and static.grounded_length > 0.0:
+        raise SceneError(
+            f"environment.depth = {scene.environment.depth} m: the static line rests "
+            f"{static.grounded_length:.3g} m on the seabed, and planar dynamics with seabed "
+            "contact is not supported yet (lift the line off the seabed or remove the depth)")
+    periods = {e.motion.period for e in (scene.end_a, scene.end_b) if e.motion is not None}
+    if len(periods) > 1:
+        raise SceneError(f"end_a.motion.period, end_b.motion.period = {sorted(periods)} s: "
+                         "both ends must move with the same period")
+
+
+def build_planar_dynamics(scene: Scene, static) -> DynamicModel:
+    """Linearised planar dynamics of ``scene`` about its static solution ``static``
+    (a :class:`~symcable.results.StaticSolution` of the same scene)."""
+    _check_scene(scene, static)
+    seg = segment_table(scene)
+    N = len(seg["ds"])
+    env = scene.environment
+    a, b = scene.end_a, scene.end_b
+
+    # --- parameters, in named blocks
+    blocks = [("phi_s", N), ("eps_s", N), ("amp_a", 2), ("phase_a", 2), ("amp_b", 2),
+              ("phase_b", 2), ("omega", 1), ("current", 2), ("force_a_s", 2), ("force_b_s", 2)]
+    slices, k = {}, 0
+    for name, n in blocks:
+        slices[name] = slice(k, k + n)
+        k += n
+    p = ca.SX.sym("p", k)
+    P = {name: p[sl] for name, sl in slices.items()}
+    period = next((e.motion.period for e in (a, b) if e.motion is not None), None)
+    values = {
+        "phi_s": static.angle, "eps_s": static.strain,
+        "amp_a": a.motion.amplitude if a.motion else (0.0, 0.0),
+        "phase_a": a.motion.phase if a.motion else (0.0, 0.0),
+        "amp_b": b.motion.amplitude if b.motion else (0.0, 0.0),
+        "phase_b": b.motion.phase if b.motion else (0.0, 0.0),
+        "omega": 2 * math.pi / period if period else 0.0,
+        "current": env.current, "force_a_s": static.anchor_force, "force_b_s": static.fairlead_force,
+    }
+    p_value = np.concatenate([np.atleast_1d(np.asarray(values[n], dtype=float)) for n, _ in blocks])
+
+    t = ca.SX.sym("t")
+    phi_s, eps_s = P["phi_s"], P["eps_s"]
+    theta = _node_frames(phi_s)
+    omega = P["omega"]
+
+    # --- state, interleaved: [node 0], seg 0, node 1, ..., seg N-1, [node N]
+    y_list, kinds, V = [], [], [None] * (N + 1)
+    u_l, v_l, dyn_nodes = {}, {}, []
+
+    def add_node(i):
+        u, v = ca.SX.sym(f"u_{i}"), ca.SX.sym(f"v_{i}")
+        u_l[i], v_l[i] = u, v
+        y_list.extend([u, v])
+        kinds.extend(["u", "v"])
+        dyn_nodes.append(i)
+        V[i] = ca.vertcat(u * ca.cos(theta[i]) - v * ca.sin(theta[i]),
+                          u * ca.sin(theta[i]) + v * ca.cos(theta[i]))
+
+    def prescribed(i, tag):
+        amp, ph = P[f"amp_{tag}"], P[f"phase_{tag}"]
+        V[i] = ca.vertcat(*[-amp[c] * omega * ca.sin(omega * t + ph[c]) for c in range(2)])
+
+    e_sym, ph_sym = [], []
+    if a.condition is EndCondition.FREE:
+        add_node(0)
+    else:
+        prescribed(0, "a")
+    for j in range(N):
+        e, ph = ca.SX.sym(f"e_{j}"), ca.SX.sym(f"phi_{j}")
+        e_sym.append(e)
+        ph_sym.append(ph)
+        y_list.extend([e, ph])
+        kinds.extend(["e", "phi"])
+        if j + 1 < N or b.condition is EndCondition.FREE:
+            add_node(j + 1)
+    if b.condition is not EndCondition.FREE:
+        prescribed(N, "b")
+    y = ca.vertcat(*y_list)
+    e_dyn, phi_dyn = ca.vertcat(*e_sym), ca.vertcat(*ph_sym)
+
+    # --- kinematics on segments
+    cs, sn = ca.cos(phi_s), ca.sin(phi_s)
+    ds = ca.DM(seg["ds"])
+    dVx = ca.vertcat(*[V[j + 1][0] - V[j][0] for j in range(N)])
+    dVz = ca.vertcat(*[V[j + 1][1] - V[j][1] for j in range(N)])
+    e_rate = (cs * dVx + sn * dVz) / ds
+    phi_rate = (-sn * dVx + cs * dVz) / (ds * (1.0 + eps_s))
+
+    # --- internal force increments: exact linearisation of the statics' internal force
+    _, _, _, Fx, Fz, bending = internal_forces(phi_s, eps_s, seg, a.condition, b.condition,
+                                               1.0, a.angle or 0.0, b.angle or 0.0)
+    F_s = ca.vertcat(Fx, Fz)
+    dF = ca.jtimes(F_s, ca.vertcat(phi_s, eps_s), ca.vertcat(phi_dyn, e_dyn))
+    dFx, dFz = dF[:N], dF[N:]
+
+    # --- drag increment on segments, lumped on nodes
+    lump = _lumping_matrix(N)
+    term_names = ["elastic", "inertia"] + (["bending"] if bending else [])
+    dPx, dPz = ca.SX.zeros(N + 1), ca.SX.zeros(N + 1)
+    if not env.in_air:
+        term_names += ["drag", "added mass"]
+        U = P["current"]
+        Vmx = 0.5 * ca.vertcat(*[V[j][0] + V[j + 1][0] for j in range(N)])
+        Vmz = 0.5 * ca.vertcat(*[V[j][1] + V[j + 1][1] for j in range(N)])
+
+        def drag_xz(rx, rz):
+            ut, un = cs * rx + sn * rz, -sn * rx + cs * rz
+            ft, fn = terms.morison_drag(env.water_density, ca.DM(seg["d"]), ca.DM(seg["cdn"]),
+                                        ca.DM(seg["cdt"]), ut, un, eps_s)
+            return ds * (ft * cs - fn * sn), ds * (ft * sn + fn * cs)
+
+        fx, fz = drag_xz(U[0] - Vmx, U[1] - Vmz)
+        fx0, fz0 = drag_xz(U[0], U[1])
+        dPx = ca.mtimes(lump, fx - fx0)
+        dPz = ca.mtimes(lump, fz - fz0)
+
+    # --- momentum on the free nodes
+    m_t = np.asarray(ca.mtimes(lump, ca.DM(seg["mass"] * seg["ds"]))).ravel()
+    m_add = 0.0 if env.in_air else env.water_density * math.pi / 4.0
+    m_n = m_t + np.asarray(ca.mtimes(lump, ca.DM(m_add * seg["can"] * seg["d"] ** 2 * seg["ds"]))).ravel()
+    zero = ca.SX.zeros(1)
+    dFx_pad, dFz_pad = ca.vertcat(zero, dFx, zero), ca.vertcat(zero, dFz, zero)
+    Rx = dFx_pad[1:] - dFx_pad[:-1] + dPx
+    Rz = dFz_pad[1:] - dFz_pad[:-1] + dPz
+
+    rows = []
+    for i in range(N + 1):
+        if i in u_l:
+            ct, st_ = ca.cos(theta[i]), ca.sin(theta[i])
+            rows.append((i, ((ct * Rx[i] + st_ * Rz[i]) / m_t[i], (-st_ * Rx[i] + ct * Rz[i]) / m_n[i])))
+    node_rate = dict(rows)
+    rhs_list = []
+    if 0 in node_rate:
+        rhs_list += list(node_rate[0])
+    for j in range(N):
+        rhs_list += [e_rate[j], phi_rate[j]]
+        if j + 1 in node_rate:
+            rhs_list += list(node_rate[j + 1])
+    rhs = ca.vertcat(*rhs_list)
+
+    # --- outputs
+    F_tot_x, F_tot_z = Fx + dFx, Fz + dFz
+    force_b = P["force_b_s"] - ca.vertcat(dFx[N - 1], dFz[N - 1])
+    force_a = P["force_a_s"] + ca.vertcat(dFx[0], dFz[0])
+    outputs = {
+        "fairlead_tension": ca.norm_2(force_b),
+        "anchor_tension": ca.norm_2(force_a),
+        "fairlead_force": force_b.T,
+        "anchor_force": force_a.T,
+        "tension": ca.sqrt(F_tot_x ** 2 + F_tot_z ** 2),
+        "strain": e_dyn,
+        "angle": phi_dyn,
+    }
+
+    kinds_arr = np.array(kinds)
+    amp = max([np.max(np.abs(e.motion.amplitude)) for e in (a, b) if e.motion] + [0.0])
+    v_scale = max(amp * (2 * math.pi / period if period else 0.0), float(np.hypot(*env.current)), 0.1)
+    e_scale = max(float(np.max(np.abs(static.strain))), 1e-6)
+    y_scale = np.select([np.isin(kinds_arr, ["u", "v"]), kinds_arr == "e"], [v_scale, e_scale], 0.01)
+    info = MappingProxyType({
+        "kinds": tuple(kinds), "dynamic_nodes": tuple(dyn_nodes), "segments": seg,
+        "s_nodes": seg["s"], "static": static, "terms": tuple(term_names),
+        "mass_tangential": m_t, "mass_normal": m_n, "scene": scene,
+    })
+    return DynamicModel(name="planar", y=y, t=t, p=p, p_value=p_value,
+                        p_names=tuple(n for n, _ in blocks), p_slices=MappingProxyType(slices),
+                        rhs=rhs, outputs=outputs, y_scale=y_scale, period=period,
+                        y0=np.zeros(y.numel()), info=info)
+
+
+def reconstruct_positions(model: DynamicModel, e: np.ndarray, phi: np.ndarray) -> np.ndarray:
+    """Node positions (n_times, N+1, 2), m, from dynamic strain and angle (n_times, N) (S3):
+    ``r_{j+1} = r_j + ds (1 + eps_s + e) (cos, sin)(phi_s + phi)`` from end A's static place."""
+    st = model.info["static"]
+    ds = model.info["segments"]["ds"]
+    e, phi = np.atleast_2d(e), np.atleast_2d(phi)
+    ang = st.angle + phi
+    step = (ds * (1.0 + st.strain + e))[..., None] * np.stack([np.cos(ang), np.sin(ang)], axis=-1)
+    start = np.broadcast_to(st.positions[0], (e.shape[0], 1, 2))
+    return np.concatenate([start, start + np.cumsum(step, axis=1)], axis=1)

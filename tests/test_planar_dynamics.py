@@ -1,0 +1,65 @@
+"""The linearised planar dynamics: rest state, Jacobian, spectrum of a taut string."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import symcable as sc
+from symcable.errors import SceneError
+
+from conftest import OC3, seed001, taut_string
+
+
+def test_static_state_is_exact_rest_state():
+    """With the excitation off, the static solution gives zero rate to round-off (1e-12 of
+    the state scales per second), with current, drag and bending all present."""
+    d = seed001()
+    d["line_types"]["chain"]["EI"] = 1e5
+    m = sc.build_dynamic_model(sc.load_scene(d))
+    assert {"drag", "added mass", "bending"} <= set(m.info["terms"])
+    f = m.functions()
+    ydot = np.array(f.rhs(m.y0, 3.7, m.with_params(amp_b=[0.0, 0.0])).full()).ravel()
+    assert np.max(np.abs(ydot) / m.y_scale) < 1e-12
+
+
+def test_rhs_jacobian_matches_finite_differences():
+    """dyn_rhs_jac against central differences at a random moving state: drag is smooth away
+    from zero relative velocity (a current is on), so 1e-6 relative."""
+    m = sc.build_dynamic_model(sc.load_scene(seed001()))
+    f = m.functions()
+    rng = np.random.default_rng(1)
+    y = m.y_scale * rng.standard_normal(m.n_y)
+    J = np.array(f.rhs_jacobian(y, 1.0, m.p_value).full())
+    h = 1e-6 * m.y_scale
+    Jfd = np.zeros_like(J)
+    for k in range(m.n_y):
+        e = np.zeros(m.n_y)
+        e[k] = h[k]
+        Jfd[:, k] = (np.array(f.rhs(y + e, 1.0, m.p_value).full()).ravel()
+                     - np.array(f.rhs(y - e, 1.0, m.p_value).full()).ravel()) / (2 * h[k])
+    scale = np.max(np.abs(J), axis=1, keepdims=True) + 1e-300
+    assert np.max(np.abs(J - Jfd) / scale) < 1e-6
+
+
+def test_taut_string_frequencies_from_the_spectrum():
+    """Eigenvalues of the undamped linear model of a taut weightless string: the first three
+    transverse frequencies within 0.5 % of n/(2L') sqrt(T/mu) (L', mu the stretched length
+    and mass per stretched length). At 50 segments the discretisation error is
+    (n pi/N)^2/24 <= 0.15 %."""
+    T, L, mass, EA = 1e5, 100.0, 10.0, 1e9
+    m = sc.build_dynamic_model(sc.load_scene(taut_string(T, L, mass, EA)))
+    J = np.array(m.functions().rhs_jacobian(m.y0, 0.0, m.p_value).full())
+    w = np.sort(np.abs(np.linalg.eigvals(J).imag))
+    f = w[w > 1e-9][::2] / (2 * np.pi)
+    eps = T / EA
+    exact = [n / (2 * L * (1 + eps)) * np.sqrt(T / (mass / (1 + eps))) for n in (1, 2, 3)]
+    np.testing.assert_allclose(f[:3], exact, rtol=5e-3)
+
+
+def test_dynamics_refuses_a_line_on_the_seabed():
+    """Planar dynamics of a line touching the seabed is out of scope: a clear SceneError."""
+    d = dict(OC3)
+    d["end_b"] = {"condition": "pinned", "position": [-5.2, -70.0],
+                  "motion": {"period": 10.0, "amplitude": [1.0, 0.0]}}
+    with pytest.raises(SceneError, match="seabed"):
+        sc.build_dynamic_model(sc.load_scene(d))

@@ -9,7 +9,7 @@ import numpy as np
 
 from .errors import SymcableError
 
-__all__ = ["StaticSolution"]
+__all__ = ["Exportable", "StaticSolution"]
 
 
 def _jsonable(v):
@@ -24,8 +24,67 @@ def _jsonable(v):
     return v
 
 
+class Exportable:
+    """Save/load for frozen dataclasses of arrays and plain values: ``to_dict``,
+    ``to_json``, ``save`` (``.npz`` or ``.json``) and the classmethod ``load``. Array fields
+    come back as float arrays, tuple fields as tuples."""
+
+    # ------------------------------------------------------------------ export
+    def to_dict(self) -> dict:
+        """Every field as plain JSON-able Python (lists for arrays), units as documented."""
+        return {f.name: _jsonable(getattr(self, f.name)) for f in fields(self)}
+
+    def to_json(self, path: str | Path | None = None) -> str:
+        """JSON text of :meth:`to_dict`; also written to ``path`` when given."""
+        text = json.dumps(self.to_dict(), indent=1)
+        if path is not None:
+            Path(path).write_text(text)
+        return text
+
+    def save(self, path: str | Path) -> Path:
+        """Save to ``.npz`` (arrays, with stats as JSON inside) or ``.json``, by suffix."""
+        path = Path(path)
+        if path.suffix == ".json":
+            self.to_json(path)
+        elif path.suffix == ".npz":
+            arrays, meta = {}, {}
+            for f in fields(self):
+                v = getattr(self, f.name)
+                if isinstance(v, np.ndarray):
+                    arrays[f.name] = v
+                else:
+                    meta[f.name] = _jsonable(v)
+            np.savez(path, __meta__=np.array(json.dumps(meta)), **arrays)
+        else:
+            raise SymcableError(f"save path = '{path}': suffix must be .npz or .json")
+        return path
+
+    @classmethod
+    def load(cls, path: str | Path):
+        """Read a solution written by :meth:`save`."""
+        path = Path(path)
+        if path.suffix == ".json":
+            d = json.loads(path.read_text())
+        elif path.suffix == ".npz":
+            with np.load(path, allow_pickle=False) as z:
+                d = json.loads(str(z["__meta__"]))
+                d.update({k: z[k] for k in z.files if k != "__meta__"})
+        else:
+            raise SymcableError(f"load path = '{path}': suffix must be .npz or .json")
+        kw = {}
+        for f in fields(cls):
+            v = d.get(f.name)
+            if f.type in ("tuple", "tuple[str, ...]") or f.name == "warnings":
+                v = tuple(v or ())
+            elif isinstance(v, (list, np.ndarray)):
+                v = np.asarray(v, dtype=float)
+            kw[f.name] = v
+        return cls(**kw)
+
+
+
 @dataclass(frozen=True)
-class StaticSolution:
+class StaticSolution(Exportable):
     """Static configuration of a line. ``n`` is the number of nodes, ``n - 1`` of segments.
 
     Attributes
@@ -107,58 +166,6 @@ class StaticSolution:
         ]
         lines += [f"warning           {w}" for w in self.warnings]
         return "\n".join(lines)
-
-    # ------------------------------------------------------------------ export
-    def to_dict(self) -> dict:
-        """Every field as plain JSON-able Python (lists for arrays), units as documented."""
-        return {f.name: _jsonable(getattr(self, f.name)) for f in fields(self)}
-
-    def to_json(self, path: str | Path | None = None) -> str:
-        """JSON text of :meth:`to_dict`; also written to ``path`` when given."""
-        text = json.dumps(self.to_dict(), indent=1)
-        if path is not None:
-            Path(path).write_text(text)
-        return text
-
-    def save(self, path: str | Path) -> Path:
-        """Save to ``.npz`` (arrays, with stats as JSON inside) or ``.json``, by suffix."""
-        path = Path(path)
-        if path.suffix == ".json":
-            self.to_json(path)
-        elif path.suffix == ".npz":
-            arrays, meta = {}, {}
-            for f in fields(self):
-                v = getattr(self, f.name)
-                if isinstance(v, np.ndarray):
-                    arrays[f.name] = v
-                else:
-                    meta[f.name] = _jsonable(v)
-            np.savez(path, __meta__=np.array(json.dumps(meta)), **arrays)
-        else:
-            raise SymcableError(f"save path = '{path}': suffix must be .npz or .json")
-        return path
-
-    @classmethod
-    def load(cls, path: str | Path) -> "StaticSolution":
-        """Read a solution written by :meth:`save`."""
-        path = Path(path)
-        if path.suffix == ".json":
-            d = json.loads(path.read_text())
-        elif path.suffix == ".npz":
-            with np.load(path, allow_pickle=False) as z:
-                d = json.loads(str(z["__meta__"]))
-                d.update({k: z[k] for k in z.files if k != "__meta__"})
-        else:
-            raise SymcableError(f"load path = '{path}': suffix must be .npz or .json")
-        kw = {}
-        for f in fields(cls):
-            v = d.get(f.name)
-            if f.name in ("warnings",):
-                v = tuple(v or ())
-            elif isinstance(v, list) or (isinstance(v, np.ndarray)):
-                v = np.asarray(v, dtype=float)
-            kw[f.name] = v
-        return cls(**kw)
 
     # ------------------------------------------------------------------ plots
     def plot(self, path: str | Path | None = None):

@@ -15,6 +15,7 @@ from .models import build_dynamic_model, build_model
 from .results import StaticSolution
 from .scene import Scene
 from .scene_loader import load_scene
+from .solvers.modal import ModalSolution, modal_analysis
 from .solvers.static import solve_static
 from . import analytic
 
@@ -25,11 +26,13 @@ __all__ = [
     "SceneError",
     "SymcableError",
     "Scene",
+    "ModalSolution",
     "StaticSolution",
     "analytic",
     "build_dynamic_model",
     "build_model",
     "load_scene",
+    "modal_analysis",
     "solve_static",
     "demo_scene_path",
     "__version__",

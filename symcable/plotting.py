@@ -62,3 +62,91 @@ def plot_static(sol, path: str | Path | None = None, seabed_z: float | None = No
 def close(fig) -> None:
     """Release a figure's memory."""
     plt.close(fig)
+
+
+def _envelope_axis(ax, s_mid, lo, hi, static=None):
+    ax.fill_between(s_mid, lo / 1e3, hi / 1e3, color="C0", alpha=0.3, label="min-max over time")
+    if static is not None:
+        ax.plot(s_mid, static / 1e3, color="k", lw=1, label="static")
+    ax.set_xlabel("unstretched arc length from end A, s (m)")
+    ax.set_ylabel("tension (kN)")
+    ax.grid(True, alpha=0.3)
+    ax.legend(loc="best", fontsize=8)
+
+
+def plot_trajectory(traj, path=None, s_mid=None):
+    """Time response: fairlead tension against time above the tension envelope along the
+    line (min/max over the saved times). ``s_mid`` (n_seg,) m places the segments; their
+    index is used when not given. Returns the Figure."""
+    fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(8.0, 7.0))
+    ax1.plot(traj.time, traj.fairlead_tension / 1e3, color="C0", lw=1)
+    ax1.set_xlabel("time, t (s)")
+    ax1.set_ylabel("fairlead tension (kN)")
+    ax1.set_title(f"time response ({traj.method}, dt = {traj.dt:.4g} s)")
+    ax1.grid(True, alpha=0.3)
+    ten = np.asarray(traj.tension)
+    x = np.arange(ten.shape[1]) if s_mid is None else s_mid
+    _envelope_axis(ax2, x, ten.min(axis=0), ten.max(axis=0))
+    if s_mid is None:
+        ax2.set_xlabel("segment index from end A")
+    ax2.set_title("tension envelope along the line")
+    fig.tight_layout()
+    if path is not None:
+        fig.savefig(path, dpi=150)
+    return fig
+
+
+def plot_periodic(per, path=None, s_mid=None):
+    """Periodic steady state: one period of fairlead tension, its harmonic amplitudes, and
+    the tension envelope along the line. Returns the Figure."""
+    fig = plt.figure(figsize=(9.0, 7.0))
+    ax1 = fig.add_subplot(2, 2, 1)
+    ax1.plot(per.time / per.period, per.fairlead_tension / 1e3, color="C0")
+    ax1.set_xlabel("time / period, t/T (-)")
+    ax1.set_ylabel("fairlead tension (kN)")
+    ax1.set_title(f"one period, T = {per.period:g} s ({per.method})")
+    ax1.grid(True, alpha=0.3)
+    ax2 = fig.add_subplot(2, 2, 2)
+    amp = np.asarray(per.fairlead_tension_harmonics_amplitude)
+    ax2.bar(np.arange(1, amp.size), amp[1:] / 1e3, color="C1")
+    ax2.set_yscale("log")
+    ax2.set_xlabel("harmonic k (-)")
+    ax2.set_ylabel("amplitude (kN)")
+    ax2.set_title("fairlead tension harmonics")
+    ax2.grid(True, alpha=0.3)
+    ax3 = fig.add_subplot(2, 1, 2)
+    lo, hi = np.asarray(per.tension_min), np.asarray(per.tension_max)
+    _envelope_axis(ax3, np.arange(lo.size) if s_mid is None else s_mid, lo, hi)
+    if s_mid is None:
+        ax3.set_xlabel("segment index from end A")
+    ax3.set_title("tension envelope over the period")
+    fig.tight_layout()
+    if path is not None:
+        fig.savefig(path, dpi=150)
+    return fig
+
+
+def plot_modes(modal, positions, path=None, n=4, scale=None):
+    """The first ``n`` mode shapes drawn on the static profile ``positions`` (n_nodes, 2),
+    each scaled to a tenth of the line's extent. Returns the Figure."""
+    n = min(n, len(modal.frequencies))
+    fig, axes = plt.subplots(n, 1, figsize=(8.0, 2.2 * n), sharex=True)
+    axes = np.atleast_1d(axes)
+    extent = float(np.ptp(positions, axis=0).max())
+    scale = scale or 0.1 * extent
+    for k, ax in enumerate(axes):
+        shape = np.asarray(modal.shapes[k])
+        ax.plot(positions[:, 0], positions[:, 1], color="0.6", lw=1, label="static")
+        for sign, style in ((1, "-"), (-1, "--")):
+            q = positions + sign * scale * shape
+            ax.plot(q[:, 0], q[:, 1], style, color="C0", lw=1.2)
+        ax.set_title(f"mode {k + 1}: {modal.frequencies[k]:.4g} Hz (period {1 / modal.frequencies[k]:.4g} s)",
+                     fontsize=9)
+        ax.set_ylabel("z (m)")
+        ax.set_aspect("equal", adjustable="datalim")
+        ax.grid(True, alpha=0.3)
+    axes[-1].set_xlabel("x (m)")
+    fig.tight_layout()
+    if path is not None:
+        fig.savefig(path, dpi=150)
+    return fig

@@ -11,6 +11,8 @@ Contents
 * :func:`cantilever_tip_load` -- the inextensible elastica of a cantilever under a dead tip
   load (Bisshopp & Drucker 1945), in incomplete elliptic integrals.
 * :func:`cantilever_tip_load_small`, :func:`heavy_cantilever_small` -- linear beam theory.
+* :func:`taut_string_frequencies`, :func:`sagged_cable_frequencies` -- natural frequencies of
+  a taut string and of a shallow sagged elastic cable (Irvine & Caughey 1974).
 * :func:`carlson_rf`, :func:`carlson_rd`, :func:`elliptic_f`, :func:`elliptic_e` -- the
   special functions these need.
 
@@ -21,6 +23,7 @@ from __future__ import annotations
 
 from .catenary import VERTICAL_SPAN_RATIO, CatenarySolution, elastic_catenary
 from .elastica import cantilever_tip_load, cantilever_tip_load_small, heavy_cantilever_small
+from .frequencies import SaggedCableFrequencies, sagged_cable_frequencies, taut_string_frequencies
 from .special import carlson_rd, carlson_rf, elliptic_e, elliptic_f
 
 __all__ = [
@@ -34,4 +37,7 @@ __all__ = [
     "carlson_rd",
     "elliptic_f",
     "elliptic_e",
+    "SaggedCableFrequencies",
+    "sagged_cable_frequencies",
+    "taut_string_frequencies",
 ]

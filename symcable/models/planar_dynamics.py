@@ -228,7 +228,17 @@ def build_planar_dynamics(scene: Scene, static) -> DynamicModel:
     v_scale = max(amp * (2 * math.pi / period if period else 0.0), float(np.hypot(*env.current)), 0.1)
     e_scale = max(float(np.max(np.abs(static.strain))), 1e-6)
     y_scale = np.select([np.isin(kinds_arr, ["u", "v"]), kinds_arr == "e"], [v_scale, e_scale], 0.01)
+    # the map from the state to Cartesian node velocities (x, z) at rest, for mode shapes
+    theta_s = np.asarray(_node_frames(ca.DM(np.asarray(static.angle, dtype=float)))).ravel()
+    velocity_map = np.zeros((2 * (N + 1), y.numel()))
+    iu, iv = np.flatnonzero(kinds_arr == "u"), np.flatnonzero(kinds_arr == "v")
+    rows = 2 * np.asarray(dyn_nodes, dtype=int)
+    cth, sth = np.cos(theta_s[dyn_nodes]), np.sin(theta_s[dyn_nodes])
+    velocity_map[rows, iu], velocity_map[rows, iv] = cth, -sth
+    velocity_map[rows + 1, iu], velocity_map[rows + 1, iv] = sth, cth
+
     info = MappingProxyType({
+        "velocity_map": velocity_map, "node_frames": theta_s,
         "kinds": tuple(kinds), "dynamic_nodes": tuple(dyn_nodes), "segments": seg,
         "s_nodes": seg["s"], "static": static, "terms": tuple(term_names),
         "mass_tangential": m_t, "mass_normal": m_n, "scene": scene,

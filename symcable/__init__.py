@@ -13,10 +13,12 @@ from __future__ import annotations
 from .errors import ConvergenceError, SceneError, SymcableError
 from .models import build_dynamic_model, build_model
 from .results import StaticSolution
+from .results_time import Trajectory
 from .scene import Scene
 from .scene_loader import load_scene
 from .solvers.modal import ModalSolution, modal_analysis
 from .solvers.static import solve_static
+from .solvers.stepping import simulate
 from . import analytic
 
 __version__ = "0.1.0"
@@ -28,18 +30,23 @@ __all__ = [
     "Scene",
     "ModalSolution",
     "StaticSolution",
+    "Trajectory",
     "analytic",
     "build_dynamic_model",
     "build_model",
     "load_scene",
     "modal_analysis",
+    "simulate",
     "solve_static",
     "demo_scene_path",
     "__version__",
 ]
 
 
-def demo_scene_path():
-    """Path of the built-in demo scene (the OC3-Hywind mooring line, planar)."""
+def demo_scene_path(name: str = "oc3"):
+    """Path of a built-in scene: ``"oc3"`` (the OC3-Hywind mooring line on its seabed) or
+    ``"seed001"`` (the seed-001 line: suspended, current, elliptic fairlead motion)."""
     from importlib.resources import files
-    return files("symcable") / "data" / "oc3.toml"
+    if name not in ("oc3", "seed001"):
+        raise SymcableError(f"demo scene = {name!r}: must be 'oc3' or 'seed001'")
+    return files("symcable") / "data" / f"{name}.toml"

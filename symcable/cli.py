@@ -7,6 +7,7 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+from pathlib import Path
 
 from .errors import SymcableError
 
@@ -65,12 +66,87 @@ def _check(args) -> int:
     return 0
 
 
+def _emit(result, args, plot) -> None:
+    """Print JSON or the summary, save and plot as asked."""
+    if args.json:
+        d = result.to_dict()
+        d.pop("states", None)
+        d.pop("unknowns", None)
+        print(json.dumps(d, indent=1))
+    else:
+        print(result.summary())
+    if getattr(args, "save", None):
+        result.save(args.save)
+    if args.plot:
+        from .plotting import close
+        close(plot(args.plot))
+        if not args.json:
+            print(f"plot              {args.plot}")
+
+
+def _s_mid(scene):
+    from .models.planar import segment_table
+    seg = segment_table(scene)
+    return seg["s"][:-1] + 0.5 * seg["ds"]
+
+
+def _simulate(args) -> int:
+    from .scene_loader import load_scene
+    from .solvers.stepping import simulate
+    from .plotting import plot_trajectory
+
+    scene = load_scene(args.scene)
+    period = next((e.motion.period for e in (scene.end_a, scene.end_b) if e.motion), None)
+    duration = args.duration or (10.0 * period if period else 60.0)
+    traj = simulate(scene, duration, dt=args.dt, method=args.method)
+    _emit(traj, args, lambda path: plot_trajectory(traj, path))
+    return 0
+
+
+def _periodic(args) -> int:
+    from .scene_loader import load_scene
+    from .solvers.periodic import solve_periodic
+    from .plotting import plot_periodic
+
+    scene = load_scene(args.scene)
+    per = solve_periodic(scene, method=args.method)
+    _emit(per, args, lambda path: plot_periodic(per, path, s_mid=_s_mid(scene)))
+    return 0
+
+
+def _modes(args) -> int:
+    from .scene_loader import load_scene
+    from .solvers.modal import modal_analysis
+    from .plotting import plot_modes
+
+    scene = load_scene(args.scene)
+    modal = modal_analysis(scene, args.n)
+    _emit(modal, args, lambda path: plot_modes(modal, modal.positions, path))
+    return 0
+
+
 def _demo(args) -> int:
     from . import demo_scene_path
-    print("symcable demo: the OC3-Hywind mooring line (planar, 50 segments, seabed contact)\n")
+    from .solvers.periodic import solve_periodic
+    from .plotting import plot_periodic, close
+    from .scene_loader import load_scene
+
+    print("symcable demo 1/2: statics of the OC3-Hywind mooring line (planar, 50 segments, "
+          "seabed contact)\n")
     args.json = False
-    args.plot = args.plot or "symcable-demo.png"
-    return _static(demo_scene_path(), args)
+    plot = args.plot or "symcable-demo.png"
+    args.plot = plot
+    _static(demo_scene_path(), args)
+    print("\nsymcable demo 2/2: periodic steady state of the seed-001 line (suspended, current "
+          "0.5 m/s, elliptic fairlead motion, T = 10 s)\n")
+    scene = load_scene(demo_scene_path("seed001"))
+    per = solve_periodic(scene)
+    print(per.summary())
+    stem = Path(plot)
+    periodic_plot = stem.with_name(stem.stem + "-periodic" + stem.suffix)
+    close(plot_periodic(per, periodic_plot, s_mid=_s_mid(scene)))
+    print(f"plot              {periodic_plot}")
+    return 0
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -83,7 +159,27 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--json", action="store_true", help="print the solution as JSON (SI units)")
     p.add_argument("--plot", metavar="FILE", help="save the profile/tension/moment figure")
     p.add_argument("--save", metavar="FILE", help="save the solution (.npz or .json)")
-    p = sub.add_parser("demo", help="solve the built-in OC3 scene and plot it")
+    p = sub.add_parser("simulate", help="time response to the scene's end motion")
+    p.add_argument("scene")
+    p.add_argument("--duration", type=float, help="s (default 10 excitation periods)")
+    p.add_argument("--dt", type=float, help="time step, s (default: chosen by the method)")
+    p.add_argument("--method", default="generalized-alpha", choices=["generalized-alpha", "rk4"])
+    p.add_argument("--json", action="store_true")
+    p.add_argument("--plot", metavar="FILE")
+    p.add_argument("--save", metavar="FILE", help="save the trajectory (.npz or .json)")
+    p = sub.add_parser("periodic", help="periodic steady state over one excitation period")
+    p.add_argument("scene")
+    p.add_argument("--method", default="collocation", choices=["collocation", "harmonic-balance"])
+    p.add_argument("--json", action="store_true")
+    p.add_argument("--plot", metavar="FILE")
+    p.add_argument("--save", metavar="FILE", help="save the solution (.npz or .json)")
+    p = sub.add_parser("modes", help="natural frequencies and mode shapes")
+    p.add_argument("scene")
+    p.add_argument("--n", type=int, default=6, help="number of modes (default 6)")
+    p.add_argument("--json", action="store_true")
+    p.add_argument("--plot", metavar="FILE")
+    p.add_argument("--save", metavar="FILE")
+    p = sub.add_parser("demo", help="the built-in scenes: OC3 statics, seed-001 periodic response")
     p.add_argument("--plot", metavar="FILE", help="figure path (default symcable-demo.png)")
     p.add_argument("--save", metavar="FILE", help="save the solution (.npz or .json)")
     return ap
@@ -98,6 +194,12 @@ def main(argv: list[str] | None = None) -> int:
             return _static(args.scene, args)
         if args.command == "demo":
             return _demo(args)
+        if args.command == "simulate":
+            return _simulate(args)
+        if args.command == "periodic":
+            return _periodic(args)
+        if args.command == "modes":
+            return _modes(args)
     except SymcableError as exc:
         print(f"symcable: {type(exc).__name__}: {exc}", file=sys.stderr)
         return 2

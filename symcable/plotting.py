@@ -75,21 +75,32 @@ def _envelope_axis(ax, s_mid, lo, hi, static=None):
 
 
 def plot_trajectory(traj, path=None, s_mid=None):
-    """Time response: fairlead tension against time above the tension envelope along the
-    line (min/max over the saved times). ``s_mid`` (n_seg,) m places the segments; their
-    index is used when not given. Returns the Figure."""
-    fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(8.0, 7.0))
-    ax1.plot(traj.time, traj.fairlead_tension / 1e3, color="C0", lw=1)
-    ax1.set_xlabel("time, t (s)")
-    ax1.set_ylabel("fairlead tension (kN)")
-    ax1.set_title(f"time response ({traj.method}, dt = {traj.dt:.4g} s)")
-    ax1.grid(True, alpha=0.3)
-    ten = np.asarray(traj.tension)
-    x = np.arange(ten.shape[1]) if s_mid is None else s_mid
-    _envelope_axis(ax2, x, ten.min(axis=0), ten.max(axis=0))
-    if s_mid is None:
-        ax2.set_xlabel("segment index from end A")
-    ax2.set_title("tension envelope along the line")
+    """Time response: fairlead and anchor tension against time above the tension envelope
+    along the line (least/largest segment tension over the saved samples), kN; slack is
+    marked. ``s_mid`` (n_seg,) m defaults to the trajectory's own ``s``. Returns the Figure."""
+    fig, (ax_t, ax_e) = plt.subplots(2, 1, figsize=(8.0, 7.0))
+    t = traj.time
+    ax_t.plot(t, traj.fairlead_tension / 1e3, color="C0", lw=1.5, label="fairlead (end B)")
+    ax_t.plot(t, traj.anchor_tension / 1e3, color="C1", lw=1.0, alpha=0.8, label="anchor (end A)")
+    ax_t.set_xlabel("time, t (s)")
+    ax_t.set_ylabel("tension (kN)")
+    ax_t.set_title(f"{traj.scene_name}\n{traj.method}, dt = {traj.dt:.4g} s, status {traj.status}",
+                   fontsize=10)
+    ax_t.grid(True, alpha=0.3)
+    ax_t.legend(loc="best", fontsize=8)
+    x = getattr(traj, "s", None) if s_mid is None else s_mid
+    lo, hi = traj.tension.min(axis=0), traj.tension.max(axis=0)
+    ax_e.fill_between(x, lo / 1e3, hi / 1e3, color="C0", alpha=0.25, label="range over time")
+    ax_e.plot(x, lo / 1e3, color="C0", lw=1.0, label="least")
+    ax_e.plot(x, hi / 1e3, color="C3", lw=1.0, label="largest")
+    ax_e.plot(x, traj.tension[0] / 1e3, color="k", lw=0.8, ls="--", label=f"t = {t[0]:.3g} s")
+    if np.any(lo <= 0.0):
+        ax_e.axhline(0.0, color="C3", lw=0.8, ls=":", label="slack")
+    ax_e.set_xlabel("unstretched arc length from end A, s (m)")
+    ax_e.set_ylabel("segment tension (kN)")
+    ax_e.set_title("tension envelope along the line")
+    ax_e.grid(True, alpha=0.3)
+    ax_e.legend(loc="best", fontsize=8)
     fig.tight_layout()
     if path is not None:
         fig.savefig(path, dpi=150)
@@ -130,7 +141,7 @@ def plot_modes(modal, positions, path=None, n=4, scale=None):
     """The first ``n`` mode shapes drawn on the static profile ``positions`` (n_nodes, 2),
     each scaled to a tenth of the line's extent. Returns the Figure."""
     n = min(n, len(modal.frequencies))
-    fig, axes = plt.subplots(n, 1, figsize=(8.0, 2.2 * n), sharex=True)
+    fig, axes = plt.subplots(n, 1, figsize=(8.0, 2.4 * n), sharex=True)
     axes = np.atleast_1d(axes)
     extent = float(np.ptp(positions, axis=0).max())
     scale = scale or 0.1 * extent
@@ -143,9 +154,10 @@ def plot_modes(modal, positions, path=None, n=4, scale=None):
         ax.set_title(f"mode {k + 1}: {modal.frequencies[k]:.4g} Hz (period {1 / modal.frequencies[k]:.4g} s)",
                      fontsize=9)
         ax.set_ylabel("z (m)")
-        ax.set_aspect("equal", adjustable="datalim")
         ax.grid(True, alpha=0.3)
     axes[-1].set_xlabel("x (m)")
+    fig.suptitle(f"mode shapes (+/- {scale:.3g} m at the largest displacement; axes not to scale)",
+                 fontsize=10)
     fig.tight_layout()
     if path is not None:
         fig.savefig(path, dpi=150)

@@ -33,7 +33,12 @@ class DynamicModel:
     p : casadi.SX (n_p, 1)
         Parameters (static state the model is linearised about, excitation, current).
     p_value : ndarray (n_p,)
-        The scene's parameter values.
+        The scene's parameter values for a run from rest (with any start-up ramp).
+    p_periodic : ndarray (n_p,)
+        The parameter values of the periodic steady state (no start-up ramp).
+    p_undamped : ndarray (n_p,)
+        Parameters of the undamped, unforced linear model about rest (no excitation, no
+        current, no constraint stabilisation), for modal analysis.
     p_names : tuple of str
         Name of each block of ``p`` (see ``p_slices``).
     p_slices : Mapping[str, slice]
@@ -57,6 +62,8 @@ class DynamicModel:
     t: ca.SX
     p: ca.SX
     p_value: np.ndarray
+    p_periodic: np.ndarray
+    p_undamped: np.ndarray
     p_names: tuple
     p_slices: Mapping[str, slice]
     rhs: ca.SX

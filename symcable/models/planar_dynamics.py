@@ -33,8 +33,14 @@ Equations (everything linear in the state except drag):
   balance already holds. So the static state is an exact rest state of the dynamics.
 
 Boundaries: a pinned or clamped end node moves with its prescribed velocity (zero for an
-anchor; the harmonic ``x_i(t) = A_i cos(omega t + phase_i)`` of the scene's ``motion``); a
-clamped end keeps its static angle; a free end carries its dead load, which does not change.
+anchor; the derivative of the harmonic displacement ``x_i(t) = A_i cos(omega t + phase_i)``
+about the static place, of the scene's ``motion``); a clamped end keeps its static angle; a
+free end carries its dead load, which does not change. A run from rest (``p_value``) ramps
+the displacement in over the first period so that it ends up about the scene's position,
+where the seed's velocity-only start would leave it offset by ``A cos(phase)``; the periodic
+steady state (``p_periodic``) has no ramp. With both ends held, the end-to-end closure that
+the kinematics conserve is stabilised (``dc/dt = -beta c``; see the code), which is zero on
+the physical solution.
 
 Outputs (S3): the force the line exerts on its ends, static plus ``-dF_{N-1}`` at B and
 ``+dF_0`` at A (the seed's ``T_static + EA e[N]``), their magnitudes, the segment tension
@@ -90,7 +96,8 @@ def build_planar_dynamics(scene: Scene, static) -> DynamicModel:
 
     # --- parameters, in named blocks
     blocks = [("phi_s", N), ("eps_s", N), ("amp_a", 2), ("phase_a", 2), ("amp_b", 2),
-              ("phase_b", 2), ("omega", 1), ("current", 2), ("force_a_s", 2), ("force_b_s", 2)]
+              ("phase_b", 2), ("omega", 1), ("current", 2), ("force_a_s", 2), ("force_b_s", 2),
+              ("ramp", 1), ("beta", 1)]
     slices, k = {}, 0
     for name, n in blocks:
         slices[name] = slice(k, k + n)
@@ -106,6 +113,8 @@ def build_planar_dynamics(scene: Scene, static) -> DynamicModel:
         "phase_b": b.motion.phase if b.motion else (0.0, 0.0),
         "omega": 2 * math.pi / period if period else 0.0,
         "current": env.current, "force_a_s": static.anchor_force, "force_b_s": static.fairlead_force,
+        "ramp": period or 0.0,
+        "beta": 2 * math.pi / period if period else 1.0,
     }
     p_value = np.concatenate([np.atleast_1d(np.asarray(values[n], dtype=float)) for n, _ in blocks])
 
@@ -127,9 +136,21 @@ def build_planar_dynamics(scene: Scene, static) -> DynamicModel:
         V[i] = ca.vertcat(u * ca.cos(theta[i]) - v * ca.sin(theta[i]),
                           u * ca.sin(theta[i]) + v * ca.cos(theta[i]))
 
+    # prescribed end displacement d(t) = r(t) A cos(omega t + phase) about the static place,
+    # with r a smooth start-up ramp over the first `ramp` seconds (r = 1 when ramp = 0), so a
+    # run from rest ends up oscillating about the scene's position; V = dd/dt exactly
+    T_r = P["ramp"][0]
+    tau = ca.fmin(t / ca.fmax(T_r, 1e-300), 1.0)
+    r = ca.if_else(T_r > 0, 0.5 * (1 - ca.cos(math.pi * tau)), 1.0)
+    r_dot = ca.if_else(ca.logic_and(T_r > 0, t < T_r), 0.5 * math.pi / T_r * ca.sin(math.pi * tau), 0.0)
+    disp = [ca.SX.zeros(2, 1), ca.SX.zeros(2, 1)]
+
     def prescribed(i, tag):
         amp, ph = P[f"amp_{tag}"], P[f"phase_{tag}"]
-        V[i] = ca.vertcat(*[-amp[c] * omega * ca.sin(omega * t + ph[c]) for c in range(2)])
+        d = ca.vertcat(*[amp[c] * ca.cos(omega * t + ph[c]) for c in range(2)])
+        v = ca.vertcat(*[-amp[c] * omega * ca.sin(omega * t + ph[c]) for c in range(2)])
+        disp[0 if i == 0 else 1] = r * d
+        V[i] = r_dot * d + r * v
 
     e_sym, ph_sym = [], []
     if a.condition is EndCondition.FREE:
@@ -156,6 +177,18 @@ def build_planar_dynamics(scene: Scene, static) -> DynamicModel:
     dVz = ca.vertcat(*[V[j + 1][1] - V[j][1] for j in range(N)])
     e_rate = (cs * dVx + sn * dVz) / ds
     phi_rate = (-sn * dVx + cs * dVz) / (ds * (1.0 + eps_s))
+    # The kinematics conserve the closure c = sum ds (e t + (1 + eps) phi n) - (d_B - d_A)
+    # (it telescopes to V_N - V_0 - dd_B/dt + dd_A/dt = 0), so with both ends held the state
+    # has two more kinematic entries than displacements and a periodic solution would be
+    # fixed only up to c. Baumgarte-type stabilisation makes dc/dt = -beta c: zero on the
+    # physical manifold c = 0, which it makes attracting (and the periodic problem regular).
+    if a.condition is not EndCondition.FREE and b.condition is not EndCondition.FREE:
+        Ltot = float(np.sum(seg["ds"]))
+        cx = ca.sum1(ds * (e_dyn * cs - (1.0 + eps_s) * phi_dyn * sn)) - (disp[1][0] - disp[0][0])
+        cz = ca.sum1(ds * (e_dyn * sn + (1.0 + eps_s) * phi_dyn * cs)) - (disp[1][1] - disp[0][1])
+        beta = P["beta"][0]
+        e_rate = e_rate - beta / Ltot * (cs * cx + sn * cz)
+        phi_rate = phi_rate - beta / Ltot * (-sn * cx + cs * cz) / (1.0 + eps_s)
 
     # --- internal force increments: exact linearisation of the statics' internal force
     _, _, _, Fx, Fz, bending = internal_forces(phi_s, eps_s, seg, a.condition, b.condition,
@@ -243,7 +276,13 @@ def build_planar_dynamics(scene: Scene, static) -> DynamicModel:
         "s_nodes": seg["s"], "static": static, "terms": tuple(term_names),
         "mass_tangential": m_t, "mass_normal": m_n, "scene": scene,
     })
-    return DynamicModel(name="planar", y=y, t=t, p=p, p_value=p_value,
+    p_periodic = np.array(p_value)
+    p_periodic[slices["ramp"]] = 0.0
+    p_undamped = np.array(p_periodic)
+    for name in ("amp_a", "amp_b", "current", "beta"):
+        p_undamped[slices[name]] = 0.0
+    return DynamicModel(name="planar", y=y, t=t, p=p, p_value=p_value, p_periodic=p_periodic,
+                        p_undamped=p_undamped,
                         p_names=tuple(n for n, _ in blocks), p_slices=MappingProxyType(slices),
                         rhs=rhs, outputs=outputs, y_scale=y_scale, period=period,
                         y0=np.zeros(y.numel()), info=info)

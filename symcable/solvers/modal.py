@@ -114,10 +114,9 @@ class ModalSolution(Exportable):
 
 
 def undamped_parameters(model: DynamicModel) -> np.ndarray:
-    """``model.p_value`` with the excitation amplitudes (blocks ``amp_*``) and the current
-    (block ``current``) zeroed; every other block (the static state) unchanged."""
-    zero = {name: 0.0 for name in model.p_slices if name.startswith("amp") or name == "current"}
-    return model.with_params(**zero)
+    """The formulation's parameters of the undamped, unforced linear model about rest
+    (``model.p_undamped``: the static state kept, excitation and current off)."""
+    return np.asarray(model.p_undamped, dtype=float)
 
 
 def _velocity_map(model: DynamicModel) -> np.ndarray:

@@ -29,8 +29,10 @@ Equations (everything linear in the state except drag):
   change in Cartesian components, so it gives no increment (the seed's ``W phi`` terms are
   the rotated static tension, by the static balance);
 * drag: per segment, Morison on the water's velocity relative to the segment's mean velocity,
-  in the static segment frame, minus the same drag at rest (``U`` alone), which the static
-  balance already holds. So the static state is an exact rest state of the dynamics.
+  on the segment as it is (total angle and strain: the seed uses the static angle, which
+  drops the first-order change of drag as the line turns in the current), minus the steady drag of the static balance (at the static
+  state's current). So the static state is an exact rest state of the dynamics, and a
+  changed current parameter loads the line.
 
 Boundaries: a pinned or clamped end node moves with its prescribed velocity (zero for an
 anchor; the derivative of the harmonic displacement ``x_i(t) = A_i cos(omega t + phase_i)``
@@ -42,9 +44,10 @@ steady state (``p_periodic``) has no ramp. With both ends held, the end-to-end c
 the kinematics conserve is stabilised (``dc/dt = -beta c``; see the code), which is zero on
 the physical solution.
 
-Outputs (S3): the force the line exerts on its ends, static plus ``-dF_{N-1}`` at B and
-``+dF_0`` at A (the seed's ``T_static + EA e[N]``), their magnitudes, the segment tension
-``|F + dF|``, and ``e``, ``phi``. Shapes are reconstructed from the total angle and strain by
+Outputs (S3): the force the line exerts on its ends, static plus the increment of the end
+node's balance (``dP_N - dF_{N-1}`` at B, ``dP_0 + dF_0`` at A, less the d'Alembert force of
+a moving end's lumped mass; the seed's ``T_static + EA e[N]`` is its leading term), their
+magnitudes, the segment tension ``|F + dF|``, and ``e``, ``phi``. Shapes are reconstructed from the total angle and strain by
 :func:`reconstruct_positions`.
 """
 from __future__ import annotations
@@ -96,8 +99,8 @@ def build_planar_dynamics(scene: Scene, static) -> DynamicModel:
 
     # --- parameters, in named blocks
     blocks = [("phi_s", N), ("eps_s", N), ("amp_a", 2), ("phase_a", 2), ("amp_b", 2),
-              ("phase_b", 2), ("omega", 1), ("current", 2), ("force_a_s", 2), ("force_b_s", 2),
-              ("ramp", 1), ("beta", 1)]
+              ("phase_b", 2), ("omega", 1), ("current", 2), ("current_s", 2), ("force_a_s", 2),
+              ("force_b_s", 2), ("ramp", 1), ("beta", 1)]
     slices, k = {}, 0
     for name, n in blocks:
         slices[name] = slice(k, k + n)
@@ -112,7 +115,8 @@ def build_planar_dynamics(scene: Scene, static) -> DynamicModel:
         "amp_b": b.motion.amplitude if b.motion else (0.0, 0.0),
         "phase_b": b.motion.phase if b.motion else (0.0, 0.0),
         "omega": 2 * math.pi / period if period else 0.0,
-        "current": env.current, "force_a_s": static.anchor_force, "force_b_s": static.fairlead_force,
+        "current": env.current, "current_s": env.current,
+        "force_a_s": static.anchor_force, "force_b_s": static.fairlead_force,
         "ramp": period or 0.0,
         "beta": 2 * math.pi / period if period else 1.0,
     }
@@ -207,14 +211,18 @@ def build_planar_dynamics(scene: Scene, static) -> DynamicModel:
         Vmx = 0.5 * ca.vertcat(*[V[j][0] + V[j + 1][0] for j in range(N)])
         Vmz = 0.5 * ca.vertcat(*[V[j][1] + V[j + 1][1] for j in range(N)])
 
-        def drag_xz(rx, rz):
-            ut, un = cs * rx + sn * rz, -sn * rx + cs * rz
+        def drag_xz(rx, rz, ang, strain):
+            c_, s_ = ca.cos(ang), ca.sin(ang)
+            ut, un = c_ * rx + s_ * rz, -s_ * rx + c_ * rz
             ft, fn = terms.morison_drag(env.water_density, ca.DM(seg["d"]), ca.DM(seg["cdn"]),
-                                        ca.DM(seg["cdt"]), ut, un, eps_s)
-            return ds * (ft * cs - fn * sn), ds * (ft * sn + fn * cs)
+                                        ca.DM(seg["cdt"]), ut, un, strain)
+            return ds * (ft * c_ - fn * s_), ds * (ft * s_ + fn * c_)
 
-        fx, fz = drag_xz(U[0] - Vmx, U[1] - Vmz)
-        fx0, fz0 = drag_xz(U[0], U[1])
+        # on the segment as it is now (total angle and strain), minus the steady drag of the
+        # static balance at the static state's own current (block current_s): rest is exact,
+        # and a changed current (block current) loads the line as the statics would
+        fx, fz = drag_xz(U[0] - Vmx, U[1] - Vmz, phi_s + phi_dyn, eps_s + e_dyn)
+        fx0, fz0 = drag_xz(P["current_s"][0], P["current_s"][1], phi_s, eps_s)
         dPx = ca.mtimes(lump, fx - fx0)
         dPz = ca.mtimes(lump, fz - fz0)
 
@@ -244,8 +252,19 @@ def build_planar_dynamics(scene: Scene, static) -> DynamicModel:
 
     # --- outputs
     F_tot_x, F_tot_z = Fx + dFx, Fz + dFz
-    force_b = P["force_b_s"] - ca.vertcat(dFx[N - 1], dFz[N - 1])
-    force_a = P["force_a_s"] + ca.vertcat(dFx[0], dFz[0])
+    # force on an end = static + increment of the end node's balance (as in the statics):
+    # the segment force, the node's own load increment and, at a moving end, the d'Alembert
+    # force of the node's lumped mass (added mass normal to the line)
+    def inertia(i):
+        if i in u_l:
+            return ca.SX.zeros(2, 1)
+        acc = ca.jacobian(V[i], t)
+        ct, st_ = ca.cos(theta[i]), ca.sin(theta[i])
+        a_t, a_n = ct * acc[0] + st_ * acc[1], -st_ * acc[0] + ct * acc[1]
+        return ca.vertcat(m_t[i] * a_t * ct - m_n[i] * a_n * st_, m_t[i] * a_t * st_ + m_n[i] * a_n * ct)
+
+    force_b = P["force_b_s"] + ca.vertcat(dPx[N] - dFx[N - 1], dPz[N] - dFz[N - 1]) - inertia(N)
+    force_a = P["force_a_s"] + ca.vertcat(dPx[0] + dFx[0], dPz[0] + dFz[0]) - inertia(0)
     outputs = {
         "fairlead_tension": ca.norm_2(force_b),
         "anchor_tension": ca.norm_2(force_a),
@@ -279,7 +298,7 @@ def build_planar_dynamics(scene: Scene, static) -> DynamicModel:
     p_periodic = np.array(p_value)
     p_periodic[slices["ramp"]] = 0.0
     p_undamped = np.array(p_periodic)
-    for name in ("amp_a", "amp_b", "current", "beta"):
+    for name in ("amp_a", "amp_b", "current", "current_s", "beta"):
         p_undamped[slices[name]] = 0.0
     return DynamicModel(name="planar", y=y, t=t, p=p, p_value=p_value, p_periodic=p_periodic,
                         p_undamped=p_undamped,

@@ -13,10 +13,12 @@ from __future__ import annotations
 from .errors import ConvergenceError, SceneError, SymcableError
 from .models import build_dynamic_model, build_model
 from .results import StaticSolution
+from .results_periodic import PeriodicSolution, PeriodicSweep
 from .results_time import Trajectory
 from .scene import Scene
 from .scene_loader import load_scene
 from .solvers.modal import ModalSolution, modal_analysis
+from .solvers.periodic import solve_periodic, sweep_periodic
 from .solvers.static import solve_static
 from .solvers.stepping import simulate
 from . import analytic
@@ -29,6 +31,8 @@ __all__ = [
     "SymcableError",
     "Scene",
     "ModalSolution",
+    "PeriodicSolution",
+    "PeriodicSweep",
     "StaticSolution",
     "Trajectory",
     "analytic",
@@ -37,7 +41,9 @@ __all__ = [
     "load_scene",
     "modal_analysis",
     "simulate",
+    "solve_periodic",
     "solve_static",
+    "sweep_periodic",
     "demo_scene_path",
     "__version__",
 ]

@@ -144,9 +144,11 @@ def build_planar_dynamics(scene: Scene, static) -> DynamicModel:
     # with r a smooth start-up ramp over the first `ramp` seconds (r = 1 when ramp = 0), so a
     # run from rest ends up oscillating about the scene's position; V = dd/dt exactly
     T_r = P["ramp"][0]
-    tau = ca.fmin(t / ca.fmax(T_r, 1e-300), 1.0)
-    r = ca.if_else(T_r > 0, 0.5 * (1 - ca.cos(math.pi * tau)), 1.0)
-    r_dot = ca.if_else(ca.logic_and(T_r > 0, t < T_r), 0.5 * math.pi / T_r * ca.sin(math.pi * tau), 0.0)
+    on = T_r > 0
+    T_safe = ca.if_else(on, T_r, 1.0)  # no division by zero, so derivatives stay finite
+    tau = ca.fmin(t / T_safe, 1.0)
+    r = ca.if_else(on, 0.5 * (1 - ca.cos(math.pi * tau)), 1.0)
+    r_dot = ca.if_else(ca.logic_and(on, t < T_r), 0.5 * math.pi / T_safe * ca.sin(math.pi * tau), 0.0)
     disp = [ca.SX.zeros(2, 1), ca.SX.zeros(2, 1)]
 
     def prescribed(i, tag):
@@ -186,13 +188,14 @@ def build_planar_dynamics(scene: Scene, static) -> DynamicModel:
     # has two more kinematic entries than displacements and a periodic solution would be
     # fixed only up to c. Baumgarte-type stabilisation makes dc/dt = -beta c: zero on the
     # physical manifold c = 0, which it makes attracting (and the periodic problem regular).
+    # The correction acts on the last segment only: dc/dt = -beta c just the same, and only
+    # two rows of the Jacobian become dense (spread over every segment, all of them would).
     if a.condition is not EndCondition.FREE and b.condition is not EndCondition.FREE:
-        Ltot = float(np.sum(seg["ds"]))
         cx = ca.sum1(ds * (e_dyn * cs - (1.0 + eps_s) * phi_dyn * sn)) - (disp[1][0] - disp[0][0])
         cz = ca.sum1(ds * (e_dyn * sn + (1.0 + eps_s) * phi_dyn * cs)) - (disp[1][1] - disp[0][1])
-        beta = P["beta"][0]
-        e_rate = e_rate - beta / Ltot * (cs * cx + sn * cz)
-        phi_rate = phi_rate - beta / Ltot * (-sn * cx + cs * cz) / (1.0 + eps_s)
+        beta, k = P["beta"][0], N - 1
+        e_rate[k] = e_rate[k] - beta / seg["ds"][k] * (cs[k] * cx + sn[k] * cz)
+        phi_rate[k] = phi_rate[k] - beta / seg["ds"][k] * (-sn[k] * cx + cs[k] * cz) / (1.0 + eps_s[k])
 
     # --- internal force increments: exact linearisation of the statics' internal force
     _, _, _, Fx, Fz, bending = internal_forces(phi_s, eps_s, seg, a.condition, b.condition,
@@ -271,6 +274,7 @@ def build_planar_dynamics(scene: Scene, static) -> DynamicModel:
         "fairlead_force": force_b.T,
         "anchor_force": force_a.T,
         "tension": ca.sqrt(F_tot_x ** 2 + F_tot_z ** 2),
+        "axial_force": ca.DM(seg["EA"]) * (eps_s + e_dyn),
         "strain": e_dyn,
         "angle": phi_dyn,
     }

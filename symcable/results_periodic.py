@@ -1,0 +1,190 @@
+"""Periodic results: the steady state over one excitation period, and a sweep of them.
+
+Both are frozen dataclasses of arrays and plain values with :class:`~symcable.results.Exportable`
+save/load (``.npz`` or ``.json``). Harmonics are stored as two float arrays (amplitude and
+phase) rather than complex numbers so that every export format keeps them.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .results import Exportable
+
+__all__ = ["PeriodicSolution", "PeriodicSweep"]
+
+
+@dataclass(frozen=True)
+class PeriodicSolution(Exportable):
+    """Periodic steady state of a dynamic model over one excitation period.
+
+    ``n`` is the number of output times (``resolution``), ``n_y`` the number of states,
+    ``n_seg`` the number of segments, ``H`` the number of harmonics reported.
+
+    Attributes
+    ----------
+    scene_name : str
+    method : str
+        ``"collocation"`` or ``"harmonic-balance"``.
+    period : float
+        Excitation period T, s.
+    time : ndarray (n,)
+        Output times ``k T / n``, k = 0 .. n-1, s (uniform over one period, end excluded:
+        the value at T is the value at 0).
+    states : ndarray (n, n_y)
+        The state at those times, in the model's units (for the planar cable: node
+        velocities m/s, dynamic strain -, dynamic angle rad). Dense output of the solver's
+        own representation: the Lagrange polynomial of each collocation interval, or the
+        Fourier series of harmonic balance.
+    fairlead_tension : ndarray (n,)
+        Fairlead tension (static plus dynamic), N.
+    fairlead_force : ndarray (n, 2)
+        Force the line exerts on its fairlead, (Fx, Fz), N (empty (n, 0) if the model has
+        no such output).
+    tension_min, tension_max : ndarray (n_seg,)
+        Envelope of the segment tension over the period (minimum and maximum over the
+        output times), N (empty if the model has no ``tension`` output).
+    fairlead_tension_harmonics_amplitude : ndarray (H+1,)
+        Amplitudes A_h of ``T_f(t) = A_0 + sum_h A_h cos(h w t + phi_h)``, N; A_0 is the mean.
+    fairlead_tension_harmonics_phase : ndarray (H+1,)
+        Phases phi_h, rad (phi_0 = 0).
+    status : str
+        ``"converged"``; ``"slack"`` (converged, but a tension reached zero somewhere over the
+        period, so the linearised model is outside its range: see ``warnings``); ``"failed"``
+        (only on a ConvergenceError's partial result).
+    stats : dict
+        ``solver`` (``"ipopt"``/``"newton"``), ``iterations``, ``return_status``,
+        ``wall_time`` (s, whole solve), ``solve_time`` (s, the nonlinear solve alone),
+        ``build_time`` (s, building the solver's CasADi functions; 0 when reused),
+        ``unknowns``, ``residual_norm`` (max-norm of the discrete residual, scaled states
+        per second), the discretisation (``intervals``, ``degree``, ``scheme`` or
+        ``harmonics``, ``samples``) and ``guess`` (how the start was made, with its own
+        iterations and time).
+    warnings : tuple of str
+    unknowns : ndarray or None
+        The solution in the solver's own terms, flattened, to restart a neighbouring solve
+        from: scaled states ``y/y_scale`` at the collocation nodes (K, d+1, n_y) (interval,
+        node: start then collocation points, state), or the scaled Fourier coefficients
+        (n_y, 2H+1) ``[a_0, a_1, b_1, ..., a_H, b_H]`` of each state.
+    params : ndarray (n_p,) or None
+        The model parameters solved for (``omega`` among them), to evaluate the model's
+        functions on this solution.
+    """
+
+    scene_name: str
+    method: str
+    period: float
+    time: np.ndarray
+    states: np.ndarray
+    fairlead_tension: np.ndarray
+    fairlead_force: np.ndarray
+    tension_min: np.ndarray
+    tension_max: np.ndarray
+    fairlead_tension_harmonics_amplitude: np.ndarray
+    fairlead_tension_harmonics_phase: np.ndarray
+    status: str
+    stats: dict = field(default_factory=dict)
+    warnings: tuple = ()
+    unknowns: np.ndarray | None = None
+    params: np.ndarray | None = None
+
+    @property
+    def fairlead_tension_amplitude(self) -> float:
+        """First-harmonic amplitude of the fairlead tension, N."""
+        return float(self.fairlead_tension_harmonics_amplitude[1])
+
+    def summary(self) -> str:
+        """A few lines a person reads: fairlead tension range and first harmonic (kN),
+        tension envelope (kN), solver stats."""
+        st = self.stats
+        tf = self.fairlead_tension
+        amp, ph = self.fairlead_tension_harmonics_amplitude, self.fairlead_tension_harmonics_phase
+        disc = (f"{st.get('intervals', '?')} intervals of degree {st.get('degree', '?')} "
+                f"({st.get('scheme', '?')})" if self.method == "collocation" else
+                f"{st.get('harmonics', '?')} harmonics, {st.get('samples', '?')} samples")
+        lines = [
+            f"scene             {self.scene_name}",
+            f"periodic          {self.method}, {disc}, period {self.period:.4g} s",
+            f"status            {self.status}",
+            f"fairlead tension  mean {np.mean(tf) / 1e3:.4f} kN, min {np.min(tf) / 1e3:.4f} kN, "
+            f"max {np.max(tf) / 1e3:.4f} kN",
+            f"first harmonic    {amp[1] / 1e3:.4f} kN at phase {np.degrees(ph[1]):.2f} deg"
+            if amp.size > 1 else "first harmonic    -",
+        ]
+        if self.tension_max.size:
+            lines.append(f"tension envelope  min {np.min(self.tension_min) / 1e3:.4f} kN, "
+                         f"max {np.max(self.tension_max) / 1e3:.4f} kN along the line")
+        lines.append(
+            f"solver            {st.get('solver', '?')}: {st.get('iterations', '?')} iterations "
+            f"({st.get('return_status', '?')}), residual {st.get('residual_norm', float('nan')):.3g}, "
+            f"{st.get('unknowns', '?')} unknowns, {1e3 * st.get('wall_time', float('nan')):.0f} ms")
+        lines += [f"warning           {w}" for w in self.warnings]
+        return "\n".join(lines)
+
+
+@dataclass(frozen=True)
+class PeriodicSweep(Exportable):
+    """Fairlead tension response over a range of excitation periods (a tension RAO), each
+    periodic solve continued from its neighbour's solution.
+
+    ``n_p`` is the number of periods, ``n`` the number of output times per period.
+
+    Attributes
+    ----------
+    scene_name : str
+    method : str
+    periods : ndarray (n_p,)
+        Excitation periods, s, in the order solved.
+    fairlead_tension_amplitude : ndarray (n_p,)
+        First-harmonic amplitude of the fairlead tension, N (NaN where the solve failed).
+    fairlead_tension_phase : ndarray (n_p,)
+        Its phase, rad (``T_f = A_0 + A_1 cos(w t + phase) + ...``).
+    fairlead_tension_mean, fairlead_tension_max, fairlead_tension_min : ndarray (n_p,)
+        Mean, largest and smallest fairlead tension over each period, N.
+    normalised_time : ndarray (n,)
+        Output times as fractions t/T of each period, -.
+    fairlead_tension : ndarray (n_p, n)
+        Fairlead tension over each period at ``normalised_time``, N.
+    statuses : tuple of str
+        Status of each periodic solve (see :class:`PeriodicSolution`).
+    status : str
+        ``"converged"`` when every solve converged (``"slack"`` when one went slack),
+        ``"partial"`` when some failed.
+    stats : dict
+        ``wall_time`` (s, whole sweep), and per period lists ``iterations``, ``solve_time``
+        (s), ``build_time`` (s, building solver functions: the first period only, since one
+        set of CasADi functions, with omega as a parameter, serves the sweep) and ``start``
+        (``"neighbour"`` or ``"frequency-domain guess"``).
+    warnings : tuple of str
+    """
+
+    scene_name: str
+    method: str
+    periods: np.ndarray
+    fairlead_tension_amplitude: np.ndarray
+    fairlead_tension_phase: np.ndarray
+    fairlead_tension_mean: np.ndarray
+    fairlead_tension_max: np.ndarray
+    fairlead_tension_min: np.ndarray
+    normalised_time: np.ndarray
+    fairlead_tension: np.ndarray
+    statuses: tuple
+    status: str
+    stats: dict = field(default_factory=dict)
+    warnings: tuple = ()
+
+    def summary(self) -> str:
+        """One line per period: first-harmonic amplitude, range of the fairlead tension (kN)."""
+        lines = [f"scene             {self.scene_name}",
+                 f"sweep             {self.method}, {len(self.periods)} periods, status {self.status}, "
+                 f"{self.stats.get('wall_time', float('nan')):.2f} s",
+                 "  period s   amplitude kN   min kN       max kN       iterations  status"]
+        its = self.stats.get("iterations", [None] * len(self.periods))
+        for k, T in enumerate(self.periods):
+            lines.append(f"  {T:8.3f}   {self.fairlead_tension_amplitude[k] / 1e3:10.4f}   "
+                         f"{self.fairlead_tension_min[k] / 1e3:10.4f}   "
+                         f"{self.fairlead_tension_max[k] / 1e3:10.4f}   {str(its[k]):>10}  "
+                         f"{self.statuses[k]}")
+        lines += [f"warning           {w}" for w in self.warnings]
+        return "\n".join(lines)

@@ -116,3 +116,37 @@ def test_plot_has_profile_and_forces(tmp_path):
     assert len(axes) == 3  # profile, tension, moment (twin axis)
     assert axes[0].get_xlabel() == "x (m)" and "kN" in axes[1].get_ylabel()
     assert (tmp_path / "p.png").exists()
+
+
+@pytest.fixture
+def small_seed001(tmp_path):
+    """The built-in seed-001 scene cut to 20 segments, as a TOML file."""
+    from symcable.scene_loader import scene_to_toml
+    d = sc.load_scene(sc.demo_scene_path("seed001")).to_dict()
+    d["sections"][0]["segments"] = 20
+    path = tmp_path / "seed001.toml"
+    path.write_text(scene_to_toml(sc.load_scene(d)))
+    return path
+
+
+def test_cli_simulate_periodic_modes_json(small_seed001, tmp_path, capsys):
+    """`simulate`, `periodic` and `modes` print JSON with the numbers the Python API gives
+    (to round-off of the same computation) and write their plots."""
+    assert main(["simulate", str(small_seed001), "--duration", "20", "--dt", "0.1", "--json",
+                 "--plot", str(tmp_path / "s.png")]) == 0
+    d = json.loads(capsys.readouterr().out)
+    tr = sc.simulate(small_seed001, 20.0, dt=0.1)
+    np.testing.assert_allclose(d["fairlead_tension"], tr.fairlead_tension, rtol=1e-12)
+    assert (tmp_path / "s.png").exists()
+
+    assert main(["periodic", str(small_seed001), "--method", "harmonic-balance", "--json",
+                 "--plot", str(tmp_path / "p.png")]) == 0
+    d = json.loads(capsys.readouterr().out)
+    per = sc.solve_periodic(small_seed001, method="harmonic-balance")
+    np.testing.assert_allclose(d["fairlead_tension"], per.fairlead_tension, rtol=1e-9)
+    assert d["status"] == "converged" and (tmp_path / "p.png").exists()
+
+    assert main(["modes", str(small_seed001), "--n", "3", "--json"]) == 0
+    d = json.loads(capsys.readouterr().out)
+    np.testing.assert_allclose(d["frequencies"], sc.modal_analysis(small_seed001, 3).frequencies,
+                               rtol=1e-9)

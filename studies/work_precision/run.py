@@ -1,0 +1,465 @@
+"""Work-precision of symcable's dynamic solvers on the seed-001 line: error against wall time.
+
+Question
+--------
+The periodic steady state of the seed-001 line (``symcable/data/seed001.toml``: OC3 geometry,
+suspended, 0.5 m/s current, elliptic fairlead motion of period T = 10 s, 50 segments) can be
+had four ways: run RK4 or generalized-alpha from rest until the start-up transient has gone and
+read the last period, or solve for the periodic state directly by harmonic balance or by
+collocation (IPOPT or Newton). To get the fairlead tension's max, min and first-harmonic
+amplitude to 1 %, 0.1 % or 0.01 % of its range, which is cheapest, and by how much?
+
+Grids (full run; ``--quick`` takes a few cheap points of each and a coarse reference):
+
+* RK4 over the periods simulated P (2, 3, 4, 6, 8, 16) at dt = 0.8, 0.4 and 0.2 times its
+  stability limit (rounded down to a whole number of steps per period), reading period P;
+* generalized-alpha (rho_inf = 0.5) over dt = T/25 ... T/400, reading the last of P_GA
+  periods, where P_GA is measured first: the transient of a long run at the finest dt must
+  have decayed to a tenth of that run's error;
+* harmonic balance over H (1, 2, 3, 5, 8, 12, 16 harmonics), Newton;
+* collocation (Radau) over K (10, 20, 40, 80 intervals) and d (2, 3, 4), with Newton and with
+  IPOPT.
+
+Reference: collocation K = 160, d = 4 (Newton), checked against the largest-H harmonic balance
+and the K = 80, d = 4 collocation. Error of a run: the largest of |T_max - T_max,ref|,
+|T_min - T_min,ref| and |A_1 - A_1,ref|, over the reference's tension range T_max,ref -
+T_min,ref. Each quantity comes from one period of fairlead tension sampled uniformly (time
+runs: the steps of the last period; periodic solvers: 1000 output samples); A_1 is the FFT's
+first harmonic, max and min are those of the trigonometric interpolant on 4096 points.
+
+Timing: the wall time of the whole call (a time run from rest to its end, or a periodic solve
+with its initial guess), with the dynamic model and its CasADi functions (and RK4's stability
+limit) built beforehand; each repeat uses a freshly built model, so the time includes building
+the solver of that discretisation (collocation or harmonic-balance system, IPOPT or rootfinder,
+integrator step and batch), which a user waits for too. Median of 3 repeats when the first
+takes under 2 s, else that single run. The one-time model build is measured once, apart.
+
+Run
+---
+    python studies/work_precision/run.py            # full: about 5 minutes on 2 cores
+    python studies/work_precision/run.py --quick    # cheap points, coarse reference: < 1 minute
+    options: --out DIR (default studies/work_precision/out/), --figure PATH (extra copy)
+
+Writes to the out dir: ``results.csv`` (one row per run, units in the column names),
+``summary.md`` (tables: reference, transient, runs, time to each error level) and
+``work_precision.png`` (error against wall time, log-log).
+"""
+from __future__ import annotations
+
+import argparse
+import csv
+import math
+import statistics
+import time
+from pathlib import Path
+from typing import NamedTuple
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+import symcable as sc  # noqa: E402
+from symcable.errors import ConvergenceError  # noqa: E402
+from symcable.solvers.periodic import solve_periodic  # noqa: E402
+from symcable.solvers.stepping import rk4_stability_limit  # noqa: E402
+
+HERE = Path(__file__).resolve().parent
+LEVELS = (1e-2, 1e-3, 1e-4)          # error levels, fraction of the reference tension range
+CHEAP_S = 2.0                        # a run faster than this is repeated, median of REPEATS
+REPEATS = 3
+RESOLUTION = 1000                    # output samples per period of the periodic solvers
+FINE = 4096                          # trigonometric interpolation for the max and min
+TRANSIENT_FRACTION = 0.1             # GA transient must fall below this part of its error
+METHODS = ("rk4", "generalized-alpha", "harmonic-balance", "collocation-newton",
+           "collocation-ipopt")
+LABELS = {"rk4": "RK4 (from rest)", "generalized-alpha": "generalized-α (from rest)",
+          "harmonic-balance": "harmonic balance (Newton)",
+          "collocation-newton": "collocation, Newton", "collocation-ipopt": "collocation, IPOPT"}
+
+
+class Grid(NamedTuple):
+    """What one run of the study computes (a NamedTuple, not a dataclass: the test imports
+    this file by path, outside sys.modules)."""
+
+    rk4_periods: tuple        # periods simulated from rest, P
+    rk4_factors: tuple        # dt as a fraction of RK4's stability limit
+    ga_steps: tuple           # steps per period N (dt = T/N)
+    ga_transient_periods: int  # length of the run at the finest N that measures the transient
+    hb_harmonics: tuple
+    col_newton: tuple         # (K, d) solved by Newton
+    col_ipopt: tuple          # (K, d) solved by IPOPT
+    reference: tuple          # (K, d) of the reference collocation (Newton)
+
+
+FULL = Grid(rk4_periods=(2, 3, 4, 6, 8, 16), rk4_factors=(0.8, 0.4, 0.2),
+            ga_steps=(25, 50, 100, 200, 400), ga_transient_periods=12,
+            hb_harmonics=(1, 2, 3, 5, 8, 12, 16),
+            col_newton=tuple((K, d) for d in (2, 3, 4) for K in (10, 20, 40, 80)),
+            col_ipopt=tuple((K, d) for d in (2, 3, 4) for K in (10, 20, 40, 80)),
+            reference=(160, 4))
+QUICK = Grid(rk4_periods=(1, 2, 3), rk4_factors=(0.8,), ga_steps=(25, 50),
+             ga_transient_periods=6, hb_harmonics=(1, 3, 5),
+             col_newton=((5, 3), (10, 3)), col_ipopt=((5, 3), (10, 3)), reference=(20, 4))
+
+
+# --------------------------------------------------------------------------- measuring
+def trig_interp(x: np.ndarray, m: int) -> np.ndarray:
+    """Trigonometric interpolant of one period of uniform samples x (n,) at m uniform points."""
+    n = x.size
+    c = np.fft.rfft(x)
+    cf = np.zeros(m // 2 + 1, dtype=complex)
+    k = min(c.size, cf.size)
+    cf[:k] = c[:k]
+    if n % 2 == 0 and n // 2 < m // 2:
+        cf[n // 2] *= 0.5  # the Nyquist term of n samples is split between +-n/2
+    return np.fft.irfft(cf, m) * (m / n)
+
+
+def metrics(series) -> dict:
+    """Max, min (of the interpolant on FINE points) and first-harmonic amplitude, N, of one
+    period of fairlead tension sampled uniformly."""
+    x = np.asarray(series, dtype=float)
+    fine = trig_interp(x, FINE) if x.size < FINE else x
+    return {"t_max_N": float(fine.max()), "t_min_N": float(fine.min()),
+            "a1_N": float(2.0 * abs(np.fft.rfft(x)[1]) / x.size)}
+
+
+def errors(m: dict, ref: dict) -> dict:
+    """Signed errors over the reference range, and their largest magnitude."""
+    rng = ref["t_max_N"] - ref["t_min_N"]
+    e = {f"err_{k}": (m[f"{k}_N"] - ref[f"{k}_N"]) / rng for k in ("t_max", "t_min", "a1")}
+    e["error"] = max(abs(v) for v in e.values())
+    return e
+
+
+def fresh_model(scene):
+    """A newly built model with its CasADi functions and RK4's stability limit (the one-time
+    cost, kept out of the solve times); its solver caches are empty."""
+    model = sc.build_dynamic_model(scene)
+    model.functions()
+    rk4_stability_limit(model)
+    return model
+
+
+def timed(scene, run, repeats: int) -> tuple:
+    """``run(model) -> (metrics, info)`` on a fresh model, timed; repeated (median) when cheap.
+    Returns (metrics, info, wall_s, n_repeats)."""
+    runs = []
+    while True:
+        model = fresh_model(scene)
+        t0 = time.perf_counter()
+        out = run(model)
+        runs.append((time.perf_counter() - t0, out))
+        if len(runs) >= repeats or runs[0][0] >= CHEAP_S:
+            break
+    wall, (m, info) = sorted(runs, key=lambda w: w[0])[(len(runs) - 1) // 2]  # the median run
+    return m, info, statistics.median(w for w, _ in runs), len(runs)
+
+
+# --------------------------------------------------------------------------- the runs
+def time_run(scene, method: str, periods: int, n: int, T: float):
+    """A run from rest over ``periods`` periods with n steps per period, saving the end of
+    each period and every step of the last one. (Saving only the last period would leave one
+    unsaved stretch of (P-1) n steps, which ``simulate`` runs as one ``mapaccum`` of that
+    length; building that for ~10^4 steps takes seconds, against a fraction of a second for
+    the period-long batches used here.)"""
+    dt = T / n
+    t_save = np.concatenate([np.arange(1, periods - 1) * T,
+                             (periods - 1) * T + np.arange(n + 1) * dt])
+
+    def run(model):
+        tr = sc.simulate(scene, periods * T, dt=dt, method=method, model=model, save_times=t_save)
+        last = tr.time >= (periods - 1) * T - 1e-9 * T
+        if last.sum() != n + 1 or tr.stats["steps"] != periods * n:
+            raise RuntimeError(f"{method}: {last.sum()} samples in the last period, "
+                               f"{tr.stats['steps']} steps")
+        s = tr.stats
+        its = s.get("newton_iterations")
+        return metrics(tr.fairlead_tension[last][:n]), {
+            "status": tr.status, "steps": s["steps"], "iterations": its,
+            "iter_per_step": None if its is None else its / s["steps"], "core_s": s["step_time"]}
+    return run
+
+
+def periodic_run(scene, method: str, **kw):
+    def run(model):
+        try:
+            sol = solve_periodic(scene, method, model=model, resolution=RESOLUTION, **kw)
+        except ConvergenceError as exc:
+            nan = {"t_max_N": math.nan, "t_min_N": math.nan, "a1_N": math.nan}
+            return nan, {"status": "failed: " + str(exc)[:80]}
+        s = sol.stats
+        guess = s.get("guess", {})
+        info = {"status": sol.status, "iterations": s["iterations"],
+                "guess_iterations": guess.get("iterations"), "core_s": s["solve_time"],
+                "unknowns": s.get("unknowns")}
+        m = metrics(sol.fairlead_tension)
+        # the solution's own FFT must give the same first harmonic (one period, uniform)
+        if abs(sol.fairlead_tension_harmonics_amplitude[1] - m["a1_N"]) > 1e-9 * m["a1_N"]:
+            raise RuntimeError(f"{method}: A_1 {m['a1_N']} N from the samples, "
+                               f"{sol.fairlead_tension_harmonics_amplitude[1]} N from the solution")
+        return m, info
+    return run
+
+
+def row(method, family, resolution, label, m, info, wall, reps, **cfg) -> dict:
+    r = {"method": method, "family": family, "resolution": resolution, "config": label,
+         "periods": None, "dt_s": None, "K": None, "d": None, "H": None, **cfg,
+         "wall_s": wall, "repeats": reps, "core_s": info.get("core_s"),
+         "iterations": info.get("iterations"), "iter_per_step": info.get("iter_per_step"),
+         "guess_iterations": info.get("guess_iterations"), "steps": info.get("steps"),
+         "unknowns": info.get("unknowns"), "status": info["status"], **m}
+    return r
+
+
+def ga_transient(scene, model, n: int, periods: int, T: float, ref: dict) -> dict:
+    """Per-period metrics of a long generalized-alpha run at n steps per period: how fast
+    the start-up transient decays (each period against the last), and the error at the end."""
+    dt = T / n
+    tr = sc.simulate(scene, periods * T, dt=dt, method="generalized-alpha", model=model,
+                     save_times=np.arange(periods * n + 1) * dt)
+    ft = tr.fairlead_tension
+    per = [metrics(ft[p * n:(p + 1) * n]) for p in range(periods)]
+    rng = ref["t_max_N"] - ref["t_min_N"]
+    dev = [max(abs(q[k] - per[-1][k]) for k in per[-1]) / rng for q in per]
+    final_error = errors(per[-1], ref)["error"]
+    need = TRANSIENT_FRACTION * final_error
+    P = next(p + 1 for p, v in enumerate(dev) if v <= need or p + 1 == periods - 1)
+    return {"n": n, "periods_run": periods, "deviation": dev, "final_error": final_error,
+            "threshold": need, "periods_needed": P, "converged": dev[P - 1] <= need}
+
+
+# --------------------------------------------------------------------------- the study
+def one_time_build(scene) -> dict:
+    t0 = time.perf_counter()
+    model = sc.build_dynamic_model(scene)
+    t1 = time.perf_counter()
+    model.functions()
+    t2 = time.perf_counter()
+    rk4_stability_limit(model)
+    t3 = time.perf_counter()
+    return {"build_dynamic_model_s": t1 - t0, "functions_s": t2 - t1, "rk4_limit_s": t3 - t2,
+            "n_y": int(model.n_y)}
+
+
+def time_to_levels(rows: list) -> dict:
+    """Per method and level, the cheapest run whose error is at most the level."""
+    out = {}
+    for meth in METHODS:
+        mine = [r for r in rows if r["method"] == meth and np.isfinite(r["error"])]
+        out[meth] = {}
+        for lev in LEVELS:
+            ok = [r for r in mine if r["error"] <= lev]
+            out[meth][lev] = min(ok, key=lambda r: r["wall_s"]) if ok else None
+    return out
+
+
+def winners(ttl: dict) -> dict:
+    win = {}
+    for lev in LEVELS:
+        cands = [(v[lev]["wall_s"], m) for m, v in ttl.items() if v[lev] is not None]
+        win[lev] = min(cands)[1] if cands else None
+    return win
+
+
+def run_study(grid: Grid, repeats: int, log=print) -> dict:
+    scene = sc.load_scene(sc.demo_scene_path("seed001"))
+    T = scene.end_b.motion.period
+    build = one_time_build(scene)
+    t_start = time.perf_counter()
+
+    # the reference, and the largest-H harmonic balance as its check (in the HB sweep)
+    K, d = grid.reference
+    ref_m, ref_info, ref_wall, _ = timed(scene, periodic_run(scene, "collocation", intervals=K,
+                                                              degree=d, solver="newton"), 1)
+    if not ref_info["status"] in ("converged", "slack"):
+        raise RuntimeError(f"reference collocation K={K}, d={d}: {ref_info['status']}")
+    ref = dict(ref_m, range_N=ref_m["t_max_N"] - ref_m["t_min_N"], K=K, d=d, wall_s=ref_wall,
+               iterations=ref_info["iterations"], unknowns=ref_info["unknowns"])
+    log(f"reference K={K} d={d}: {ref_wall:.1f} s, range {ref['range_N']:.1f} N")
+    rows = []
+
+    def add(r):
+        r.update(errors(r, ref))
+        rows.append(r)
+        log(f"  {r['method']:19s} {r['config']:24s} err {r['error']:.3e}  wall {r['wall_s']:8.3f} s"
+            f"  x{r['repeats']}  {r['status']}")
+
+    # RK4: over periods and dt
+    dt_stable = rk4_stability_limit(fresh_model(scene))
+    for f in grid.rk4_factors:
+        n = math.ceil(T / (f * dt_stable))
+        for P in grid.rk4_periods:
+            m, info, wall, reps = timed(scene, time_run(scene, "rk4", P, n, T), repeats)
+            add(row("rk4", f"RK4, dt = {f:g} x limit", P, f"P={P}, dt=T/{n}", m, info, wall, reps,
+                    periods=P, dt_s=T / n))
+    # generalized-alpha: periods needed from a long run at the finest dt, then over dt
+    trans = ga_transient(scene, fresh_model(scene), max(grid.ga_steps), grid.ga_transient_periods,
+                         T, ref)
+    P = trans["periods_needed"]
+    log(f"generalized-alpha: {P} periods (transient {trans['deviation'][P - 1]:.2e} <= "
+        f"{trans['threshold']:.2e})")
+    for n in grid.ga_steps:
+        m, info, wall, reps = timed(scene, time_run(scene, "generalized-alpha", P, n, T), repeats)
+        add(row("generalized-alpha", "generalized-α", n, f"P={P}, dt=T/{n}", m, info, wall, reps,
+                periods=P, dt_s=T / n))
+    # harmonic balance over H
+    for H in grid.hb_harmonics:
+        m, info, wall, reps = timed(scene, periodic_run(scene, "harmonic-balance", harmonics=H),
+                                    repeats)
+        add(row("harmonic-balance", "harmonic balance", H, f"H={H}", m, info, wall, reps, H=H))
+    # collocation over K and d
+    for solver, cfgs in (("newton", grid.col_newton), ("ipopt", grid.col_ipopt)):
+        solver_name = {"newton": "Newton", "ipopt": "IPOPT"}[solver]
+        for K, d in cfgs:
+            m, info, wall, reps = timed(scene, periodic_run(scene, "collocation", intervals=K,
+                                                            degree=d, solver=solver), repeats)
+            add(row(f"collocation-{solver}", f"collocation d={d}, {solver_name}", K,
+                    f"K={K}, d={d}", m, info, wall, reps, K=K, d=d))
+
+    hb_top = max((r for r in rows if r["method"] == "harmonic-balance"), key=lambda r: r["H"])
+    ttl = time_to_levels(rows)
+    return {"scene": scene.name, "period_s": T, "build": build, "reference": ref,
+            "reference_check": hb_top, "dt_stable_s": dt_stable, "ga_transient": trans,
+            "ga_periods": P, "rows": rows, "time_to_level": ttl, "winners": winners(ttl),
+            "repeats": repeats, "study_wall_s": time.perf_counter() - t_start}
+
+
+# --------------------------------------------------------------------------- outputs
+def _fmt(v, spec="{:.3g}"):
+    if v is None or (isinstance(v, float) and not np.isfinite(v)):
+        return "-"
+    return spec.format(v) if isinstance(v, float) else str(v)
+
+
+def summary_markdown(res: dict) -> str:
+    ref, chk, tr, b = res["reference"], res["reference_check"], res["ga_transient"], res["build"]
+    L = [f"# Work-precision on the {res['scene']}", "",
+         f"Period T = {res['period_s']:g} s, {b['n_y']} states. Error = max of |error| of T_max, "
+         f"T_min and A_1 over the reference range. Study wall time {res['study_wall_s']:.0f} s.",
+         "",
+         "## Reference", "",
+         "| quantity | reference (collocation K={K}, d={d}) | harmonic balance H={H} | "
+         "difference / range |".format(K=ref["K"], d=ref["d"], H=chk["H"]),
+         "|---|---|---|---|"]
+    for k, name in (("t_max", "T_max (N)"), ("t_min", "T_min (N)"), ("a1", "A_1 (N)")):
+        L.append(f"| {name} | {ref[k + '_N']:.2f} | {chk[k + '_N']:.2f} | {chk['err_' + k]:+.2e} |")
+    L += [f"| range (N) | {ref['range_N']:.2f} | | |", ""]
+    for r in res["rows"]:  # the next-finest collocation as a second check
+        if r["method"] == "collocation-newton" and (r["K"], r["d"]) == (ref["K"] // 2, ref["d"]):
+            L += [f"Collocation K={r['K']}, d={r['d']} against the reference: {r['error']:.2e} "
+                  f"(T_max {r['err_t_max']:+.2e}, T_min {r['err_t_min']:+.2e}, "
+                  f"A_1 {r['err_a1']:+.2e}).", ""]
+    L += [
+          f"Reference solve: {ref['wall_s']:.1f} s, {ref['iterations']} Newton iterations, "
+          f"{ref['unknowns']} unknowns.", "",
+          "One-time build (not in the times below): `build_dynamic_model` "
+          f"{1e3 * b['build_dynamic_model_s']:.0f} ms, its CasADi functions "
+          f"{1e3 * b['functions_s']:.0f} ms, RK4 stability limit {1e3 * b['rk4_limit_s']:.0f} ms "
+          f"(limit {res['dt_stable_s']:.4g} s).", "",
+          "## Generalized-α transient", "",
+          f"Run from rest at dt = T/{tr['n']} for {tr['periods_run']} periods; change of the "
+          "period's (T_max, T_min, A_1) against the last period, over the range:", "",
+          "| period | " + " | ".join(str(p + 1) for p in range(tr["periods_run"])) + " |",
+          "|---|" + "---|" * tr["periods_run"],
+          "| change | " + " | ".join(f"{v:.1e}" for v in tr["deviation"]) + " |", "",
+          f"Error of that run's last period: {tr['final_error']:.2e}; needed: a transient below "
+          f"{TRANSIENT_FRACTION:g} of it ({tr['threshold']:.1e}): **{res['ga_periods']} periods**"
+          + ("" if tr["converged"] else " (NOT reached within the run)") + ".", "",
+          "## Runs", "",
+          "| method | config | error | err T_max | err T_min | err A_1 | wall (s) | repeats | "
+          "solver core (s) | iterations | status |",
+          "|---|---|---|---|---|---|---|---|---|---|---|"]
+    for r in res["rows"]:
+        its = r["iterations"]
+        if r["method"] == "rk4":
+            its = f"{r['steps']} steps"
+        elif r["method"] == "generalized-alpha":
+            its = f"{its} ({r['iter_per_step']:.2f}/step)"
+        elif r["guess_iterations"] is not None:
+            its = f"{its} (+{r['guess_iterations']} guess)"
+        L.append(f"| {r['method']} | {r['config']} | {_fmt(r['error'], '{:.2e}')} | "
+                 f"{_fmt(r['err_t_max'], '{:+.1e}')} | {_fmt(r['err_t_min'], '{:+.1e}')} | "
+                 f"{_fmt(r['err_a1'], '{:+.1e}')} | {r['wall_s']:.3g} | {r['repeats']} | "
+                 f"{_fmt(r['core_s'])} | {its} | {r['status']} |")
+    L += ["", "## Time to reach each error level", "",
+          "Cheapest run (wall time, s) whose error is at most the level; its configuration.", "",
+          "| method | " + " | ".join(f"{100 * lev:g} %" for lev in LEVELS) + " |",
+          "|---|" + "---|" * len(LEVELS)]
+    for meth, v in res["time_to_level"].items():
+        cells = [f"{r['wall_s']:.3g} ({r['config']})" if r else "not reached"
+                 for r in (v[lev] for lev in LEVELS)]
+        L.append(f"| {meth} | " + " | ".join(cells) + " |")
+    L.append("| **winner** | " + " | ".join(str(res["winners"][lev]) for lev in LEVELS) + " |")
+    return "\n".join(L) + "\n"
+
+
+def plot(res: dict, path: Path) -> None:
+    markers = {"rk4": "o", "generalized-alpha": "s", "harmonic-balance": "^",
+               "collocation-newton": "D", "collocation-ipopt": "v"}
+    cmaps = {"rk4": plt.cm.Blues, "generalized-alpha": plt.cm.Greens,
+             "harmonic-balance": plt.cm.Purples, "collocation-newton": plt.cm.Reds,
+             "collocation-ipopt": plt.cm.Oranges}
+    fig, ax = plt.subplots(figsize=(12, 7), constrained_layout=True)
+    for meth in METHODS:
+        fams = list(dict.fromkeys(r["family"] for r in res["rows"] if r["method"] == meth))
+        for i, fam in enumerate(fams):
+            rs = sorted((r for r in res["rows"] if r["family"] == fam and np.isfinite(r["error"])),
+                        key=lambda r: r["resolution"])
+            if not rs:
+                continue
+            col = cmaps[meth](0.55 + 0.4 * i / max(len(fams) - 1, 1))
+            x, y = [r["wall_s"] for r in rs], [100 * r["error"] for r in rs]
+            ax.loglog(x, y, marker=markers[meth], color=col, ms=5, lw=1.2,
+                      ls="--" if meth == "collocation-ipopt" else "-",
+                      label=f"{fam} (from rest)" if meth == "rk4" else
+                      fam if len(fams) > 1 else LABELS[meth])
+            tag = {"rk4": "P", "generalized-alpha": "T/", "harmonic-balance": "H",
+                   "collocation-newton": "K", "collocation-ipopt": "K"}[meth]
+            for r, xx, yy in zip(rs, x, y):
+                ax.annotate(f"{tag}{r['resolution']}", (xx, yy), textcoords="offset points",
+                            xytext=(3, 3), fontsize=6, color=col)
+    for lev in LEVELS:
+        ax.axhline(100 * lev, color="0.4", lw=0.8, ls=":")
+        ax.text(0.995, 100 * lev, f"{100 * lev:g} %", va="bottom", ha="right", fontsize=8,
+                color="0.3", transform=ax.get_yaxis_transform())
+    ax.set_xlabel("wall time of one solve from scratch (model built), s")
+    ax.set_ylabel("error of T_max, T_min, A_1 (largest), % of the tension range")
+    ref = res["reference"]
+    ax.set_title(f"Work-precision, seed-001 line: periodic fairlead tension\n(reference: "
+                 f"collocation K={ref['K']}, d={ref['d']}; range {ref['range_N'] / 1e3:.1f} kN)")
+    ax.grid(True, which="both", alpha=0.25)
+    ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
+    fig.savefig(path, dpi=150)
+    plt.close(fig)
+
+
+def main(argv=None) -> dict:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--quick", action="store_true",
+                    help="a few cheap points per method, coarse reference (under a minute)")
+    ap.add_argument("--out", type=Path, default=HERE / "out", help="output directory")
+    ap.add_argument("--figure", type=Path, help="also write the figure to this path")
+    args = ap.parse_args(argv)
+    args.out.mkdir(parents=True, exist_ok=True)
+    res = run_study(QUICK if args.quick else FULL, REPEATS)
+    res["quick"], res["out"] = bool(args.quick), str(args.out)
+
+    with open(args.out / "results.csv", "w", newline="") as f:
+        writer = csv.DictWriter(f, fieldnames=list(res["rows"][0]))
+        writer.writeheader()
+        writer.writerows(res["rows"])
+    text = summary_markdown(res)
+    (args.out / "summary.md").write_text(text)
+    plot(res, args.out / "work_precision.png")
+    if args.figure is not None:
+        args.figure.parent.mkdir(parents=True, exist_ok=True)
+        plot(res, args.figure)
+    print(text)
+    return res
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,40 @@
+"""The work-precision study's --quick mode: it runs, writes its outputs, every method converges
+over its (quick) grid, and the periodic solvers agree with the reference. No wall-clock
+assertions (design.md: speed is measured in studies, never asserted)."""
+from __future__ import annotations
+
+import importlib.util
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def test_work_precision_quick(tmp_path):
+    path = ROOT / "studies" / "work_precision" / "run.py"
+    spec = importlib.util.spec_from_file_location("study_work_precision", path)
+    study = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(study)
+    res = study.main(["--quick", "--out", str(tmp_path)])
+
+    for name in ("results.csv", "summary.md", "work_precision.png"):
+        assert (tmp_path / name).is_file() and (tmp_path / name).stat().st_size > 0, name
+    rows = res["rows"]
+    assert {r["method"] for r in rows} == set(study.METHODS)
+    assert all(r["status"] == "converged" for r in rows), [(r["config"], r["status"]) for r in rows]
+
+    # each line of the plot (a method at fixed settings) gets more accurate as its resolution
+    # grows: periods simulated (RK4), steps per period (generalized-alpha), harmonics,
+    # collocation intervals
+    for family in {r["family"] for r in rows}:
+        errs = [r["error"] for r in sorted((r for r in rows if r["family"] == family),
+                                           key=lambda r: r["resolution"])]
+        assert np.all(np.diff(errs) < 0), (family, errs)
+
+    # the finest quick collocation and harmonic balance are within 1 % of the tension range
+    # of the (coarse) reference, and so is the reference's check (the largest H)
+    for method in ("collocation-newton", "collocation-ipopt", "harmonic-balance"):
+        best = min(r["error"] for r in rows if r["method"] == method)
+        assert best < 1e-2, (method, best)
+    assert res["reference_check"]["error"] < 1e-2

@@ -94,11 +94,12 @@ class Trajectory(Exportable):
         tension = get("tension", (n_t, n_seg))
         strain = get("strain", (n_t, n_seg))
         static = model.info.get("static") if model is not None else None
-        axial = None
         if static is not None and np.shape(static.strain) == (n_seg,):
-            axial = np.asarray(static.strain) + strain
-        warns = tuple(warnings) + slack_warnings(time, s, tension, axial)
-        if status == "converged" and len(warns) > len(warnings):
+            slack, extra = slack_warnings(time, s, np.asarray(static.strain) + strain, static.strain)
+        else:
+            slack, extra = slack_warnings(time, s, tension)
+        warns = tuple(warnings) + extra
+        if status == "converged" and slack:
             status = "slack"
         return cls(scene_name=scene_name, time=np.asarray(time, dtype=float), s=s,
                    states=np.asarray(states, dtype=float).reshape(n_t, -1),
@@ -169,25 +170,30 @@ class Trajectory(Exportable):
         return plot_trajectory(self, path, s_mid=self.s)
 
 
-def slack_warnings(time: np.ndarray, s: np.ndarray, tension: np.ndarray,
-                   axial_strain: np.ndarray | None = None) -> tuple:
-    """Warnings for samples where the line goes slack.
+def slack_warnings(time: np.ndarray, s: np.ndarray, axial: np.ndarray,
+                   axial_static: np.ndarray | None = None) -> tuple[bool, tuple]:
+    """Slack check shared by every dynamic result: ``(slack, warnings)``.
 
-    Slack is a total tension at or below zero: the tension magnitude ``tension``
-    (n_t, n_seg), N, or, when given, the total axial strain ``axial_strain`` (n_t, n_seg)
-    (static plus dynamic; the axial force is EA times it). Returns one warning naming the
-    first time and the arc length (m) where it happens, or ``()``.
+    Slack is a total axial force (or strain: only its sign matters) at or below zero on a
+    segment that is in tension at rest: ``axial`` (n_t, n_seg) static plus dynamic,
+    ``axial_static`` (n_seg,). NaN counts as slack, never passed silently. A segment already
+    in compression at rest (a bending-stiff line) is not slack; it gets a warning of its own.
+    ``s`` (n_seg,) m and ``time`` (n_t,) s place the first slack sample in the message.
     """
-    tension = np.asarray(tension, dtype=float)
-    bad = ~(tension > 0.0)  # NaN counts as slack too: never pass it silently
-    if axial_strain is not None:
-        bad |= ~(np.asarray(axial_strain, dtype=float) > 0.0)
+    axial = np.asarray(axial, dtype=float)
+    taut = np.ones(axial.shape[1], dtype=bool) if axial_static is None else np.asarray(axial_static) > 0
+    warns = []
+    if not np.all(taut):
+        warns.append(f"{int(np.sum(~taut))} segment(s) are in compression at rest (from s = "
+                     f"{s[np.argmin(taut)]:.6g} m): a bending-stiff line; they are not checked for slack")
+    bad = ~(axial > 0.0) & taut
     if not np.any(bad):
-        return ()
+        return False, tuple(warns)
     rows = np.flatnonzero(np.any(bad, axis=1))
     i = rows[0]
     j = int(np.flatnonzero(bad[i])[0])
-    return (f"slack: the total tension is <= 0 at t = {time[i]:.6g} s, s = {s[j]:.6g} m "
-            f"(segment {j}; {len(rows)} of {len(time)} samples slack, from t = {time[i]:.6g} "
-            f"to {time[rows[-1]]:.6g} s): the dynamics linearised about the taut static "
-            "state is invalid there",)
+    warns.insert(0, f"slack: the total tension is <= 0 at t = {time[i]:.6g} s, s = {s[j]:.6g} m "
+                    f"(segment {j}; {len(rows)} of {len(time)} samples slack, from t = {time[i]:.6g} "
+                    f"to {time[rows[-1]]:.6g} s): the dynamics linearised about the taut static "
+                    "state is invalid there")
+    return True, tuple(warns)

@@ -192,3 +192,17 @@ def test_progress_bar_only_when_asked(line, capsys):
     simulate(d, 0.5, dt=0.1, model=m, progress=False)
     simulate(d, 0.5, dt=0.1, model=m)
     assert capsys.readouterr() == ("", "")
+
+
+def test_time_run_and_periodic_solution_agree_on_slack():
+    """One slack test for every dynamic result: at 5.3 x the seed-001 amplitude (20
+    segments) a time run and the periodic solution both report "slack"; at 5.0 x both are
+    "converged" (the signed axial force first reaches zero between 5.125 x and 5.25 x)."""
+    import symcable as sc
+    d = sc.load_scene(sc.demo_scene_path("seed001")).to_dict()
+    d["sections"][0]["segments"] = 20
+    for factor, expected in ((5.0, "converged"), (5.3, "slack")):
+        d["end_b"]["motion"]["amplitude"] = [2.0 * factor, 1.0 * factor]
+        scene = sc.load_scene(d)
+        assert sc.solve_periodic(scene).status == expected
+        assert sc.simulate(scene, 60.0, dt=0.05).status == expected

@@ -35,6 +35,7 @@ import numpy as np
 from ..errors import ConvergenceError, SceneError, SymcableError
 from ..models import build_dynamic_model
 from ..models.dynamic import DynamicModel
+from ..results_time import slack_warnings
 from ..results_periodic import PeriodicSolution, PeriodicSweep
 from ..scene import Scene
 from ..scene_loader import load_scene
@@ -542,10 +543,15 @@ def _solution(scene_name, model, p, T, cfg, states_of, x, status, stats, n_harm)
     H = min(n_harm, (n - 1) // 2)
     amp = np.concatenate([[c[0].real], 2.0 * np.abs(c[1:H + 1])])
     phase = np.concatenate([[0.0], np.angle(c[1:H + 1])])
-    warnings = []
+    warnings = ()
     if status == "converged":
-        warnings = _slack_warnings(outs, n)
-        if warnings:
+        static = model.info.get("static")
+        axial = outs.get("axial_force", outs.get("tension")).reshape(-1, n).T
+        s_mid = np.asarray(model.info["s_nodes"])
+        s_mid = 0.5 * (s_mid[:-1] + s_mid[1:]) if s_mid.size == axial.shape[1] + 1 else np.arange(axial.shape[1])
+        slack, warnings = slack_warnings(tau * T, s_mid, axial,
+                                         None if static is None else static.axial_force)
+        if slack:
             status = "slack"
     return PeriodicSolution(
         scene_name=scene_name, method=cfg.method.value, period=float(T), time=tau * T, states=Y,
@@ -555,27 +561,3 @@ def _solution(scene_name, model, p, T, cfg, states_of, x, status, stats, n_harm)
         fairlead_tension_harmonics_amplitude=amp, fairlead_tension_harmonics_phase=phase,
         status=status, stats=stats, warnings=tuple(warnings), unknowns=np.asarray(x, dtype=float),
         params=np.asarray(p, dtype=float))
-
-
-#: outputs that are a tension (N, >= 0 while the line is taut); a signed ``axial_force`` is
-#: the best slack test, the magnitudes only catch a tension that reaches zero
-_TENSION_OUTPUTS = ("axial_force", "tension", "fairlead_tension", "anchor_tension")
-
-
-def _slack_warnings(outs: dict, n: int) -> list:
-    """A tension output <= 0, or an end force that reverses against its period-mean
-    direction, somewhere over the period: the linearised model is outside its range."""
-    warns = []
-    for name in _TENSION_OUTPUTS:
-        if name in outs and np.min(outs[name]) <= 0.0:
-            warns.append(f"{name} reaches {np.min(outs[name]) / 1e3:.4g} kN <= 0 over the period: "
-                         "the line goes slack, outside the linearised model's range")
-    for name in ("fairlead_force", "anchor_force"):
-        if name in outs:
-            F = outs[name].reshape(n, -1)
-            mean = F.mean(axis=0)
-            along = F @ mean / max(np.linalg.norm(mean), 1e-300)
-            if np.min(along) <= 0.0:
-                warns.append(f"{name} reverses against its mean direction over the period "
-                             f"(down to {np.min(along) / 1e3:.4g} kN): the line goes slack")
-    return warns

@@ -298,6 +298,18 @@ def _save_indices(n_steps: int, dt: float, duration: float, save_every, save_tim
     return idx if idx[-1] == n_steps else np.append(idx, n_steps)
 
 
+#: longest run of steps one batched call advances between two checkpoints: a mapaccum over
+#: many thousands of steps is slow to build, so long gaps between saves are cut into pieces
+MAX_GAP = 256
+
+
+def _with_checkpoints(idx: np.ndarray, max_gap: int = MAX_GAP) -> np.ndarray:
+    """The save indices plus unsaved checkpoints, so no gap exceeds ``max_gap`` steps."""
+    points = np.concatenate([[0], idx])
+    extra = [np.arange(a + max_gap, b, max_gap) for a, b in zip(points[:-1], points[1:]) if b - a > max_gap]
+    return np.unique(np.concatenate([idx] + extra)).astype(int) if extra else idx
+
+
 def _runs(idx: np.ndarray) -> list:
     """Consecutive equal gaps between saved indices (from step 0): [(S, count), ...]."""
     gaps = np.diff(np.concatenate([[0], idx]))
@@ -453,6 +465,8 @@ def simulate(scene, duration: float, dt: float | None = None, method: str = "gen
     iters, iters_max, step_time = 0, 0, 0.0
     sec_per_step = None
     failure = None
+    wanted = idx
+    idx = _with_checkpoints(idx)
     bar = ProgressBar(int(idx[-1]), progress, label=f"simulate {meth.value}")
     try:
         for S, count in _runs(idx):
@@ -498,9 +512,13 @@ def simulate(scene, duration: float, dt: float | None = None, method: str = "gen
     stats.update(steps=k, newton_iterations=iters if meth is Method.GENERALIZED_ALPHA else None,
                  newton_iterations_max=iters_max if meth is Method.GENERALIZED_ALPHA else None,
                  step_time=step_time, us_per_step=1e6 * step_time / max(k, 1), samples=len(saved_k))
+    keep = set(wanted.tolist())
+    chosen = [i for i, kk in enumerate(saved_k) if kk in keep]
+    saved_y, saved_k = [saved_y[i] for i in chosen], [saved_k[i] for i in chosen]
     if failure is not None and (not saved_k or saved_k[-1] != k):
         saved_y.append(y.copy())
         saved_k.append(k)
+    stats["samples"] = len(saved_k)
     Ymat = np.array(saved_y).T
     times = np.array(saved_k, dtype=float) * duration / n_steps  # k dt to within one ulp
     outputs = _outputs(model, Ymat, times, p)

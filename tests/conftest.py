@@ -65,3 +65,15 @@ def taut_string(T=1e5, L=100.0, mass=10.0, EA=1e9, segments=50):
         "end_a": {"condition": "pinned", "position": [0.0, 0.0]},
         "end_b": {"condition": "pinned", "position": [L * (1 + eps), 0.0]},
     }
+
+
+def load_study(name: str):
+    """Import studies/<name>/run.py by file path (studies/ is not a package)."""
+    import importlib.util
+    from pathlib import Path
+
+    path = Path(__file__).resolve().parents[1] / "studies" / name / "run.py"
+    spec = importlib.util.spec_from_file_location(f"study_{name}", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module

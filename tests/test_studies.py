@@ -2,28 +2,17 @@
 criteria. No wall-clock assertions (design.md: speed is measured in studies, never asserted)."""
 from __future__ import annotations
 
-import importlib.util
-from pathlib import Path
 
 import numpy as np
 import pytest
 
-ROOT = Path(__file__).resolve().parents[1]
-
-
-def _load_study(name: str):
-    """Import studies/<name>/run.py by file path (studies/ is not a package)."""
-    path = ROOT / "studies" / name / "run.py"
-    spec = importlib.util.spec_from_file_location(f"study_{name}", path)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+from conftest import load_study
 
 
 @pytest.fixture(scope="module")
 def static_accuracy(tmp_path_factory):
     out = tmp_path_factory.mktemp("static_accuracy")
-    res = _load_study("static_accuracy").main(["--quick", "--out", str(out)])
+    res = load_study("static_accuracy").main(["--quick", "--out", str(out)])
     return out, res
 
 

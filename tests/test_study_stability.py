@@ -4,28 +4,17 @@ while generalized-alpha at the same dt converges. No wall-clock assertions (desi
 from __future__ import annotations
 
 import csv
-import importlib.util
 import math
-from pathlib import Path
 
 import pytest
 
-ROOT = Path(__file__).resolve().parents[1]
-
-
-def _load_study(name: str):
-    """Import studies/<name>/run.py by file path (studies/ is not a package)."""
-    path = ROOT / "studies" / name / "run.py"
-    spec = importlib.util.spec_from_file_location(f"study_{name}", path)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+from conftest import load_study
 
 
 @pytest.fixture(scope="module")
 def stability(tmp_path_factory):
     out = tmp_path_factory.mktemp("stability")
-    res = _load_study("stability").main(["--quick", "--out", str(out)])
+    res = load_study("stability").main(["--quick", "--out", str(out)])
     return out, res
 
 

@@ -3,19 +3,14 @@ over its (quick) grid, and the periodic solvers agree with the reference. No wal
 assertions (design.md: speed is measured in studies, never asserted)."""
 from __future__ import annotations
 
-import importlib.util
-from pathlib import Path
 
 import numpy as np
 
-ROOT = Path(__file__).resolve().parents[1]
+from conftest import load_study
 
 
 def test_work_precision_quick(tmp_path):
-    path = ROOT / "studies" / "work_precision" / "run.py"
-    spec = importlib.util.spec_from_file_location("study_work_precision", path)
-    study = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(study)
+    study = load_study("work_precision")
     res = study.main(["--quick", "--out", str(tmp_path)])
 
     for name in ("results.csv", "summary.md", "work_precision.png"):

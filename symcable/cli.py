@@ -149,6 +149,13 @@ def _demo(args) -> int:
     return 0
 
 
+def _output_options(p: argparse.ArgumentParser, what: str) -> None:
+    """The options every analysis shares: JSON on stdout, a figure, a saved result."""
+    p.add_argument("--json", action="store_true", help=f"print the {what} as JSON (SI units)")
+    p.add_argument("--plot", metavar="FILE", help="save its figure (PNG, PDF or SVG)")
+    p.add_argument("--save", metavar="FILE", help=f"save the {what} (.npz or .json)")
+
+
 def build_parser() -> argparse.ArgumentParser:
     ap = argparse.ArgumentParser(prog="symcable", description=__doc__.splitlines()[0])
     sub = ap.add_subparsers(dest="command", required=True)
@@ -156,32 +163,24 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("scene")
     p = sub.add_parser("static", help="static configuration of a scene")
     p.add_argument("scene")
-    p.add_argument("--json", action="store_true", help="print the solution as JSON (SI units)")
-    p.add_argument("--plot", metavar="FILE", help="save the profile/tension/moment figure")
-    p.add_argument("--save", metavar="FILE", help="save the solution (.npz or .json)")
+    _output_options(p, "solution")
     p = sub.add_parser("simulate", help="time response to the scene's end motion")
     p.add_argument("scene")
+    _output_options(p, "trajectory")
     p.add_argument("--duration", type=float, help="s (default 10 excitation periods)")
     p.add_argument("--dt", type=float, help="time step, s (default: chosen by the method)")
     p.add_argument("--method", default="generalized-alpha", choices=["generalized-alpha", "rk4"])
-    p.add_argument("--json", action="store_true")
-    p.add_argument("--plot", metavar="FILE")
-    p.add_argument("--save", metavar="FILE", help="save the trajectory (.npz or .json)")
     p = sub.add_parser("periodic", help="periodic steady state over one excitation period")
     p.add_argument("scene")
+    _output_options(p, "solution")
     p.add_argument("--method", default="collocation", choices=["collocation", "harmonic-balance"])
-    p.add_argument("--json", action="store_true")
-    p.add_argument("--plot", metavar="FILE")
-    p.add_argument("--save", metavar="FILE", help="save the solution (.npz or .json)")
     p = sub.add_parser("modes", help="natural frequencies and mode shapes")
     p.add_argument("scene")
+    _output_options(p, "modes")
     p.add_argument("--n", type=int, default=6, help="number of modes (default 6)")
-    p.add_argument("--json", action="store_true")
-    p.add_argument("--plot", metavar="FILE")
-    p.add_argument("--save", metavar="FILE")
     p = sub.add_parser("demo", help="the built-in scenes: OC3 statics, seed-001 periodic response")
     p.add_argument("--plot", metavar="FILE", help="figure path (default symcable-demo.png)")
-    p.add_argument("--save", metavar="FILE", help="save the solution (.npz or .json)")
+    p.add_argument("--save", metavar="FILE", help="save the static solution (.npz or .json)")
     return ap
 
 

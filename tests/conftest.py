@@ -2,8 +2,16 @@
 from __future__ import annotations
 
 import copy
+import os
+import tempfile
 
 import pytest
+
+# The suite runs the CasADi virtual machine by default: compiling every test scene (2-10 s
+# each) would dominate CI. test_codegen.py asks for generated C explicitly, into a build
+# cache of its own for this session.
+os.environ.setdefault("SYMCABLE_CODEGEN", "0")
+os.environ.setdefault("SYMCABLE_CACHE_DIR", tempfile.mkdtemp(prefix="symcable-test-cache-"))
 
 OC3 = {
     "name": "OC3 line",

@@ -8,7 +8,7 @@ import time
 import numpy as np
 
 from ..errors import ConvergenceError
-from ..functions import static_functions
+from ..functions import SOLVE_MAX_ITER, static_functions
 from ..models import build_model
 from ..models.base import Model
 from ..results import StaticSolution
@@ -19,11 +19,12 @@ from .newton import NewtonResult, newton
 #: default residual tolerance, relative to the model's force scale
 RTOL = 1e-9
 #: plain Newton from a good start converges in a handful of steps or not at all
-FAST_MAX_ITER = 12
+FAST_MAX_ITER = SOLVE_MAX_ITER
 
 
 def solve_static(scene, *, tol: float | None = None, max_iter: int = 50,
-                 continuation: bool = True, model: Model | None = None) -> StaticSolution:
+                 continuation: bool = True, model: Model | None = None,
+                 codegen: bool | None = None) -> StaticSolution:
     """Static configuration of a scene.
 
     Parameters
@@ -41,12 +42,18 @@ def solve_static(scene, *, tol: float | None = None, max_iter: int = 50,
         parameters (no bending, or no load) to the scene's, in adaptive steps.
     model : Model, optional
         A model already built for this scene (:func:`symcable.build_model`).
+    codegen : bool, optional
+        Run the solve in generated C (compiled once per model structure, then loaded from
+        the build cache) rather than the CasADi virtual machine. Default None: generated C
+        when a C compiler is found (see :mod:`symcable.codegen`); True without a compiler
+        warns once and uses the virtual machine. The results agree to round-off.
 
     Returns
     -------
     StaticSolution
         ``stats`` gives ``iterations``, ``residual_norm`` (N), ``tolerance`` (N),
-        ``wall_time`` (s), ``path`` (``"newton"``: plain Newton inside CasADi;
+        ``wall_time`` (s), ``compiled`` (generated C or not), ``path`` (``"newton"``:
+        plain Newton in one CasADi call;
         ``"damped newton"``: with a line search; ``"continuation in <what>"``) and
         ``start`` (where the initial guess came from).
 
@@ -60,22 +67,26 @@ def solve_static(scene, *, tol: float | None = None, max_iter: int = 50,
         scene = load_scene(scene)
     t0 = time.perf_counter()
     model = model or build_model(scene)
-    fns = static_functions(model)
+    fns = static_functions(model, codegen)
     if tol is None:
         tol = max(RTOL * model.force_scale, model.residual_floor)
     tol = float(tol)
-    guesses = model.initial_guess()
     target = model.p_target
-    step = fns.step
+    step = fns.fast("step")
     opts = dict(tol=tol, max_iter=max_iter, x_scale=model.w_scale, merit_weights=model.merit_weights)
 
     attempts, total_it, n_steps = [], 0, 0
     res, path, guess, tried = None, "newton", None, []
-    guesses = iter(guesses)
-    first = next(guesses)
-    # fast path: plain Newton from the first start, iterated inside CasADi in one call
-    res = _fast_newton(fns, first.w, target, tol, min(max_iter, FAST_MAX_ITER))
-    attempts.append({"path": "newton (CasADi rootfinder)", "start": first.source,
+    guesses = iter(model.initial_guess())
+    # the first start is a function of the model alone: computed once per model
+    first = model._cache.get("first_guess")
+    if first is None:
+        first = model._cache["first_guess"] = next(guesses)
+    else:
+        next(guesses, None)
+    # fast path: plain Newton from the first start, iterated in one call, outputs included
+    res, packed = _fast_newton(fns, first.w, target, tol, max_iter)
+    attempts.append({"path": "newton (one call)", "start": first.source,
                      "message": res.message, "iterations": res.iterations,
                      "residual_norm": res.residual_norm})
     total_it += res.iterations
@@ -109,13 +120,14 @@ def solve_static(scene, *, tol: float | None = None, max_iter: int = 50,
         "residual_norm": res.residual_norm,
         "tolerance": tol,
         "wall_time": time.perf_counter() - t0,
+        "compiled": fns.compiled,
         "path": path,
         "continuation_steps": n_steps,
         "start": guess.source,
         "unknowns": model.n_w,
         "terms": list(model.terms),
     }
-    sol = _solution(model, fns, res, stats)
+    sol = _solution(model, fns, res, stats, packed if path == "newton" else None)
     if not res.converged:
         raise ConvergenceError(
             f"static solve of '{scene.name}' did not converge: {res.message} "
@@ -124,15 +136,19 @@ def solve_static(scene, *, tol: float | None = None, max_iter: int = 50,
     return sol
 
 
-def _fast_newton(fns, w0, p, tol, max_iter) -> NewtonResult:
-    rf = fns.rootfinder(tol, max_iter)
-    w = np.asarray(rf(w0, p), dtype=float).ravel()
-    st = rf.stats()
-    r = np.asarray(fns.residual(w, p), dtype=float).ravel()
-    nr = float(np.max(np.abs(r)))
-    ok = bool(st.get("success")) and np.isfinite(nr) and nr <= tol
-    return NewtonResult(w, ok, int(st.get("iter_count", 0)), nr,
-                        "converged" if ok else f"plain Newton failed ({st.get('return_status', '?')})")
+def _fast_newton(fns, w0, p, tol, max_iter):
+    """Plain Newton (at most FAST_MAX_ITER steps) in one call of ``static_solve``; returns
+    the result and the packed outputs at its last iterate."""
+    try:
+        w, its, nr, packed = fns.fast("solve")(w0, p, tol)
+    except RuntimeError as exc:  # the VM's QR refuses a singular Jacobian
+        return NewtonResult(np.array(w0, dtype=float), False, 0, float("nan"),
+                            f"plain Newton failed ({exc})"), None
+    its, nr = int(its[0]), float(nr[0])
+    ok = bool(np.isfinite(nr) and nr <= tol and its <= min(max_iter, FAST_MAX_ITER)
+              and np.all(np.isfinite(w)))
+    msg = "converged" if ok else f"plain Newton failed (residual {nr:.3g} N after {its} steps)"
+    return NewtonResult(w, ok, its, nr, msg), packed
 
 
 def _continuation(step, w0, p_start, p_target, **opts):
@@ -165,9 +181,10 @@ def _continuation(step, w0, p_start, p_target, **opts):
     return res, n_steps, it_total, log
 
 
-def _solution(model: Model, fns, res: NewtonResult, stats: dict) -> StaticSolution:
-    vals = fns.outputs(w=res.x, p=model.p_target if res.converged else model.p_target)
-    out = {k: np.array(v.full()) for k, v in vals.items()}
+def _solution(model: Model, fns, res: NewtonResult, stats: dict, packed=None) -> StaticSolution:
+    if packed is None:
+        packed = np.concatenate(fns.fast("outputs")(res.x, model.p_target))
+    out = fns.unpack(packed)
     derived = model.postprocess(out)
     s_nodes = np.asarray(model.info["s_nodes"])
     warnings = []

@@ -21,7 +21,7 @@ long run pays the Python interpreter once per batch of saved samples, not once p
   gamma = 1/2 + a_m - a_f: second order, A-stable, with high-frequency damping set by
   rho_inf in [0, 1] (1: none; 0: annihilates the highest frequencies in one step). Each
   step solves R = 0 by Newton's method with the exact Jacobian
-  a_m I - a_f gamma dt df/dy from CasADi, factorised by CSparse, inside the step Function.
+  a_m I - a_f gamma dt df/dy from CasADi, factorised by sparse QR, inside the step Function.
 """
 from __future__ import annotations
 
@@ -33,13 +33,16 @@ from collections import OrderedDict
 import casadi as ca
 import numpy as np
 
+from ..codegen import compile_functions, use_codegen
 from ..errors import ConvergenceError, SymcableError
 from ..models import build_dynamic_model
 from ..progress import ProgressBar
 from ..results_time import Trajectory
+from .linalg import sparse_solve
 from ..scene_loader import load_scene
 
-__all__ = ["Method", "ga_coefficients", "ga_residual_function", "rk4_stability_limit", "simulate"]
+__all__ = ["Method", "ga_coefficients", "ga_residual_function", "rk4_stability_limit", "simulate",
+           "step_function"]
 
 #: RK4's stability interval on the imaginary axis: |lambda dt| <= 2 sqrt(2).
 RK4_IMAG_LIMIT = 2.0 * math.sqrt(2.0)
@@ -151,37 +154,55 @@ def _rk4_limit(model, p, t) -> float:
 
 # ----------------------------------------------------------------------------- step functions
 # Every step Function has the same signature, so one driver runs both methods:
-#   (y, ydot, k, t0, dt, p) -> (y_next, ydot_next, k + 1, newton_iterations, failed, measure)
-# with t_n = t0 + k dt (k counts steps exactly in floating point). ``ydot`` is carried for
-# generalized-α and passed through by RK4; ``measure`` is the accepted Newton convergence
-# measure (0 for RK4).
+#   (y, ydot, k, t0, dt, p, y_scale, settings)
+#       -> (y_next, ydot_next, k + 1, newton_iterations, failed, measure)
+# with t_n = t0 + k dt (k counts steps exactly in floating point) and
+# settings = [rho_inf, newton_tol]. ``ydot`` is carried for generalized-α and passed through
+# by RK4; ``measure`` is the accepted Newton convergence measure (0 for RK4). Everything
+# that may change between runs of one model (parameters, step, scales, settings) is an
+# input, so one compiled library serves every run of a model structure.
 
 def _symbols(model, kind):
     n, n_p = model.n_y, int(model.p.numel())
     S = getattr(ca, kind)
     return (S.sym("y", n), S.sym("ydot", n), S.sym("k"), S.sym("t0"), S.sym("dt"),
-            S.sym("p", n_p))
+            S.sym("p", n_p), S.sym("y_scale", n), S.sym("settings", 2))
 
 
-_STEP_IN = ["y", "ydot", "k", "t0", "dt", "p"]
+_STEP_IN = ["y", "ydot", "k", "t0", "dt", "p", "y_scale", "settings"]
 _STEP_OUT = ["y_next", "ydot_next", "k_next", "newton_iterations", "failed", "measure"]
+#: the linear solver of the Newton iterations: CasADi's sparse QR, which generates C
+#: (CSparse's LU does not); in the virtual machine it is as fast as CSparse here
+LINSOL = "qr"
 
 
 def _rk4_step(model) -> ca.Function:
     fn = model._cache.get("rk4_step")
     if fn is None:
         f = model.functions().rhs
-        y, yd, k, t0, dt, p = _symbols(model, "SX")
+        y, yd, k, t0, dt, p, sc, st = _symbols(model, "SX")
         t = t0 + k * dt
         k1 = f(y, t, p)
         k2 = f(y + 0.5 * dt * k1, t + 0.5 * dt, p)
         k3 = f(y + 0.5 * dt * k2, t + 0.5 * dt, p)
         k4 = f(y + dt * k3, t + dt, p)
         y_next = y + dt / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4)
-        fn = ca.Function("rk4_step", [y, yd, k, t0, dt, p],
+        fn = ca.Function("rk4_step", [y, yd, k, t0, dt, p, sc, st],
                          [y_next, yd, k + 1, ca.SX(0), ca.SX(0), ca.SX(0)], _STEP_IN, _STEP_OUT)
         model._cache["rk4_step"] = fn
     return fn
+
+
+def _ga_coefficients_sym(rho):
+    am = 0.5 * (3.0 - rho) / (1.0 + rho)
+    af = 1.0 / (1.0 + rho)
+    return am, af, 0.5 + am - af
+
+
+def _ga_residual(model, z, y, yd, t, dt, p, rho):
+    am, af, gamma = _ga_coefficients_sym(rho)
+    y_next = y + dt * yd + gamma * dt * (z - yd)
+    return yd + am * (z - yd) - model.functions().rhs(y + af * (y_next - y), t + af * dt, p)
 
 
 def ga_residual_function(model, rho_inf: float) -> ca.Function:
@@ -194,45 +215,44 @@ def ga_residual_function(model, rho_inf: float) -> ca.Function:
     key = ("ga_residual", float(rho_inf))
     fn = model._cache.get(key)
     if fn is None:
-        am, af, gamma = ga_coefficients(rho_inf)
-        f = model.functions().rhs
         z = ca.SX.sym("ydot_next", model.n_y)
-        y, yd, _, t, dt, p = _symbols(model, "SX")
-        y_next = y + dt * yd + gamma * dt * (z - yd)
-        r = yd + am * (z - yd) - f(y + af * (y_next - y), t + af * dt, p)
+        y, yd, _, t, dt, p, _, _ = _symbols(model, "SX")
+        r = _ga_residual(model, z, y, yd, t, dt, p, float(rho_inf))
         fn = ca.Function("ga_residual", [z, y, yd, t, dt, p], [r, ca.jacobian(r, z)],
                          ["ydot_next", "y", "ydot", "t", "dt", "p"], ["r", "dr_dydot_next"])
         model._cache[key] = fn
     return fn
 
 
-def _ga_step(model, rho_inf: float, tol: float, max_iter: int) -> ca.Function:
+def _ga_step(model, max_iter: int) -> ca.Function:
     """One generalized-α step with its Newton loop unrolled ``max_iter`` times; a converged
     iteration switches the rest off (CasADi evaluates only the taken branch of an if_else).
 
     Converged when the residual scaled by dt / y_scale, or the last Newton correction of
-    y_next scaled by y_scale, is <= tol in the max-norm (both are changes of y over one
-    step relative to the state's scale; Newton converges quadratically, so the accepted
+    y_next scaled by y_scale, is <= newton_tol in the max-norm (both are changes of y over
+    one step relative to the state's scale; Newton converges quadratically, so the accepted
     iterate is far more accurate than the correction that was accepted)."""
-    key = ("ga_step", float(rho_inf), float(tol), int(max_iter))
+    key = ("ga_step", int(max_iter))
     fn = model._cache.get(key)
     if fn is not None:
         return fn
-    _, _, gamma = ga_coefficients(rho_inf)
-    RJ = ga_residual_function(model, rho_inf)
-    inv_scale = ca.DM(1.0 / np.asarray(model.y_scale, dtype=float))
     n = model.n_y
+    zs = ca.SX.sym("ydot_next", n)
+    y, yd, _, t, dt, p, sc, st = _symbols(model, "SX")
+    r = _ga_residual(model, zs, y, yd, t, dt, p, st[0])
+    RJ = ca.Function("ga_residual_jacobian", [zs, y, yd, t, dt, p, st], [r, ca.jacobian(r, zs)])
 
-    # one Newton iteration: (z, done, it, measure; y, ydot, t, dt, p) -> (z, done, it, measure)
+    # one Newton iteration: (z, done, it, measure; y, ydot, t, dt, p, y_scale, settings) -> ...
     z, done, it, meas = ca.MX.sym("z", n), ca.MX.sym("done"), ca.MX.sym("it"), ca.MX.sym("measure")
-    y, yd, _, t, dt, p = _symbols(model, "MX")
-    r, J = RJ(z, y, yd, t, dt, p)
-    res = ca.norm_inf(r * dt * inv_scale)
+    y, yd, _, t, dt, p, sc, st = _symbols(model, "MX")
+    tol, gamma = st[1], _ga_coefficients_sym(st[0])[2]
+    r, J = RJ(z, y, yd, t, dt, p, st)
+    res = ca.norm_inf(r * dt / sc)
     conv = res <= tol
-    dz = ca.if_else(conv, ca.MX.zeros(n), -ca.solve(J, r, "csparse"), True)
-    corr = ca.norm_inf(gamma * dt * dz * inv_scale)
-    args = [z, done, it, meas, y, yd, t, dt, p]
-    names = ["z", "done", "it", "measure", "y", "ydot", "t", "dt", "p"]
+    dz = ca.if_else(conv, ca.MX.zeros(n), -sparse_solve(J, r, LINSOL), True)
+    corr = ca.norm_inf(gamma * dt * dz / sc)
+    args = [z, done, it, meas, y, yd, t, dt, p, sc, st]
+    names = ["z", "done", "it", "measure", "y", "ydot", "t", "dt", "p", "y_scale", "settings"]
     outs = ["z_out", "done_out", "it_out", "measure_out"]
     iterate = ca.Function("ga_newton_iteration", args,
                           [z + dz, ca.logic_or(conv, corr <= tol), it + 1 - conv,
@@ -240,22 +260,38 @@ def _ga_step(model, rho_inf: float, tol: float, max_iter: int) -> ca.Function:
     skip = ca.Function("ga_newton_skip", args, [z, done, it, meas], names, outs)
     body = ca.Function.if_else("ga_newton_body", skip, iterate)
 
-    y, yd, k, t0, dt, p = _symbols(model, "MX")
+    y, yd, k, t0, dt, p, sc, st = _symbols(model, "MX")
+    gamma = _ga_coefficients_sym(st[0])[2]
     t = t0 + k * dt
     z, done, it, meas = yd, ca.MX(0), ca.MX(0), ca.MX(np.inf)
     for _ in range(max_iter):
-        z, done, it, meas = body(done, z, done, it, meas, y, yd, t, dt, p)
+        z, done, it, meas = body(done, z, done, it, meas, y, yd, t, dt, p, sc, st)
     y_next = y + dt * yd + gamma * dt * (z - yd)
-    fn = ca.Function("ga_step", [y, yd, k, t0, dt, p], [y_next, z, k + 1, it, 1 - done, meas],
-                     _STEP_IN, _STEP_OUT)
+    fn = ca.Function("ga_step", [y, yd, k, t0, dt, p, sc, st],
+                     [y_next, z, k + 1, it, 1 - done, meas], _STEP_IN, _STEP_OUT)
     model._cache[key] = fn
     return fn
 
 
+def step_function(model, method, codegen: bool | None = False) -> ca.Function:
+    """The step Function of ``method`` ("rk4" or "generalized-alpha") for ``model``, run by
+    the virtual machine or compiled (``codegen``, see :func:`symcable.codegen.use_codegen`);
+    built once per model. Signature in the comment above."""
+    meth = Method.parse(method)
+    vm = _ga_step(model, NEWTON_MAX_ITER) if meth is Method.GENERALIZED_ALPHA else _rk4_step(model)
+    if not use_codegen(codegen):
+        return vm
+    key = ("compiled_step", vm.name())
+    if key not in model._cache:
+        model._cache[key] = compile_functions([vm])[vm.name()]
+    return model._cache[key]
+
+
 def _batch(model, step: ca.Function, S: int, m: int) -> ca.Function:
     """``m`` saved samples, ``S`` steps apart, in one call:
-    (y, ydot, k, t0, dt, p) -> (Y (n_y, m), YDOT (n_y, m), K (1, m), iterations summed,
-    iterations max, failed steps, measure max), the last four (1, m) per sample."""
+    (y, ydot, k, t0, dt, p, y_scale, settings) -> (Y (n_y, m), YDOT (n_y, m), K (1, m),
+    iterations summed, iterations max, failed steps, measure max), the last four (1, m)
+    per sample."""
     cache = model._cache.setdefault("stepping_batches", OrderedDict())
     key = (step.name(), id(step), S, m)
     fn = cache.get(key)
@@ -263,9 +299,9 @@ def _batch(model, step: ca.Function, S: int, m: int) -> ca.Function:
         cache.move_to_end(key)
         return fn
     inner = step.mapaccum(f"{step.name()}_x{S}", S, [0, 1, 2], [0, 1, 2])
-    y, yd, k, t0, dt, p = _symbols(model, "MX")
-    Y, YD, K, IT, FAIL, MEAS = inner(y, yd, k, t0, dt, p)
-    save = ca.Function(f"{step.name()}_sample{S}", [y, yd, k, t0, dt, p],
+    y, yd, k, t0, dt, p, sc, st = _symbols(model, "MX")
+    Y, YD, K, IT, FAIL, MEAS = inner(y, yd, k, t0, dt, p, sc, st)
+    save = ca.Function(f"{step.name()}_sample{S}", [y, yd, k, t0, dt, p, sc, st],
                        [Y[:, S - 1], YD[:, S - 1], K[S - 1], ca.sum2(IT), ca.mmax(IT),
                         ca.sum2(FAIL), ca.mmax(MEAS)], _STEP_IN,
                        ["y_end", "ydot_end", "k_end", "iterations", "iterations_max", "failed", "measure"])
@@ -361,7 +397,7 @@ def _bad_state(Y: np.ndarray, inv_scale: np.ndarray) -> np.ndarray:
 def simulate(scene, duration: float, dt: float | None = None, method: str = "generalized-alpha", *,
              rho_inf: float = 0.5, save_every: int | None = None, save_times=None,
              progress: bool | None = None, model=None, params=None,
-             newton_tol: float | None = None) -> Trajectory:
+             newton_tol: float | None = None, codegen: bool | None = None) -> Trajectory:
     """Time response of a line from rest at t = 0 (where its excitation starts).
 
     Parameters
@@ -396,6 +432,12 @@ def simulate(scene, duration: float, dt: float | None = None, method: str = "gen
     newton_tol : float, optional
         Generalized-α Newton tolerance on the max-norm of the step residual times
         dt / y_scale, or of the last Newton correction of y_{n+1} over y_scale (default 1e-10).
+    codegen : bool, optional
+        Run the step in generated C (compiled once per model structure and method, then
+        loaded from the build cache); the loop over steps runs inside CasADi's ``mapaccum``,
+        never in Python. Default None: generated C when a C compiler is found (see
+        :mod:`symcable.codegen`); True without a compiler warns once and uses the virtual
+        machine. Results agree with the virtual machine's to round-off.
 
     Returns
     -------
@@ -452,14 +494,15 @@ def simulate(scene, duration: float, dt: float | None = None, method: str = "gen
     if meth is Method.GENERALIZED_ALPHA:
         am, af, gamma = ga_coefficients(rho_inf)
         stats.update(rho_inf=rho_inf, alpha_m=am, alpha_f=af, gamma=gamma)
-        step = _ga_step(model, rho_inf, tol, NEWTON_MAX_ITER)
-    else:
-        step = _rk4_step(model)
+    step = step_function(model, meth, codegen)
+    stats["compiled"] = bool(step.is_a("External"))
+    settings = np.array([rho_inf, tol])
 
     f = model.functions()
     y = np.array(model.y0, dtype=float)
     yd = np.array(f.rhs(y, 0.0, p).full()).ravel()
-    inv_scale = 1.0 / np.asarray(model.y_scale, dtype=float)
+    y_scale = np.asarray(model.y_scale, dtype=float)
+    inv_scale = 1.0 / y_scale
     saved_y, saved_k = ([y.copy()], [0]) if idx[0] == 0 else ([], [])
     k = 0
     iters, iters_max, step_time = 0, 0, 0.0
@@ -476,7 +519,7 @@ def simulate(scene, duration: float, dt: float | None = None, method: str = "gen
                 batch = _batch(model, step, S, m)
                 t0 = _time.perf_counter()
                 try:
-                    Y, YD, K, IT, ITM, FAIL, _ = (np.array(v.full()) for v in batch(y, yd, k, 0.0, dt, p))
+                    Y, YD, K, IT, ITM, FAIL, _ = (np.array(v.full()) for v in batch(y, yd, k, 0.0, dt, p, y_scale, settings))
                     bad = ((FAIL.ravel() > 0) | _bad_state(Y, inv_scale)
                            | ~np.all(np.isfinite(YD), axis=0))
                     n_good = int(np.argmax(bad)) if np.any(bad) else m
@@ -491,7 +534,7 @@ def simulate(scene, duration: float, dt: float | None = None, method: str = "gen
                     iters += int(np.sum(IT.ravel()[:n_good]))
                     iters_max = max(iters_max, int(np.max(ITM.ravel()[:n_good])))
                 if n_good < m:
-                    failure, y, yd, k, extra, it_good = _replay(step, y, yd, k, dt, p, inv_scale,
+                    failure, y, yd, k, extra, it_good = _replay(step, y, yd, k, dt, p, y_scale, settings,
                                                                 (m - n_good) * S, set(idx.tolist()))
                     for kk, yy in extra:
                         saved_y.append(yy)
@@ -550,7 +593,7 @@ def simulate(scene, duration: float, dt: float | None = None, method: str = "gen
     return traj
 
 
-def _replay(step, y, yd, k, dt, p, inv_scale, n_max, save_set):
+def _replay(step, y, yd, k, dt, p, y_scale, settings, n_max, save_set):
     """Step one at a time from a good state to find the first bad step.
 
     Returns ``(failure or None, y, ydot, k, saved, iterations)`` where ``y, ydot, k`` is the
@@ -561,10 +604,11 @@ def _replay(step, y, yd, k, dt, p, inv_scale, n_max, save_set):
     y_{n+1} over y_scale; the caller adds ``residual``); for "blowup" ``state_norm``, the
     largest |y| / y_scale reached)."""
     saved, good_iters = [], 0
+    inv_scale = 1.0 / y_scale
     for _ in range(n_max):
         diag = {"time_last_good": k * dt, "time": (k + 1) * dt, "step": k + 1}
         try:
-            yn, ydn, kn, it, fail, meas = (np.array(v.full()).ravel() for v in step(y, yd, k, 0.0, dt, p))
+            yn, ydn, kn, it, fail, meas = (np.array(v.full()).ravel() for v in step(y, yd, k, 0.0, dt, p, y_scale, settings))
         except RuntimeError as exc:
             diag.update(reason="error", message=str(exc).strip().splitlines()[-1], residual=float("nan"))
             return diag, y, yd, k, saved, good_iters

@@ -1,0 +1,291 @@
+"""Generated C: the only place in symcable that writes C or calls a compiler.
+
+CasADi writes C for a group of Functions; the system C compiler turns it into a shared
+library in a build cache; ``casadi.external`` loads it back as Functions with the same
+names and signatures, which the solvers call exactly as they call the virtual machine's.
+
+The cache
+---------
+* Folder: ``$SYMCABLE_CACHE_DIR`` if set, else ``$XDG_CACHE_HOME/symcable`` (default
+  ``~/.cache/symcable``). ``symcable cache clear`` empties it.
+* Key: SHA-256 of the serialised Functions (``Function.serialize``: the whole expression
+  graph), the CasADi version, the compiler and its flags. Parameters (end positions,
+  current, excitation, the static state of a linearisation) are *inputs* of the Functions,
+  not constants, so scenes that differ only in them share one library.
+* Entry: ``<key>.json`` names the library ``<key>-<digest>.so`` and records its SHA-256.
+  Both are written to a temporary file and renamed into place (atomic on POSIX), so several
+  processes may build the same entry at once; whichever rename lands last wins, and both
+  libraries are valid. A library whose digest does not match (truncated, damaged), or an
+  entry that cannot be read, is rebuilt, never loaded.
+
+Compiler: ``$CC`` if set, else the first of ``cc``, ``gcc``, ``clang`` on the PATH. When
+none is found, :func:`use_codegen` warns once and every analysis falls back to the CasADi
+virtual machine (same results, slower).
+"""
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import shutil
+import subprocess
+import tempfile
+import threading
+import time
+import warnings
+from pathlib import Path
+from typing import Sequence
+
+import casadi as ca
+
+from .errors import SymcableError
+
+__all__ = ["CodegenWarning", "cache_dir", "cache_info", "clear_cache", "compile_functions",
+           "compiler", "export_sources", "use_codegen", "FLAGS"]
+
+#: compiler flags of cached libraries (part of the cache key). -O2: on the generated step
+#: and Newton functions it is within a few % of -O3 and compiles faster.
+FLAGS = ("-O2", "-fPIC", "-shared")
+#: bump when the layout of generated code or of cache entries changes
+FORMAT = 1
+_ENV_CACHE = "SYMCABLE_CACHE_DIR"
+_ENV_DEFAULT = "SYMCABLE_CODEGEN"
+
+
+class CodegenWarning(UserWarning):
+    """Generated C was asked for (or is the default) but cannot be used here."""
+
+
+# --------------------------------------------------------------------------- environment
+
+def compiler() -> str | None:
+    """Path of the C compiler: ``$CC`` (its first word) if set, else ``cc``, ``gcc`` or
+    ``clang`` from the PATH; None when there is none."""
+    cc = os.environ.get("CC")
+    if cc is not None:
+        cc = cc.split()[0] if cc.strip() else ""
+        return shutil.which(cc) if cc else None
+    for name in ("cc", "gcc", "clang"):
+        path = shutil.which(name)
+        if path:
+            return path
+    return None
+
+
+def cache_dir() -> Path:
+    """The build cache folder (created on first use)."""
+    env = os.environ.get(_ENV_CACHE)
+    if env:
+        return Path(env).expanduser()
+    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    return Path(base) / "symcable"
+
+
+_warned: set = set()
+
+
+def use_codegen(codegen: bool | None) -> bool:
+    """Resolve an analysis' ``codegen`` argument.
+
+    ``None`` (the default of every analysis): generated C when a C compiler is found,
+    else the virtual machine, silently; ``SYMCABLE_CODEGEN=0`` in the environment makes
+    the default the virtual machine (for one-off solves, where compiling a new model
+    structure, 2-10 s once, costs more than it saves). ``True``: generated C, or one
+    :class:`CodegenWarning` and the virtual machine when there is no compiler. ``False``:
+    the virtual machine.
+    """
+    if codegen is None:
+        env = os.environ.get(_ENV_DEFAULT, "").strip().lower()
+        if env in ("0", "false", "off", "no"):
+            return False
+        return compiler() is not None
+    if not isinstance(codegen, bool):
+        raise SymcableError(f"codegen = {codegen!r}: must be True, False or None (automatic)")
+    if codegen and compiler() is None:
+        cc = os.environ.get("CC")
+        where = f"CC = {cc!r} is not an executable" if cc is not None else "no cc, gcc or clang on the PATH"
+        if where not in _warned:
+            _warned.add(where)
+            warnings.warn(f"codegen=True: no C compiler ({where}); using the CasADi virtual "
+                          "machine instead (same results, slower)", CodegenWarning, stacklevel=3)
+        return False
+    return codegen
+
+
+# --------------------------------------------------------------------------- building
+
+def _compiler_id(cc: str) -> str:
+    try:
+        out = subprocess.run([cc, "--version"], capture_output=True, text=True, timeout=30)
+        return out.stdout.splitlines()[0] if out.stdout else cc
+    except (OSError, subprocess.SubprocessError):
+        return cc
+
+
+_cc_ids: dict = {}
+
+
+def _key(functions: Sequence[ca.Function], cc: str) -> str:
+    h = hashlib.sha256()
+    if cc not in _cc_ids:
+        _cc_ids[cc] = _compiler_id(cc)
+    h.update(f"symcable-codegen {FORMAT}|casadi {ca.__version__}|{_cc_ids[cc]}|{' '.join(FLAGS)}".encode())
+    for f in functions:
+        h.update(f.name().encode())
+        h.update(f.serialize().encode())
+    return h.hexdigest()[:32]
+
+
+def _digest(path: Path) -> str:
+    h = hashlib.sha256()
+    with open(path, "rb") as fh:
+        for chunk in iter(lambda: fh.read(1 << 20), b""):
+            h.update(chunk)
+    return h.hexdigest()
+
+
+def _write_atomic(path: Path, data: bytes) -> None:
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=".tmp-", suffix=path.suffix)
+    try:
+        with os.fdopen(fd, "wb") as fh:
+            fh.write(data)
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+
+
+def _generate(functions: Sequence[ca.Function], folder: Path, stem: str, header: bool = False) -> Path:
+    cg = ca.CodeGenerator(f"{stem}.c", {"with_header": header})
+    for f in functions:
+        cg.add(f)
+    cg.generate(str(folder) + os.sep)
+    return folder / f"{stem}.c"
+
+
+def _valid_entry(folder: Path, key: str) -> Path | None:
+    """The library of a cache entry if its record is readable and its digest matches."""
+    try:
+        meta = json.loads((folder / f"{key}.json").read_text())
+        lib = folder / meta["library"]
+        if meta.get("key") != key or _digest(lib) != meta["sha256"]:
+            return None
+        return lib
+    except (OSError, ValueError, KeyError, TypeError):
+        return None
+
+
+_lock = threading.Lock()
+#: every library loaded in this process: key -> {name: Function}
+_loaded: dict = {}
+#: what the last compile_functions call did (for studies and tests)
+last_build: dict = {}
+
+
+def compile_functions(functions: Sequence[ca.Function], *, jacobians: bool = False) -> dict:
+    """Compile CasADi Functions to one shared library (through the cache) and load them.
+
+    Parameters
+    ----------
+    functions : sequence of casadi.Function
+        Functions with distinct names; SX or MX (MX graphs may call other Functions and
+        code-generatable linear solvers such as ``"qr"``).
+    jacobians : bool
+        Also generate each Function's Jacobian (``jac_<name>``), so a loaded Function can
+        be differentiated (as IPOPT and CasADi's rootfinder need).
+
+    Returns
+    -------
+    dict
+        ``{name: casadi.Function}`` loaded from the library with ``casadi.external``.
+
+    Raises
+    ------
+    SymcableError
+        No compiler, or the compiler failed (the message has its last lines).
+    """
+    cc = compiler()
+    if cc is None:
+        raise SymcableError("generated C needs a C compiler: set CC or install cc/gcc/clang "
+                            "(or pass codegen=False)")
+    funcs = list(functions)
+    if jacobians:
+        funcs = funcs + [f.jacobian() for f in funcs]
+    key = _key(funcs, cc)
+    with _lock:
+        if key in _loaded:
+            last_build.update(key=key, action="memory", seconds=0.0)
+            return _loaded[key]
+        folder = cache_dir()
+        folder.mkdir(parents=True, exist_ok=True)
+        t0 = time.perf_counter()
+        lib = _valid_entry(folder, key)
+        action = "cache"
+        if lib is None:
+            lib = _build(funcs, folder, key, cc)
+            action = "compiled"
+        loaded = {f.name(): ca.external(f.name(), str(lib)) for f in functions}
+        _loaded[key] = loaded
+        last_build.update(key=key, action=action, seconds=time.perf_counter() - t0, library=str(lib))
+        return loaded
+
+
+def _build(funcs, folder: Path, key: str, cc: str) -> Path:
+    with tempfile.TemporaryDirectory(dir=folder, prefix=".build-") as tmp:
+        tmp = Path(tmp)
+        src = _generate(funcs, tmp, f"sc_{key[:16]}")
+        out = tmp / "lib.so"
+        cmd = [cc, *FLAGS, str(src), "-o", str(out), "-lm"]
+        proc = subprocess.run(cmd, capture_output=True, text=True)
+        if proc.returncode != 0 or not out.exists():
+            tail = " | ".join((proc.stderr or proc.stdout).strip().splitlines()[-3:])
+            raise SymcableError(f"the C compiler failed on generated code ({' '.join(cmd[:2])} ...): {tail}")
+        digest = _digest(out)
+        lib = folder / f"{key}-{digest[:16]}.so"
+        if not lib.exists() or _digest(lib) != digest:
+            os.replace(out, lib)
+        meta = {"key": key, "library": lib.name, "sha256": digest, "casadi": ca.__version__,
+                "compiler": cc, "flags": list(FLAGS), "functions": [f.name() for f in funcs],
+                "created": time.strftime("%Y-%m-%dT%H:%M:%S%z")}
+        _write_atomic(folder / f"{key}.json", json.dumps(meta, indent=1).encode())
+        return lib
+
+
+# --------------------------------------------------------------------------- the cache
+
+def cache_info() -> dict:
+    """``{"folder": str, "entries": int, "bytes": int}`` of the build cache."""
+    folder = cache_dir()
+    entries = list(folder.glob("*.json")) if folder.is_dir() else []
+    size = sum(p.stat().st_size for p in folder.iterdir() if p.is_file()) if folder.is_dir() else 0
+    return {"folder": str(folder), "entries": len(entries), "bytes": size}
+
+
+def clear_cache() -> int:
+    """Delete every entry of the build cache; returns the number of entries removed.
+    Libraries already loaded in running processes stay usable (POSIX unlink)."""
+    folder = cache_dir()
+    if not folder.is_dir():
+        return 0
+    n = 0
+    for p in folder.iterdir():
+        if p.name.endswith(".json"):
+            n += 1
+        if p.is_dir() and p.name.startswith(".build-"):
+            shutil.rmtree(p, ignore_errors=True)
+        elif p.is_file() and (p.suffix in (".so", ".json") or p.name.startswith(".tmp-")):
+            p.unlink(missing_ok=True)
+    with _lock:
+        _loaded.clear()
+    return n
+
+
+# --------------------------------------------------------------------------- export
+
+def export_sources(functions: Sequence[ca.Function], folder, stem: str) -> tuple[Path, Path]:
+    """Write standalone C sources ``<stem>.c`` and header ``<stem>.h`` for ``functions``
+    into ``folder`` (created if needed); returns their paths. No compiler needed."""
+    folder = Path(folder)
+    folder.mkdir(parents=True, exist_ok=True)
+    src = _generate(functions, folder, stem, header=True)
+    return src, folder / f"{stem}.h"

@@ -1,0 +1,62 @@
+"""Sparse linear solves inside CasADi graphs that the code generator can write out.
+
+Generic: it sees a square sparse matrix expression and a right-hand side, nothing else.
+
+CasADi's sparse QR (``"qr"``) generates C, but QR fills in like the Cholesky factor of
+J^T J: a single dense row (a global constraint, an integral condition) makes J^T J dense
+and the factor full, 20 times slower than the banded rest deserves (on the seed-001 line's
+dynamics, two dense rows of 102 entries in 198 raise a QR solve from about 12 to 290 us).
+:func:`sparse_solve` therefore takes the dense rows out: with ``D`` the dense rows, it
+factorises the sparse matrix J_s that has unit rows e_i^T (i in D) in their place, and
+restores them by the Sherman-Morrison-Woodbury formula, J = J_s + E W^T with
+E = [e_i], W^T = J[D, :] - E^T:
+
+    x = y - Z (I + W^T Z)^-1 W^T y,   y = J_s^-1 b,   Z = J_s^-1 E,
+
+one factorisation of J_s for the k + 1 right-hand sides and a k x k solve. det J =
+det J_s det(I + W^T Z), so both systems are regular when J is and the rest of J is.
+"""
+from __future__ import annotations
+
+import casadi as ca
+import numpy as np
+
+__all__ = ["dense_rows", "sparse_solve"]
+
+#: a row with more structural nonzeros than this fraction of the columns (and than
+#: DENSE_MIN) counts as dense
+DENSE_FRACTION = 0.25
+DENSE_MIN = 16
+
+
+def dense_rows(sparsity: ca.Sparsity) -> np.ndarray:
+    """Indices of the rows of ``sparsity`` that count as dense."""
+    rows = np.asarray(sparsity.get_triplet()[0], dtype=int)
+    n = sparsity.size2()
+    counts = np.bincount(rows, minlength=sparsity.size1())
+    return np.flatnonzero(counts > max(DENSE_MIN, DENSE_FRACTION * n))
+
+
+def sparse_solve(J: ca.MX, b: ca.MX, linsol: str = "qr") -> ca.MX:
+    """``J^-1 b`` for a square sparse ``J`` (MX), with dense rows split off as described in
+    the module docstring; plain ``casadi.solve`` when there are none."""
+    sp = J.sparsity()
+    n = sp.size1()
+    D = dense_rows(sp)
+    if D.size == 0 or D.size > n // 4:
+        return ca.solve(J, b, linsol)
+    rows, cols = (np.asarray(v, dtype=int) for v in sp.get_triplet())  # in nonzero order
+    keep = np.flatnonzero(~np.isin(rows, D))
+    r_s = np.concatenate([rows[keep], D])
+    c_s = np.concatenate([cols[keep], D])
+    order = np.lexsort((r_s, c_s))  # column-major: the nonzero order of the new pattern
+    sp_s = ca.Sparsity.triplet(n, n, r_s[order].tolist(), c_s[order].tolist())
+    nz = ca.vertcat(J.nz[keep.tolist()], ca.MX.ones(D.size))
+    Js = ca.MX(sp_s, nz[order.tolist()])
+    k = D.size
+    E = ca.DM(ca.Sparsity.triplet(n, k, D.tolist(), list(range(k))), 1.0)
+    Wt = J[D.tolist(), :] - E.T
+    X = ca.solve(Js, ca.horzcat(b, E), linsol)
+    y, Z = X[:, 0], X[:, 1:]
+    C = ca.DM.eye(k) + ca.mtimes(Wt, Z)
+    return y - ca.mtimes(Z, ca.solve(C, ca.mtimes(Wt, y), linsol))

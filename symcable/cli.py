@@ -149,6 +149,28 @@ def _demo(args) -> int:
     return 0
 
 
+def _codegen(args) -> int:
+    from .codegen import export_scene
+    from .scene_loader import load_scene
+
+    scene = load_scene(args.scene)
+    for path in export_scene(scene, args.out):
+        print(path)
+    return 0
+
+
+def _cache(args) -> int:
+    from .codegen import cache_info, clear_cache
+
+    if args.action == "clear":
+        n = clear_cache()
+        print(f"removed {n} entries from {cache_info()['folder']}")
+    else:
+        info = cache_info()
+        print(f"build cache {info['folder']}: {info['entries']} entries, {info['bytes'] / 1e6:.1f} MB")
+    return 0
+
+
 def _output_options(p: argparse.ArgumentParser, what: str) -> None:
     """The options every analysis shares: JSON on stdout, a figure, a saved result."""
     p.add_argument("--json", action="store_true", help=f"print the {what} as JSON (SI units)")
@@ -178,6 +200,11 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("scene")
     _output_options(p, "modes")
     p.add_argument("--n", type=int, default=6, help="number of modes (default 6)")
+    p = sub.add_parser("codegen", help="write standalone C sources for a scene (with README and main.c)")
+    p.add_argument("scene")
+    p.add_argument("--out", required=True, metavar="DIR", help="folder to write into (created)")
+    p = sub.add_parser("cache", help="the build cache of generated C (SYMCABLE_CACHE_DIR)")
+    p.add_argument("action", choices=["info", "clear"])
     p = sub.add_parser("demo", help="the built-in scenes: OC3 statics, seed-001 periodic response")
     p.add_argument("--plot", metavar="FILE", help="figure path (default symcable-demo.png)")
     p.add_argument("--save", metavar="FILE", help="save the static solution (.npz or .json)")
@@ -199,6 +226,10 @@ def main(argv: list[str] | None = None) -> int:
             return _periodic(args)
         if args.command == "modes":
             return _modes(args)
+        if args.command == "codegen":
+            return _codegen(args)
+        if args.command == "cache":
+            return _cache(args)
     except SymcableError as exc:
         print(f"symcable: {type(exc).__name__}: {exc}", file=sys.stderr)
         return 2

@@ -82,8 +82,11 @@ class DynamicModel:
         """DAE residual F(y', y, t; p) = y' - f(y, t; p)."""
         return ydot - self.rhs
 
-    def functions(self) -> "DynamicFunctions":
-        """Named CasADi functions of this model, built once."""
+    def functions(self, codegen: bool | None = False) -> "DynamicFunctions":
+        """Named CasADi functions of this model, built once: run by the virtual machine,
+        or compiled to C when ``codegen`` resolves to True
+        (:func:`symcable.codegen.use_codegen`; ``dyn_rhs`` then carries its compiled
+        Jacobian, so graphs built on it, such as the periodic systems, differentiate it in C)."""
         fns = self._cache.get("functions")
         if fns is None:
             y, t, p = self.y, self.t, self.p
@@ -95,7 +98,16 @@ class DynamicModel:
                               ["y", "t", "p"], names)
             fns = DynamicFunctions(rhs=rhs, rhs_jacobian=jac, outputs=out)
             self._cache["functions"] = fns
-        return fns
+        from ..codegen import compile_functions, use_codegen
+        if not use_codegen(codegen):
+            return fns
+        c = self._cache.get("functions_c")
+        if c is None:
+            rhs = compile_functions([fns.rhs], jacobians=True)["dyn_rhs"]
+            lib = compile_functions([fns.rhs_jacobian, fns.outputs])
+            c = self._cache["functions_c"] = DynamicFunctions(
+                rhs=rhs, rhs_jacobian=lib["dyn_rhs_jac"], outputs=lib["dyn_outputs"], compiled=True)
+        return c
 
     def with_params(self, **blocks) -> np.ndarray:
         """``p_value`` with named blocks replaced, e.g. ``with_params(amplitude=[1, 0])``."""
@@ -113,3 +125,4 @@ class DynamicFunctions:
     rhs: ca.Function
     rhs_jacobian: ca.Function
     outputs: ca.Function
+    compiled: bool = False

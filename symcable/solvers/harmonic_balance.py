@@ -41,6 +41,7 @@ from typing import Mapping
 import casadi as ca
 import numpy as np
 
+from ..codegen import use_codegen
 from ..errors import SymcableError
 from ..models.dynamic import DynamicModel
 from .newton import newton
@@ -123,6 +124,7 @@ class SquareResult:
     wall_time: float
     build_time: float = 0.0
     history: list = field(default_factory=list)
+    compiled: bool = False
 
 
 class SquareSystem:
@@ -131,12 +133,13 @@ class SquareSystem:
     ``residual`` is the named CasADi function ``<name>_residual(x, p) -> r``.
     """
 
-    def __init__(self, name: str, x: ca.MX, p: ca.MX, r: ca.MX):
+    def __init__(self, name: str, x: ca.MX, p: ca.MX, r: ca.MX, compiled: bool = False):
         if r.numel() != x.numel():  # a programming error in a system builder, not user input
             raise SymcableError(f"{name}: {r.numel()} equations for {x.numel()} unknowns")
         self.name = name
         self.residual = ca.Function(f"{name}_residual", [x, p], [r], ["x", "p"], ["r"])
         self.n = int(x.numel())
+        self.compiled = compiled  # built on the model's generated-C functions
         self._solvers: dict = {}
 
     def evaluate(self, x, p) -> np.ndarray:
@@ -244,7 +247,7 @@ class SquareSystem:
         return SquareResult(x=x, converged=converged, iterations=its, residual_norm=rn,
                             return_status=status, solver=solver.value,
                             wall_time=time.perf_counter() - t0, build_time=t0 - tb,
-                            history=history)
+                            history=history, compiled=self.compiled)
 
 
 def _norm(r: np.ndarray) -> float:
@@ -392,7 +395,7 @@ class HarmonicBalance:
     the same matrix is ten times slower, and with the gauge rows in the middle eight.
     """
 
-    def __init__(self, model: DynamicModel, H: int, M: int, inv: Invariants):
+    def __init__(self, model: DynamicModel, H: int, M: int, inv: Invariants, compiled: bool = False):
         if M < 2 * H + 1:
             raise SymcableError(f"samples = {M}: harmonic balance with harmonics = {H} needs "
                                 f"samples >= 2*harmonics+1 = {2 * H + 1}")
@@ -421,12 +424,12 @@ class HarmonicBalance:
         Sd, Sinv = ca.diag(ca.DM(S)), ca.diag(ca.DM(1.0 / S))
         Ys = ca.mtimes(Sd, ca.mtimes(C, ca.DM(E.T)))
         t = ca.DM(tau).T * (2.0 * math.pi / omega)
-        Fw = ca.mtimes(Sinv, model.functions().rhs.map(M)(Ys, t, P))
+        Fw = ca.mtimes(Sinv, model.functions(compiled).rhs.map(M)(Ys, t, P))
         R = omega * ca.mtimes(C, ca.DM(D.T)) - ca.mtimes(Fw, ca.DM(proj.T))
         r = ca.vec(R.T)[nat[~dropped_rows].tolist()]
         if inv.r:
             r = ca.vertcat(r, omega * ca.mtimes(ca.DM(inv.G), C[:, 0] - ca.DM(inv.w0)))
-        self.system = SquareSystem(f"periodic_hb{H}", X, P, r)
+        self.system = SquareSystem(f"periodic_hb{H}", X, P, r, compiled)
 
     def pack(self, C: np.ndarray) -> np.ndarray:
         """Unknown vector from scaled coefficients C (n_y, 2H+1)."""
@@ -449,14 +452,16 @@ def coefficient_states(C: np.ndarray, tau: np.ndarray, scale: np.ndarray) -> np.
     return (C @ fourier_matrix(H, tau).T).T * scale
 
 
-def hb_system(model: DynamicModel, H: int, M: int, inv: Invariants) -> HarmonicBalance:
-    """The HB system, built once per (H, M, invariants) and cached on the model."""
+def hb_system(model: DynamicModel, H: int, M: int, inv: Invariants,
+              compiled: bool = False) -> HarmonicBalance:
+    """The HB system, built once per (H, M, invariants, compiled) and cached on the model;
+    ``compiled``: on the model's generated-C right-hand side and its Jacobian."""
     cache = model._cache.setdefault("periodic_hb", {})
-    for hb in cache.get((H, M), []):
+    for hb in cache.get((H, M, compiled), []):
         if hb.invariants.same_as(inv):
             return hb
-    hb = HarmonicBalance(model, H, M, inv)
-    cache.setdefault((H, M), []).append(hb)
+    hb = HarmonicBalance(model, H, M, inv, compiled)
+    cache.setdefault((H, M, compiled), []).append(hb)
     return hb
 
 
@@ -488,11 +493,14 @@ class HBResult:
 def solve_harmonic_balance(model: DynamicModel, p, *, harmonics: int, samples: int | None = None,
                            solver: SquareSolver = SquareSolver.NEWTON,
                            ipopt_options: Mapping | None = None, tol: float = TOL,
-                           initial: np.ndarray | None = None) -> HBResult:
+                           initial: np.ndarray | None = None,
+                           codegen: bool | None = False) -> HBResult:
     """Harmonic balance with ``harmonics`` harmonics from ``initial`` (scaled coefficients
     (n_y, 2H'+1), padded or truncated to H), or else from the one-harmonic balance, itself
     started from the linear response at rest. The one-harmonic balance is always solved by
-    Newton (it is small)."""
+    Newton (it is small) in the virtual machine; ``codegen`` applies to the H-harmonic
+    system (see :func:`symcable.codegen.use_codegen`)."""
+    compiled = use_codegen(codegen)
     t0 = time.perf_counter()
     H = int(harmonics)
     M = int(samples) if samples is not None else default_samples(H)
@@ -501,7 +509,7 @@ def solve_harmonic_balance(model: DynamicModel, p, *, harmonics: int, samples: i
         return HBResult(hb, res, hb.unpack(res.x), guess)
 
     if initial is not None:
-        hb = hb_system(model, H, M, linear_invariants(model, p))
+        hb = hb_system(model, H, M, linear_invariants(model, p), compiled)
         guess = {"start": "given", "wall_time": time.perf_counter() - t0}
         return done(hb, hb.system.solve(hb.pack(pad_coefficients(initial, H)), p, solver,
                                         ipopt_options=ipopt_options, tol=tol), guess)
@@ -509,7 +517,7 @@ def solve_harmonic_balance(model: DynamicModel, p, *, harmonics: int, samples: i
     inv = lin.invariants
     guess = {"start": "linear response at rest", "damping_added": lin.damping}
     if H == 1 and M == default_samples(1):
-        hb = hb_system(model, 1, M, inv)
+        hb = hb_system(model, 1, M, inv, compiled)
         res = hb.system.solve(hb.pack(lin.coefficients), p, solver, ipopt_options=ipopt_options,
                               tol=tol)
         guess["wall_time"] = time.perf_counter() - t0 - res.wall_time
@@ -519,7 +527,7 @@ def solve_harmonic_balance(model: DynamicModel, p, *, harmonics: int, samples: i
     guess.update(start="one-harmonic balance (describing function)", iterations=r1.iterations,
                  converged=r1.converged, residual_norm=r1.residual_norm)
     C1 = hb1.unpack(r1.x) if r1.converged else lin.coefficients
-    hb = hb_system(model, H, M, inv)
+    hb = hb_system(model, H, M, inv, compiled)
     guess["wall_time"] = time.perf_counter() - t0
     res = hb.system.solve(hb.pack(pad_coefficients(C1, H)), p, solver,
                           ipopt_options=ipopt_options, tol=tol)

@@ -140,7 +140,7 @@ def _shape(disp: np.ndarray) -> np.ndarray:
 
 
 def modal_analysis(scene, n_modes: int = 10, *, model: DynamicModel | None = None,
-                   max_dense: int = MAX_DENSE) -> ModalSolution:
+                   max_dense: int = MAX_DENSE, codegen: bool | None = None) -> ModalSolution:
     """The lowest undamped natural frequencies and mode shapes of a line.
 
     Parameters
@@ -155,6 +155,11 @@ def modal_analysis(scene, n_modes: int = 10, *, model: DynamicModel | None = Non
         A dynamic model already built (:func:`symcable.build_dynamic_model`).
     max_dense : int
         Largest state size n_y solved (dense eigenvalue problem, O(n_y^3): ~20 s at 3000).
+    codegen : bool, optional
+        Evaluate the state matrix in generated C (:mod:`symcable.codegen`; default None:
+        when a compiler is found). The time here is the dense eigenvalue solve (LAPACK),
+        which generated C does not change; the option is for uniformity and for models
+        whose Jacobian is costly.
 
     Returns
     -------
@@ -182,7 +187,7 @@ def modal_analysis(scene, n_modes: int = 10, *, model: DynamicModel | None = Non
             "max_dense")
 
     p0 = undamped_parameters(model)
-    A = np.array(model.functions().rhs_jacobian(model.y0, 0.0, p0).full(), dtype=float)
+    A = np.array(model.functions(codegen).rhs_jacobian(model.y0, 0.0, p0).full(), dtype=float)
     t_jac = time.perf_counter()
     lam, X = np.linalg.eig(A)
     t_eig = time.perf_counter()

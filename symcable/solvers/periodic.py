@@ -32,6 +32,7 @@ from typing import Mapping, Sequence
 import casadi as ca
 import numpy as np
 
+from ..codegen import use_codegen
 from ..errors import ConvergenceError, SceneError, SymcableError
 from ..models import build_dynamic_model
 from ..models.dynamic import DynamicModel
@@ -133,7 +134,8 @@ class Collocation:
     ``natural[k, l, i]``: the position in x of state i at node l of interval k.
     """
 
-    def __init__(self, model: DynamicModel, grid: CollocationGrid, inv: hbm.Invariants):
+    def __init__(self, model: DynamicModel, grid: CollocationGrid, inv: hbm.Invariants,
+                 compiled: bool = False):
         self.model, self.grid, self.invariants = model, grid, inv
         n, S = model.n_y, model.y_scale
         K, d = grid.K, grid.d
@@ -161,7 +163,7 @@ class Collocation:
         tc = ((np.arange(K)[:, None] + grid.tau[None, 1:]) / K).ravel()
         Sd, Sinv = ca.diag(ca.DM(S)), ca.diag(ca.DM(1.0 / S))
         Wc = ca.mtimes(W, Pblk)
-        F = model.functions().rhs.map(K * d)(ca.mtimes(Sd, Wc), ca.DM(tc).T * T, P)
+        F = model.functions(compiled).rhs.map(K * d)(ca.mtimes(Sd, Wc), ca.DM(tc).T * T, P)
         rate = K / T
         coll = rate * ca.mtimes(W, Cblk) - ca.mtimes(Sinv, F)           # (n, K d)
         cont = rate * (ca.mtimes(W, Sblk) - ca.mtimes(W, Eblk))          # (n, K)
@@ -173,7 +175,7 @@ class Collocation:
         # rows: the collocation equations interval by interval, state-major inside, then continuity
         coll_rows = ca.vertcat(*[ca.vec(coll[:, k * d:(k + 1) * d].T) for k in range(K)])
         self.system = hbm.SquareSystem(f"periodic_collocation_{K}x{d}{scheme_tag(grid.scheme)}",
-                                       X, P, ca.vertcat(coll_rows, ca.vec(cont)))
+                                       X, P, ca.vertcat(coll_rows, ca.vec(cont)), compiled)
 
     def to_natural(self, x: np.ndarray) -> np.ndarray:
         """Scaled states (K, d+1, n_y) by interval, node and state, from the unknown vector."""
@@ -213,14 +215,16 @@ def scheme_tag(scheme: CollocationScheme) -> str:
     return "r" if scheme is CollocationScheme.RADAU else "g"
 
 
-def _collocation(model: DynamicModel, grid: CollocationGrid, inv: hbm.Invariants) -> Collocation:
-    """The collocation system, built once per (K, d, scheme, invariants), cached on the model."""
+def _collocation(model: DynamicModel, grid: CollocationGrid, inv: hbm.Invariants,
+                 compiled: bool = False) -> Collocation:
+    """The collocation system, built once per (K, d, scheme, invariants, compiled), cached on
+    the model; ``compiled``: on the model's generated-C right-hand side and its Jacobian."""
     cache = model._cache.setdefault("periodic_collocation", {})
-    key = (grid.K, grid.d, grid.scheme.value)
+    key = (grid.K, grid.d, grid.scheme.value, compiled)
     for col in cache.get(key, []):
         if col.invariants.same_as(inv):
             return col
-    col = Collocation(model, grid, inv)
+    col = Collocation(model, grid, inv, compiled)
     cache.setdefault(key, []).append(col)
     return col
 
@@ -239,10 +243,11 @@ class _Config:
     ipopt_options: Mapping
     resolution: int
     tol: float
+    codegen: bool | None = None
 
 
 def _config(method, intervals, degree, scheme, solver, harmonics, samples, ipopt_options,
-            resolution, tol) -> _Config:
+            resolution, tol, codegen=None) -> _Config:
     method = choice(PeriodicMethod, method, "method")
     default_solver = SquareSolver.IPOPT if method is PeriodicMethod.COLLOCATION else SquareSolver.NEWTON
     solver = default_solver if solver is None else choice(SquareSolver, solver, "solver")
@@ -265,7 +270,7 @@ def _config(method, intervals, degree, scheme, solver, harmonics, samples, ipopt
         raise SymcableError(f"tol = {tol}: must be > 0 (scaled states per second)")
     return _Config(method, solver, int(intervals), int(degree), scheme, int(harmonics),
                    None if samples is None else int(samples), dict(ipopt_options or {}),
-                   int(resolution), tol)
+                   int(resolution), tol, codegen)
 
 
 def periodic_params(model: DynamicModel, **blocks) -> np.ndarray:
@@ -296,7 +301,7 @@ def solve_periodic(scene, method: str = "collocation", *, intervals: int | None 
                    ipopt_options: Mapping | None = None, resolution: int = 200,
                    model: DynamicModel | None = None, params: np.ndarray | None = None,
                    initial: PeriodicSolution | None = None,
-                   tol: float | None = None) -> PeriodicSolution:
+                   tol: float | None = None, codegen: bool | None = None) -> PeriodicSolution:
     """Periodic steady state of a scene's dynamics over one period of its excitation.
 
     Parameters
@@ -334,6 +339,12 @@ def solve_periodic(scene, method: str = "collocation", *, intervals: int | None 
         states re-sampled in normalised time t/T) instead of the frequency-domain guess.
     tol : float, optional
         Residual tolerance, scaled states per second (default 1e-10).
+    codegen : bool, optional
+        The system's residual and Jacobian in generated C, which IPOPT or the Newton
+        rootfinder call (compiled once per model structure and discretisation, then loaded
+        from the build cache; parameters such as the period stay inputs). Default None:
+        generated C when a C compiler is found (:mod:`symcable.codegen`). The small
+        one-harmonic start is always solved in the virtual machine.
 
     Returns
     -------
@@ -349,7 +360,7 @@ def solve_periodic(scene, method: str = "collocation", *, intervals: int | None 
     """
     t0 = time.perf_counter()
     cfg = _config(method, intervals, degree, scheme, solver, harmonics, samples, ipopt_options,
-                  resolution, tol)
+                  resolution, tol, codegen)
     scene, model = _model_for(scene, model)
     p = periodic_params(model) if params is None else np.asarray(params, dtype=float)
     sol, _ = _solve(scene.name, model, p, cfg, initial=initial, t0=t0)
@@ -361,7 +372,7 @@ def sweep_periodic(scene, periods: Sequence[float], method: str = "collocation",
                    solver: str | None = None, harmonics: int | None = None,
                    samples: int | None = None, ipopt_options: Mapping | None = None,
                    resolution: int = 200, model: DynamicModel | None = None,
-                   tol: float | None = None) -> PeriodicSweep:
+                   tol: float | None = None, codegen: bool | None = None) -> PeriodicSweep:
     """Fairlead tension response over excitation periods (a tension RAO), by continuation.
 
     Each period sets the ``omega`` block of the model's periodic parameters to 2 pi / T,
@@ -381,7 +392,7 @@ def sweep_periodic(scene, periods: Sequence[float], method: str = "collocation",
     """
     t0 = time.perf_counter()
     cfg = _config(method, intervals, degree, scheme, solver, harmonics, samples, ipopt_options,
-                  resolution, tol)
+                  resolution, tol, codegen)
     scene, model = _model_for(scene, model)
     if "omega" not in model.p_slices:
         raise SymcableError(f"model '{model.name}' has no omega parameter block: it cannot be swept "
@@ -465,7 +476,8 @@ def _solve(scene_name: str, model: DynamicModel, p: np.ndarray, cfg: _Config, *,
             C0 = (np.asarray(initial.unknowns, dtype=float).reshape(n, -1) if same else
                   _fit_harmonics(initial, H, model.y_scale))
         out = hbm.solve_harmonic_balance(model, p, harmonics=H, samples=M, solver=cfg.solver,
-                                         ipopt_options=cfg.ipopt_options, tol=cfg.tol, initial=C0)
+                                         ipopt_options=cfg.ipopt_options, tol=cfg.tol, initial=C0,
+                                         codegen=cfg.codegen)
         res, guess, natural = out.result, dict(out.guess), out.coefficients
 
         def states_of(tau, C=natural):
@@ -474,7 +486,7 @@ def _solve(scene_name: str, model: DynamicModel, p: np.ndarray, cfg: _Config, *,
         grid = CollocationGrid.build(cfg.intervals, cfg.degree, cfg.scheme)
         stats.update(intervals=grid.K, degree=grid.d, scheme=grid.scheme.value)
         if initial is not None:
-            col = _collocation(model, grid, hbm.linear_invariants(model, p))
+            col = _collocation(model, grid, hbm.linear_invariants(model, p), use_codegen(cfg.codegen))
             same = (initial.method == cfg.method.value and initial.unknowns is not None
                     and initial.unknowns.size == col.system.n
                     and initial.stats.get("scheme") == grid.scheme.value
@@ -485,7 +497,7 @@ def _solve(scene_name: str, model: DynamicModel, p: np.ndarray, cfg: _Config, *,
         else:
             g1 = hbm.solve_harmonic_balance(model, p, harmonics=1, solver=SquareSolver.NEWTON,
                                             tol=cfg.tol)
-            col = _collocation(model, grid, g1.hb.invariants)
+            col = _collocation(model, grid, g1.hb.invariants, use_codegen(cfg.codegen))
             ok = g1.result.converged
             guess = {"start": "one-harmonic balance (describing function)" if ok
                      else "linear response at rest (one-harmonic balance failed)",
@@ -500,7 +512,7 @@ def _solve(scene_name: str, model: DynamicModel, p: np.ndarray, cfg: _Config, *,
             return c.states(x, tau)
     stats.update(iterations=res.iterations, return_status=res.return_status,
                  residual_norm=res.residual_norm, tolerance=cfg.tol, unknowns=int(res.x.size),
-                 solve_time=res.wall_time, build_time=res.build_time, guess=guess,
+                 solve_time=res.wall_time, build_time=res.build_time, guess=guess, compiled=res.compiled,
                  wall_time=time.perf_counter() - t0)
     status = "converged" if res.converged else "failed"
     sol = _solution(scene_name, model, p, T, cfg, states_of, natural.ravel(), status, stats,

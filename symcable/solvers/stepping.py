@@ -361,9 +361,9 @@ def _runs(idx: np.ndarray) -> list:
 
 # ----------------------------------------------------------------------------- outputs
 
-def _outputs(model, Y: np.ndarray, T: np.ndarray, p: np.ndarray) -> dict:
+def _outputs(model, Y: np.ndarray, T: np.ndarray, p: np.ndarray, codegen=False) -> dict:
     """The model's named outputs at the samples: Y (n_y, n_t), T (n_t,) -> {name: (n_t, ...)}."""
-    fo = model.functions().outputs
+    fo = model.functions(codegen).outputs
     n_t = Y.shape[1]
     res = fo.map(n_t)(Y, T.reshape(1, -1), p)
     res = res if isinstance(res, (list, tuple)) else [res]
@@ -564,7 +564,7 @@ def simulate(scene, duration: float, dt: float | None = None, method: str = "gen
     stats["samples"] = len(saved_k)
     Ymat = np.array(saved_y).T
     times = np.array(saved_k, dtype=float) * duration / n_steps  # k dt to within one ulp
-    outputs = _outputs(model, Ymat, times, p)
+    outputs = _outputs(model, Ymat, times, p, stats["compiled"])
     stats["wall_time"] = _time.perf_counter() - wall0
     traj = Trajectory.from_outputs(model, scene_name=scene_name, time=times, states=Ymat.T,
                                    outputs=outputs, method=meth.value, dt=dt,

@@ -1,0 +1,164 @@
+"""Performance: generated C against the CasADi virtual machine, and symcable against its peers.
+
+Question: how fast is each solve in generated C relative to the virtual machine (VM), and
+relative to the comparison a user would make: MoorPy for statics, MoorDyn for a time run and
+for reaching the periodic steady state? Every figure is a ratio taken side by side in one run,
+interleaved repeats, medians (the machine is shared and noisy).
+
+1. statics, OC3 line (51 nodes): ``solve_static`` with a pre-built model (C, VM) against
+   MoorPy's catenary; also the fused Newton call alone (C, VM);
+2. a 30-period time run of the seed-001 line: generalized-alpha, dt = T/100 (C, VM) against
+   MoorDyn at its largest stable step (RK2, critical damping; moordyn_line.py), each with its
+   error against its own converged reference (max over the last period / tension range);
+3. the periodic steady state: ``solve_periodic`` (collocation, IPOPT; C, VM) against the wall
+   time MoorDyn needs to come within 1 % of its own steady state.
+
+Run ``python studies/performance/run.py [--quick] [--out DIR]``; needs ``symcable[bench]``.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import statistics
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))
+import moordyn_line as mdl  # noqa: E402
+
+import symcable as sc  # noqa: E402
+from symcable.functions import static_functions  # noqa: E402
+
+T = 10.0
+
+
+def interleaved(fns: dict, repeats: int) -> dict:
+    """Median wall time (s) of each callable, calls interleaved so noise hits all alike."""
+    times = {k: [] for k in fns}
+    for _ in range(repeats):
+        for k, f in fns.items():
+            t0 = time.perf_counter()
+            f()
+            times[k].append(time.perf_counter() - t0)
+    return {k: statistics.median(v) for k, v in times.items()}
+
+
+def statics(repeats: int) -> dict:
+    from moorpy.Catenary import catenary
+    scene = sc.load_scene(sc.demo_scene_path("oc3"))
+    model = sc.build_model(scene)
+    t0 = time.perf_counter()
+    g = next(iter(model.initial_guess()))
+    start = time.perf_counter() - t0
+    vm, c = static_functions(model, False), static_functions(model, True)
+    sc.solve_static(scene, model=model, codegen=True)
+    tol = sc.solve_static(scene, model=model, codegen=False).stats["tolerance"]
+    a, b = scene.end_a.position, scene.end_b.position
+    lt = scene.sections[0].line_type
+    f_c, f_vm = c.fast("solve"), vm.fast("solve")
+    med = interleaved({
+        "symcable_c": lambda: sc.solve_static(scene, model=model, codegen=True),
+        "symcable_vm": lambda: sc.solve_static(scene, model=model, codegen=False),
+        "moorpy": lambda: catenary(b[0] - a[0], b[1] - a[1], scene.length, lt.EA, lt.weight,
+                                   CB=0.0, nNodes=scene.n_segments + 1),
+        "newton_call_c": lambda: f_c(g.w, model.p_target, tol),
+        "newton_call_vm": lambda: f_vm(g.w, model.p_target, tol),
+    }, repeats)
+    med["start_guess"] = start
+    return med
+
+
+def time_run(repeats: int, periods: int, quick: bool) -> dict:
+    scene = sc.load_scene(sc.demo_scene_path("seed001"))
+    model = sc.build_dynamic_model(scene)
+    dur = periods * T
+    runs = {}
+
+    def sym(cg):
+        runs[cg] = sc.simulate(scene, dur, dt=T / 100, model=model, codegen=cg)
+
+    def md():
+        runs["md"] = mdl.run(dur, mdl.DT_LIMIT["RK2"])
+
+    sym(True), sym(False)
+    t = interleaved({"symcable_c": lambda: sym(True), "symcable_vm": lambda: sym(False)}, repeats)
+    md_wall = []
+    for _ in range(repeats):
+        md()
+        md_wall.append(runs["md"]["wall_time"])
+    t["moordyn"] = statistics.median(md_wall)
+    t["moordyn_init"] = runs["md"]["init_time"]
+    # each one's error against its own converged reference, over the last period
+    ref_sym = sc.simulate(scene, dur, dt=T / (400 if quick else 1600), model=model, codegen=True)
+    tt = (periods - 1) * T + T * np.arange(100) / 100
+    a = np.interp(tt, runs[True].time, runs[True].fairlead_tension)
+    b = np.interp(tt, ref_sym.time, ref_sym.fairlead_tension)
+    t["symcable_error"] = float(np.max(np.abs(a - b)) / np.ptp(b))
+    ref_md = mdl.run(dur, mdl.DT_LIMIT["RK2"] / (4 if quick else 32))
+    t["moordyn_error"] = mdl.tension_error(runs["md"], ref_md)
+    t["moordyn_error_as_returned"] = mdl.tension_error(runs["md"], ref_md, shift=False)
+    t["symcable_c_steps_s"] = runs[True].stats["step_time"]
+    t["symcable_vm_steps_s"] = runs[False].stats["step_time"]
+    t["symcable_newton_iterations_per_step"] = runs[True].stats["newton_iterations"] / runs[True].stats["steps"]
+    return t, runs
+
+
+def periodic(repeats: int, md_run: dict) -> dict:
+    scene = sc.load_scene(sc.demo_scene_path("seed001"))
+    model = sc.build_dynamic_model(scene)
+    sols = {cg: sc.solve_periodic(scene, model=model, codegen=cg) for cg in (True, False)}
+    out = interleaved({"symcable_c": lambda: sc.solve_periodic(scene, model=model, codegen=True),
+                       "symcable_vm": lambda: sc.solve_periodic(scene, model=model, codegen=False)},
+                      repeats)
+    out["symcable_c_solve"] = sols[True].stats["solve_time"]
+    out["iterations"] = sols[True].stats["iterations"]
+    dist = mdl.steady_state_distance(md_run)
+    n_needed = int(np.argmax(dist <= 0.01)) + 1  # periods marched until within 1 %
+    per_period = md_run["wall_time"] / (md_run["time"][-1] / T)
+    out["moordyn_periods_to_1pct"] = n_needed
+    out["moordyn_to_1pct"] = n_needed * per_period
+    out["moordyn_to_1pct_with_init"] = n_needed * per_period + md_run["init_time"]
+    return out
+
+
+def main(argv=None) -> dict:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--quick", action="store_true", help="fewer repeats and periods (CI)")
+    ap.add_argument("--out", default=str(HERE / "out"))
+    args = ap.parse_args(argv)
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    rep = 3 if args.quick else 7
+    st = statics(30 if args.quick else 300)
+    tr, runs = time_run(rep, 6 if args.quick else 30, args.quick)
+    pe = periodic(1 if args.quick else 3, runs["md"])
+    res = {"quick": args.quick, "statics": st, "time_run": tr, "periodic": pe}
+    (out / "results.json").write_text(json.dumps(res, indent=1, default=float))
+    lines = ["| comparison | ratio | detail |", "|---|---|---|",
+             f"| statics, solve_static: VM / C | {st['symcable_vm'] / st['symcable_c']:.2f} | "
+             f"{1e3 * st['symcable_vm']:.3f} / {1e3 * st['symcable_c']:.3f} ms |",
+             f"| statics, fused Newton call: VM / C | {st['newton_call_vm'] / st['newton_call_c']:.2f} | "
+             f"{1e6 * st['newton_call_vm']:.0f} / {1e6 * st['newton_call_c']:.0f} us |",
+             f"| statics: symcable C / MoorPy | {st['symcable_c'] / st['moorpy']:.2f} | "
+             f"MoorPy {1e3 * st['moorpy']:.3f} ms; start guess (once per model) {1e3 * st['start_guess']:.3f} ms |",
+             f"| time run: VM / C | {tr['symcable_vm'] / tr['symcable_c']:.2f} | "
+             f"{tr['symcable_vm']:.3f} / {tr['symcable_c']:.3f} s (stepping {tr['symcable_vm_steps_s']:.3f} / "
+             f"{tr['symcable_c_steps_s']:.3f} s) |",
+             f"| time run: symcable C / MoorDyn | {tr['symcable_c'] / tr['moordyn']:.2f} | MoorDyn "
+             f"{tr['moordyn']:.3f} s (+ init {tr['moordyn_init']:.3f} s); errors {tr['symcable_error']:.1e} "
+             f"vs {tr['moordyn_error']:.1e} ({tr['moordyn_error_as_returned']:.1e} as returned) |",
+             f"| periodic: VM / C | {pe['symcable_vm'] / pe['symcable_c']:.2f} | "
+             f"{pe['symcable_vm']:.2f} / {pe['symcable_c']:.2f} s, {pe['iterations']} IPOPT iterations |",
+             f"| periodic: symcable C / MoorDyn to 1 % | {pe['symcable_c'] / pe['moordyn_to_1pct']:.1f} | "
+             f"MoorDyn {pe['moordyn_periods_to_1pct']} periods, {pe['moordyn_to_1pct']:.3f} s |"]
+    (out / "summary.md").write_text("\n".join(lines) + "\n")
+    print("\n".join(lines))
+    return res
+
+
+if __name__ == "__main__":
+    main()

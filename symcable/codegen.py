@@ -372,7 +372,6 @@ def export_scene(scene, folder, stem: str = "symcable_scene") -> list:
     residual, Jacobian and solve, and (when the scene moves and hangs free of the seabed) the
     generalized-α step and dynamic outputs; ``<stem>_data.h`` with the scene's parameter
     values, start and scales; ``main.c`` calling them; ``README.md``. Returns the paths."""
-    import numpy as np
 
     from .functions import static_functions
     from .models import build_dynamic_model, build_model

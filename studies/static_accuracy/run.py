@@ -14,7 +14,7 @@ OC3 line as ``design.md`` gives it (1e5 Pa/m seabed, 50 segments) against MoorPy
 
 Timing: median of R repeats of ``solve_static`` with a pre-built model, interleaved with the
 same number of MoorPy calls on the same line (so machine noise hits both); the one-time cost
-(``build_model`` plus the first solve, which builds the CasADi functions and rootfinder) is
+(``build_model`` plus the first solve, which builds the CasADi functions) is
 measured once and reported in its own column.
 
 Run

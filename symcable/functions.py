@@ -10,6 +10,7 @@ import numpy as np
 from . import codegen as _codegen
 from .models.base import Model
 from .solvers.linalg import sparse_solve
+from .solvers.sxlu import block_lu, block_plan
 
 #: Newton iterations of the fused static solve (plain Newton from a good start converges in
 #: a handful of steps or not at all; a damped Newton takes over when it does not)
@@ -23,8 +24,9 @@ class FastCall:
     """Call a Function with dense inputs and outputs through CasADi's buffer interface:
     NumPy arrays in, NumPy arrays out, no conversion to DM (about 40 us less per call).
 
-    ``f(*args) -> tuple of ndarray (flat, in the output's column-major order)``; raises
-    RuntimeError when the evaluation fails, as a Function call does.
+    ``f(*args) -> tuple of ndarray (flat, in the output's column-major order)``; an input
+    given with a divisor of its length (a mapped Function's input given for one instance)
+    is repeated. Raises RuntimeError when the evaluation fails, as a Function call does.
     """
 
     def __init__(self, fn: ca.Function):
@@ -39,7 +41,11 @@ class FastCall:
 
     def __call__(self, *args) -> tuple:
         for a, v in zip(self._in, args):
-            a[...] = np.ravel(v) if np.ndim(v) else v
+            v = np.ravel(v) if np.ndim(v) else v
+            if np.ndim(v) and v.size != a.size and v.size and a.size % v.size == 0:
+                a.reshape(-1, v.size)[...] = v  # a mapped input given once: repeated
+            else:
+                a[...] = v
         self._eval()
         if self._buf.ret() != 0:
             raise RuntimeError(f"evaluation of {self.fn.name()} failed")
@@ -59,7 +65,9 @@ class StaticFunctions:
         sparse QR, one call per Newton iteration (the damped Newton's step)
     solve : casadi.Function     ``static_solve(w0, p, tol) -> (w, iterations,
         residual_norm, outputs)``: up to SOLVE_MAX_ITER plain Newton steps (stopping once
-        max |r| <= tol, N) and every model output packed in one vector (see ``unpack``)
+        max |r| <= tol, N), each solved by the block LU of :mod:`symcable.solvers.sxlu`
+        written out in SX (sparse QR when the pattern has no fixed elimination order), and
+        every model output packed in one vector (see ``unpack``)
     outputs : casadi.Function   ``static_outputs(w, p) -> named outputs of the model``
     compiled : bool             True when residual, step, solve and outputs are generated C
     """
@@ -80,10 +88,12 @@ class StaticFunctions:
 
     def unpack(self, packed: np.ndarray) -> dict:
         """The named outputs from ``solve``'s packed vector: {name: ndarray of its shape}."""
+        shapes = self.__dict__.get("_shapes")
+        if shapes is None:
+            fo = self.outputs
+            shapes = self.__dict__["_shapes"] = [(name, fo.size_out(i)) for i, name in enumerate(fo.name_out())]
         out, k = {}, 0
-        fo = self.outputs
-        for i, name in enumerate(fo.name_out()):
-            r, c = fo.size_out(i)
+        for name, (r, c) in shapes:
             out[name] = packed[k:k + r * c].reshape(c, r).T
             k += r * c
         return out
@@ -107,12 +117,13 @@ def _vm_static(model: Model) -> StaticFunctions:
     # one plain Newton iteration, skipped once converged (CasADi evaluates only the branch
     # taken by an if_else of Functions), unrolled SOLVE_MAX_ITER times: a loop that the code
     # generator can write out, unlike CasADi's rootfinder
+    update = _newton_update(model, J)
     z, done, it, nr0 = ca.MX.sym("w", n), ca.MX.sym("done"), ca.MX.sym("it"), ca.MX.sym("res")
     tol = ca.MX.sym("tol")
-    rz, Jz = jacobian(z, P)
+    rz = residual(z, P)
     nr = ca.norm_inf(rz)
     conv = nr <= tol
-    dz = ca.if_else(conv, ca.MX.zeros(n), -sparse_solve(Jz, rz, LINSOL), True)
+    dz = ca.if_else(conv, ca.MX.zeros(n), update(z, P), True)
     args, names_in = [z, done, it, nr0, P, tol], ["w", "done", "it", "res", "p", "tol"]
     iterate = ca.Function("static_newton_iteration", args, [z + dz, conv, it + 1 - conv, nr], names_in,
                           ["w_out", "done_out", "it_out", "res_out"])
@@ -129,6 +140,21 @@ def _vm_static(model: Model) -> StaticFunctions:
                         ["w0", "p", "tol"], ["w", "iterations", "residual_norm", "outputs"])
     return StaticFunctions(residual=residual, jacobian=jacobian, step=step, solve=solve,
                            outputs=outputs)
+
+
+def _newton_update(model: Model, J: ca.SX) -> ca.Function:
+    """``static_newton_update(w, p) -> dw = -J^-1 r``, the fused solve's Newton step: the
+    block LU of :mod:`symcable.solvers.sxlu` written out in SX when the Jacobian's pattern
+    allows a fixed elimination order, else the sparse QR of ``sparse_solve``."""
+    w, p, r = model.w, model.p, model.residual
+    plan = block_plan(J.sparsity())
+    if plan is not None:
+        lu = block_lu(J.sparsity(), *plan, cache=model._cache)
+        return ca.Function("static_newton_update", [w, p], [-lu.solve(J, r)], ["w", "p"], ["dw"])
+    W, P = ca.MX.sym("w", model.n_w), ca.MX.sym("p", int(p.numel()))
+    jac = ca.Function("static_jacobian", [w, p], [r, J])
+    rm, Jm = jac(W, P)
+    return ca.Function("static_newton_update", [W, P], [-sparse_solve(Jm, rm, LINSOL)], ["w", "p"], ["dw"])
 
 
 def static_functions(model: Model, codegen: bool | None = False) -> StaticFunctions:

@@ -77,13 +77,11 @@ def solve_static(scene, *, tol: float | None = None, max_iter: int = 50,
 
     attempts, total_it, n_steps = [], 0, 0
     res, path, guess, tried = None, "newton", None, []
-    guesses = iter(model.initial_guess())
-    # the first start is a function of the model alone: computed once per model
+    # the first start is a function of the model alone: computed once per model, and the
+    # further starts only when the fast path fails
     first = model._cache.get("first_guess")
     if first is None:
-        first = model._cache["first_guess"] = next(guesses)
-    else:
-        next(guesses, None)
+        first = model._cache["first_guess"] = next(iter(model.initial_guess()))
     # fast path: plain Newton from the first start, iterated in one call, outputs included
     res, packed = _fast_newton(fns, first.w, target, tol, max_iter)
     attempts.append({"path": "newton (one call)", "start": first.source,
@@ -91,10 +89,9 @@ def solve_static(scene, *, tol: float | None = None, max_iter: int = 50,
                      "residual_norm": res.residual_norm})
     total_it += res.iterations
     if res.converged:
-        guess = first
-        guesses = iter(())
+        guess, guesses = first, iter(())
     else:
-        guesses = itertools.chain([first], guesses)
+        guesses = itertools.chain([first], itertools.islice(model.initial_guess(), 1, None))
     for g in guesses:
         tried.append(g)
         res = newton(step, g.w, target, **opts)

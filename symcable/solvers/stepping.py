@@ -35,10 +35,12 @@ import numpy as np
 
 from ..codegen import compile_functions, use_codegen
 from ..errors import ConvergenceError, SymcableError
+from ..functions import FastCall
 from ..models import build_dynamic_model
 from ..progress import ProgressBar
 from ..results_time import Trajectory
 from .linalg import sparse_solve
+from .sxlu import block_lu, block_plan
 from ..scene_loader import load_scene
 
 __all__ = ["Method", "ga_coefficients", "ga_residual_function", "rk4_stability_limit", "simulate",
@@ -50,6 +52,8 @@ RK4_IMAG_LIMIT = 2.0 * math.sqrt(2.0)
 BLOWUP = 1e6
 #: Newton iterations per generalized-α step before the step counts as failed.
 NEWTON_MAX_ITER = 10
+#: iterations of a generalized-α step that reuse the matrix factorised at its start
+CHORD_ITERATIONS = 4
 #: Default Newton tolerance on the scaled residual and step (see ``simulate``).
 NEWTON_TOL = 1e-10
 #: Default largest number of saved samples.
@@ -177,20 +181,18 @@ LINSOL = "qr"
 
 
 def _rk4_step(model) -> ca.Function:
-    fn = model._cache.get("rk4_step")
-    if fn is None:
-        f = model.functions().rhs
-        y, yd, k, t0, dt, p, sc, st = _symbols(model, "SX")
-        t = t0 + k * dt
-        k1 = f(y, t, p)
-        k2 = f(y + 0.5 * dt * k1, t + 0.5 * dt, p)
-        k3 = f(y + 0.5 * dt * k2, t + 0.5 * dt, p)
-        k4 = f(y + dt * k3, t + dt, p)
-        y_next = y + dt / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4)
-        fn = ca.Function("rk4_step", [y, yd, k, t0, dt, p, sc, st],
-                         [y_next, yd, k + 1, ca.SX(0), ca.SX(0), ca.SX(0)], _STEP_IN, _STEP_OUT)
-        model._cache["rk4_step"] = fn
-    return fn
+    """The RK4 step: one SX Function."""
+    f = model.functions().rhs
+    y, yd, k, t0, dt, p, sc, st = _symbols(model, "SX")
+    t = t0 + k * dt
+    k1 = f(y, t, p)
+    k2 = f(y + 0.5 * dt * k1, t + 0.5 * dt, p)
+    k3 = f(y + 0.5 * dt * k2, t + 0.5 * dt, p)
+    k4 = f(y + dt * k3, t + dt, p)
+    y_next = y + dt / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4)
+    return ca.Function("rk4_step", [y, yd, k, t0, dt, p, sc, st],
+                       [y_next, yd, k + 1, ca.SX(0), ca.SX(0), ca.SX(0)], _STEP_IN, _STEP_OUT,
+                       {"cse": True})
 
 
 def _ga_coefficients_sym(rho):
@@ -224,53 +226,78 @@ def ga_residual_function(model, rho_inf: float) -> ca.Function:
     return fn
 
 
+def _ga_linear_solver(model, J: ca.SX, args: list):
+    """``(factor, solve, n_factors)`` for the iteration matrix ``J`` (SX in ``args``):
+    ``factor(*args) -> f`` and ``solve(f, b) -> J^-1 b``. The block LU of
+    :mod:`symcable.solvers.sxlu` written out in SX when J's pattern allows a fixed
+    elimination order (the generalized-α matrix alpha_m I - ... has a regular diagonal),
+    else J's nonzeros and the sparse QR of ``sparse_solve``."""
+    sp = J.sparsity()
+    plan = block_plan(sp)
+    if plan is not None:
+        lu = block_lu(sp, *plan, cache=model._cache)
+        factor = ca.Function("ga_factor", args, [lu.factor(J.nz[:])])
+        return factor, lu.solve_function(1), lu.n_factors
+    factor = ca.Function("ga_factor", args, [J.nz[:]])
+    f, b = ca.MX.sym("f", sp.nnz()), ca.MX.sym("b", sp.size1())
+    solve = ca.Function("ga_qr_solve", [f, b], [sparse_solve(ca.MX(sp, f), b, LINSOL)])
+    return factor, solve, sp.nnz()
+
+
 def _ga_step(model, max_iter: int) -> ca.Function:
     """One generalized-α step with its Newton loop unrolled ``max_iter`` times; a converged
     iteration switches the rest off (CasADi evaluates only the taken branch of an if_else).
 
+    The iteration matrix is factorised at the start of the step, kept for iterations
+    2..CHORD_ITERATIONS (chord iterations: the model is linear in y but for drag, so the
+    matrix hardly changes over a step) and refactorised at every later iteration.
+
     Converged when the residual scaled by dt / y_scale, or the last Newton correction of
     y_next scaled by y_scale, is <= newton_tol in the max-norm (both are changes of y over
-    one step relative to the state's scale; Newton converges quadratically, so the accepted
+    one step relative to the state's scale; the iterations contract fast, so the accepted
     iterate is far more accurate than the correction that was accepted)."""
-    key = ("ga_step", int(max_iter))
-    fn = model._cache.get(key)
-    if fn is not None:
-        return fn
     n = model.n_y
     zs = ca.SX.sym("ydot_next", n)
     y, yd, _, t, dt, p, sc, st = _symbols(model, "SX")
     r = _ga_residual(model, zs, y, yd, t, dt, p, st[0])
-    RJ = ca.Function("ga_residual_jacobian", [zs, y, yd, t, dt, p, st], [r, ca.jacobian(r, zs)])
+    args = [zs, y, yd, t, dt, p, st]
+    R = ca.Function("ga_residual", args, [r], {"cse": True})
+    factor, solve, n_f = _ga_linear_solver(model, ca.jacobian(r, zs), args)
 
-    # one Newton iteration: (z, done, it, measure; y, ydot, t, dt, p, y_scale, settings) -> ...
+    # one iteration: (z, done, it, measure, f; y, ydot, t, dt, p, y_scale, settings) -> ...
     z, done, it, meas = ca.MX.sym("z", n), ca.MX.sym("done"), ca.MX.sym("it"), ca.MX.sym("measure")
+    f = ca.MX.sym("f", n_f)
     y, yd, _, t, dt, p, sc, st = _symbols(model, "MX")
     tol, gamma = st[1], _ga_coefficients_sym(st[0])[2]
-    r, J = RJ(z, y, yd, t, dt, p, st)
+    r = R(z, y, yd, t, dt, p, st)
     res = ca.norm_inf(r * dt / sc)
     conv = res <= tol
-    dz = ca.if_else(conv, ca.MX.zeros(n), -sparse_solve(J, r, LINSOL), True)
-    corr = ca.norm_inf(gamma * dt * dz / sc)
-    args = [z, done, it, meas, y, yd, t, dt, p, sc, st]
-    names = ["z", "done", "it", "measure", "y", "ydot", "t", "dt", "p", "y_scale", "settings"]
+    names = ["z", "done", "it", "measure", "f", "y", "ydot", "t", "dt", "p", "y_scale", "settings"]
     outs = ["z_out", "done_out", "it_out", "measure_out"]
-    iterate = ca.Function("ga_newton_iteration", args,
-                          [z + dz, ca.logic_or(conv, corr <= tol), it + 1 - conv,
-                           ca.if_else(conv, res, corr)], names, outs)
-    skip = ca.Function("ga_newton_skip", args, [z, done, it, meas], names, outs)
-    body = ca.Function.if_else("ga_newton_body", skip, iterate)
+    fargs = [z, done, it, meas, f, y, yd, t, dt, p, sc, st]
+    rest = fargs[5:]
+    # the loop from iteration i on, nested so that a converged step returns at once:
+    # loop_i = if done: (z, done, it, measure) else loop_{i+1}(iteration_i(...))
+    loop = ca.Function(f"ga_newton_done{max_iter}", fargs, [z, done, it, meas], names, outs)
+    for i in range(max_iter - 1, -1, -1):
+        refactor = i == 0 or i >= CHORD_ITERATIONS
+        f_new = ca.if_else(conv, f, factor(z, y, yd, t, dt, p, st), True) if refactor else f
+        dz = ca.if_else(conv, ca.MX.zeros(n), -solve(f_new, r), True)
+        corr = ca.norm_inf(gamma * dt * dz / sc)
+        nxt = loop(z + dz, ca.logic_or(conv, corr <= tol), it + 1 - conv,
+                   ca.if_else(conv, res, corr), f_new, *rest)
+        go_on = ca.Function(f"ga_newton_from{i}", fargs, nxt, names, outs)
+        stop = ca.Function(f"ga_newton_stop{i}", fargs, [z, done, it, meas], names, outs)
+        loop = ca.Function.if_else(f"ga_newton_loop{i}", stop, go_on)
+        loop = ca.Function(f"ga_newton_{i}", fargs, loop(done, *fargs), names, outs)
 
     y, yd, k, t0, dt, p, sc, st = _symbols(model, "MX")
     gamma = _ga_coefficients_sym(st[0])[2]
     t = t0 + k * dt
-    z, done, it, meas = yd, ca.MX(0), ca.MX(0), ca.MX(np.inf)
-    for _ in range(max_iter):
-        z, done, it, meas = body(done, z, done, it, meas, y, yd, t, dt, p, sc, st)
+    z, done, it, meas = loop(yd, 0, 0, np.inf, ca.MX.zeros(n_f), y, yd, t, dt, p, sc, st)
     y_next = y + dt * yd + gamma * dt * (z - yd)
-    fn = ca.Function("ga_step", [y, yd, k, t0, dt, p, sc, st],
-                     [y_next, z, k + 1, it, 1 - done, meas], _STEP_IN, _STEP_OUT)
-    model._cache[key] = fn
-    return fn
+    return ca.Function("ga_step", [y, yd, k, t0, dt, p, sc, st],
+                       [y_next, z, k + 1, it, 1 - done, meas], _STEP_IN, _STEP_OUT)
 
 
 def step_function(model, method, codegen: bool | None = False) -> ca.Function:
@@ -278,7 +305,11 @@ def step_function(model, method, codegen: bool | None = False) -> ca.Function:
     the virtual machine or compiled (``codegen``, see :func:`symcable.codegen.use_codegen`);
     built once per model. Signature in the comment above."""
     meth = Method.parse(method)
-    vm = _ga_step(model, NEWTON_MAX_ITER) if meth is Method.GENERALIZED_ALPHA else _rk4_step(model)
+    key = ("step", meth.value)
+    vm = model._cache.get(key)
+    if vm is None:
+        vm = _ga_step(model, NEWTON_MAX_ITER) if meth is Method.GENERALIZED_ALPHA else _rk4_step(model)
+        model._cache[key] = vm
     if not use_codegen(codegen):
         return vm
     key = ("compiled_step", vm.name())
@@ -305,7 +336,7 @@ def _batch(model, step: ca.Function, S: int, m: int) -> ca.Function:
                        [Y[:, S - 1], YD[:, S - 1], K[S - 1], ca.sum2(IT), ca.mmax(IT),
                         ca.sum2(FAIL), ca.mmax(MEAS)], _STEP_IN,
                        ["y_end", "ydot_end", "k_end", "iterations", "iterations_max", "failed", "measure"])
-    fn = save.mapaccum(f"{step.name()}_sample{S}_x{m}", m, [0, 1, 2], [0, 1, 2])
+    fn = FastCall(save.mapaccum(f"{step.name()}_sample{S}_x{m}", m, [0, 1, 2], [0, 1, 2]))
     cache[key] = fn
     if len(cache) > 64:
         cache.popitem(last=False)
@@ -365,12 +396,18 @@ def _outputs(model, Y: np.ndarray, T: np.ndarray, p: np.ndarray, codegen=False) 
     """The model's named outputs at the samples: Y (n_y, n_t), T (n_t,) -> {name: (n_t, ...)}."""
     fo = model.functions(codegen).outputs
     n_t = Y.shape[1]
-    res = fo.map(n_t)(Y, T.reshape(1, -1), p)
-    res = res if isinstance(res, (list, tuple)) else [res]
+    cache = model._cache.setdefault("output_maps", OrderedDict())
+    key = (id(fo), n_t)
+    mapped = cache.get(key)
+    if mapped is None:
+        mapped = cache[key] = FastCall(fo.map(n_t))
+        if len(cache) > 16:
+            cache.popitem(last=False)
+    res = mapped(np.asarray(Y, dtype=float).T, T, p)
     out = {}
     for i, name in enumerate(fo.name_out()):
         r, c = fo.size_out(i)
-        a = np.array(res[i].full()).reshape(r, n_t, c).transpose(1, 0, 2)
+        a = res[i].reshape(n_t * c, r).T.reshape(r, n_t, c).transpose(1, 0, 2)
         out[name] = a.reshape(n_t) if r == c == 1 else a.reshape(n_t, r * c)
     return out
 
@@ -519,7 +556,8 @@ def simulate(scene, duration: float, dt: float | None = None, method: str = "gen
                 batch = _batch(model, step, S, m)
                 t0 = _time.perf_counter()
                 try:
-                    Y, YD, K, IT, ITM, FAIL, _ = (np.array(v.full()) for v in batch(y, yd, k, 0.0, dt, p, y_scale, settings))
+                    Y, YD, K, IT, ITM, FAIL, _ = batch(y, yd, k, 0.0, dt, p, y_scale, settings)
+                    Y, YD = Y.reshape(m, -1).T, YD.reshape(m, -1).T
                     bad = ((FAIL.ravel() > 0) | _bad_state(Y, inv_scale)
                            | ~np.all(np.isfinite(YD), axis=0))
                     n_good = int(np.argmax(bad)) if np.any(bad) else m

@@ -1,6 +1,6 @@
 """Generated C: same answers as the virtual machine, a build cache that survives damage and
 concurrent builders, a warning and a fallback without a compiler, and exported sources that
-compile with -Wall. Compiling takes 1-15 s per model structure, so the scenes here are
+compile with -Wall. Compiling takes 1-20 s per model structure, so the scenes here are
 small (10-20 segments) except where a demo scene is the point."""
 from __future__ import annotations
 

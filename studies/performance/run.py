@@ -7,9 +7,11 @@ interleaved repeats, medians (the machine is shared and noisy).
 
 1. statics, OC3 line (51 nodes): ``solve_static`` with a pre-built model (C, VM) against
    MoorPy's catenary; also the fused Newton call alone (C, VM);
-2. a 30-period time run of the seed-001 line: generalized-alpha, dt = T/100 (C, VM) against
-   MoorDyn at its largest stable step (RK2, critical damping; moordyn_line.py), each with its
-   error against its own converged reference (max over the last period / tension range);
+2. a 30-period time run of the seed-001 line: generalized-alpha, dt = T/100 (C, VM), and in C
+   at T/60 (equal accuracy), against MoorDyn at its largest stable step with RK4 (no
+   internal damping, as symcable; the issue's comparison) and with RK2 (critical internal
+   damping, MoorDyn's own advice); see moordyn_line.py. Each with its error against its own
+   converged reference (max over the last period / tension range);
 3. the periodic steady state: ``solve_periodic`` (collocation, IPOPT; C, VM) against the wall
    time MoorDyn needs to come within 1 % of its own steady state.
 
@@ -34,6 +36,9 @@ import symcable as sc  # noqa: E402
 from symcable.functions import static_functions  # noqa: E402
 
 T = 10.0
+#: steps per period of the equal-accuracy run: generalized-α's error grows as dt^2, and at
+#: T/60 it is 2.8 times its T/100 value, still below MoorDyn RK4's at its stability limit
+N_EQUAL = 60
 
 
 def interleaved(fns: dict, repeats: int) -> dict:
@@ -78,32 +83,45 @@ def time_run(repeats: int, periods: int, quick: bool) -> dict:
     dur = periods * T
     runs = {}
 
-    def sym(cg):
-        runs[cg] = sc.simulate(scene, dur, dt=T / 100, model=model, codegen=cg)
+    def sym(cg, n=100):
+        runs[(cg, n)] = sc.simulate(scene, dur, dt=T / n, model=model, codegen=cg)
 
-    def md():
-        runs["md"] = mdl.run(dur, mdl.DT_LIMIT["RK2"])
+    def md(scheme):
+        zeta = 0.0 if scheme == "RK4" else 1.0
+        runs["md_" + scheme] = mdl.run(dur, mdl.DT_LIMIT[scheme], tscheme=scheme, zeta=zeta)
 
-    sym(True), sym(False)
-    t = interleaved({"symcable_c": lambda: sym(True), "symcable_vm": lambda: sym(False)}, repeats)
-    md_wall = []
-    for _ in range(repeats):
-        md()
-        md_wall.append(runs["md"]["wall_time"])
-    t["moordyn"] = statistics.median(md_wall)
-    t["moordyn_init"] = runs["md"]["init_time"]
+    for cg, n in ((True, 100), (False, 100), (True, N_EQUAL)):
+        sym(cg, n)
+    t = interleaved({"symcable_c": lambda: sym(True), "symcable_vm": lambda: sym(False),
+                     "symcable_c_equal": lambda: sym(True, N_EQUAL)}, repeats)
+    for scheme in ("RK2", "RK4"):
+        wall = []
+        for _ in range(repeats):
+            md(scheme)
+            wall.append(runs["md_" + scheme]["wall_time"])
+        t["moordyn_" + scheme] = statistics.median(wall)
+    t["moordyn"] = t["moordyn_RK2"]
+    t["moordyn_init"] = runs["md_RK2"]["init_time"]
     # each one's error against its own converged reference, over the last period
     ref_sym = sc.simulate(scene, dur, dt=T / (400 if quick else 1600), model=model, codegen=True)
     tt = (periods - 1) * T + T * np.arange(100) / 100
-    a = np.interp(tt, runs[True].time, runs[True].fairlead_tension)
     b = np.interp(tt, ref_sym.time, ref_sym.fairlead_tension)
-    t["symcable_error"] = float(np.max(np.abs(a - b)) / np.ptp(b))
-    ref_md = mdl.run(dur, mdl.DT_LIMIT["RK2"] / (4 if quick else 32))
-    t["moordyn_error"] = mdl.tension_error(runs["md"], ref_md)
-    t["moordyn_error_as_returned"] = mdl.tension_error(runs["md"], ref_md, shift=False)
-    t["symcable_c_steps_s"] = runs[True].stats["step_time"]
-    t["symcable_vm_steps_s"] = runs[False].stats["step_time"]
-    t["symcable_newton_iterations_per_step"] = runs[True].stats["newton_iterations"] / runs[True].stats["steps"]
+    for key, n in (("symcable_error", 100), ("symcable_error_equal", N_EQUAL)):
+        a = np.interp(tt, runs[(True, n)].time, runs[(True, n)].fairlead_tension)
+        t[key] = float(np.max(np.abs(a - b)) / np.ptp(b))
+    for scheme in ("RK2", "RK4"):
+        zeta = 0.0 if scheme == "RK4" else 1.0
+        ref_md = mdl.run(dur, mdl.DT_LIMIT[scheme] / (4 if quick else 32), tscheme=scheme, zeta=zeta)
+        t[f"moordyn_{scheme}_error"] = mdl.tension_error(runs["md_" + scheme], ref_md)
+        t[f"moordyn_{scheme}_error_as_returned"] = mdl.tension_error(runs["md_" + scheme], ref_md, shift=False)
+    t["moordyn_error"] = t["moordyn_RK2_error"]
+    t["moordyn_error_as_returned"] = t["moordyn_RK2_error_as_returned"]
+    t["symcable_c_steps_s"] = runs[(True, 100)].stats["step_time"]
+    t["symcable_vm_steps_s"] = runs[(False, 100)].stats["step_time"]
+    t["symcable_c_us_per_step"] = runs[(True, 100)].stats["us_per_step"]
+    t["symcable_newton_iterations_per_step"] = (runs[(True, 100)].stats["newton_iterations"]
+                                                / runs[(True, 100)].stats["steps"])
+    runs["md"] = runs["md_RK2"]
     return t, runs
 
 
@@ -147,10 +165,18 @@ def main(argv=None) -> dict:
              f"MoorPy {1e3 * st['moorpy']:.3f} ms; start guess (once per model) {1e3 * st['start_guess']:.3f} ms |",
              f"| time run: VM / C | {tr['symcable_vm'] / tr['symcable_c']:.2f} | "
              f"{tr['symcable_vm']:.3f} / {tr['symcable_c']:.3f} s (stepping {tr['symcable_vm_steps_s']:.3f} / "
-             f"{tr['symcable_c_steps_s']:.3f} s) |",
-             f"| time run: symcable C / MoorDyn | {tr['symcable_c'] / tr['moordyn']:.2f} | MoorDyn "
-             f"{tr['moordyn']:.3f} s (+ init {tr['moordyn_init']:.3f} s); errors {tr['symcable_error']:.1e} "
-             f"vs {tr['moordyn_error']:.1e} ({tr['moordyn_error_as_returned']:.1e} as returned) |",
+             f"{tr['symcable_c_steps_s']:.3f} s, {tr['symcable_c_us_per_step']:.0f} us and "
+             f"{tr['symcable_newton_iterations_per_step']:.2f} iterations per step in C) |",
+             f"| time run: symcable C (T/100) / MoorDyn RK4 at its limit | {tr['symcable_c'] / tr['moordyn_RK4']:.2f} | "
+             f"MoorDyn RK4 (zeta 0, dtM {mdl.DT_LIMIT['RK4']} s) {tr['moordyn_RK4']:.3f} s; errors "
+             f"{tr['symcable_error']:.1e} vs {tr['moordyn_RK4_error']:.1e} |",
+             f"| time run: symcable C (T/{N_EQUAL}) / MoorDyn RK4 at its limit | "
+             f"{tr['symcable_c_equal'] / tr['moordyn_RK4']:.2f} | symcable {tr['symcable_c_equal']:.3f} s; errors "
+             f"{tr['symcable_error_equal']:.1e} vs {tr['moordyn_RK4_error']:.1e} |",
+             f"| time run: symcable C (T/100) / MoorDyn RK2 at its limit | {tr['symcable_c'] / tr['moordyn_RK2']:.2f} | "
+             f"MoorDyn RK2 (zeta 1, dtM {mdl.DT_LIMIT['RK2']} s) {tr['moordyn_RK2']:.3f} s (+ init "
+             f"{tr['moordyn_init']:.3f} s); errors {tr['symcable_error']:.1e} vs {tr['moordyn_RK2_error']:.1e} "
+             f"({tr['moordyn_RK2_error_as_returned']:.1e} as returned) |",
              f"| periodic: VM / C | {pe['symcable_vm'] / pe['symcable_c']:.2f} | "
              f"{pe['symcable_vm']:.2f} / {pe['symcable_c']:.2f} s, {pe['iterations']} IPOPT iterations |",
              f"| periodic: symcable C / MoorDyn to 1 % | {pe['symcable_c'] / pe['moordyn_to_1pct']:.1f} | "

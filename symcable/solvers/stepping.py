@@ -21,7 +21,9 @@ long run pays the Python interpreter once per batch of saved samples, not once p
   gamma = 1/2 + a_m - a_f: second order, A-stable, with high-frequency damping set by
   rho_inf in [0, 1] (1: none; 0: annihilates the highest frequencies in one step). Each
   step solves R = 0 by Newton's method with the exact Jacobian
-  a_m I - a_f gamma dt df/dy from CasADi, factorised by sparse QR, inside the step Function.
+  a_m I - a_f gamma dt df/dy from CasADi, factorised once per step by the block LU of
+  :mod:`symcable.solvers.sxlu` (written out in SX) and reused by the next iterations
+  (chord iterations), inside the step Function.
 """
 from __future__ import annotations
 
@@ -175,7 +177,8 @@ def _symbols(model, kind):
 
 _STEP_IN = ["y", "ydot", "k", "t0", "dt", "p", "y_scale", "settings"]
 _STEP_OUT = ["y_next", "ydot_next", "k_next", "newton_iterations", "failed", "measure"]
-#: the linear solver of the Newton iterations: CasADi's sparse QR, which generates C
+#: the fallback linear solver of the Newton iterations, for a pattern with no fixed block
+#: elimination order: CasADi's sparse QR, which generates C
 #: (CSparse's LU does not); in the virtual machine it is as fast as CSparse here
 LINSOL = "qr"
 

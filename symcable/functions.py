@@ -117,7 +117,7 @@ def _vm_static(model: Model) -> StaticFunctions:
     # one plain Newton iteration, skipped once converged (CasADi evaluates only the branch
     # taken by an if_else of Functions), unrolled SOLVE_MAX_ITER times: a loop that the code
     # generator can write out, unlike CasADi's rootfinder
-    update = _newton_update(model, J)
+    update = _newton_update(model, J, step)
     z, done, it, nr0 = ca.MX.sym("w", n), ca.MX.sym("done"), ca.MX.sym("it"), ca.MX.sym("res")
     tol = ca.MX.sym("tol")
     rz = residual(z, P)
@@ -142,19 +142,17 @@ def _vm_static(model: Model) -> StaticFunctions:
                            outputs=outputs)
 
 
-def _newton_update(model: Model, J: ca.SX) -> ca.Function:
+def _newton_update(model: Model, J: ca.SX, step: ca.Function) -> ca.Function:
     """``static_newton_update(w, p) -> dw = -J^-1 r``, the fused solve's Newton step: the
     block LU of :mod:`symcable.solvers.sxlu` written out in SX when the Jacobian's pattern
-    allows a fixed elimination order, else the sparse QR of ``sparse_solve``."""
+    allows a fixed elimination order, else ``step``'s (sparse QR)."""
     w, p, r = model.w, model.p, model.residual
     plan = block_plan(J.sparsity())
     if plan is not None:
         lu = block_lu(J.sparsity(), *plan, cache=model._cache)
         return ca.Function("static_newton_update", [w, p], [-lu.solve(J, r)], ["w", "p"], ["dw"])
     W, P = ca.MX.sym("w", model.n_w), ca.MX.sym("p", int(p.numel()))
-    jac = ca.Function("static_jacobian", [w, p], [r, J])
-    rm, Jm = jac(W, P)
-    return ca.Function("static_newton_update", [W, P], [-sparse_solve(Jm, rm, LINSOL)], ["w", "p"], ["dw"])
+    return ca.Function("static_newton_update", [W, P], [step(W, P)[1]], ["w", "p"], ["dw"])
 
 
 def static_functions(model: Model, codegen: bool | None = False) -> StaticFunctions:

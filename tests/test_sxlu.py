@@ -110,3 +110,20 @@ def test_structurally_singular_pattern_is_refused():
     lu = BlockLU(sp, 1, order)
     x = np.array(lu.solve_function()(lu.factor([2.0, 4.0, 8.0]), [1.0, 2.0, 3.0]).full())
     np.testing.assert_allclose(x.ravel(), [1.0, 0.25, 0.375], rtol=1e-15)  # A = [[0,4,0],[2,0,0],[0,0,8]]
+
+
+def test_matching_finds_an_order_exactly_when_one_exists():
+    # against brute force over all row permutations of random 6 x 6 patterns
+    import itertools
+    rng = np.random.default_rng(0)
+    found = 0
+    for _ in range(200):
+        M = rng.random((6, 6)) < 0.3
+        sp = ca.Sparsity.triplet(6, 6, *[[int(i) for i in v] for v in np.nonzero(M)])
+        order = block_matching(sp, 1)
+        exists = any(all(M[q[j], j] for j in range(6)) for q in itertools.permutations(range(6)))
+        assert (order is not None) == exists
+        if order is not None:
+            assert sorted(order.tolist()) == list(range(6)) and all(M[order[j], j] for j in range(6))
+            found += 1
+    assert 10 <= found <= 190  # both outcomes exercised

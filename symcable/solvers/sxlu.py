@@ -226,25 +226,33 @@ def block_matching(sparsity: ca.Sparsity, block: int) -> np.ndarray | None:
     for I in edges:
         edges[I].sort(key=lambda J: (J != I, abs(J - I)))
     owner = [-1] * nb  # block column -> block row
-
-    def augment(I, seen):
-        for J in edges[I]:
-            if J not in seen:
-                seen.add(J)
-                if owner[J] < 0 or augment(owner[J], seen):
-                    owner[J] = I
-                    return True
-        return False
-
-    import sys
-    limit = sys.getrecursionlimit()
-    sys.setrecursionlimit(max(limit, 4 * nb + 100))
-    try:
-        for I in range(nb):
-            if not augment(I, set()):
-                return None
-    finally:
-        sys.setrecursionlimit(limit)
+    for root in range(nb):  # augmenting path from each block row, depth-first, iteratively
+        seen, parent = set(), {}  # parent: block column -> block column it was reached from
+        stack = [(root, iter(edges[root]), None)]
+        found = None
+        while stack and found is None:
+            I, it, via = stack[-1]
+            J = next((j for j in it if j not in seen), None)
+            if J is None:
+                stack.pop()
+                continue
+            seen.add(J)
+            parent[J] = via
+            if owner[J] < 0:
+                found = J
+            else:
+                stack.append((owner[J], iter(edges[owner[J]]), J))
+        if found is None:
+            return None
+        # flip the path back to the root: each column on it goes to the row that reached it
+        # (columns nearer the root still hold their old rows when their successor is set)
+        J, I = found, stack[-1][0]
+        while True:
+            owner[J] = I
+            J = parent[J]
+            if J is None:
+                break
+            I = root if parent[J] is None else owner[parent[J]]
     return np.asarray(owner, dtype=int)
 
 

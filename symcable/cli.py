@@ -195,7 +195,7 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("periodic", help="periodic steady state over one excitation period")
     p.add_argument("scene")
     _output_options(p, "solution")
-    p.add_argument("--method", default="collocation", choices=["collocation", "harmonic-balance"])
+    p.add_argument("--method", default="collocation", choices=["collocation", "harmonic-balance", "shooting"])
     p = sub.add_parser("modes", help="natural frequencies and mode shapes")
     p.add_argument("scene")
     _output_options(p, "modes")

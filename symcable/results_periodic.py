@@ -26,7 +26,7 @@ class PeriodicSolution(Exportable):
     ----------
     scene_name : str
     method : str
-        ``"collocation"`` or ``"harmonic-balance"``.
+        ``"collocation"``, ``"harmonic-balance"`` or ``"shooting"``.
     period : float
         Excitation period T, s.
     time : ndarray (n,)
@@ -35,8 +35,9 @@ class PeriodicSolution(Exportable):
     states : ndarray (n, n_y)
         The state at those times, in the model's units (for the planar cable: node
         velocities m/s, dynamic strain -, dynamic angle rad). Dense output of the solver's
-        own representation: the Lagrange polynomial of each collocation interval, or the
-        Fourier series of harmonic balance.
+        own representation: the Lagrange polynomial of each collocation interval, the
+        Fourier series of harmonic balance, or the trigonometric interpolant of the
+        shooting's states at its time steps.
     fairlead_tension : ndarray (n,)
         Fairlead tension (static plus dynamic), N.
     fairlead_force : ndarray (n, 2)
@@ -54,7 +55,9 @@ class PeriodicSolution(Exportable):
         period, so the linearised model is outside its range: see ``warnings``); ``"failed"``
         (only on a ConvergenceError's partial result).
     stats : dict
-        ``solver`` (``"ipopt"``/``"newton"``), ``iterations``, ``return_status``,
+        ``solver`` (``"ipopt"``/``"newton"``; ``"anderson"`` for shooting, whose
+        ``iterations`` are the periods marched, with ``steps``, ``rho_inf`` and
+        ``newton_iterations`` of the generalized-α steps), ``iterations``, ``return_status``,
         ``wall_time`` (s, whole solve), ``solve_time`` (s, the nonlinear solve alone),
         ``build_time`` (s, building the solver's CasADi functions; 0 when reused),
         ``unknowns``, ``residual_norm`` (max-norm of the discrete residual, scaled states
@@ -65,8 +68,9 @@ class PeriodicSolution(Exportable):
     unknowns : ndarray or None
         The solution in the solver's own terms, flattened, to restart a neighbouring solve
         from: scaled states ``y/y_scale`` at the collocation nodes (K, d+1, n_y) (interval,
-        node: start then collocation points, state), or the scaled Fourier coefficients
-        (n_y, 2H+1) ``[a_0, a_1, b_1, ..., a_H, b_H]`` of each state.
+        node: start then collocation points, state), the scaled Fourier coefficients
+        (n_y, 2H+1) ``[a_0, a_1, b_1, ..., a_H, b_H]`` of each state, or the shooting's
+        scaled integrator state at t = 0, ``(y / y_scale, ydot T / y_scale)`` (2 n_y,).
     params : ndarray (n_p,) or None
         The model parameters solved for (``omega`` among them), to evaluate the model's
         functions on this solution.

@@ -213,8 +213,8 @@ def test_ipopt_failure_raises_convergence_error(scene, model):
 
 def test_bad_choices_get_one_line_errors(scene, model):
     """Closed choices and IPOPT options are checked with the value received and the fix."""
-    with pytest.raises(SymcableError, match="method = 'shooting'"):
-        solve_periodic(scene, "shooting", model=model)
+    with pytest.raises(SymcableError, match="method = 'marching'"):
+        solve_periodic(scene, "marching", model=model)
     with pytest.raises(SymcableError, match="scheme = 'lobatto'"):
         solve_periodic(scene, scheme="lobatto", model=model)
     with pytest.raises(SymcableError, match="No such IPOPT option: no_such_option"):

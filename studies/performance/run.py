@@ -12,8 +12,10 @@ interleaved repeats, medians (the machine is shared and noisy).
    internal damping, as symcable; the issue's comparison) and with RK2 (critical internal
    damping, MoorDyn's own advice); see moordyn_line.py. Each with its error against its own
    converged reference (max over the last period / tension range);
-3. the periodic steady state: ``solve_periodic`` (collocation, IPOPT; C, VM) against the wall
-   time MoorDyn needs to come within 1 % of its own steady state.
+3. the periodic steady state: ``solve_periodic`` by collocation (IPOPT) and by shooting (the
+   generalized-alpha period map, Anderson-accelerated), each in C and in the VM, against the
+   wall time MoorDyn, and symcable's own time run, need to come within 1 % of their own
+   steady state.
 
 Run ``python studies/performance/run.py [--quick] [--out DIR]``; needs ``symcable[bench]``.
 """
@@ -125,21 +127,37 @@ def time_run(repeats: int, periods: int, quick: bool) -> dict:
     return t, runs
 
 
-def periodic(repeats: int, md_run: dict) -> dict:
+def _periods_to_1pct(run: dict) -> int:
+    """Periods marched until the fairlead tension is within 1 % of the last period's range."""
+    return int(np.argmax(mdl.steady_state_distance(run) <= 0.01)) + 1
+
+
+def periodic(repeats: int, md_run: dict, sym_run) -> dict:
+    """Collocation (IPOPT) and shooting, each in C and in the VM, against the time MoorDyn
+    (and symcable's own time run) needs to march to 1 % of its steady state."""
     scene = sc.load_scene(sc.demo_scene_path("seed001"))
     model = sc.build_dynamic_model(scene)
     sols = {cg: sc.solve_periodic(scene, model=model, codegen=cg) for cg in (True, False)}
-    out = interleaved({"symcable_c": lambda: sc.solve_periodic(scene, model=model, codegen=True),
-                       "symcable_vm": lambda: sc.solve_periodic(scene, model=model, codegen=False)},
-                      repeats)
+    shots = {cg: sc.solve_periodic(scene, "shooting", model=model, codegen=cg) for cg in (True, False)}
+    out = interleaved({
+        "symcable_c": lambda: sc.solve_periodic(scene, model=model, codegen=True),
+        "symcable_vm": lambda: sc.solve_periodic(scene, model=model, codegen=False),
+        "shooting_c": lambda: sc.solve_periodic(scene, "shooting", model=model, codegen=True),
+        "shooting_vm": lambda: sc.solve_periodic(scene, "shooting", model=model, codegen=False),
+    }, repeats)
     out["symcable_c_solve"] = sols[True].stats["solve_time"]
     out["iterations"] = sols[True].stats["iterations"]
-    dist = mdl.steady_state_distance(md_run)
-    n_needed = int(np.argmax(dist <= 0.01)) + 1  # periods marched until within 1 %
+    out["shooting_periods"] = shots[True].stats["iterations"]
+    ft = sols[True].fairlead_tension
+    out["shooting_error"] = float(np.max(np.abs(shots[True].fairlead_tension - ft)) / np.ptp(ft))
+    n_needed = _periods_to_1pct(md_run)
     per_period = md_run["wall_time"] / (md_run["time"][-1] / T)
     out["moordyn_periods_to_1pct"] = n_needed
     out["moordyn_to_1pct"] = n_needed * per_period
     out["moordyn_to_1pct_with_init"] = n_needed * per_period + md_run["init_time"]
+    n_sym = _periods_to_1pct({"time": sym_run.time, "fairlead_tension": sym_run.fairlead_tension})
+    out["symcable_periods_to_1pct"] = n_sym
+    out["symcable_march_to_1pct"] = n_sym * sym_run.stats["step_time"] / (sym_run.time[-1] / T)
     return out
 
 
@@ -153,7 +171,7 @@ def main(argv=None) -> dict:
     rep = 3 if args.quick else 7
     st = statics(30 if args.quick else 300)
     tr, runs = time_run(rep, 6 if args.quick else 30, args.quick)
-    pe = periodic(1 if args.quick else 3, runs["md"])
+    pe = periodic(1 if args.quick else 3, runs["md"], runs[(True, 100)])
     res = {"quick": args.quick, "statics": st, "time_run": tr, "periodic": pe}
     (out / "results.json").write_text(json.dumps(res, indent=1, default=float))
     lines = ["| comparison | ratio | detail |", "|---|---|---|",
@@ -177,10 +195,18 @@ def main(argv=None) -> dict:
              f"MoorDyn RK2 (zeta 1, dtM {mdl.DT_LIMIT['RK2']} s) {tr['moordyn_RK2']:.3f} s (+ init "
              f"{tr['moordyn_init']:.3f} s); errors {tr['symcable_error']:.1e} vs {tr['moordyn_RK2_error']:.1e} "
              f"({tr['moordyn_RK2_error_as_returned']:.1e} as returned) |",
-             f"| periodic: VM / C | {pe['symcable_vm'] / pe['symcable_c']:.2f} | "
+             f"| periodic, collocation: VM / C | {pe['symcable_vm'] / pe['symcable_c']:.2f} | "
              f"{pe['symcable_vm']:.2f} / {pe['symcable_c']:.2f} s, {pe['iterations']} IPOPT iterations |",
-             f"| periodic: symcable C / MoorDyn to 1 % | {pe['symcable_c'] / pe['moordyn_to_1pct']:.1f} | "
-             f"MoorDyn {pe['moordyn_periods_to_1pct']} periods, {pe['moordyn_to_1pct']:.3f} s |"]
+             f"| periodic, shooting: VM / C | {pe['shooting_vm'] / pe['shooting_c']:.2f} | "
+             f"{pe['shooting_vm']:.3f} / {pe['shooting_c']:.3f} s, {pe['shooting_periods']} periods; "
+             f"{pe['shooting_error']:.1e} of the range from collocation |",
+             f"| periodic: collocation C / MoorDyn to 1 % | {pe['symcable_c'] / pe['moordyn_to_1pct']:.1f} | "
+             f"MoorDyn RK2 {pe['moordyn_periods_to_1pct']} periods, {pe['moordyn_to_1pct']:.3f} s |",
+             f"| periodic: shooting C / MoorDyn to 1 % | {pe['shooting_c'] / pe['moordyn_to_1pct']:.1f} | "
+             f"shooting to its fixed point (1e-10), {pe['shooting_c']:.3f} s |",
+             f"| periodic: symcable C marching to 1 % / MoorDyn to 1 % | "
+             f"{pe['symcable_march_to_1pct'] / pe['moordyn_to_1pct']:.2f} | symcable (T/100) "
+             f"{pe['symcable_periods_to_1pct']} periods, {pe['symcable_march_to_1pct']:.3f} s |"]
     (out / "summary.md").write_text("\n".join(lines) + "\n")
     print("\n".join(lines))
     return res

@@ -307,18 +307,39 @@ def _sample_times(M: int) -> np.ndarray:
 def rest_jacobian(model: DynamicModel, p, samples: int = 16) -> np.ndarray:
     """Period-mean of the scaled Jacobian ``S^-1 df/dy S`` at the rest state (n_y, n_y)."""
     S, T = model.y_scale, period_of(model, p)
-    t = _sample_times(samples) * T
-    J = model.functions().rhs_jacobian.map(samples)(np.tile(model.y0[:, None], samples), t, p)
-    J = np.mean(np.split(J.full(), samples, axis=1), axis=0)  # (n, n M) side by side
+    J = np.asarray(_rest_jacobian_function(model, samples)(p, T).sparse().toarray())
     return J * S[None, :] / S[:, None]
+
+
+def _rest_jacobian_function(model: DynamicModel, samples: int) -> ca.Function:
+    """``(p, T) -> mean_k df/dy(y0, k T / samples; p)``, built once per model and samples
+    (one call, one sparse result: converting the mapped samples side by side to a dense
+    array cost more than the evaluation)."""
+    key = ("rest_jacobian_mean", samples)
+    fn = model._cache.get(key)
+    if fn is None:
+        n = model.n_y
+        P, T = ca.MX.sym("p", model.p.numel()), ca.MX.sym("T")
+        J = model.functions().rhs_jacobian.map(samples)(
+            ca.DM(np.tile(model.y0[:, None], samples)), ca.DM(_sample_times(samples)).T * T, P)
+        mean = sum(J[:, k * n:(k + 1) * n] for k in range(samples)) / samples
+        fn = model._cache[key] = ca.Function("rest_jacobian_mean", [P, T], [mean])
+    return fn
 
 
 def linear_invariants(model: DynamicModel, p, Jw: np.ndarray | None = None) -> Invariants:
     """Rows G (scaled coordinates) with ``G S^-1 f(y, t; p)`` independent of y: the left null
     space of the scaled rest Jacobian, kept only if it also annihilates the Jacobian at a
-    random moving state (so it is exact, not a near-singularity)."""
+    random moving state (so it is exact, not a near-singularity). Cached on the model per
+    parameter vector."""
     n, S = model.n_y, model.y_scale
     w0 = model.y0 / S
+    cache = model._cache.setdefault("linear_invariants", {})
+    key = np.asarray(p, dtype=float).tobytes()
+    if key in cache:
+        return cache[key]
+    if len(cache) > 32:
+        cache.clear()
     if Jw is None:
         Jw = rest_jacobian(model, p)
     U, s, Vt = np.linalg.svd(Jw)
@@ -331,7 +352,8 @@ def linear_invariants(model: DynamicModel, p, Jw: np.ndarray | None = None) -> I
         Jr = model.functions().rhs_jacobian(y, t, p).full() * S[None, :] / S[:, None]
         if np.max(np.abs(G @ Jr)) > 1e-8 * max(np.max(np.abs(Jr)), 1e-300):
             G, V = np.zeros((0, n)), np.zeros((0, n))
-    return Invariants(G=G, keep=_pivots(G), keep_states=_pivots(V), w0=w0)
+    inv = cache[key] = Invariants(G=G, keep=_pivots(G), keep_states=_pivots(V), w0=w0)
+    return inv
 
 
 @dataclass(frozen=True)

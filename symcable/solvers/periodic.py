@@ -41,6 +41,7 @@ from ..results_periodic import PeriodicSolution, PeriodicSweep
 from ..scene import Scene
 from ..scene_loader import load_scene
 from . import harmonic_balance as hbm
+from . import shooting
 from .harmonic_balance import SquareSolver, choice
 
 __all__ = ["PeriodicMethod", "CollocationScheme", "periodic_params", "solve_periodic",
@@ -62,6 +63,7 @@ class PeriodicMethod(str, enum.Enum):
 
     COLLOCATION = "collocation"             #: direct collocation, K intervals of degree d
     HARMONIC_BALANCE = "harmonic-balance"   #: H harmonics, alternating frequency/time
+    SHOOTING = "shooting"                   #: fixed point of the generalized-α period map
 
 
 class CollocationScheme(str, enum.Enum):
@@ -244,13 +246,19 @@ class _Config:
     resolution: int
     tol: float
     codegen: bool | None = None
+    steps: int = shooting.DEFAULT_STEPS
+    rho_inf: float = 0.5
 
 
 def _config(method, intervals, degree, scheme, solver, harmonics, samples, ipopt_options,
-            resolution, tol, codegen=None) -> _Config:
+            resolution, tol, codegen=None, steps=None, rho_inf=0.5) -> _Config:
     method = choice(PeriodicMethod, method, "method")
     default_solver = SquareSolver.IPOPT if method is PeriodicMethod.COLLOCATION else SquareSolver.NEWTON
+    if method is PeriodicMethod.SHOOTING and solver is not None:
+        raise SymcableError(f"solver = {solver!r}: shooting has its own solver (Anderson-accelerated "
+                            "periods); give solver only with collocation or harmonic-balance")
     solver = default_solver if solver is None else choice(SquareSolver, solver, "solver")
+    steps, rho_inf = shooting.check_shooting_args(steps, rho_inf)
     scheme = choice(CollocationScheme, "legendre" if scheme == "gauss" else scheme, "scheme")
     intervals = DEFAULT_INTERVALS if intervals is None else intervals
     harmonics = DEFAULT_HARMONICS if harmonics is None else harmonics
@@ -270,7 +278,7 @@ def _config(method, intervals, degree, scheme, solver, harmonics, samples, ipopt
         raise SymcableError(f"tol = {tol}: must be > 0 (scaled states per second)")
     return _Config(method, solver, int(intervals), int(degree), scheme, int(harmonics),
                    None if samples is None else int(samples), dict(ipopt_options or {}),
-                   int(resolution), tol, codegen)
+                   int(resolution), tol, codegen, steps, rho_inf)
 
 
 def periodic_params(model: DynamicModel, **blocks) -> np.ndarray:
@@ -301,14 +309,20 @@ def solve_periodic(scene, method: str = "collocation", *, intervals: int | None 
                    ipopt_options: Mapping | None = None, resolution: int = 200,
                    model: DynamicModel | None = None, params: np.ndarray | None = None,
                    initial: PeriodicSolution | None = None,
-                   tol: float | None = None, codegen: bool | None = None) -> PeriodicSolution:
+                   tol: float | None = None, codegen: bool | None = None,
+                   steps: int | None = None, rho_inf: float = 0.5) -> PeriodicSolution:
     """Periodic steady state of a scene's dynamics over one period of its excitation.
 
     Parameters
     ----------
     scene : Scene, dict or path
         Anything :func:`symcable.load_scene` takes; it must prescribe a motion.
-    method : {"collocation", "harmonic-balance"}
+    method : {"collocation", "harmonic-balance", "shooting"}
+        Direct collocation (default: the most accurate), harmonic balance, or shooting: the
+        fixed point of one period of ``simulate``'s generalized-α integrator, found by
+        Anderson-accelerated marching, every period one call of generated C (the fastest;
+        its answer carries the integrator's error at ``steps``, see
+        :mod:`symcable.solvers.shooting`).
     intervals : int, optional
         Collocation intervals K per period (default 40, see :data:`DEFAULT_INTERVALS`).
     degree : int
@@ -338,13 +352,20 @@ def solve_periodic(scene, method: str = "collocation", *, intervals: int | None 
         Start from this solution (its unknowns when the discretisation matches, else its
         states re-sampled in normalised time t/T) instead of the frequency-domain guess.
     tol : float, optional
-        Residual tolerance, scaled states per second (default 1e-10).
+        Residual tolerance, scaled states per second (default 1e-10). For shooting, the
+        change of the scaled state over one period divided by the period.
     codegen : bool, optional
         The system's residual and Jacobian in generated C, which IPOPT or the Newton
         rootfinder call (compiled once per model structure and discretisation, then loaded
-        from the build cache; parameters such as the period stay inputs). Default None:
-        generated C when a C compiler is found (:mod:`symcable.codegen`). The small
-        one-harmonic start is always solved in the virtual machine.
+        from the build cache; parameters such as the period stay inputs); for shooting, the
+        integrator's step. Default None: generated C when a C compiler is found
+        (:mod:`symcable.codegen`). The small one-harmonic start is always solved in the
+        virtual machine.
+    steps : int, optional
+        Shooting only: generalized-α steps per period (default 100, at least 8).
+    rho_inf : float
+        Shooting only: generalized-α spectral radius at infinite step, in [0, 1] (default
+        0.5, as ``simulate``).
 
     Returns
     -------
@@ -360,7 +381,7 @@ def solve_periodic(scene, method: str = "collocation", *, intervals: int | None 
     """
     t0 = time.perf_counter()
     cfg = _config(method, intervals, degree, scheme, solver, harmonics, samples, ipopt_options,
-                  resolution, tol, codegen)
+                  resolution, tol, codegen, steps, rho_inf)
     scene, model = _model_for(scene, model)
     p = periodic_params(model) if params is None else np.asarray(params, dtype=float)
     sol, _ = _solve(scene.name, model, p, cfg, initial=initial, t0=t0)
@@ -372,7 +393,8 @@ def sweep_periodic(scene, periods: Sequence[float], method: str = "collocation",
                    solver: str | None = None, harmonics: int | None = None,
                    samples: int | None = None, ipopt_options: Mapping | None = None,
                    resolution: int = 200, model: DynamicModel | None = None,
-                   tol: float | None = None, codegen: bool | None = None) -> PeriodicSweep:
+                   tol: float | None = None, codegen: bool | None = None,
+                   steps: int | None = None, rho_inf: float = 0.5) -> PeriodicSweep:
     """Fairlead tension response over excitation periods (a tension RAO), by continuation.
 
     Each period sets the ``omega`` block of the model's periodic parameters to 2 pi / T,
@@ -392,7 +414,7 @@ def sweep_periodic(scene, periods: Sequence[float], method: str = "collocation",
     """
     t0 = time.perf_counter()
     cfg = _config(method, intervals, degree, scheme, solver, harmonics, samples, ipopt_options,
-                  resolution, tol, codegen)
+                  resolution, tol, codegen, steps, rho_inf)
     scene, model = _model_for(scene, model)
     if "omega" not in model.p_slices:
         raise SymcableError(f"model '{model.name}' has no omega parameter block: it cannot be swept "
@@ -409,7 +431,8 @@ def sweep_periodic(scene, periods: Sequence[float], method: str = "collocation",
     for i, T in enumerate(periods):
         p = periodic_params(model, omega=2.0 * math.pi / T)
         sol, start = None, None
-        for start in (["neighbour"] if prev is not None else []) + ["frequency-domain guess"]:
+        own = "rest state" if cfg.method is PeriodicMethod.SHOOTING else "frequency-domain guess"
+        for start in (["neighbour"] if prev is not None else []) + [own]:
             try:
                 sol, build = _solve(scene.name, model, p, cfg,
                                     initial=prev if start == "neighbour" else None, t0=time.perf_counter())
@@ -466,7 +489,15 @@ def _solve(scene_name: str, model: DynamicModel, p: np.ndarray, cfg: _Config, *,
     T = hbm.period_of(model, p)
     stats: dict = {"solver": cfg.solver.value}
     n = model.n_y
-    if cfg.method is PeriodicMethod.HARMONIC_BALANCE:
+    if cfg.method is PeriodicMethod.SHOOTING:
+        res, samples, guess = _shoot(model, p, cfg, initial)
+        stats.update(solver="anderson", steps=cfg.steps, rho_inf=cfg.rho_inf, periods=res.iterations,
+                     newton_iterations=res.history[-1]["newton_iterations"])
+        natural = res.x
+
+        def states_of(tau, Y=samples):
+            return _fourier_resample(Y, tau)
+    elif cfg.method is PeriodicMethod.HARMONIC_BALANCE:
         H, M = cfg.harmonics, cfg.samples or hbm.default_samples(cfg.harmonics)
         stats.update(harmonics=H, samples=M)
         C0 = None
@@ -519,13 +550,51 @@ def _solve(scene_name: str, model: DynamicModel, p: np.ndarray, cfg: _Config, *,
                     cfg.harmonics)
     if not res.converged:
         raise ConvergenceError(
-            f"periodic {cfg.method.value} ({cfg.solver.value}): {res.return_status} after "
-            f"{res.iterations} iterations, residual {res.residual_norm:.3g} (tol {cfg.tol:.3g} "
+            f"periodic {cfg.method.value} ({stats['solver']}): {res.return_status} after "
+            f"{res.iterations} {'periods' if cfg.method is PeriodicMethod.SHOOTING else 'iterations'}, "
+            f"residual {res.residual_norm:.3g} (tol {cfg.tol:.3g} "
             "scaled states per second)", partial=sol,
             diagnostics={"return_status": res.return_status, "iterations": res.iterations,
                          "residual_norm": res.residual_norm, "tolerance": cfg.tol,
                          "history": res.history, "guess": guess})
     return sol, res.build_time
+
+
+def _shoot(model: DynamicModel, p: np.ndarray, cfg: _Config, initial: PeriodicSolution | None):
+    """The shooting solve: ``(result, states over the period or None, guess description)``.
+    The start is ``initial``'s state at t = 0 (its own unknowns when it is a shooting
+    solution of the same steps), else the rest state; the invariants' level as collocation's."""
+    tb = time.perf_counter()
+    pm = shooting.period_map(model, p, cfg.steps, cfg.rho_inf, cfg.codegen)
+    build = time.perf_counter() - tb
+    inv = hbm.linear_invariants(model, p)
+    gauge = _invariant_start(model, inv, p) if inv.r else None
+    if (initial is not None and initial.method == PeriodicMethod.SHOOTING.value
+            and initial.unknowns is not None and initial.unknowns.size == 2 * model.n_y
+            and initial.stats.get("steps") == cfg.steps):
+        z0, guess = np.asarray(initial.unknowns, dtype=float), {"start": "given solution"}
+    elif initial is not None:
+        z0 = shooting.start_state(pm, np.asarray(initial.states, dtype=float)[0], inv, gauge)
+        guess = {"start": "given solution (its state at t = 0)"}
+    else:
+        z0 = shooting.start_state(pm, model.y0, inv, gauge)
+        guess = {"start": "rest state"}
+    res, samples = shooting.solve_shooting(pm, z0, tol=cfg.tol)
+    if samples is None:  # the very first period failed: nothing to show
+        raise ConvergenceError(f"periodic shooting: {res.return_status} with dt = T/{cfg.steps}: try "
+                               "more steps per period", partial=None,
+                               diagnostics={"return_status": res.return_status, "history": res.history})
+    res.build_time = build
+    return res, samples, guess
+
+
+def _invariant_start(model: DynamicModel, inv: hbm.Invariants, p: np.ndarray) -> np.ndarray:
+    """Scaled level ``G w(0)`` of the invariants that puts their period-mean at the rest
+    state's (the collocation's gauge, see :func:`_invariant_mean_offset`), (r,)."""
+    P = ca.MX.sym("p", model.p.numel())
+    omega = hbm._omega_symbol(model, P)
+    off = ca.Function("invariant_offset", [P], [_invariant_mean_offset(model, inv, P, omega)])
+    return inv.G @ inv.w0 - np.asarray(off(p).full()).ravel()
 
 
 def _fit_harmonics(initial: PeriodicSolution, H: int, scale: np.ndarray) -> np.ndarray:

@@ -116,43 +116,48 @@ def _vm_static(model: Model) -> StaticFunctions:
 
     # one plain Newton iteration, skipped once converged (CasADi evaluates only the branch
     # taken by an if_else of Functions), unrolled SOLVE_MAX_ITER times: a loop that the code
-    # generator can write out, unlike CasADi's rootfinder
+    # generator can write out, unlike CasADi's rootfinder. The residual is carried from one
+    # iteration to the next, so each costs one residual and one factorisation.
     update = _newton_update(model, J, step)
-    z, done, it, nr0 = ca.MX.sym("w", n), ca.MX.sym("done"), ca.MX.sym("it"), ca.MX.sym("res")
+    z, rz, done, it = ca.MX.sym("w", n), ca.MX.sym("r", n), ca.MX.sym("done"), ca.MX.sym("it")
     tol = ca.MX.sym("tol")
-    rz = residual(z, P)
-    nr = ca.norm_inf(rz)
-    conv = nr <= tol
-    dz = ca.if_else(conv, ca.MX.zeros(n), update(z, P), True)
-    args, names_in = [z, done, it, nr0, P, tol], ["w", "done", "it", "res", "p", "tol"]
-    iterate = ca.Function("static_newton_iteration", args, [z + dz, conv, it + 1 - conv, nr], names_in,
-                          ["w_out", "done_out", "it_out", "res_out"])
-    skip = ca.Function("static_newton_skip", args, [z, done, it, nr0], names_in,
-                       ["w_out", "done_out", "it_out", "res_out"])
+    conv = ca.norm_inf(rz) <= tol
+    z_new = z + update(z, P, rz)
+    args, names_in = [z, rz, done, it, P, tol], ["w", "r", "done", "it", "p", "tol"]
+    names_out = ["w_out", "r_out", "done_out", "it_out"]
+    iterate = ca.Function.if_else(
+        "static_newton_step_or_stop",
+        ca.Function("static_newton_stop", args, [z, rz, conv, it], names_in, names_out),
+        ca.Function("static_newton_iteration", args, [z_new, residual(z_new, P), conv, it + 1],
+                    names_in, names_out))
+    iterate = ca.Function("static_newton_checked", args, iterate(conv, *args), names_in, names_out)
+    skip = ca.Function("static_newton_skip", args, [z, rz, done, it], names_in, names_out)
     body = ca.Function.if_else("static_newton_body", skip, iterate)
     W0 = ca.MX.sym("w0", n)
-    z, d, k, rn = W0, ca.MX(0), ca.MX(0), ca.MX(np.inf)
+    z, r, d, k = W0, residual(W0, P), ca.MX(0), ca.MX(0)
     for _ in range(SOLVE_MAX_ITER):
-        z, d, k, rn = body(d, z, d, k, rn, P, tol)
-    r_end = residual(z, P)
+        z, r, d, k = body(d, z, r, d, k, P, tol)
     packed = ca.vertcat(*[ca.vec(o) for o in outputs.call([z, P])])
-    solve = ca.Function("static_solve", [W0, P, tol], [z, k, ca.norm_inf(r_end), packed],
+    solve = ca.Function("static_solve", [W0, P, tol], [z, k, ca.norm_inf(r), packed],
                         ["w0", "p", "tol"], ["w", "iterations", "residual_norm", "outputs"])
     return StaticFunctions(residual=residual, jacobian=jacobian, step=step, solve=solve,
                            outputs=outputs)
 
 
 def _newton_update(model: Model, J: ca.SX, step: ca.Function) -> ca.Function:
-    """``static_newton_update(w, p) -> dw = -J^-1 r``, the fused solve's Newton step: the
-    block LU of :mod:`symcable.solvers.sxlu` written out in SX when the Jacobian's pattern
-    allows a fixed elimination order, else ``step``'s (sparse QR)."""
-    w, p, r = model.w, model.p, model.residual
+    """``static_newton_update(w, p, r) -> dw = -J(w)^-1 r`` (r the residual at w, already
+    known), the fused solve's Newton step: the block LU of :mod:`symcable.solvers.sxlu`
+    written out in SX when the Jacobian's pattern allows a fixed elimination order, else
+    ``step``'s (sparse QR, which evaluates r itself)."""
+    w, p = model.w, model.p
     plan = block_plan(J.sparsity())
     if plan is not None:
         lu = block_lu(J.sparsity(), *plan, cache=model._cache)
-        return ca.Function("static_newton_update", [w, p], [-lu.solve(J, r)], ["w", "p"], ["dw"])
-    W, P = ca.MX.sym("w", model.n_w), ca.MX.sym("p", int(p.numel()))
-    return ca.Function("static_newton_update", [W, P], [step(W, P)[1]], ["w", "p"], ["dw"])
+        r = ca.SX.sym("r", model.n_w)
+        return ca.Function("static_newton_update", [w, p, r], [-lu.solve(J, r)], ["w", "p", "r"],
+                           ["dw"], {"cse": True})
+    W, P, R = ca.MX.sym("w", model.n_w), ca.MX.sym("p", int(p.numel())), ca.MX.sym("r", model.n_w)
+    return ca.Function("static_newton_update", [W, P, R], [step(W, P)[1]], ["w", "p", "r"], ["dw"])
 
 
 def static_functions(model: Model, codegen: bool | None = False) -> StaticFunctions:

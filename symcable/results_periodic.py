@@ -70,7 +70,7 @@ class PeriodicSolution(Exportable):
         from: scaled states ``y/y_scale`` at the collocation nodes (K, d+1, n_y) (interval,
         node: start then collocation points, state), the scaled Fourier coefficients
         (n_y, 2H+1) ``[a_0, a_1, b_1, ..., a_H, b_H]`` of each state, or the shooting's
-        scaled integrator state at t = 0, ``(y / y_scale, ydot T / y_scale)`` (2 n_y,).
+        scaled integrator state at t = 0, ``(y / y_scale, ydot dt / y_scale)`` (2 n_y,).
     params : ndarray (n_p,) or None
         The model parameters solved for (``omega`` among them), to evaluate the model's
         functions on this solution.

@@ -273,7 +273,7 @@ def _config(method, intervals, degree, scheme, solver, harmonics, samples, ipopt
                             f"{2 * harmonics + 1}")
     if ipopt_options is not None and not isinstance(ipopt_options, Mapping):
         raise SymcableError(f"ipopt_options = {ipopt_options!r}: must be a dict of IPOPT options")
-    tol = hbm.TOL if tol is None else float(tol)
+    tol = (shooting.TOL if method is PeriodicMethod.SHOOTING else hbm.TOL) if tol is None else float(tol)
     if not tol > 0:
         raise SymcableError(f"tol = {tol}: must be > 0 (scaled states per second)")
     return _Config(method, solver, int(intervals), int(degree), scheme, int(harmonics),
@@ -353,7 +353,8 @@ def solve_periodic(scene, method: str = "collocation", *, intervals: int | None 
         states re-sampled in normalised time t/T) instead of the frequency-domain guess.
     tol : float, optional
         Residual tolerance, scaled states per second (default 1e-10). For shooting, the
-        change of the scaled state over one period divided by the period.
+        change of the scaled state over one period divided by the period (default 1e-8:
+        the fixed point to ~1e-10 of the tension range, see :data:`shooting.TOL`).
     codegen : bool, optional
         The system's residual and Jacobian in generated C, which IPOPT or the Newton
         rootfinder call (compiled once per model structure and discretisation, then loaded

@@ -7,17 +7,23 @@ The period map ``Phi`` takes the integrator's state at t = 0, ``(y, ydot)``, thr
 generalized-α steps of dt = T/N to t = T: the very integrator of ``simulate`` (same step
 Function, same Newton tolerance), chained over one period by ``mapaccum`` into one call, so
 in generated C a period costs one call from Python. The periodic steady state is the fixed
-point ``z = Phi(z)`` of the scaled state ``z = (y / y_scale, ydot T / y_scale)``.
+point ``z = Phi(z)`` of the scaled state ``z = (y / y_scale, ydot dt / y_scale)``: both
+parts are changes of the state over one step relative to its scale (with ydot scaled by
+the period instead, the rates of the fast, barely damped axial modes, invisible in the
+positions and tensions, dominated the residual and took a third more periods).
 
 It is found by Anderson acceleration (type II, the multisecant quasi-Newton method of
 Walker & Ni, SIAM J. Numer. Anal. 49, 2011): each iterate is the plain march ``Phi(z)``
 corrected by the least-squares combination of the last ``memory`` secant pairs. Where a few
-slow modes dominate (a lightly damped line near resonance) it converges in a handful of
-periods where marching needs hundreds. Where every mode decays alike (uniform drag damps
-all transverse modes of a line at one rate, so the Floquet multipliers lie on one circle,
-0.5 to 0.58 on seed 001 at T/100), no Krylov-type method beats marching and it converges at
-that common rate: about 30 periods from rest to 1e-10. A bad accelerated iterate (a step that
-fails, or a residual grown tenfold over the best) restarts from the plain march of the best.
+slow modes dominate it converges in far fewer periods than marching: a lightly damped line
+excited at its first natural period (studies/stability) in 58 periods, where plain
+marching is still far from it after 150 (there, though, the integrator's period error sets
+the amplitude: 13 % of the tension range from collocation at T/100, 3 % at T/200).
+Where every mode decays alike (uniform drag damps all transverse modes of a line at one
+rate, so the Floquet multipliers lie on one circle, 0.5 to 0.58 on seed 001 at T/100), no
+Krylov-type method beats marching by much: 17 periods from rest to 1e-8, against 21. A bad
+accelerated iterate (a step that fails, or a residual grown tenfold over the best) restarts
+from the plain march of the best.
 
 The result carries the time discretisation error of generalized-α (second order in dt; on
 seed 001 at T/100, 1.3e-3 of the fairlead tension range against converged collocation),
@@ -44,9 +50,15 @@ __all__ = ["DEFAULT_STEPS", "DEFAULT_MEMORY", "MAX_PERIODS", "PeriodMap", "solve
 
 #: Steps per period: generalized-α's error at T/100 is ~1e-3 of the tension range (seed 001)
 DEFAULT_STEPS = 100
-#: Secant pairs kept by Anderson acceleration (more hardly helps on seed 001: 26 periods
-#: with 15 or 30 pairs, 29 with 5 or 8, 30 with 3 or plain marching)
-DEFAULT_MEMORY = 10
+#: Secant pairs kept by Anderson acceleration. On seed 001 (tol 1e-8) marching takes 21
+#: periods and Anderson 17-18 with 3 to 40 pairs; on the lightly damped resonance case of
+#: studies/stability (mode 1, 20 segments) 246 periods with 10 pairs, 97 with 20, 71 with 30,
+#: 58 with 50 or 80
+DEFAULT_MEMORY = 50
+#: Default tolerance, scaled states per second: the fixed point to ~1e-10 of the fairlead
+#: tension range on seed 001 (measured: 7e-11 at 18 periods; 1e-10, 24 periods, gives 1e-12),
+#: far below the integrator's own error at any usable step
+TOL = 1e-8
 #: Periods marched before the solve counts as failed
 MAX_PERIODS = 300
 #: An accelerated iterate whose residual exceeds this multiple of the best so far is dropped
@@ -78,10 +90,10 @@ class PeriodMap:
         self._settings = np.array([self.rho_inf, NEWTON_TOL])
 
     def scaled(self, y: np.ndarray, yd: np.ndarray) -> np.ndarray:
-        return np.concatenate([y / self.scale, yd * self.T / self.scale])
+        return np.concatenate([y / self.scale, yd * self.dt / self.scale])
 
     def unscaled(self, z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        return z[:self.n] * self.scale, z[self.n:] * self.scale / self.T
+        return z[:self.n] * self.scale, z[self.n:] * self.scale / self.dt
 
     def __call__(self, z: np.ndarray):
         y, yd = self.unscaled(z)
@@ -99,8 +111,9 @@ class PeriodMap:
 
 def _anderson(z, r, X, F, memory):
     """Type-II Anderson update from iterate z with residual r = Phi(z) - z, given the
-    history of iterates X and residuals F (lists, oldest first, z and r last)."""
-    if len(X) < 2:
+    history of iterates X and residuals F (lists, oldest first, z and r last); memory 0 is
+    plain marching."""
+    if len(X) < 2 or memory < 1:
         return z + r
     dX = np.diff(np.array(X[-memory - 1:]), axis=0).T
     dF = np.diff(np.array(F[-memory - 1:]), axis=0).T

@@ -164,7 +164,8 @@ def _quiet(log):
 
 def run(duration: float = 300.0, dtM: float | None = None, dt_coupling: float | None = None, *,
         scene=SCENE, zeta: float = 1.0, tscheme: str = "RK2", current: float | None = None,
-        settle: float = 200.0, settle_tol: float = 1e-6, velocity: str = "exact") -> dict:
+        settle: float = 200.0, settle_tol: float = 1e-6, velocity: str = "exact",
+        params: dict | None = None) -> dict:
     """Run MoorDyn on the scene's line and fairlead motion from its static state in the current.
 
     Parameters
@@ -188,6 +189,8 @@ def run(duration: float = 300.0, dtM: float | None = None, dt_coupling: float | 
         Settling ends when the fairlead force changes by less than this fraction over 10 s.
     velocity : {"exact", "secant"}
         Fairlead velocity passed at each call: ``dx/dt`` at its start, or ``(x(t+dt) - x(t))/dt``.
+    params : dict, optional
+        The :func:`scene_parameters` to run instead of the scene's (an edited line).
 
     Returns
     -------
@@ -204,7 +207,7 @@ def run(duration: float = 300.0, dtM: float | None = None, dt_coupling: float | 
     RuntimeError
         MoorDyn failed (e.g. above its stability limit); the message ends with its output.
     """
-    md, p = _moordyn(), scene_parameters(scene)
+    md, p = _moordyn(), (params or scene_parameters(scene))
     dtM = DT_DEFAULT if dtM is None else dtM
     dt_coupling = dtM if dt_coupling is None else dt_coupling
     n_sub = max(1, math.ceil(dt_coupling / dtM - 1e-9))

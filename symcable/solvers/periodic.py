@@ -592,9 +592,13 @@ def _shoot(model: DynamicModel, p: np.ndarray, cfg: _Config, initial: PeriodicSo
 def _invariant_start(model: DynamicModel, inv: hbm.Invariants, p: np.ndarray) -> np.ndarray:
     """Scaled level ``G w(0)`` of the invariants that puts their period-mean at the rest
     state's (the collocation's gauge, see :func:`_invariant_mean_offset`), (r,)."""
-    P = ca.MX.sym("p", model.p.numel())
-    omega = hbm._omega_symbol(model, P)
-    off = ca.Function("invariant_offset", [P], [_invariant_mean_offset(model, inv, P, omega)])
+    cache = model._cache.setdefault("invariant_offset", {})
+    off = cache.get(inv.G.tobytes())
+    if off is None:
+        P = ca.MX.sym("p", model.p.numel())
+        omega = hbm._omega_symbol(model, P)
+        off = cache[inv.G.tobytes()] = ca.Function(
+            "invariant_offset", [P], [_invariant_mean_offset(model, inv, P, omega)])
     return inv.G @ inv.w0 - np.asarray(off(p).full()).ravel()
 
 

@@ -185,6 +185,11 @@ def test_bad_arguments(scene, model, kw, match):
 
 
 def test_period_is_a_parameter(scene, model):
-    """omega is an input of the period map: a second period reuses the compiled step."""
+    """omega is an input of the period map: a second period reuses the compiled step (no new
+    compiled Function in the model's cache)."""
+    solve_periodic(scene, "shooting", model=model)
+    compiled = {k: v for k, v in model._cache.items() if isinstance(k, tuple) and k[0] == "compiled_step"}
     s = solve_periodic(scene, "shooting", model=model, params=periodic_params(model, omega=2 * math.pi / 12.0))
-    assert math.isclose(s.period, 12.0) and s.stats["build_time"] < 1.0
+    after = {k: v for k, v in model._cache.items() if isinstance(k, tuple) and k[0] == "compiled_step"}
+    assert math.isclose(s.period, 12.0) and s.stats["compiled"]
+    assert after.keys() == compiled.keys() and all(after[k] is compiled[k] for k in after)

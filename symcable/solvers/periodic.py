@@ -493,7 +493,7 @@ def _solve(scene_name: str, model: DynamicModel, p: np.ndarray, cfg: _Config, *,
     if cfg.method is PeriodicMethod.SHOOTING:
         res, samples, guess = _shoot(model, p, cfg, initial)
         stats.update(solver="anderson", steps=cfg.steps, rho_inf=cfg.rho_inf, periods=res.iterations,
-                     newton_iterations=res.history[-1]["newton_iterations"])
+                     newton_iterations=guess.pop("newton_iterations"))
         natural = res.x
 
         def states_of(tau, Y=samples):
@@ -580,12 +580,13 @@ def _shoot(model: DynamicModel, p: np.ndarray, cfg: _Config, initial: PeriodicSo
     else:
         z0 = shooting.start_state(pm, model.y0, inv, gauge)
         guess = {"start": "rest state"}
-    res, samples = shooting.solve_shooting(pm, z0, tol=cfg.tol)
+    res, samples, newton_its = shooting.solve_shooting(pm, z0, tol=cfg.tol)
     if samples is None:  # the very first period failed: nothing to show
         raise ConvergenceError(f"periodic shooting: {res.return_status} with dt = T/{cfg.steps}: try "
                                "more steps per period", partial=None,
                                diagnostics={"return_status": res.return_status, "history": res.history})
     res.build_time = build
+    guess["newton_iterations"] = newton_its
     return res, samples, guess
 
 

@@ -122,13 +122,14 @@ def _anderson(z, r, X, F, memory):
 
 
 def solve_shooting(pm: PeriodMap, z0: np.ndarray, *, tol: float, memory: int = DEFAULT_MEMORY,
-                   max_periods: int = MAX_PERIODS) -> tuple[hbm.SquareResult, np.ndarray | None]:
+                   max_periods: int = MAX_PERIODS) -> tuple[hbm.SquareResult, np.ndarray | None, int]:
     """Fixed point of the period map from ``z0`` (scaled, see the module docstring).
 
     Converged when ``max |Phi(z) - z| / T <= tol`` (scaled states per second, the unit of the
     collocation residual). Returns the result (``x`` the scaled state at t = 0, ``iterations``
     the periods marched) and the states over the period from it, (N, n_y) at t = k T/N,
-    k = 0..N-1 (from the best iterate when not converged; None when no period ran)."""
+    k = 0..N-1 (from the best iterate when not converged; None when no period ran), and the
+    generalized-α Newton iterations of every period marched."""
     t0 = time.perf_counter()
     T = pm.T
     X, F, history = [], [], []
@@ -174,8 +175,7 @@ def solve_shooting(pm: PeriodMap, z0: np.ndarray, *, tol: float, memory: int = D
     res = hbm.SquareResult(x=x, converged=converged, iterations=periods, residual_norm=rn,
                            return_status=status, solver="anderson",
                            wall_time=time.perf_counter() - t0, history=history, compiled=pm.compiled)
-    res.history.append({"newton_iterations": newton_its})
-    return res, samples
+    return res, samples, newton_its
 
 
 def _rate_note(history: list, last: int = 20) -> str:

@@ -209,10 +209,11 @@ def resonance(quick: bool) -> dict:
     d["end_b"]["motion"]["period"] = period
     scene = sc.load_scene(d)
     model = sc.build_dynamic_model(scene)
-    col = sc.solve_periodic(scene, model=model)
-    shot = sc.solve_periodic(scene, "shooting", model=model)
-    out = interleaved({"collocation_c": lambda: sc.solve_periodic(scene, model=model),
-                       "shooting_c": lambda: sc.solve_periodic(scene, "shooting", model=model)},
+    col = sc.solve_periodic(scene, model=model, codegen=True)
+    shot = sc.solve_periodic(scene, "shooting", model=model, codegen=True)
+    out = interleaved({"collocation_c": lambda: sc.solve_periodic(scene, model=model, codegen=True),
+                       "shooting_c": lambda: sc.solve_periodic(scene, "shooting", model=model,
+                                                               codegen=True)},
                       1 if quick else 3)
     out.update(period=period, shooting_periods=shot.stats["iterations"],
                shooting_error=float(np.max(np.abs(shot.fairlead_tension - col.fairlead_tension))

@@ -307,7 +307,7 @@ def _sample_times(M: int) -> np.ndarray:
 def rest_jacobian(model: DynamicModel, p, samples: int = 16) -> np.ndarray:
     """Period-mean of the scaled Jacobian ``S^-1 df/dy S`` at the rest state (n_y, n_y)."""
     S, T = model.y_scale, period_of(model, p)
-    J = np.asarray(_rest_jacobian_function(model, samples)(p, T).sparse().toarray())
+    J = np.asarray(_rest_jacobian_function(model, samples)(p, T).full())
     return J * S[None, :] / S[:, None]
 
 

@@ -1,0 +1,300 @@
+"""Assembly of several parts into one Mechanism, as finite elements share degrees of freedom.
+
+Each part is a Mechanism with its own symbols. Its coordinates are mapped onto the assembled
+ones by a selection: ``q_part = P q + E x(t; p)`` where ``P`` picks the free entries and ``E``
+places prescribed ones. Then, by virtual work,
+
+    M = sum P^T M_part P,    f = sum P^T (f_part - M_part E x''(t)),
+
+so forces of parts that share a node add up, and a prescribed node feeds its inertia into
+the rest. Joints:
+
+- :class:`Shared`: two nodes are one node (lines meeting at a point, a line ending on a point
+  mass);
+- :class:`Prescribed`: a node's coordinates are a given position plus an optional harmonic
+  motion, in parameter blocks ``NAME.position``, ``NAME.amplitude``, ``NAME.phase`` (rad) and
+  ``NAME.omega`` (rad/s); its outputs ``NAME.force`` (N, the force the parts exert on the
+  node: f_part - M_part a_part at its rows) and ``NAME.position`` (m).
+
+Parameters, outputs and layout parts are namespaced ``part.name``. Attaching a node to a rigid
+body (a constraint joint) arrives with the bodies.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Callable, Iterable, Sequence
+
+import casadi as ca
+import numpy as np
+
+from ..errors import SymcableError
+from .mechanism import Layout, Mechanism, Output, ParamBlocks, PartLayout, Scales, Start
+
+__all__ = ["Prescribed", "Shared", "assemble"]
+
+
+@dataclass(frozen=True)
+class Shared:
+    """Node ``b`` (part name, node index) is the same node as node ``a``."""
+
+    a: tuple[str, int]
+    b: tuple[str, int]
+
+
+@dataclass(frozen=True)
+class Prescribed:
+    """Node ``node`` (part name, node index) moves as
+    ``x_i(t) = position_i + amplitude_i cos(omega t + phase_i)`` (m, rad/s, rad)."""
+
+    name: str
+    node: tuple[str, int]
+    position: Sequence[float]
+    amplitude: Sequence[float] | None = None
+    phase: Sequence[float] | None = None
+    omega: float = 0.0
+
+
+def _sym(kind, name, n):
+    return kind.sym(name, n)
+
+
+class _DofMap:
+    """Union-find over (part, local coordinate) pairs; prescribed ones are marked."""
+
+    def __init__(self, parts: dict[str, Mechanism]):
+        self.parent: dict = {}
+        for name, m in parts.items():
+            for j in range(m.n_q):
+                self.parent[(name, j)] = (name, j)
+
+    def find(self, k):
+        while self.parent[k] != k:
+            self.parent[k] = self.parent[self.parent[k]]
+            k = self.parent[k]
+        return k
+
+    def union(self, a, b):
+        ra, rb = self.find(a), self.find(b)
+        if ra != rb:
+            self.parent[rb] = ra
+
+
+def _node_dofs(parts, ref, what) -> list:
+    part, node = ref
+    if part not in parts:
+        raise SymcableError(f"{what} = {ref!r}: no part named {part!r} (parts: "
+                            f"{', '.join(parts)})")
+    lay = parts[part].layout.parts.get(part)
+    if lay is None:
+        raise SymcableError(f"{what} = {ref!r}: part {part!r} has no layout of its nodes")
+    if not -lay.n_nodes <= node < lay.n_nodes:
+        raise SymcableError(f"{what} = {ref!r}: part {part!r} has {lay.n_nodes} nodes")
+    idx = lay.node_q[node]
+    if np.any(idx < 0):
+        raise SymcableError(f"{what} = {ref!r}: that node is prescribed inside its part")
+    return [(part, int(j)) for j in idx]
+
+
+def assemble(parts: Iterable[Mechanism], joints: Iterable = (), *, name: str = "assembly",
+             starts: Callable[[], Iterable[Start]] | None = None) -> Mechanism:
+    """One Mechanism from several parts and joints (see the module docstring).
+
+    Parameters
+    ----------
+    parts : iterable of Mechanism
+        Each with a layout part of its own name (``mech.layout.parts[mech.name]``) listing its
+        nodes; names must be unique.
+    joints : iterable of Shared | Prescribed
+    name : str
+    starts : callable, optional
+        Static starts of the whole; by default the parts' first starts, put together.
+    """
+    parts = list(parts)
+    by_name: dict[str, Mechanism] = {}
+    for m in parts:
+        if m.name in by_name:
+            raise SymcableError(f"assemble: two parts are named {m.name!r}")
+        if m.kinematics is not None:
+            raise SymcableError(f"assemble: part {m.name!r} has kinematics q' = G(q) v; "
+                                "assembling such parts arrives with rigid bodies")
+        by_name[m.name] = m
+    joints = list(joints)
+    dims = {m.layout.dim for m in parts}
+    if len(dims) != 1:
+        raise SymcableError(f"assemble: parts of different dimensions {sorted(dims)}")
+    dim = dims.pop()
+    kind = ca.MX if any(isinstance(m.q, ca.MX) for m in parts) else ca.SX
+
+    # which local coordinates are one, which are prescribed
+    dof = _DofMap(by_name)
+    prescribed: dict = {}
+    for j in joints:
+        if isinstance(j, Shared):
+            for a, b in zip(_node_dofs(by_name, j.a, "Shared.a"), _node_dofs(by_name, j.b, "Shared.b")):
+                dof.union(a, b)
+        elif isinstance(j, Prescribed):
+            for k, d in enumerate(_node_dofs(by_name, j.node, f"Prescribed({j.name!r}).node")):
+                prescribed[d] = (j, k)
+        else:
+            raise SymcableError(f"assemble: joint {j!r} is not Shared or Prescribed")
+    roots_prescribed: dict = {}
+    for d, jk in prescribed.items():
+        r = dof.find(d)
+        if r in roots_prescribed and roots_prescribed[r][0].name != jk[0].name:
+            raise SymcableError(f"assemble: a node is prescribed by both {roots_prescribed[r][0].name!r} "
+                                f"and {jk[0].name!r}")
+        roots_prescribed[r] = jk
+    global_index: dict = {}
+    n_q = 0
+    for m in parts:
+        for jloc in range(m.n_q):
+            r = dof.find((m.name, jloc))
+            if r in roots_prescribed or r in global_index:
+                continue
+            global_index[r] = n_q
+            n_q += 1
+
+    # parameters: the parts' blocks, then the joints'
+    names, sizes, values = [], [], []
+    for m in parts:
+        for bn, bs in zip(m.params.names, m.params.sizes):
+            names.append(f"{m.name}.{bn}")
+            sizes.append(bs)
+        values.append(m.params.values)
+    presc_joints = [j for j in joints if isinstance(j, Prescribed)]
+    for j in presc_joints:
+        pos = np.asarray(j.position, dtype=float).ravel()
+        if pos.size != dim:
+            raise SymcableError(f"Prescribed({j.name!r}).position = {list(pos)}: needs {dim} entries")
+        amp = np.zeros(dim) if j.amplitude is None else np.asarray(j.amplitude, float).ravel()
+        ph = np.zeros(dim) if j.phase is None else np.asarray(j.phase, float).ravel()
+        for bn, val in (("position", pos), ("amplitude", amp), ("phase", ph),
+                        ("omega", np.array([float(j.omega)]))):
+            if val.size != (1 if bn == "omega" else dim):
+                raise SymcableError(f"Prescribed({j.name!r}).{bn} = {list(val)}: needs {dim} entries")
+            names.append(f"{j.name}.{bn}")
+            sizes.append(val.size)
+            values.append(val)
+    params = ParamBlocks(tuple(names), tuple(sizes), np.concatenate(values) if values else np.zeros(0))
+
+    q = _sym(kind, "q", n_q)
+    v = _sym(kind, "v", n_q)
+    t = _sym(kind, "t", 1)
+    p = _sym(kind, "p", params.n)
+    n_z_total = sum(m.n_z for m in parts)
+    z = _sym(kind, "z", n_z_total)
+
+    # prescribed motion: x, x', x'' per joint
+    motion = {}
+    for j in presc_joints:
+        P = {bn: p[params.slice(f"{j.name}.{bn}")] for bn in ("position", "amplitude", "phase", "omega")}
+        arg = P["omega"] * t + P["phase"]
+        x = P["position"] + P["amplitude"] * ca.cos(arg)
+        xd = -P["amplitude"] * P["omega"] * ca.sin(arg)
+        xdd = -P["amplitude"] * P["omega"] ** 2 * ca.cos(arg)
+        motion[j.name] = (x, xd, xdd)
+
+    M = kind.zeros(n_q, n_q)
+    f = kind.zeros(n_q, 1)
+    g_rows, outputs = [], {}
+    z_off = 0
+    p_off = 0
+    part_layouts = {}
+    q_scale = np.zeros(n_q)
+    v_scale = np.zeros(n_q)
+    joint_force = {j.name: [kind(0)] * dim for j in presc_joints}
+    for m in parts:
+        rows_free, cols_free = [], []  # local -> global for free entries
+        qp, vp, ap = [], [], []
+        for jloc in range(m.n_q):
+            r = dof.find((m.name, jloc))
+            if r in roots_prescribed:
+                jt, k = roots_prescribed[r]
+                x, xd, xdd = motion[jt.name]
+                qp.append(x[k]); vp.append(xd[k]); ap.append(xdd[k])
+            else:
+                gi = global_index[r]
+                rows_free.append(jloc); cols_free.append(gi)
+                qp.append(q[gi]); vp.append(v[gi]); ap.append(kind(0))
+                q_scale[gi] = max(q_scale[gi], m.scales.q[jloc])
+                v_scale[gi] = max(v_scale[gi], m.scales.v[jloc])
+        q_loc, v_loc, a_pres = ca.vertcat(*qp), ca.vertcat(*vp), ca.vertcat(*ap)
+        z_loc = z[z_off:z_off + m.n_z]
+        p_loc = p[p_off:p_off + m.params.n]
+        z_off += m.n_z
+        p_off += m.params.n
+        args = [m.q, m.v, m.z, m.t, m.p]
+        fn = ca.Function(f"part_{m.name}", args, [m.mass, m.force, m.constraint])
+        Mp, fp, gp = fn(q_loc, v_loc, z_loc, t, p_loc)
+        fp_eff = fp - ca.mtimes(Mp, a_pres)  # prescribed accelerations' inertia
+        Psel = ca.DM(ca.Sparsity.triplet(m.n_q, n_q, rows_free, cols_free), 1.0)
+        M = M + ca.mtimes([Psel.T, Mp, Psel])
+        f = f + ca.mtimes(Psel.T, fp_eff)
+        g_rows.append(gp)
+        # the force this part exerts on each prescribed node, f_part - M_part a_part at its
+        # rows, with the prescribed accelerations only: exact in statics, and in dynamics for
+        # a mass matrix that does not couple the node to free ones (lumped mass)
+        for jloc in range(m.n_q):
+            r = dof.find((m.name, jloc))
+            if r in roots_prescribed:
+                jt, k = roots_prescribed[r]
+                joint_force[jt.name][k] = joint_force[jt.name][k] + fp_eff[jloc]
+        # outputs, namespaced
+        if m.outputs:
+            names_o = list(m.outputs)
+            fo = ca.Function(f"part_{m.name}_out", args, [m.outputs[k].expr for k in names_o])
+            vals = fo(q_loc, v_loc, z_loc, t, p_loc)
+            vals = vals if isinstance(vals, (list, tuple)) else [vals]
+            for k, val in zip(names_o, vals):
+                o = m.outputs[k]
+                outputs[f"{m.name}.{k}"] = Output(val, o.unit, o.owner or m.name, o.description)
+        # layout, in global indices
+        for pname, lay in m.layout.parts.items():
+            node_q = np.full(lay.node_q.shape, -1, dtype=int)
+            for ii in np.ndindex(lay.node_q.shape):
+                jloc = int(lay.node_q[ii])
+                if jloc >= 0:
+                    r = dof.find((m.name, jloc))
+                    node_q[ii] = -1 if r in roots_prescribed else global_index[r]
+            part_layouts[pname] = PartLayout(lay.kind, lay.s, node_q, node_q.copy())
+    for j in presc_joints:
+        x, _, _ = motion[j.name]
+        outputs[f"{j.name}.force"] = Output(ca.vertcat(*joint_force[j.name]), "N", j.name,
+                                            f"force the parts exert on {j.name}")
+        outputs[f"{j.name}.position"] = Output(x, "m", j.name, f"position of {j.name}")
+    g = ca.vertcat(*g_rows) if g_rows else kind.zeros(0, 1)
+    if n_z_total == 0:
+        g = kind.zeros(0, 1)
+
+    q_scale[q_scale <= 0] = 1.0
+    v_scale[v_scale <= 0] = 1.0
+    scales = Scales(q=q_scale, v=v_scale,
+                    z=np.concatenate([m.scales.z for m in parts]) if n_z_total else np.zeros(0),
+                    force=max(m.scales.force for m in parts),
+                    mass=max(m.scales.mass for m in parts),
+                    residual_floor=max(m.scales.residual_floor for m in parts))
+    static_params = {f"{m.name}.{k}": val for m in parts for k, val in m.static_params.items()}
+    terms = tuple(dict.fromkeys(t_ for m in parts for t_ in m.terms))
+
+    def default_starts():
+        q0 = np.zeros(n_q)
+        seen = np.zeros(n_q, dtype=bool)
+        z0 = []
+        for m in parts:
+            st = next(iter(m.starts()), None)
+            ql = np.zeros(m.n_q) if st is None else np.asarray(st.q, float)
+            z0.append(np.zeros(m.n_z) if st is None else np.asarray(st.z, float))
+            for jloc in range(m.n_q):
+                r = dof.find((m.name, jloc))
+                if r in roots_prescribed:
+                    continue
+                gi = global_index[r]
+                if not seen[gi]:
+                    q0[gi], seen[gi] = ql[jloc], True
+        zz = np.concatenate(z0) if z0 else np.zeros(0)
+        yield Start(q0, zz, params.with_values(**static_params), "parts' own starts")
+
+    return Mechanism(name=name, q=q, v=v, z=z, t=t, p=p, params=params, mass=M, force=f,
+                     constraint=g, scales=scales, starts=starts or default_starts,
+                     outputs=outputs, layout=Layout(dim, part_layouts), terms=terms,
+                     static_params=static_params)

@@ -1,0 +1,268 @@
+"""The Mechanism: the one interface every formulation produces and every generic solver reads.
+
+A Mechanism is a second-order system with constraints, written in CasADi symbols::
+
+    q' = G(q) v                          (kinematics; identity for node positions)
+    M(q; p) v' = f(q, v, z, t; p)        (n_v equations, N)
+    g(q, v, z, t; p) = 0                 (n_z constraints; z are their multipliers)
+
+``q`` (n_q,) are coordinates (m, rad), ``v`` (n_v,) generalised velocities, ``z`` (n_z,)
+algebraic unknowns (constraint forces, N), ``t`` time (s) and ``p`` parameters in named
+blocks (``load``, ``current``, ``motion``, ...), which continuation and sweeps move. The
+force ``f`` contains every load a formulation knows about: internal, damping, drag, weight,
+contact, constraint forces (typically ``-B(q)^T z`` with ``B = dg/dq``), and the inertia of
+prescribed motion. A formulation never calls a solver; :mod:`symcable.derive` turns a
+Mechanism into the static residual, the DAE residual and the tangent matrices, once.
+
+Prescribed coordinates are not unknowns: they enter ``f`` and the outputs as functions of
+``t`` and ``p`` (see :mod:`symcable.models.assembly` for fixed and moving nodes).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Callable, Iterable, Mapping
+
+import casadi as ca
+import numpy as np
+
+from ..errors import SymcableError
+
+Sym = "ca.SX | ca.MX"
+
+
+@dataclass(frozen=True)
+class Output:
+    """A named quantity computed from the state.
+
+    Attributes
+    ----------
+    expr : casadi.SX or casadi.MX
+        Expression of ``(q, v, z, t, p)``; any shape (a column vector is usual).
+    unit : str
+        SI unit of every entry, e.g. ``"N"``, ``"m"``, ``"1"``.
+    owner : str
+        The part it belongs to (``"line1"``) or ``""`` for the whole mechanism.
+    description : str
+        One line for tables and plot labels.
+    """
+
+    expr: object
+    unit: str
+    owner: str = ""
+    description: str = ""
+
+
+@dataclass(frozen=True)
+class ParamBlocks:
+    """Parameters ``p`` as named, contiguous blocks with default values.
+
+    Attributes
+    ----------
+    names : tuple of str
+        Block names in the order they sit in ``p``.
+    sizes : tuple of int
+        Entries of each block.
+    values : ndarray (n_p,)
+        The scene's own values (the target of every solve).
+    """
+
+    names: tuple[str, ...] = ()
+    sizes: tuple[int, ...] = ()
+    values: np.ndarray = field(default_factory=lambda: np.zeros(0))
+
+    def __post_init__(self):
+        if len(self.names) != len(self.sizes) or len(set(self.names)) != len(self.names):
+            raise SymcableError(f"parameter blocks {self.names!r}: names must be unique, "
+                                f"one size each (got sizes {self.sizes!r})")
+        values = np.asarray(self.values, dtype=float).ravel()
+        if values.size != sum(self.sizes):
+            raise SymcableError(f"parameter blocks {self.names!r}: {values.size} values given "
+                                f"for {sum(self.sizes)} entries")
+        object.__setattr__(self, "values", values)
+
+    @property
+    def n(self) -> int:
+        return int(sum(self.sizes))
+
+    def slice(self, name: str) -> slice:
+        """Where block ``name`` sits in ``p``."""
+        if name not in self.names:
+            raise SymcableError(f"parameter block {name!r}: unknown (blocks: "
+                                f"{', '.join(self.names) or 'none'})")
+        i = self.names.index(name)
+        start = int(sum(self.sizes[:i]))
+        return slice(start, start + self.sizes[i])
+
+    def with_values(self, base: np.ndarray | None = None, **blocks) -> np.ndarray:
+        """A copy of ``base`` (default: the scene's values) with whole blocks replaced."""
+        p = np.array(self.values if base is None else base, dtype=float)
+        for name, value in blocks.items():
+            sl = self.slice(name)
+            value = np.broadcast_to(np.asarray(value, dtype=float).ravel(), (sl.stop - sl.start,))
+            p[sl] = value
+        return p
+
+    def get(self, p: np.ndarray, name: str) -> np.ndarray:
+        return np.asarray(p, dtype=float)[self.slice(name)]
+
+
+@dataclass(frozen=True)
+class Scales:
+    """Typical magnitudes, for step limits, scaled residuals and default tolerances.
+
+    Attributes
+    ----------
+    q : ndarray (n_q,)   typical coordinate change, m or rad
+    v : ndarray (n_v,)   typical velocity, m/s or rad/s
+    z : ndarray (n_z,)   typical constraint force, N
+    force : float        N, a characteristic force (weight, tension)
+    mass : float         kg, a characteristic mass (converts constraint rows to forces)
+    residual_floor : float
+        N, the smallest force residual float64 round-off lets the equations reach.
+    """
+
+    q: np.ndarray
+    v: np.ndarray
+    z: np.ndarray
+    force: float
+    mass: float = 1.0
+    residual_floor: float = 0.0
+
+
+@dataclass(frozen=True)
+class Start:
+    """A static starting point.
+
+    ``q``, ``z`` are (close to) an equilibrium at the parameters ``p``; when ``p`` differs
+    from the target the solver continues from it to the target in the block ``homotopy``.
+    """
+
+    q: np.ndarray
+    z: np.ndarray
+    p: np.ndarray
+    source: str
+    homotopy: str = ""
+
+
+@dataclass(frozen=True)
+class PartLayout:
+    """Where one part's nodes sit in the mechanism's coordinates.
+
+    Attributes
+    ----------
+    kind : str
+        ``"line"``, ``"point"``, ``"body"`` or ``"element"`` (a spring or joint element
+        with no nodes of its own).
+    s : ndarray (n_nodes,)
+        Unstretched arc length of each node, m (zeros for a point).
+    node_q : ndarray of int (n_nodes, dim)
+        Index in ``q`` of each node's coordinates; -1 where the node is prescribed.
+    node_v : ndarray of int (n_nodes, dim)
+        The same in ``v``.
+    """
+
+    kind: str
+    s: np.ndarray
+    node_q: np.ndarray
+    node_v: np.ndarray
+
+    @property
+    def n_nodes(self) -> int:
+        return int(self.node_q.shape[0])
+
+
+@dataclass(frozen=True)
+class Layout:
+    """Dimension and parts of a mechanism."""
+
+    dim: int
+    parts: Mapping[str, PartLayout] = field(default_factory=dict)
+
+
+@dataclass(frozen=True, eq=False)
+class Mechanism:
+    """A discretised system of parts, as CasADi expressions (see the module docstring).
+
+    Attributes
+    ----------
+    name : str
+    q, v, z : casadi symbols (n_q, 1), (n_v, 1), (n_z, 1)
+    t : casadi symbol (1, 1), s
+    p : casadi symbol (n_p, 1)
+    params : ParamBlocks
+    mass : expression (n_v, n_v) of ``(q, p)``, kg (kg m^2 for rotations)
+    force : expression (n_v, 1) of ``(q, v, z, t, p)``, N (N m)
+    constraint : expression (n_z, 1) of ``(q, v, z, t, p)``
+    kinematics : expression (n_q, 1) of ``(q, v)``: q' = G(q) v; None means q' = v
+    scales : Scales
+    starts : callable () -> iterable of Start, in order of preference (built lazily)
+    outputs : mapping name -> Output
+    layout : Layout
+    terms : tuple of str, the physics terms built
+    static_params : mapping block -> values used for statics (e.g. ``ramp = 0``)
+    """
+
+    name: str
+    q: object
+    v: object
+    z: object
+    t: object
+    p: object
+    params: ParamBlocks
+    mass: object
+    force: object
+    constraint: object
+    scales: Scales
+    starts: Callable[[], Iterable[Start]]
+    outputs: Mapping[str, Output] = field(default_factory=dict)
+    layout: Layout = field(default_factory=lambda: Layout(dim=1))
+    kinematics: object = None
+    terms: tuple[str, ...] = ()
+    static_params: Mapping[str, object] = field(default_factory=dict)
+
+    def __post_init__(self):
+        n_q, n_v, n_z = self.n_q, self.n_v, self.n_z
+        checks = [("mass", self.mass, (n_v, n_v)), ("force", self.force, (n_v, 1)),
+                  ("constraint", self.constraint, (n_z, 1))]
+        if self.kinematics is not None:
+            checks.append(("kinematics", self.kinematics, (n_q, 1)))
+        elif n_q != n_v:
+            raise SymcableError(f"mechanism {self.name!r}: n_q = {n_q} != n_v = {n_v} needs "
+                                "kinematics q' = G(q) v")
+        for what, expr, shape in checks:
+            if tuple(expr.shape) != shape:
+                raise SymcableError(f"mechanism {self.name!r}: {what} has shape "
+                                    f"{tuple(expr.shape)}, expected {shape}")
+        if int(self.p.numel()) != self.params.n:
+            raise SymcableError(f"mechanism {self.name!r}: p has {int(self.p.numel())} entries "
+                                f"but the blocks {self.params.names} have {self.params.n}")
+        for what, arr, n in (("q", self.scales.q, n_q), ("v", self.scales.v, n_v),
+                             ("z", self.scales.z, n_z)):
+            if np.asarray(arr).shape != (n,):
+                raise SymcableError(f"mechanism {self.name!r}: scales.{what} has shape "
+                                    f"{np.asarray(arr).shape}, expected ({n},)")
+
+    @property
+    def n_q(self) -> int:
+        return int(self.q.numel())
+
+    @property
+    def n_v(self) -> int:
+        return int(self.v.numel())
+
+    @property
+    def n_z(self) -> int:
+        return int(self.z.numel())
+
+    @property
+    def symbols(self) -> tuple:
+        """``(q, v, z, t, p)``, the arguments of every expression."""
+        return (self.q, self.v, self.z, self.t, self.p)
+
+    @property
+    def static_p(self) -> np.ndarray:
+        """The parameters of the static problem: the scene's, with ``static_params`` applied."""
+        return self.params.with_values(**dict(self.static_params))
+
+    def output_names(self, owner: str | None = None) -> tuple[str, ...]:
+        return tuple(k for k, o in self.outputs.items() if owner is None or o.owner == owner)

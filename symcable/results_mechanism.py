@@ -1,0 +1,145 @@
+"""Results of the generic solvers on any Mechanism: the state, its named outputs and, per part,
+the outputs that part owns (``result.part("line1")["end_b_force"]``)."""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from .errors import SymcableError
+from .results import Exportable
+
+__all__ = ["Equilibrium", "Linearization", "MechanismModes", "MechanismTrajectory"]
+
+
+class _Outputs(Exportable):
+    """Outputs are a dict name -> array; ``part(name)`` strips the ``name.`` prefix."""
+
+    def part(self, name: str) -> dict:
+        """The outputs of part ``name``, keyed without the ``name.`` prefix."""
+        pre = name + "."
+        found = {k[len(pre):]: v for k, v in self.outputs.items() if k.startswith(pre)}
+        if not found:
+            parts = sorted({k.split(".", 1)[0] for k in self.outputs if "." in k})
+            raise SymcableError(f"part = {name!r}: no outputs (parts: {', '.join(parts) or 'none'})")
+        return found
+
+    @classmethod
+    def load(cls, path: str | Path):
+        obj = super().load(path)
+        outs = {k: np.asarray(v, dtype=float) for k, v in (obj.outputs or {}).items()}
+        object.__setattr__(obj, "outputs", outs)
+        return obj
+
+
+@dataclass(frozen=True)
+class Equilibrium(_Outputs):
+    """A static equilibrium of a Mechanism.
+
+    Attributes
+    ----------
+    mechanism : str
+    q : ndarray (n_q,)    coordinates, m (rad)
+    z : ndarray (n_z,)    constraint forces, N
+    p : ndarray (n_p,)    the parameters solved for
+    outputs : dict name -> ndarray, in the units the Mechanism's outputs state
+    status : str          ``"converged"`` (every check passed) or ``"failed"`` (partial result)
+    stats : dict          ``iterations``, ``residual_norm`` (N), ``tolerance`` (N), ``path``,
+                          ``start``, ``attempts``, ``stable``, ``min_stiffness`` (N/m: the
+                          smallest eigenvalue of the reduced tangent stiffness), ``wall_time`` (s)
+    warnings : tuple of str
+    """
+
+    mechanism: str
+    q: np.ndarray
+    z: np.ndarray
+    p: np.ndarray
+    outputs: dict
+    status: str
+    stats: dict = field(default_factory=dict)
+    warnings: tuple = ()
+
+    def __repr__(self) -> str:
+        return (f"Equilibrium({self.mechanism!r}, status={self.status!r}, n_q={self.q.size}, "
+                f"n_z={self.z.size}, residual={self.stats.get('residual_norm', float('nan')):.3g} N)")
+
+
+@dataclass(frozen=True)
+class MechanismTrajectory(_Outputs):
+    """A time history of a Mechanism.
+
+    Attributes
+    ----------
+    mechanism : str
+    time : ndarray (n_t,), s
+    q : ndarray (n_t, n_q);  v : ndarray (n_t, n_v);  z : ndarray (n_t, n_z)
+    outputs : dict name -> ndarray (n_t, ...)
+    status : str     ``"converged"`` (every step's Newton iteration converged) or ``"failed"``
+    stats : dict     ``method``, ``dt`` (s), ``steps``, ``newton_iterations`` (mean per step),
+                     ``max_constraint`` (max |g| over the saved steps), ``wall_time`` (s)
+    warnings : tuple of str
+    """
+
+    mechanism: str
+    time: np.ndarray
+    q: np.ndarray
+    v: np.ndarray
+    z: np.ndarray
+    outputs: dict
+    status: str
+    stats: dict = field(default_factory=dict)
+    warnings: tuple = ()
+
+    def __repr__(self) -> str:
+        return (f"MechanismTrajectory({self.mechanism!r}, status={self.status!r}, "
+                f"{self.time.size} samples over {self.time[-1] - self.time[0]:.4g} s)")
+
+
+@dataclass(frozen=True)
+class MechanismModes(Exportable):
+    """Natural modes about an equilibrium.
+
+    Attributes
+    ----------
+    frequencies : ndarray (k,)   Hz (undamped natural frequencies, ascending)
+    shapes : ndarray (k, n_q)    mode shapes in q, each scaled to max |entry| = 1
+    damping_ratios : ndarray (k,) or None (with ``damped=True``: from the complex modes)
+    stats : dict
+    """
+
+    mechanism: str
+    frequencies: np.ndarray
+    shapes: np.ndarray
+    damping_ratios: np.ndarray | None = None
+    stats: dict = field(default_factory=dict)
+
+    @property
+    def periods(self) -> np.ndarray:
+        """s"""
+        return 1.0 / self.frequencies
+
+
+@dataclass(frozen=True)
+class Linearization(Exportable):
+    """The exact linearisation about an equilibrium: M dq'' + C dq' + K dq = B_p dp.
+
+    Attributes
+    ----------
+    K : ndarray (n_q, n_q)  N/m, -df/dq (constraint forces held at their equilibrium values)
+    C : ndarray (n_v, n_v)  N s/m, -df/dv
+    M : ndarray (n_v, n_v)  kg
+    B : ndarray (n_z, n_q)  dg/dq (constraint Jacobian)
+    q, z, p : the equilibrium
+    """
+
+    mechanism: str
+    K: np.ndarray
+    C: np.ndarray
+    M: np.ndarray
+    B: np.ndarray
+    q: np.ndarray
+    z: np.ndarray
+    p: np.ndarray
+    stats: dict = field(default_factory=dict)
+

@@ -1,0 +1,180 @@
+"""Static equilibrium of any Mechanism: Newton on R(q, z; p) = (f(q, 0, z, 0), g) with its
+exact sparse Jacobian, a backtracking line search, and continuation in a named parameter
+block. Every answer is checked afterwards, in floating point and independently of how it was
+found: the residual of the equations, finiteness, and the stability of the equilibrium (the
+tangent stiffness reduced to the constraints' null space). A failed check is never called
+converged.
+"""
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from ..derive import functions
+from ..errors import ConvergenceError, SymcableError
+from ..models.mechanism import Mechanism, Start
+from ..results_mechanism import Equilibrium
+from .newton import newton
+
+__all__ = ["solve_equilibrium", "reduced_stiffness"]
+
+#: largest system whose stability is checked by a dense eigenvalue solve
+STABILITY_MAX_N = 3000
+
+
+def _newton(F, x0, p, tol, max_iter, x_scale):
+    def step(x, pp):
+        r, dx = F.static_step(x, pp)
+        return np.asarray(r).ravel(), np.asarray(dx).ravel()
+    return newton(step, x0, p, tol=tol, max_iter=max_iter, x_scale=x_scale)
+
+
+def _continuation(F, x0, p0, p1, tol, max_iter, x_scale, min_step=1e-4):
+    """Newton along p(s) = p0 + s (p1 - p0), s from 0 to 1, adaptive steps."""
+    s, ds, x, iters, steps = 0.0, 1.0, np.array(x0, float), 0, 0
+    while s < 1.0:
+        s_try = min(1.0, s + ds)
+        res = _newton(F, x, p0 + s_try * (p1 - p0), tol, max_iter, x_scale)
+        iters += res.iterations
+        if res.converged:
+            s, x, steps = s_try, res.x, steps + 1
+            ds = min(2 * ds, 1.0)
+        else:
+            ds /= 2
+            if ds < min_step:
+                res.message = f"continuation stalled at s = {s:.4g} ({res.message})"
+                res.iterations = iters
+                return res, steps
+    res.iterations = iters
+    return res, steps
+
+
+def reduced_stiffness(K: np.ndarray, B: np.ndarray) -> np.ndarray:
+    """The symmetric part of K on the null space of the constraint Jacobian B."""
+    Ks = 0.5 * (K + K.T)
+    if B.size == 0 or B.shape[0] == 0:
+        return Ks
+    _, sv, vt = np.linalg.svd(B)
+    rank = int(np.sum(sv > sv.max() * 1e-10)) if sv.size else 0
+    N = vt[rank:].T
+    return N.T @ Ks @ N
+
+
+def _stability(F, mech, q, z, p):
+    n = mech.n_q
+    if n > STABILITY_MAX_N:
+        return None, float("nan")
+    K, _, _, B, *_ = F.tangents(q, np.zeros(mech.n_v), z, 0.0, p)
+    Kr = reduced_stiffness(np.asarray(K), np.asarray(B))
+    if Kr.size == 0:
+        return True, float("inf")
+    lam = np.linalg.eigvalsh(Kr)
+    scale = max(np.max(np.abs(lam)), 1e-300)
+    return bool(lam[0] > -1e-9 * scale), float(lam[0])
+
+
+def solve_equilibrium(mech: Mechanism, p=None, *, tol: float | None = None,
+                      max_iter: int = 50, starts=None, continuation: str | None = None,
+                      require_stable: bool = True) -> Equilibrium:
+    """The static equilibrium of ``mech``.
+
+    Parameters
+    ----------
+    mech : Mechanism
+    p : ndarray (n_p,), optional
+        Parameters; default the mechanism's static parameters.
+    tol : float, optional
+        N, converged when max |R| <= tol (constraint rows are scaled to forces by
+        ``scales.force / q_ref``); default max(1e-9 force scale, 10 x the residual floor).
+    max_iter : int
+        Newton iterations per attempt (per continuation step).
+    starts : iterable of Start, optional
+        Default ``mech.starts()``.
+    continuation : str, optional
+        A parameter block to continue in when a start fails directly: from the block at
+        zero (e.g. ``"load"``) to its target value.
+    require_stable : bool
+        An unstable equilibrium (negative reduced stiffness) is a failed attempt; with False
+        it is returned with ``stats["stable"] = False`` and a warning.
+
+    Raises
+    ------
+    ConvergenceError
+        No start led to an equilibrium that passes the checks; ``diagnostics["attempts"]``
+        has one line per attempt and ``partial`` the best iterate.
+    """
+    F = functions(mech)
+    p = mech.static_p if p is None else np.asarray(p, dtype=float).ravel()
+    if p.size != mech.params.n:
+        raise SymcableError(f"p has {p.size} entries, the mechanism {mech.name!r} {mech.params.n}")
+    if tol is None:
+        tol = max(1e-9 * mech.scales.force, 10 * mech.scales.residual_floor)
+    x_scale = np.concatenate([mech.scales.q, mech.scales.z * 1e3]) if mech.n_z else mech.scales.q
+    t0 = time.perf_counter()
+    attempts, best = [], None
+    for start in (mech.starts() if starts is None else starts):
+        x0 = np.concatenate([np.asarray(start.q, float), np.asarray(start.z, float)])
+        paths = []
+        if np.allclose(start.p, p):
+            paths.append(("newton", None))
+        else:
+            paths.append((f"continuation in {start.homotopy or 'parameters'}", np.asarray(start.p, float)))
+        if continuation:
+            p0 = p.copy()
+            p0[mech.params.slice(continuation)] = 0.0
+            paths.append((f"continuation in {continuation}", p0))
+        for path, p_from in paths:
+            if p_from is None:
+                res, steps = _newton(F, x0, p, tol, max_iter, x_scale), 0
+            else:
+                res, steps = _continuation(F, x0, p_from, p, tol, max_iter, x_scale)
+            ok, why, info = _check(F, mech, res.x, p, tol, require_stable) if res.converged \
+                else (False, res.message, {})
+            attempts.append(f"{start.source} / {path}: {'ok' if ok else why}")
+            if best is None or (np.isfinite(res.residual_norm)
+                                and res.residual_norm < best[0].residual_norm):
+                best = (res, start, path, info)
+            if ok:
+                return _result(F, mech, res.x, p, "converged", {
+                    "iterations": res.iterations, "residual_norm": info["residual_norm"],
+                    "tolerance": tol, "path": path, "start": start.source,
+                    "continuation_steps": steps, "attempts": attempts,
+                    "stable": info["stable"], "min_stiffness": info["min_stiffness"],
+                    "wall_time": time.perf_counter() - t0}, info.get("warnings", ()))
+    partial = None
+    if best is not None and np.all(np.isfinite(best[0].x)):
+        partial = _result(F, mech, best[0].x, p, "failed", {"attempts": attempts}, ())
+    raise ConvergenceError(
+        f"no static equilibrium of {mech.name!r} passed the checks; attempts: "
+        + "; ".join(attempts), partial=partial, diagnostics={"attempts": attempts})
+
+
+def _check(F, mech, x, p, tol, require_stable):
+    """Independent checks of a claimed solution: (ok, reason, info)."""
+    x = np.asarray(x, float)
+    if not np.all(np.isfinite(x)):
+        return False, "iterate not finite", {}
+    r = np.asarray(F.static_residual(x, p)).ravel()
+    nr = float(np.max(np.abs(r))) if r.size else 0.0
+    if not np.isfinite(nr) or nr > tol:
+        return False, f"residual {nr:.3g} N > tolerance {tol:.3g} N", {}
+    q, z = x[:mech.n_q], x[mech.n_q:]
+    stable, lam = _stability(F, mech, q, z, p)
+    info = {"residual_norm": nr, "stable": stable, "min_stiffness": lam, "warnings": ()}
+    if stable is False:
+        if require_stable:
+            return False, f"unstable equilibrium (reduced stiffness eigenvalue {lam:.3g})", info
+        info["warnings"] = (f"the equilibrium is unstable (reduced stiffness eigenvalue {lam:.3g})",)
+    return True, "", info
+
+
+def _result(F, mech, x, p, status, stats, warnings) -> Equilibrium:
+    q, z = x[:mech.n_q], x[mech.n_q:]
+    outs = F.evaluate_outputs(q, np.zeros(mech.n_v), z, 0.0, p)
+    return Equilibrium(mech.name, q, z, p, outs, status, stats, tuple(warnings))
+
+
+def default_start(mech: Mechanism) -> Start:
+    """The first of the mechanism's starts."""
+    return next(iter(mech.starts()))

@@ -1,0 +1,119 @@
+"""Solver options: one frozen dataclass per method, validated once when built, and closed
+choices as enums read by one shared parser (:func:`parse_choice`)."""
+from __future__ import annotations
+
+import enum
+from dataclasses import dataclass
+
+from ..errors import SymcableError
+
+__all__ = ["CollocationScheme", "Collocation", "GeneralizedAlpha", "HarmonicBalance", "RK4",
+           "Shooting", "parse_choice"]
+
+
+def parse_choice(enum_cls, value, key: str):
+    """``value`` (an enum member or its string value, case-insensitive, ``_`` = ``-``) as a
+    member of ``enum_cls``; a SymcableError naming ``key``, the value and the choices otherwise."""
+    if isinstance(value, enum_cls):
+        return value
+    text = str(value).strip().lower().replace("_", "-")
+    for member in enum_cls:
+        if member.value == text:
+            return member
+    choices = ", ".join(repr(m.value) for m in enum_cls)
+    raise SymcableError(f"{key} = {value!r}: must be one of {choices}")
+
+
+def _number(key, value, lo=None, hi=None, integer=False, lo_open=False):
+    try:
+        x = int(value) if integer else float(value)
+        if integer and x != value:
+            raise ValueError
+    except (TypeError, ValueError):
+        raise SymcableError(f"{key} = {value!r}: must be {'an integer' if integer else 'a number'}") from None
+    if x != x or (lo is not None and (x < lo or (lo_open and x == lo))) or (hi is not None and x > hi):
+        rng = f"{'(' if lo_open else '['}{lo}, {hi if hi is not None else 'inf'}]"
+        raise SymcableError(f"{key} = {value!r}: must be in {rng}")
+    return x
+
+
+@dataclass(frozen=True)
+class GeneralizedAlpha:
+    """Implicit generalized-alpha (Chung & Hulbert 1993, in the form of Arnold & Bruels 2007
+    for constrained systems): second order, unconditionally stable; ``rho_inf`` in [0, 1] is
+    the spectral radius at infinite step (1: no numerical damping, 0: the most);
+    ``tol`` the scaled Newton tolerance of each step; ``max_iter`` Newton iterations."""
+
+    rho_inf: float = 0.8
+    tol: float = 1e-10
+    max_iter: int = 20
+
+    def __post_init__(self):
+        object.__setattr__(self, "rho_inf", _number("rho_inf", self.rho_inf, 0.0, 1.0))
+        object.__setattr__(self, "tol", _number("tol", self.tol, 0.0, lo_open=True))
+        object.__setattr__(self, "max_iter", _number("max_iter", self.max_iter, 1, integer=True))
+
+    @property
+    def coefficients(self) -> tuple[float, float, float, float]:
+        """(alpha_m, alpha_f, gamma, beta)."""
+        r = self.rho_inf
+        am = (2 * r - 1) / (r + 1)
+        af = r / (r + 1)
+        gamma = 0.5 + af - am
+        beta = 0.25 * (gamma + 0.5) ** 2
+        return am, af, gamma, beta
+
+
+@dataclass(frozen=True)
+class RK4:
+    """Classical explicit Runge-Kutta of order 4 (mechanisms without constraints only)."""
+
+
+class CollocationScheme(str, enum.Enum):
+    RADAU = "radau"
+    LEGENDRE = "legendre"
+
+
+@dataclass(frozen=True)
+class Collocation:
+    """Direct collocation of one period: ``intervals`` intervals of polynomial ``degree``
+    on ``scheme`` points; the NLP is solved by ``solver`` ("ipopt" or "newton")."""
+
+    intervals: int = 40
+    degree: int = 3
+    scheme: CollocationScheme = CollocationScheme.RADAU
+    solver: str = "ipopt"
+
+    def __post_init__(self):
+        object.__setattr__(self, "intervals", _number("intervals", self.intervals, 2, integer=True))
+        object.__setattr__(self, "degree", _number("degree", self.degree, 1, 9, integer=True))
+        object.__setattr__(self, "scheme", parse_choice(CollocationScheme, self.scheme, "scheme"))
+        if self.solver not in ("ipopt", "newton"):
+            raise SymcableError(f"solver = {self.solver!r}: must be 'ipopt' or 'newton'")
+
+
+@dataclass(frozen=True)
+class HarmonicBalance:
+    """Harmonic balance with ``harmonics`` harmonics, ``samples`` time samples per period
+    (default 4 harmonics + 4, enough to resolve cubic nonlinearities without aliasing)."""
+
+    harmonics: int = 5
+    samples: int | None = None
+
+    def __post_init__(self):
+        object.__setattr__(self, "harmonics", _number("harmonics", self.harmonics, 1, integer=True))
+        if self.samples is not None:
+            object.__setattr__(self, "samples", _number("samples", self.samples,
+                                                        2 * self.harmonics + 1, integer=True))
+
+
+@dataclass(frozen=True)
+class Shooting:
+    """Shooting on the period map of generalized-alpha with ``steps`` steps per period."""
+
+    steps: int = 100
+    rho_inf: float = 0.8
+
+    def __post_init__(self):
+        object.__setattr__(self, "steps", _number("steps", self.steps, 4, integer=True))
+        object.__setattr__(self, "rho_inf", _number("rho_inf", self.rho_inf, 0.0, 1.0))

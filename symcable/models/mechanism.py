@@ -119,6 +119,9 @@ class Scales:
     mass : float         kg, a characteristic mass (converts constraint rows to forces)
     residual_floor : float
         N, the smallest force residual float64 round-off lets the equations reach.
+    g : ndarray (n_z,) or None
+        Typical magnitude of each constraint row, in its own unit: a time step is converged
+        when |g_i| <= tol g_i (default: the median coordinate scale).
     """
 
     q: np.ndarray
@@ -127,6 +130,14 @@ class Scales:
     force: float
     mass: float = 1.0
     residual_floor: float = 0.0
+    g: np.ndarray | None = None
+
+    def g_scale(self) -> np.ndarray:
+        """``g``, or the median of ``q`` for every constraint row."""
+        if self.g is not None:
+            return np.asarray(self.g, dtype=float)
+        ref = float(np.median(self.q)) if np.size(self.q) else 1.0
+        return np.full(np.size(self.z), ref)
 
 
 @dataclass(frozen=True)

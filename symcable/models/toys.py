@@ -53,7 +53,8 @@ def pendulum(length: float = 1.0, mass: float = 1.0, gravity: float = 9.80665,
     return Mechanism(name=name, q=q, v=v, z=z, t=t, p=p, params=params, mass=M, force=f,
                      constraint=ca.reshape(con, 1, 1),
                      scales=Scales(q=np.full(2, length), v=np.full(2, math.sqrt(gravity * length)),
-                                   z=np.array([w / length]), force=w, mass=mass),
+                                   z=np.array([w / length]), force=w, mass=mass,
+                                   g=np.array([length ** 2])),
                      starts=starts, outputs=outputs, layout=_layout(name, 2, 1),
                      terms=("weight", "constraint"))
 
@@ -114,7 +115,8 @@ def spring(name: str, a, b, stiffness: float, rest_length: float) -> Mechanism:
 
 def spring_chain(n_masses: int = 5, *, mass: float = 1.0, stiffness: float = 100.0,
                  span: float = 6.0, rest_length: float | None = None, gravity: float = 0.0,
-                 drag: float = 0.0, amplitude=None, omega: float = 0.0) -> Mechanism:
+                 drag: float = 0.0, drag_speed: float = 1e-3, amplitude=None,
+                 omega: float = 0.0) -> Mechanism:
     """``n_masses`` point masses (kg) joined by ``n_masses + 1`` linear springs (N/m) in the
     x-z plane, between end nodes fixed at (0, 0) and (span, 0) m; the right end may move
     harmonically (``amplitude`` (2,) m at ``omega`` rad/s). Assembled from :func:`point_mass`
@@ -130,7 +132,8 @@ def spring_chain(n_masses: int = 5, *, mass: float = 1.0, stiffness: float = 100
     xs = np.linspace(0.0, span, N + 2)
     parts, joints = [], []
     for i in range(1, N + 1):
-        parts.append(point_mass(f"m{i}", [xs[i], 0.0], mass, gravity=gravity, drag=drag))
+        parts.append(point_mass(f"m{i}", [xs[i], 0.0], mass, gravity=gravity, drag=drag,
+                                drag_speed=drag_speed))
     for i in range(N + 1):
         parts.append(spring(f"k{i}", [xs[i], 0.0], [xs[i + 1], 0.0], stiffness, L0))
     for i in range(N + 1):

@@ -63,7 +63,9 @@ def reduced_stiffness(K: np.ndarray, B: np.ndarray) -> np.ndarray:
 
 def _stability(F, mech, q, z, p):
     n = mech.n_q
-    if n > STABILITY_MAX_N:
+    if n > STABILITY_MAX_N or mech.mass.nnz() == 0:
+        # too large for a dense check, or a static formulation without mass whose residual
+        # rows are not the gradient of an energy (its tangent says nothing about stability)
         return None, float("nan")
     K, _, _, B, *_ = F.tangents(q, np.zeros(mech.n_v), z, 0.0, p)
     Kr = reduced_stiffness(np.asarray(K), np.asarray(B))

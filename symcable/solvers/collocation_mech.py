@@ -35,15 +35,16 @@ residual Function (built once per mechanism, K, d and scheme).
 
 Start
 -----
-The one-harmonic balance from the static state (see :mod:`symcable.solvers.hbalance_mech`),
-sampled at every node: the linear response with the describing-function correction of the
-nonlinearity, where a time run would need its whole transient. A previous periodic solution
-may be given instead.
+The same as every periodic method (:mod:`symcable.solvers.hbalance_mech` says why): the
+last of 6 periods of generalized-alpha from the static equilibrium, or a given periodic
+solution, sampled at every node.
 
 Checks
 ------
-The collocation polynomials are sampled at 4 points per collocation point, uniformly, and
-checked by :func:`~symcable.solvers.periodic_common.check_and_wrap`; the stats also report
+The collocation polynomials and their derivatives are sampled at 4 points per collocation
+point, uniformly, and checked by :func:`~symcable.solvers.periodic_common.check_and_wrap`
+(between the collocation points the DAE residual of the polynomials is the discretisation
+error); the stats also report
 the constraint at the collocation points (``constraint_at_nodes``, met to the solver's
 tolerance) and the periodicity defect (the wrap-around continuity rows).
 """
@@ -148,11 +149,13 @@ class CollocationSystem:
         Z = w[nx * n_nodes:].reshape(nz, K * d, order="F") * self.sc.z[:, None]
         return X, Z
 
-    def sample(self, X, Z, m_per: int) -> tuple:
-        """States at ``m_per`` uniform points per interval: (x (K m_per, nx), z (K m_per, nz))."""
+    def sample(self, X, Z, m_per: int, period: float) -> tuple:
+        """States at ``m_per`` uniform points per interval: (x (K m_per, nx), x' (K m_per, nx),
+        z (K m_per, nz)), x' the derivative of the collocation polynomials (1/s)."""
         K, d = self.K, self.d
         s = np.arange(m_per) / m_per
         Lx = np.stack([L(s) for L in self.polys], axis=1)          # (m_per, d+1)
+        dLx = np.stack([np.polyder(L)(s) for L in self.polys], axis=1) * (K / period)
         # z: the polynomial of degree d-1 through the collocation points
         pz = []
         tz = self.tau[1:]
@@ -163,11 +166,13 @@ class CollocationSystem:
                     L *= np.poly1d([1.0, -tz[r]]) / (tz[j] - tz[r])
             pz.append(L(s))
         Lz = np.stack(pz, axis=1)                                   # (m_per, d)
-        xs, zs = [], []
+        xs, dxs, zs = [], [], []
         for k in range(K):
-            xs.append(Lx @ X[:, k * (d + 1):(k + 1) * (d + 1)].T)
+            Xk = X[:, k * (d + 1):(k + 1) * (d + 1)].T
+            xs.append(Lx @ Xk)
+            dxs.append(dLx @ Xk)
             zs.append(Lz @ Z[:, k * d:(k + 1) * d].T)
-        return np.vstack(xs), np.vstack(zs)
+        return np.vstack(xs), np.vstack(dxs), np.vstack(zs)
 
 
 def collocation_system(mech: Mechanism, opts: Collocation) -> CollocationSystem:
@@ -193,7 +198,7 @@ def solve_collocation(mech: Mechanism, period: float, opts: Collocation, p, star
     r = np.asarray(sys_.square.residual(sol["w"], P)).ravel()
     per_def = float(np.max(np.abs(r[-sys_.nx:])))            # wrap-around rows: periodicity
     g_nodes = float(np.max(np.abs(r[sys_.g_rows].reshape(-1, nz)) * sys_.sc.g)) if nz else 0.0
-    x, z = sys_.sample(X, Z, 4 * opts.degree)
+    x, dx, z = sys_.sample(X, Z, 4 * opts.degree, period)
     solved = np.isfinite(sol["residual"]) and sol["residual"] <= tol
     stats = dict(start_info)
     stats.update({"solver": opts.solver, "iterations": sol["iterations"],
@@ -204,5 +209,6 @@ def solve_collocation(mech: Mechanism, period: float, opts: Collocation, p, star
                   "wall_time": time.perf_counter() - t0})
     return check_and_wrap(mech, period, p, x[:, :nq], x[:, nq:], z, method="collocation",
                           solved=solved, tol=tol, defect_tol=defect_tol, stats=stats,
+                          derivatives=(dx[:, :nq], dx[:, nq:]),
                           why=f"{opts.solver} stopped ({sol['return_status']}) at residual "
                               f"{sol['residual']:.3g} > tol = {tol:.3g}")

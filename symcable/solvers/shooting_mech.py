@@ -10,17 +10,30 @@ discretised dynamics is the fixed point u = Phi(u) of u = (q, v, a, abar): the
 pseudo-acceleration abar carries memory between steps, so it belongs to the fixed point as
 much as q and v; z is an output of each step (its Newton guess only), not an unknown.
 
-The fixed point is found by Newton's method with the exact monodromy: CasADi differentiates
-the mapaccum'd period map (through each step's rootfinder, by the implicit function theorem)
-and one call returns Phi(u) and dPhi/du. Measured against Anderson acceleration of the plain
-march (depth 10, mixing 1) to tol 1e-9 from the same one-harmonic start: Duffing (T/100)
-4 Newton periods against 10 Anderson periods and 35 plain ones; chain of 3 masses with
-quadratic drag (T/200) 4 against 20 and 130, and the driven pendulum 4 against 19. The
-Jacobian costs about 2n extra sweeps over the period (n = 2 (n_q + n_v)), which for these
-mechanisms and for the few hundred unknowns of a cable is far cheaper than the periods
-saved; the convergence is quadratic, so the count does not grow when the damping is light
-(where marching and Anderson slow down with the Floquet multipliers). A Newton step that
-does not reduce the residual is halved (up to 6 times).
+The fixed point is found by Anderson acceleration (type II, depth 10: each iterate is the
+plain march Phi(u) corrected by the least-squares combination of the last secant pairs;
+Walker & Ni, SIAM J. Numer. Anal. 49, 2011); when it has not converged within 60 periods,
+Newton's method with the exact monodromy takes over from the best iterate: CasADi
+differentiates the mapaccum'd period map (through each step's rootfinder, by the implicit
+function theorem), one call returning Phi(u) and dPhi/du, and a Newton step that does not
+reduce the residual is halved (up to 6 times).
+
+Why this order, measured to tol 1e-9 from the same start (one run each, 2 shared cores):
+
+=========================  =======================  ===================  ==============
+mechanism (steps)          Newton, exact monodromy  Anderson (depth 10)  plain march
+=========================  =======================  ===================  ==============
+Duffing (T/100)            4 periods, 0.13 s        8 periods, 0.04 s    37 periods
+chain, 3 masses (T/200)    4 periods, 0.78 s        17 periods, 0.53 s   37 periods
+driven pendulum (T/200)    3 periods, 0.38 s        5 periods, 0.05 s    20 periods
+=========================  =======================  ===================  ==============
+
+Newton needs the fewest periods, but a period with its Jacobian costs about n_u + 1 plain
+ones (n_u = 2 (n_q + n_v) forward directions through every step's linear solve), so Anderson
+is faster on all three and more so as n_u grows (a cable has hundreds). Newton is kept as
+the fallback: its convergence is quadratic whatever the Floquet multipliers, where Anderson
+slows down on lightly damped modes, and it is the one that returns the monodromy (its
+largest multiplier is reported as ``floquet_max``).
 
 Scaling
 -------
@@ -29,9 +42,10 @@ residual Phi(u) - u likewise: a change over one period relative to the state's m
 
 Start
 -----
-The one-harmonic balance from the static state (:mod:`symcable.solvers.hbalance_mech`) at
-t = 0, with accelerations and constraint forces made consistent by the derived
-``consistent_acceleration`` (abar = a). A previous periodic solution may be given instead.
+The same as every periodic method (:mod:`symcable.solvers.hbalance_mech` says why): the
+last of 6 periods of generalized-alpha from the static equilibrium, or a given periodic
+solution, at t = 0, with accelerations and constraint forces made consistent
+by the derived ``consistent_acceleration`` (abar = a).
 
 Checks
 ------
@@ -61,6 +75,9 @@ __all__ = ["PeriodMap", "solve_shooting", "transient_start"]
 
 #: halvings of a Newton step that does not reduce the residual
 MAX_HALVINGS = 6
+#: secant pairs of Anderson acceleration, and the periods it may take before Newton takes over
+ANDERSON_DEPTH = 10
+ANDERSON_PERIODS = 60
 
 
 class PeriodMap:
@@ -154,9 +171,44 @@ def solve_shooting(mech: Mechanism, period: float, opts: Shooting, p, start: Sta
         J = np.asarray(out[2]) if jac else None
         return X, float(np.max(np.abs(r))), r, J
 
-    X, res, r, J = evaluate(u, z, True)
+    # phase 1: Anderson acceleration of the plain march (cheap periods, no Jacobian)
+    X, res, r, _ = evaluate(u, z, False)
     history = [res]
-    iters, periods, why = 0, 1, ""
+    periods, why, best = 1, "", (res, u, X)
+    Fs, Gs = [], []
+    while res > tol and r is not None and periods < ANDERSON_PERIODS:
+        g = X[:nu, -1] / su
+        f = r
+        Fs, Gs = (Fs + [f])[-ANDERSON_DEPTH - 1:], (Gs + [g])[-ANDERSON_DEPTH - 1:]
+        u_next = g
+        if len(Fs) > 1:
+            dF = np.diff(np.array(Fs), axis=0).T
+            dG = np.diff(np.array(Gs), axis=0).T
+            gam = np.linalg.lstsq(dF, f, rcond=None)[0]
+            u_next = g - dG @ gam
+        z = X[nu:, -1] if nz else z
+        X_t, res_t, r_t, _ = evaluate(u_next * su, z, False)
+        periods += 1
+        if r_t is None or res_t > 10 * best[0]:
+            # a bad accelerated iterate: restart the memory from the plain march of the best
+            Fs, Gs = [], []
+            X_t, res_t, r_t, _ = evaluate(best[2][:nu, -1], z, False)
+            periods += 1
+            if r_t is None:
+                break
+            u_next = best[2][:nu, -1] / su
+        u, X, res, r = u_next * su, X_t, res_t, r_t
+        history.append(res)
+        if res < best[0]:
+            best = (res, u, X)
+    anderson_periods = periods
+    res, u, X = best
+    iters, J = 0, None
+    # phase 2: Newton with the exact monodromy, where Anderson did not get there
+    if res > tol:
+        z = X[nu:, -1] if nz else z
+        X, res, r, J = evaluate(u, z, True)
+        periods += 1
     while res > tol and iters < max_iter:
         if r is None:
             why = "a generalized-alpha step failed inside the period"
@@ -185,7 +237,8 @@ def solve_shooting(mech: Mechanism, period: float, opts: Shooting, p, start: Sta
         history.append(res)
     solved = res <= tol
     if not solved and not why:
-        why = f"{iters} Newton iterations: residual {res:.3g} > tol = {tol:.3g}"
+        why = (f"{anderson_periods} Anderson periods and {iters} Newton iterations: residual "
+               f"{res:.3g} > tol = {tol:.3g}")
     # the step states at t = 0, h, ..., (N-1) h (the state after N steps is the one at t = 0)
     cols = np.concatenate([X[:, -1:], X[:, :-1]], axis=1)
     qs, vs = cols[:nq].T, cols[nq:nq + nv].T
@@ -194,8 +247,10 @@ def solve_shooting(mech: Mechanism, period: float, opts: Shooting, p, start: Sta
     tf = period * np.arange(m) / m
     q, v, zf = (trig_interp(a, period, tf) for a in (qs, vs, zs))
     stats = dict(start_info)
-    stats.update({"solver": "newton (exact monodromy)", "iterations": iters,
-                  "periods": periods, "residual": res, "periodicity_defect": res,
+    stats.update({"solver": "anderson" + (" + newton (exact monodromy)" if J is not None
+                                          else ""),
+                  "iterations": anderson_periods + iters, "anderson_periods": anderson_periods,
+                  "newton_iterations": iters, "periods": periods, "residual": res, "periodicity_defect": res,
                   "history": history, "steps": N, "rho_inf": opts.rho_inf, "tolerance": tol,
                   "unknowns": nu, "wall_time": time.perf_counter() - t0})
     if J is not None:

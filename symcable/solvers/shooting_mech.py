@@ -250,7 +250,8 @@ def solve_shooting(mech: Mechanism, period: float, opts: Shooting, p, start: Sta
     stats.update({"solver": "anderson" + (" + newton (exact monodromy)" if J is not None
                                           else ""),
                   "iterations": anderson_periods + iters, "anderson_periods": anderson_periods,
-                  "newton_iterations": iters, "periods": periods, "residual": res, "periodicity_defect": res,
+                  "newton_iterations": iters, "periods": periods, "residual": res,
+                  "periodicity_defect": res,
                   "history": history, "steps": N, "rho_inf": opts.rho_inf, "tolerance": tol,
                   "unknowns": nu, "wall_time": time.perf_counter() - t0})
     if J is not None:

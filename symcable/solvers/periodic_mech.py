@@ -39,9 +39,9 @@ DEFAULT_TOL = 1e-9
 #: the largest scaled equation defect on the check grid that is still called a solution: a
 #: wrong answer (a bug, a solver stopped short, a discretisation that does not resolve the
 #: response) leaves residuals of the order of the force scale between the solver's points;
-#: a usable discretisation leaves a few per cent (Duffing: collocation degree 2 at 20
-#: intervals 0.086 for a state error of 2e-4; degree 3 at 40 intervals 5e-4 for 2.5e-6;
-#: 5 harmonics 1.3e-3 for 2e-5; shooting at T/100 2e-3 for 9e-4)
+#: a usable discretisation leaves a few per cent or less (Duffing, defect for state error:
+#: collocation degree 2 at 20 intervals 0.086 for 5e-3; degree 3 at 40 intervals 8e-4 for
+#: 2.5e-6; 5 harmonics 1.3e-3 for 2e-5; shooting at T/100 2e-3 for 9e-4)
 DEFAULT_DEFECT_TOL = 0.1
 
 

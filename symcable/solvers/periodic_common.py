@@ -11,10 +11,8 @@ samples, exact for the trigonometric interpolant and blind to how the solution w
 collocation hands over its polynomials' own derivatives instead, so that its defect is the
 DAE residual of the collocation solution itself between its points (the spectral derivative
 of a piecewise polynomial would add the ringing of its derivative jumps at the mesh points).
-The derived
-Functions ``qdot`` and ``acc_residual`` are then evaluated at every sample (one mapped call
-each). The defects, scaled as the solvers scale
-their equations, are
+The derived Functions ``qdot`` and ``acc_residual`` are then evaluated at every sample (one
+mapped call each). The defects, scaled as the solvers scale their equations, are
 
 - dynamic:    max |M(q) v' - f(q, v, z, t)| / scales.force
 - kinematic:  max |q' - G(q) v| / v_ref          (v_ref the median velocity scale)

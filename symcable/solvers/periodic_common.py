@@ -1,0 +1,293 @@
+"""What the generic periodic solvers share: the cache of their Functions, the square-system
+solvers (IPOPT and CasADi's Newton), the spectral tools, and the independent check of a
+claimed periodic solution.
+
+The check
+---------
+A method hands over its solution as uniform samples ``(q, v, z)`` of one period, ``m`` of
+them (4 times as many as the solver's own points), taken from its own interpolant. The
+velocities ``q'`` and accelerations ``v'`` are the spectral (FFT) derivatives of those
+samples, exact for the trigonometric interpolant and blind to how the solution was found;
+collocation hands over its polynomials' own derivatives instead, so that its defect is the
+DAE residual of the collocation solution itself between its points (the spectral derivative
+of a piecewise polynomial would add the ringing of its derivative jumps at the mesh points).
+The derived Functions ``qdot`` and ``acc_residual`` are then evaluated at every sample (one
+mapped call each). The defects, scaled as the solvers scale their equations, are
+
+- dynamic:    max |M(q) v' - f(q, v, z, t)| / scales.force
+- kinematic:  max |q' - G(q) v| / v_ref          (v_ref the median velocity scale)
+- constraint: max_i |g_i(q, v, z, t)| / g_scale_i  (``scales.g_scale()``: each row's typical
+  magnitude in its own unit, as the time integrator judges its steps)
+
+They are the discretisation error of the method measured in the equations (collocation
+between its points, harmonic balance in the truncated harmonics, shooting in the
+integrator's error), hence the error estimate; a solution is called converged only when the
+solver met its tolerance, the periodicity defect is within it too, every sample is finite,
+and the largest defect is below ``defect_tol``.
+"""
+from __future__ import annotations
+
+import time
+import weakref
+from dataclasses import dataclass
+from typing import Callable, Mapping
+
+import casadi as ca
+import numpy as np
+
+from ..derive import functions
+from ..errors import ConvergenceError, SymcableError
+from ..models.mechanism import Mechanism
+from ..results_periodic_mech import MechanismPeriodic, trig_interp
+from .newton import newton
+
+__all__ = ["PeriodicCache", "PERIODIC_CACHE", "SquareSystem", "Scaling", "spectral_derivative",
+           "check_and_wrap", "StartFn", "IPOPT_DEFAULTS"]
+
+#: IPOPT defaults for a square system with zero objective: quiet, no NLP rescaling (the
+#: residuals are already scaled, so IPOPT's constraint violation is the residual we check),
+#: PORD ordering in MUMPS (steady on block-cyclic periodic Jacobians)
+IPOPT_DEFAULTS = {"print_level": 0, "sb": "yes", "max_iter": 100, "mumps_pivot_order": 4,
+                  "nlp_scaling_method": "none"}
+
+
+class PeriodicCache:
+    """Functions of the periodic solvers, per Mechanism and per key (method and the options
+    that shape the graph), built once. A weak mapping: the entries go with the Mechanism."""
+
+    def __init__(self):
+        self.store: "weakref.WeakKeyDictionary[Mechanism, dict]" = weakref.WeakKeyDictionary()
+
+    def get(self, mech: Mechanism, key, build: Callable[[], object]):
+        """The object cached for ``(mech, key)``, built by ``build()`` on first use."""
+        per = self.store.setdefault(mech, {})
+        if key not in per:
+            per[key] = build()
+        return per[key]
+
+    def __len__(self) -> int:
+        return sum(len(d) for d in self.store.values())
+
+    def clear(self) -> None:
+        self.store.clear()
+
+
+#: the package's cache of periodic-solver Functions
+PERIODIC_CACHE = PeriodicCache()
+
+
+@dataclass(frozen=True)
+class Scaling:
+    """How the periodic solvers scale unknowns and equations (from ``mech.scales``).
+
+    q, v, z : ndarray, the unknowns' scales; force : N (rows M a - f); v_ref : rows q' - G v;
+    g : ndarray (n_z,), constraint rows g_i / g_i_scale (``scales.g_scale()``)."""
+
+    q: np.ndarray
+    v: np.ndarray
+    z: np.ndarray
+    force: float
+    v_ref: float
+    g: np.ndarray
+
+    @classmethod
+    def of(cls, mech: Mechanism) -> "Scaling":
+        s = mech.scales
+        pos = lambda a: np.where(np.asarray(a, float) > 0, np.asarray(a, float), 1.0)  # noqa: E731
+        q, v, z = pos(s.q), pos(s.v), pos(s.z)
+        return cls(q, v, z, float(s.force) if s.force > 0 else 1.0,
+                   float(np.median(v)) if v.size else 1.0, pos(s.g_scale()))
+
+
+#: a start: times (k,) -> (q (k, n_q), v (k, n_v), z (k, n_z))
+StartFn = Callable[[np.ndarray], tuple]
+
+
+def spectral_derivative(x: np.ndarray, period: float) -> np.ndarray:
+    """d/dt of uniform samples ``x`` (m, n) of one period, by FFT (Nyquist term dropped)."""
+    m = x.shape[0]
+    if x.shape[1] == 0:
+        return np.zeros_like(x)
+    c = np.fft.rfft(x, axis=0)
+    k = np.arange(c.shape[0], dtype=float)
+    if m % 2 == 0:
+        k[-1] = 0.0
+    return np.fft.irfft(c * (2j * np.pi / period * k)[:, None], n=m, axis=0)
+
+
+def start_from_samples(q, v, z, period) -> StartFn:
+    """A start function interpolating uniform samples of one period."""
+    q, v, z = (np.asarray(a, float) for a in (q, v, z))
+    return lambda t: tuple(trig_interp(a, period, np.asarray(t, float)) for a in (q, v, z))
+
+
+# ---------------------------------------------------------------------------------------------
+class SquareSystem:
+    """r(w; P) = 0, square, in scaled unknowns; solved by IPOPT (zero objective, equality
+    constraints) or by CasADi's Newton rootfinder (sparse LU). Solvers built once, kept."""
+
+    def __init__(self, name: str, residual: ca.Function):
+        self.name = name
+        self.residual = residual  # (w, P) -> r
+        self.n = int(residual.size1_in(0))
+        self.n_par = int(residual.size1_in(1))
+        self._solvers: dict = {}
+
+    def _rootfinder(self, tol: float, max_iter: int) -> ca.Function:
+        key = ("newton", tol, max_iter)
+        if key not in self._solvers:
+            self._solvers[key] = ca.rootfinder(
+                f"{self.name}_newton", "newton", self.residual,
+                {"abstol": tol, "abstolStep": 1e-15, "max_iter": max_iter,
+                 "linear_solver": "csparse", "error_on_fail": False})
+        return self._solvers[key]
+
+    def _step(self) -> ca.Function:
+        if "step" not in self._solvers:
+            w = ca.MX.sym("w", self.n)
+            P = ca.MX.sym("P", self.n_par)
+            r = self.residual(w, P)
+            dw = -ca.solve(ca.jacobian(r, w), r, "csparse")
+            self._solvers["step"] = ca.Function(f"{self.name}_step", [w, P], [r, dw],
+                                                ["w", "P"], ["r", "dw"])
+        return self._solvers["step"]
+
+    def _damped(self, w0, P, tol, max_iter):
+        step = self._step()
+
+        def call(w, pp):
+            r, dw = step(w, pp)
+            return np.asarray(r).ravel(), np.asarray(dw).ravel()
+        res = newton(call, w0, P, tol=tol, max_iter=max_iter, x_scale=np.ones(self.n))
+        return res.x, ("success" if res.converged else res.message), res.iterations
+
+    def _ipopt(self, options: Mapping) -> ca.Function:
+        key = ("ipopt", repr(sorted(options.items())))
+        if key not in self._solvers:
+            w = ca.MX.sym("w", self.n)
+            P = ca.MX.sym("P", self.n_par)
+            nlp = {"x": w, "p": P, "f": ca.MX(0), "g": self.residual(w, P)}
+            # zero objective and a square nonsingular Jacobian: the primal step is the Newton
+            # step whatever the Hessian, so IPOPT gets a zero Lagrangian Hessian (no second
+            # derivatives of the whole system to build)
+            lam_f, lam_g = ca.MX.sym("lam_f"), ca.MX.sym("lam_g", self.n)
+            opts = {"ipopt": dict(options), "print_time": False, "error_on_fail": False,
+                    "calc_lam_p": False,
+                    "hess_lag": ca.Function("nlp_hess_l", [w, P, lam_f, lam_g],
+                                            [ca.MX(self.n, self.n)],
+                                            ["x", "p", "lam_f", "lam_g"], ["hess_gamma_x_x"])}
+            try:
+                self._solvers[key] = ca.nlpsol(f"{self.name}_ipopt", "ipopt", nlp, opts)
+            except RuntimeError as exc:
+                reason = str(exc).strip().splitlines()[-1].split(": ", 1)[-1]
+                raise SymcableError(f"ipopt_options = {dict(options)}: IPOPT refused them "
+                                    f"({reason})") from None
+        return self._solvers[key]
+
+    def solve(self, w0, P, *, solver: str, tol: float, max_iter: int = 50,
+              ipopt_options: Mapping | None = None) -> dict:
+        """Solve from ``w0``; returns dict ``w``, ``iterations``, ``residual`` (max |r|),
+        ``return_status``, ``wall_time`` (s).
+
+        ``solver``: ``"ipopt"``; ``"newton"`` (CasADi's rootfinder, full steps; when it
+        fails, the damped Newton of :mod:`symcable.solvers.newton` from the same start, its
+        iterations added); ``"damped"`` (that damped Newton only: each step's move limited to
+        1 in scaled units, Armijo backtracking)."""
+        t0 = time.perf_counter()
+        w0 = np.asarray(w0, float).ravel()
+        if solver == "damped":
+            w, status, iters = self._damped(w0, P, tol, max_iter)
+        elif solver == "newton":
+            rf = self._rootfinder(tol, max_iter)
+            try:
+                w = np.asarray(rf(w0, P)).ravel()
+                st = rf.stats()
+                status, iters = st.get("return_status", "?"), int(st.get("iter_count", -1))
+            except RuntimeError as exc:  # a singular Jacobian
+                w, status, iters = w0, "failed: " + str(exc).strip().splitlines()[-1], 0
+            r = np.asarray(self.residual(w, P)).ravel()
+            if not (r.size == 0 or np.max(np.abs(r)) <= tol):
+                w, st2, it2 = self._damped(w0, P, tol, max_iter)
+                status, iters = f"{status}; damped Newton: {st2}", iters + it2
+        elif solver == "ipopt":
+            opts = dict(IPOPT_DEFAULTS)
+            opts.update({"tol": tol, "constr_viol_tol": tol, "max_iter": max_iter})
+            opts.update(dict(ipopt_options or {}))
+            nlp = self._ipopt(opts)
+            sol = nlp(x0=w0, p=P, lbg=0.0, ubg=0.0)
+            st = nlp.stats()
+            w = np.asarray(sol["x"]).ravel()
+            status, iters = st.get("return_status", "?"), int(st.get("iter_count", -1))
+        else:  # options are validated before; a programming error otherwise
+            raise SymcableError(f"solver = {solver!r}: must be 'ipopt' or 'newton'")
+        r = np.asarray(self.residual(w, P)).ravel()
+        res = float(np.max(np.abs(r))) if r.size else 0.0
+        return {"w": w, "iterations": iters, "residual": res, "return_status": status,
+                "wall_time": time.perf_counter() - t0}
+
+
+# ---------------------------------------------------------------------------------------------
+def _check_functions(mech: Mechanism, m: int):
+    F = functions(mech)
+    return PERIODIC_CACHE.get(mech, ("check", m), lambda: (
+        F.acc_residual.map(m), F.qdot.map(m), F.outputs.map(m)))
+
+
+def defects(mech: Mechanism, period: float, p, q, v, z, qd=None, a=None) -> dict:
+    """The scaled equation residuals of uniform samples (see the module docstring);
+    ``qd``, ``a``: the derivatives of q and v from the method's own interpolant (default:
+    spectral)."""
+    sc = Scaling.of(mech)
+    m = q.shape[0]
+    t = period * np.arange(m) / m
+    acc, qdot, _ = _check_functions(mech, m)
+    qd = spectral_derivative(q, period) if qd is None else qd
+    a = spectral_derivative(v, period) if a is None else a
+    r_f, r_g = acc(q.T, v.T, a.T, z.T, t[None, :], p)
+    G = np.asarray(qdot(q.T, v.T))
+    kin = np.max(np.abs(qd.T - G)) / sc.v_ref if G.size else 0.0
+    dyn = np.max(np.abs(np.asarray(r_f))) / sc.force if mech.n_v else 0.0
+    con = np.max(np.abs(np.asarray(r_g)) / sc.g[:, None]) if mech.n_z else 0.0
+    return {"dynamic": float(dyn), "kinematic": float(kin), "constraint": float(con)}
+
+
+def check_and_wrap(mech: Mechanism, period: float, p, q, v, z, *, method: str, solved: bool,
+                   tol: float, defect_tol: float, stats: dict, why: str = "",
+                   warnings: tuple = (), derivatives: tuple | None = None) -> MechanismPeriodic:
+    """Check a claimed solution independently and return it, or raise ConvergenceError
+    carrying it (status ``"failed"``) and the diagnostics. ``derivatives`` = (q', v') from
+    the method's own interpolant where it is only piecewise smooth (collocation)."""
+    q, v, z = (np.asarray(a, float) for a in (q, v, z))
+    m = q.shape[0]
+    t = period * np.arange(m) / m
+    finite = all(np.all(np.isfinite(a)) for a in (q, v, z))
+    if finite:
+        d = defects(mech, period, p, q, v, z, *(derivatives or ()))
+        err = max(d.values())
+    else:
+        d, err = {}, float("nan")
+    stats = dict(stats)
+    stats.update({"defect": d, "error_estimate": err, "samples": m, "defect_tol": defect_tol})
+    reasons = []
+    if not solved:
+        reasons.append(why or "the solver did not converge")
+    if not finite:
+        reasons.append("the solution is not finite")
+    elif not err <= defect_tol:
+        worst = max(d, key=d.get)
+        reasons.append(f"{worst} defect {err:.3g} > defect_tol = {defect_tol:.3g} on the "
+                       f"{m}-sample check grid (refine the discretisation)")
+    pd = stats.get("periodicity_defect", 0.0)
+    if not pd <= max(tol, 1e-13) * 10:
+        reasons.append(f"periodicity defect {pd:.3g} > 10 tol = {10 * tol:.3g}")
+    outputs = {}
+    if finite:
+        _, _, out = _check_functions(mech, m)
+        outputs = functions(mech).unpack(np.asarray(out(q.T, v.T, z.T, t[None, :], p)))
+    status = "failed" if reasons else "converged"
+    res = MechanismPeriodic(mech.name, float(period), t, q, v, z, np.asarray(p, float), outputs,
+                            method, status, stats, tuple(warnings) + tuple(reasons))
+    if reasons:
+        raise ConvergenceError(f"periodic solution of {mech.name!r} by {method} failed: "
+                               + "; ".join(reasons), partial=res, diagnostics=stats)
+    return res

@@ -1,0 +1,143 @@
+"""Periodic steady state of any Mechanism: one entry point over three methods.
+
+- :mod:`~symcable.solvers.collocation_mech`: direct collocation of the DAE over one period
+  (Radau IIA or Gauss-Legendre), the square system solved by IPOPT or Newton;
+- :mod:`~symcable.solvers.hbalance_mech`: harmonic balance, alternating frequency/time,
+  Newton on the exact Jacobian;
+- :mod:`~symcable.solvers.shooting_mech`: Newton with the exact monodromy on the period map
+  of the generalized-alpha integrator of :func:`~symcable.solvers.integrate.integrate`.
+
+Every method starts from the same short time run from the static equilibrium (see
+:mod:`~symcable.solvers.hbalance_mech` for why not the linear response), or from a given
+periodic solution, and every answer goes through the same independent check
+(:mod:`~symcable.solvers.periodic_common`) before it is called converged.
+"""
+from __future__ import annotations
+
+import math
+from typing import Mapping
+
+import numpy as np
+
+from ..errors import ConvergenceError, SymcableError
+from ..models.mechanism import Mechanism
+from ..results_mechanism import Equilibrium
+from ..results_periodic_mech import MechanismPeriodic
+from .collocation_mech import solve_collocation
+from .equilibrium import solve_equilibrium
+from .hbalance_mech import solve_hbalance
+from .options import Collocation, HarmonicBalance, Shooting
+from .periodic_common import start_from_samples
+from .shooting_mech import solve_shooting, transient_start
+
+__all__ = ["solve_periodic_mech", "DEFAULT_TOL", "DEFAULT_DEFECT_TOL"]
+
+#: scaled residual every method solves its system to (states at their scale, forces at the
+#: force scale): well above the round-off of a few hundred unknowns, well below any
+#: discretisation error the methods reach
+DEFAULT_TOL = 1e-9
+#: the largest scaled equation defect on the check grid that is still called a solution: a
+#: wrong answer (a bug, a solver stopped short, a discretisation that does not resolve the
+#: response) leaves residuals of the order of the force scale between the solver's points;
+#: a usable discretisation leaves a few per cent or less (Duffing, defect for state error:
+#: collocation degree 2 at 20 intervals 0.086 for 5e-3; degree 3 at 40 intervals 8e-4 for
+#: 2.5e-6; 5 harmonics 1.3e-3 for 2e-5; shooting at T/100 2e-3 for 9e-4)
+DEFAULT_DEFECT_TOL = 0.1
+
+
+def _static_base(mech: Mechanism, start) -> tuple:
+    if isinstance(start, Equilibrium):
+        return np.asarray(start.q, float), np.asarray(start.z, float), "given equilibrium"
+    try:
+        eq = solve_equilibrium(mech, require_stable=False)
+        return eq.q, eq.z, "static equilibrium"
+    except ConvergenceError:
+        st = next(iter(mech.starts()))
+        return np.asarray(st.q, float), np.asarray(st.z, float), f"static start {st.source!r}"
+
+
+def solve_periodic_mech(mech: Mechanism, period: float, method=None, *, p=None, start=None,
+                        ipopt_options: Mapping | None = None, tol: float = DEFAULT_TOL,
+                        defect_tol: float = DEFAULT_DEFECT_TOL,
+                        max_iter: int | None = None) -> MechanismPeriodic:
+    """The periodic response of ``mech`` with period ``period``.
+
+    Parameters
+    ----------
+    mech : Mechanism
+        Its forcing (explicit in t, or prescribed motion) must have period ``period``.
+    period : float, s, > 0
+    method : Collocation | HarmonicBalance | Shooting, default Collocation()
+    p : ndarray (n_p,), optional
+        Parameters; default the mechanism's own (with its motion and forcing).
+    start : MechanismPeriodic | Equilibrium | None
+        A periodic solution of the same period to start from, or the static state the
+        start's short time run begins at (default: solved by ``solve_equilibrium``).
+    ipopt_options : mapping, optional
+        Passed to IPOPT (collocation with ``solver="ipopt"``), over the defaults.
+    tol : float
+        Scaled residual the method's system is solved to (see the method modules).
+    defect_tol : float
+        Largest scaled equation defect on the check grid accepted as converged.
+    max_iter : int, optional
+        Newton / IPOPT iterations (defaults: collocation 100, harmonic balance 50,
+        shooting 30).
+
+    Returns
+    -------
+    MechanismPeriodic (status ``"converged"``)
+
+    Raises
+    ------
+    SymcableError
+        Bad arguments (period <= 0, unknown method, wrong sizes).
+    ConvergenceError
+        The solver failed or the solution failed the checks; ``partial`` is the result with
+        status ``"failed"``, ``diagnostics`` its stats.
+    """
+    method = Collocation() if method is None else method
+    if not isinstance(method, (Collocation, HarmonicBalance, Shooting)):
+        raise SymcableError(f"method = {method!r}: must be Collocation(...), "
+                            "HarmonicBalance(...) or Shooting(...)")
+    try:
+        period = float(period)
+    except (TypeError, ValueError):
+        raise SymcableError(f"period = {period!r}: must be a number of seconds > 0") from None
+    if not (math.isfinite(period) and period > 0):
+        raise SymcableError(f"period = {period!r} s: must be finite and > 0")
+    for key, val in (("tol", tol), ("defect_tol", defect_tol)):
+        if not (isinstance(val, (int, float)) and math.isfinite(val) and val > 0):
+            raise SymcableError(f"{key} = {val!r}: must be a number > 0")
+    if max_iter is not None and not (isinstance(max_iter, int) and max_iter >= 1):
+        raise SymcableError(f"max_iter = {max_iter!r}: must be an integer >= 1")
+    if ipopt_options is not None and not isinstance(ipopt_options, Mapping):
+        raise SymcableError(f"ipopt_options = {ipopt_options!r}: must be a mapping of IPOPT "
+                            "option names to values")
+    p = mech.params.values if p is None else np.asarray(p, dtype=float).ravel()
+    if p.size != mech.params.n:
+        raise SymcableError(f"p has {p.size} entries, the mechanism {mech.name!r} "
+                            f"{mech.params.n}")
+
+    if isinstance(start, MechanismPeriodic):
+        if abs(start.period - period) > 1e-12 * period:
+            raise SymcableError(f"start.period = {start.period} s: the start must have the "
+                                f"period solved for, {period} s")
+        start_fn = start_from_samples(start.q, start.v, start.z, period)
+        info = {"start": f"periodic solution by {start.method}", "start_iterations": 0}
+    elif start is None or isinstance(start, Equilibrium):
+        q0, z0, base = _static_base(mech, start)
+        start_fn, info = transient_start(mech, period, p, q0, z0)
+        info["start"] = f"{info['start']} about the {base}"
+    else:
+        raise SymcableError(f"start = {type(start).__name__}: must be a MechanismPeriodic, an "
+                            "Equilibrium or None")
+
+    kw = {"tol": tol, "defect_tol": defect_tol}
+    if max_iter is not None:
+        kw["max_iter"] = max_iter
+    if isinstance(method, Collocation):
+        return solve_collocation(mech, period, method, p, start_fn, info,
+                                 ipopt_options=ipopt_options, **kw)
+    if isinstance(method, HarmonicBalance):
+        return solve_hbalance(mech, period, method, p, start_fn, info, **kw)
+    return solve_shooting(mech, period, method, p, start_fn, info, **kw)

@@ -38,10 +38,11 @@ def _seg(x, i: int, j: int):
 
 
 def galpha_step(mech: Mechanism, opts: GeneralizedAlpha) -> ca.Function:
-    """``step(x, t, h, p) -> (x1, err)`` with x = (q, v, a, abar, z): one generalized-alpha
-    step of size h (s) from t (s); err is the max-norm of the residual at the returned state,
-    force rows over ``scales.force`` and constraint rows over ``scales.g_scale()`` (the solve
-    failed when it exceeds ``opts.tol``)."""
+    """``step(x, t, h, p) -> (x1, err, lte)`` with x = (q, v, a, abar, z): one
+    generalized-alpha step of size h (s) from t (s); err is the max-norm of the residual at
+    the returned state, force rows over ``scales.force`` and constraint rows over
+    ``scales.g_scale()`` (the solve failed when it exceeds ``opts.tol``); lte the estimated
+    local error of the positions over ``scales.q`` (max-norm)."""
     F = functions(mech)
     am, af, gamma, beta = opts.coefficients
     nq, nv, nz = mech.n_q, mech.n_v, mech.n_z
@@ -80,12 +81,17 @@ def galpha_step(mech: Mechanism, opts: GeneralizedAlpha) -> ca.Function:
     q1c, v1c, a1c, _, z1c = state(w1)
     r_f1, r_g1 = F.acc_residual(q1c, v1c, a1c, z1c, t + h, p)
     err = ca.norm_inf(ca.vertcat(r_f1 / fs, r_g1 / ca.DM(mech.scales.g_scale())))
+    # local error of the positions, Newmark's estimate (beta - 1/6) h^2 (a1 - a0) (the h^3
+    # jerk term the update leaves out), relative to the coordinate scales
+    lte = ca.norm_inf(abs(beta - 1.0 / 6.0) * h ** 2 * (a1 - a0) / ca.DM(mech.scales.q))
     return ca.Function(f"{mech.name}_ga_step", [x0, t, h, p],
-                       [ca.vertcat(q1, v1, a1, ab1, z1), err], ["x", "t", "h", "p"], ["x1", "err"])
+                       [ca.vertcat(q1, v1, a1, ab1, z1), err, lte], ["x", "t", "h", "p"],
+                       ["x1", "err", "lte"])
 
 
 def rk4_step(mech: Mechanism) -> ca.Function:
-    """``step(x, t, h, p) -> (x1, err)`` with x = (q, v): one RK4 step (err = 0)."""
+    """``step(x, t, h, p) -> (x1, err, lte)`` with x = (q, v): one RK4 step (err = 0, and
+    lte = NaN: no embedded estimate)."""
     if mech.n_z:
         raise SymcableError(f"method = 'rk4': mechanism {mech.name!r} has {mech.n_z} "
                             "constraints; use generalized-alpha")
@@ -107,8 +113,8 @@ def rk4_step(mech: Mechanism) -> ca.Function:
     k3 = rhs(x0 + h / 2 * k2, t + h / 2)
     k4 = rhs(x0 + h * k3, t + h)
     x1 = x0 + h / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
-    return ca.Function(f"{mech.name}_rk4_step", [x0, t, h, p], [x1, ca.MX(0)],
-                       ["x", "t", "h", "p"], ["x1", "err"])
+    return ca.Function(f"{mech.name}_rk4_step", [x0, t, h, p], [x1, ca.MX(0), ca.MX(np.nan)],
+                       ["x", "t", "h", "p"], ["x1", "err", "lte"])
 
 
 class _Stepper:
@@ -127,46 +133,13 @@ class _Stepper:
             acc = self.step.mapaccum("acc", k, [0], [0])
             # the time of each step: t0 + i h
             ts = t0 + h * ca.DM(np.arange(k)).T
-            X, E = acc(x, ts, h, p)
-            fn = ca.Function(f"batch{k}", [x, t0, h, p], [X, E])
+            X, E, LTE = acc(x, ts, h, p)
+            fn = ca.Function(f"batch{k}", [x, t0, h, p], [X, E, LTE])
             self._batches[k] = fn
         return fn
 
 
-def integrate(mech: Mechanism, duration: float, dt: float, *, method=None, x0=None,
-              t0: float = 0.0, p=None, save_every: int = 1, start: Equilibrium | None = None,
-              q0=None, v0=None) -> MechanismTrajectory:
-    """March ``mech`` over ``duration`` s with fixed steps ``dt`` s.
-
-    Parameters
-    ----------
-    mech : Mechanism
-    duration, dt : float, s
-    method : GeneralizedAlpha | RK4, default GeneralizedAlpha()
-    q0, v0 : initial coordinates and velocities (default: ``start``'s q, or the mechanism's
-        first static start, at rest)
-    start : Equilibrium, optional  where to start (its q and z)
-    p : parameters (default the mechanism's own, i.e. with motion)
-    save_every : int, keep every k-th step
-
-    Raises
-    ------
-    ConvergenceError
-        A step's Newton iteration did not converge; ``partial`` holds the run up to there.
-    """
-    method = GeneralizedAlpha() if method is None else method
-    if not isinstance(method, (GeneralizedAlpha, RK4)):
-        raise SymcableError(f"method = {method!r}: must be GeneralizedAlpha(...) or RK4()")
-    if not (duration > 0 and dt > 0):
-        raise SymcableError(f"duration = {duration!r} s, dt = {dt!r} s: both must be > 0")
-    t_start = time.perf_counter()
-    F = functions(mech)
-    p = mech.params.values if p is None else np.asarray(p, float).ravel()
-    if q0 is None:
-        q0 = start.q if start is not None else next(iter(mech.starts())).q
-    q0 = np.asarray(q0, float).ravel()
-    v0 = np.zeros(mech.n_v) if v0 is None else np.asarray(v0, float).ravel()
-    z_guess = start.z if start is not None else np.zeros(mech.n_z)
+def _initial_state(mech, F, method, q0, v0, z_guess, t0, p):
     a0, z0 = (np.asarray(x).ravel() for x in F.consistent_acceleration(q0, v0, z_guess, t0, p))
     if isinstance(method, GeneralizedAlpha):
         if mech.n_z and method.rho_inf >= 1.0:
@@ -176,55 +149,83 @@ def integrate(mech: Mechanism, duration: float, dt: float, *, method=None, x0=No
             raise SymcableError(f"rho_inf = {method.rho_inf}: a mechanism with constraints "
                                 "needs rho_inf < 1 (e.g. 0.9) for its constraint forces to stay "
                                 "bounded")
-        step = galpha_step(mech, method)
-        x = np.concatenate([q0, v0, a0, a0, z0])
-    else:
-        step = rk4_step(mech)
-        x = np.concatenate([q0, v0])
+        return galpha_step(mech, method), np.concatenate([q0, v0, a0, a0, z0]), z0
+    return rk4_step(mech), np.concatenate([q0, v0]), z0
+
+
+def integrate(mech: Mechanism, duration: float, dt: float | None = None, *, method=None,
+              t0: float = 0.0, p=None, save_every: int = 1, start: Equilibrium | None = None,
+              q0=None, v0=None, tol: float | None = None,
+              batch: int = BATCH) -> MechanismTrajectory:
+    """March ``mech`` over ``duration`` s, with fixed steps ``dt`` s or, given ``tol``,
+    steps adapted to keep the local error of the positions below ``tol`` times their scales.
+
+    Parameters
+    ----------
+    mech : Mechanism
+    duration : float, s
+    dt : float, s
+        The step (fixed), or the first step with ``tol`` (default duration/100 there).
+    method : GeneralizedAlpha | RK4, default GeneralizedAlpha()
+    q0, v0 : initial coordinates and velocities (default: ``start``'s q, or the mechanism's
+        first static start, at rest)
+    start : Equilibrium, optional  where to start (its q and z)
+    p : parameters (default the mechanism's own, i.e. with motion)
+    save_every : int
+        Keep every k-th step (fixed steps); every accepted step is kept with ``tol``.
+    tol : float, optional
+        Local error per step, relative to ``mech.scales.q`` (generalized-alpha only: its
+        estimate is Newmark's (beta - 1/6) h^2 |a1 - a0|). Steps run in batches of ``batch``
+        at one size inside CasADi; a batch whose largest estimate exceeds ``tol`` is redone
+        with a smaller step, and the next batch's step follows the estimate (order 3).
+        ``stats`` reports the steps taken, rejected batches and the smallest and largest step.
+
+    Raises
+    ------
+    ConvergenceError
+        A step's Newton iteration did not converge; ``partial`` holds the run up to there.
+    """
+    method = GeneralizedAlpha() if method is None else method
+    if not isinstance(method, (GeneralizedAlpha, RK4)):
+        raise SymcableError(f"method = {method!r}: must be GeneralizedAlpha(...) or RK4()")
+    if tol is not None:
+        if not isinstance(method, GeneralizedAlpha):
+            raise SymcableError("tol: adaptive steps need generalized-alpha (RK4 here has no "
+                                "error estimate); give dt instead")
+        if not tol > 0:
+            raise SymcableError(f"tol = {tol!r}: must be > 0")
+        dt = duration / 100 if dt is None else dt
+    if dt is None or not (duration > 0 and dt > 0):
+        raise SymcableError(f"duration = {duration!r} s, dt = {dt!r} s: both must be > 0")
+    t_start = time.perf_counter()
+    F = functions(mech)
+    p = mech.params.values if p is None else np.asarray(p, float).ravel()
+    if q0 is None:
+        q0 = start.q if start is not None else next(iter(mech.starts())).q
+    q0 = np.asarray(q0, float).ravel()
+    v0 = np.zeros(mech.n_v) if v0 is None else np.asarray(v0, float).ravel()
+    z_guess = start.z if start is not None else np.zeros(mech.n_z)
+    step, x, z0 = _initial_state(mech, F, method, q0, v0, z_guess, t0, p)
     stepper = _Stepper(step)
-    n_steps = int(round(duration / dt))
-    if abs(n_steps * dt - duration) > 1e-9 * duration:
-        raise SymcableError(f"duration = {duration} s is not a whole number of steps dt = {dt} s")
+    if tol is None:
+        n_steps = int(round(duration / dt))
+        if abs(n_steps * dt - duration) > 1e-9 * duration:
+            raise SymcableError(f"duration = {duration} s is not a whole number of steps dt = {dt} s")
+        run = _run_fixed(stepper, x, t0, dt, n_steps, p, method, save_every, batch)
+    else:
+        run = _run_adaptive(stepper, x, t0, dt, duration, p, method, tol, batch)
+    T, Xs, status, warnings, extra = run
     nq, nv = mech.n_q, mech.n_v
-    times, Xs = [t0], [x.copy()]
-    worst = 0.0
-    t = t0
-    done = 0
-    status, warnings = "converged", []
-    while done < n_steps:
-        k = min(BATCH, n_steps - done)
-        X, E = stepper.batch(k)(x, t, dt, p)
-        X, E = np.asarray(X), np.asarray(E).ravel()
-        bad = np.flatnonzero(~(E <= method.tol)) if isinstance(method, GeneralizedAlpha) else \
-            np.flatnonzero(~np.all(np.isfinite(X), axis=0))
-        good = k if bad.size == 0 else int(bad[0])
-        for i in range(good):
-            if (done + i + 1) % save_every == 0 or done + i + 1 == n_steps:
-                times.append(t + (i + 1) * dt)
-                Xs.append(X[:, i])
-        worst = max(worst, float(np.max(E[:good])) if good else 0.0)
-        if bad.size:
-            status = "failed"
-            warnings.append(f"step {done + good + 1} at t = {t + good * dt:.6g} s: Newton "
-                            f"did not converge (scaled residual {E[good]:.3g} > {method.tol:.3g})")
-            break
-        x = X[:, -1]
-        t += k * dt
-        done += k
-    Xs = np.array(Xs)
-    T = np.array(times)
     q, v = Xs[:, :nq], Xs[:, nq:nq + nv]
-    z = Xs[:, -mech.n_z:] if (mech.n_z and isinstance(method, GeneralizedAlpha)) \
+    z = Xs[:, -mech.n_z:].copy() if (mech.n_z and isinstance(method, GeneralizedAlpha)) \
         else np.zeros((T.size, mech.n_z))
     z[0] = z0
     outs = F.outputs.map(T.size)(q.T, v.T, z.T, T[None, :], p)
     outputs = F.unpack(np.asarray(outs))
-    g = F.acc_residual.map(T.size)(q.T, v.T, np.zeros((nv, T.size)), z.T, T[None, :], p)[1]
-    g = np.asarray(g)
+    g = np.asarray(F.acc_residual.map(T.size)(q.T, v.T, np.zeros((nv, T.size)), z.T,
+                                               T[None, :], p)[1])
     stats = {"method": "generalized-alpha" if isinstance(method, GeneralizedAlpha) else "rk4",
-             "dt": dt, "steps": done if status == "failed" else n_steps,
-             "max_step_residual": worst,
-             "max_constraint": float(np.max(np.abs(g))) if g.size else 0.0,
+             **extra, "max_constraint": float(np.max(np.abs(g))) if g.size else 0.0,
              "wall_time": time.perf_counter() - t_start}
     if isinstance(method, GeneralizedAlpha):
         stats["rho_inf"] = method.rho_inf
@@ -233,3 +234,88 @@ def integrate(mech: Mechanism, duration: float, dt: float, *, method=None, x0=No
         raise ConvergenceError(f"simulation of {mech.name!r} failed: {warnings[-1]}",
                                partial=traj, diagnostics=stats)
     return traj
+
+
+def _first_bad(E, tol):
+    bad = np.flatnonzero(~(E <= tol))
+    return None if bad.size == 0 else int(bad[0])
+
+
+def _run_fixed(stepper, x, t, dt, n_steps, p, method, save_every, batch):
+    tol_newton = method.tol if isinstance(method, GeneralizedAlpha) else np.inf
+    times, Xs = [t], [x.copy()]
+    worst, lte_max, done = 0.0, 0.0, 0
+    status, warnings = "converged", []
+    while done < n_steps:
+        k = min(batch, n_steps - done)
+        X, E, LTE = (np.asarray(a) for a in stepper.batch(k)(x, t, dt, p))
+        E, LTE = E.ravel(), LTE.ravel()
+        if not isinstance(method, GeneralizedAlpha):
+            E = np.where(np.all(np.isfinite(X), axis=0), 0.0, np.inf)
+        bad = _first_bad(E, tol_newton)
+        good = k if bad is None else bad
+        for i in range(good):
+            if (done + i + 1) % save_every == 0 or done + i + 1 == n_steps:
+                times.append(t + (i + 1) * dt)
+                Xs.append(X[:, i])
+        if good:
+            worst = max(worst, float(np.max(E[:good])))
+            lte_max = max(lte_max, float(np.max(LTE[:good])))
+        if bad is not None:
+            status = "failed"
+            warnings.append(f"step {done + good + 1} at t = {t + good * dt:.6g} s: Newton "
+                            f"did not converge (scaled residual {E[good]:.3g} > {tol_newton:.3g})")
+            done += good
+            break
+        x = X[:, -1]
+        t += k * dt
+        done += k
+    extra = {"dt": dt, "steps": done, "max_step_residual": worst,
+             "max_error_estimate": lte_max if isinstance(method, GeneralizedAlpha) else None}
+    return np.array(times), np.array(Xs), status, warnings, extra
+
+
+#: adaptive steps: safety factor, largest growth and cut per batch
+SAFETY, GROW, CUT = 0.8, 2.0, 0.2
+
+
+def _run_adaptive(stepper, x, t0, h, duration, p, method, tol, batch):
+    t_end = t0 + duration
+    times, Xs = [t0], [x.copy()]
+    t, steps, rejected = t0, 0, 0
+    h_min, h_max, worst_lte = np.inf, 0.0, 0.0
+    k_batch = max(1, min(batch, 32))
+    status, warnings = "converged", []
+    while t < t_end - 1e-12 * duration:
+        remaining = t_end - t
+        k = k_batch
+        if k * h >= remaining:
+            k = max(1, int(np.ceil(remaining / h - 1e-9)))
+            h = remaining / k
+        X, E, LTE = (np.asarray(a) for a in stepper.batch(k)(x, t, h, p))
+        E, LTE = E.ravel(), LTE.ravel()
+        est = float(np.max(LTE)) if np.all(np.isfinite(LTE)) else np.inf
+        newton_ok = _first_bad(E, method.tol) is None
+        if not newton_ok or est > tol:
+            rejected += 1
+            factor = CUT if not (newton_ok and np.isfinite(est)) else \
+                max(CUT, SAFETY * (tol / est) ** (1.0 / 3.0))
+            h *= factor
+            if h < 1e-12 * duration:
+                status = "failed"
+                warnings.append(f"t = {t:.6g} s: the step fell below {1e-12 * duration:.3g} s "
+                                f"(error estimate {est:.3g}, Newton {'ok' if newton_ok else 'failed'})")
+                break
+            continue
+        for i in range(k):
+            times.append(t + (i + 1) * h)
+            Xs.append(X[:, i])
+        steps += k
+        h_min, h_max = min(h_min, h), max(h_max, h)
+        worst_lte = max(worst_lte, est)
+        x = X[:, -1]
+        t += k * h
+        h *= min(GROW, SAFETY * (tol / max(est, 1e-300)) ** (1.0 / 3.0))
+    extra = {"dt": None, "steps": steps, "rejected_batches": rejected, "dt_min": h_min,
+             "dt_max": h_max, "max_error_estimate": worst_lte, "tol": tol}
+    return np.array(times), np.array(Xs), status, warnings, extra

@@ -97,7 +97,7 @@ class PeriodMap:
         p = ca.MX.sym("p", mech.params.n)
         h = T / steps
         acc = step.mapaccum(f"{mech.name}_period", steps, [0], [0])
-        X, E = acc(x0, h * ca.DM(np.arange(steps)).T, h, p)
+        X, E, _ = acc(x0, h * ca.DM(np.arange(steps)).T, h, p)
         J = ca.jacobian(X[:self.n_u, -1], x0)[:, :self.n_u]
         self.fn = ca.Function(f"{mech.name}_period_map", [x0, T, p], [X, E, J],
                               ["x0", "T", "p"], ["X", "err", "J"])

@@ -188,7 +188,7 @@ def test_progress_bar_only_when_asked(line, capsys):
     d, m = line
     simulate(d, 0.5, dt=0.1, model=m, progress=True)
     err = capsys.readouterr().err
-    assert "simulate generalized-alpha" in err and "5/5 steps" in err and err.endswith("\n")
+    assert "simulate generalized-alpha" in err and "5/5" in err and err.endswith("\n")  # tqdm
     simulate(d, 0.5, dt=0.1, model=m, progress=False)
     simulate(d, 0.5, dt=0.1, model=m)
     assert capsys.readouterr() == ("", "")

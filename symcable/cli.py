@@ -50,7 +50,7 @@ def _static(scene_path, args) -> int:
         sol.save(args.save)
     if args.plot:
         from .plotting import close
-        close(sol.plot(args.plot))
+        close(sol.plot(args.plot, scene=scene))
         if not args.json:
             print(f"plot              {args.plot}")
     return 0

@@ -168,8 +168,10 @@ class StaticSolution(Exportable):
         return "\n".join(lines)
 
     # ------------------------------------------------------------------ plots
-    def plot(self, path: str | Path | None = None):
-        """Profile, and tension and moment along the line, in one figure (saved to
-        ``path`` when given). Returns the matplotlib Figure."""
+    def plot(self, path: str | Path | None = None, scene=None):
+        """Profile, and tension (and bending moment, when EI > 0) along the line, in one
+        figure (saved to ``path`` when given). Give the ``scene`` solved to mark its sections,
+        free surface and seabed (see :func:`symcable.plotting.plot_static`). Returns the
+        matplotlib Figure."""
         from .plotting import plot_static
-        return plot_static(self, path)
+        return plot_static(self, path, scene=scene)

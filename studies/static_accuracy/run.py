@@ -184,7 +184,11 @@ COLUMNS = [  # (csv key, markdown header, format)
 
 
 def summary_markdown(res: dict) -> str:
-    lines = ["| " + " | ".join(h for _, h, _ in COLUMNS) + " |",
+    k_seabed = scene_dict("seabed", LINES["seabed"], 10)["seabed"]["stiffness"]
+    lines = [f"Lines: taut, slack (suspended) and seabed (the OC3 line on a {k_seabed:.0e} Pa/m "
+             "seabed; the OC3 headline below uses design.md's "
+             f"{OC3['seabed']['stiffness']:.0e} Pa/m).".replace("e+0", "e"), "",
+             "| " + " | ".join(h for _, h, _ in COLUMNS) + " |",
              "|" + "|".join("---" for _ in COLUMNS) + "|"]
     for r in res["rows"]:
         lines.append("| " + " | ".join(f.format(r[k]) for k, _, f in COLUMNS) + " |")
@@ -210,8 +214,10 @@ def plot(res: dict, path: Path) -> None:
     rows = res["rows"]
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4.5), constrained_layout=True)
     colors = dict(zip(LINES, ("C0", "C1", "C2")))
+    # the seabed line's stiffness as its scene has it (the OC3 headline uses design.md's 1e5)
+    k_seabed = scene_dict("seabed", LINES["seabed"], 10)["seabed"]["stiffness"]
     labels = {"taut": "taut (0.8 % strain)", "slack": "slack (deep sag)",
-              "seabed": "OC3 on 1e8 Pa/m seabed"}
+              "seabed": f"seabed: OC3 line on a {k_seabed:.0e} Pa/m seabed".replace("e+0", "e")}
     for name in LINES:
         rr = [r for r in rows if r["line"] == name]
         n = np.array([r["segments"] for r in rr])
@@ -235,7 +241,8 @@ def plot(res: dict, path: Path) -> None:
         ax.xaxis.set_major_formatter(ticker.FormatStrFormatter("%d"))
         ax.xaxis.set_minor_locator(ticker.NullLocator())
         ax.grid(True, which="both", alpha=0.3)
-        ax.legend(fontsize=8)
+    ax1.legend(fontsize=8, loc="lower left")  # below the slope reference, left of the data
+    ax2.legend(fontsize=8, loc="upper left")
     fig.suptitle("symcable statics: accuracy and speed")
     fig.savefig(path, dpi=150)
     plt.close(fig)

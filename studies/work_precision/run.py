@@ -58,6 +58,7 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+from matplotlib import ticker  # noqa: E402
 import numpy as np  # noqa: E402
 
 import symcable as sc  # noqa: E402
@@ -334,24 +335,30 @@ def _fmt(v, spec="{:.3g}"):
     return spec.format(v) if isinstance(v, float) else str(v)
 
 
+def _pct(v, spec: str) -> str:
+    """A fraction of the reference range as a percentage ("-" when missing)."""
+    return _fmt(None if v is None else 100.0 * v, spec)
+
+
 def summary_markdown(res: dict) -> str:
     ref, chk, tr, b = res["reference"], res["reference_check"], res["ga_transient"], res["build"]
     L = [f"# Work-precision on the {res['scene']}", "",
          f"Period T = {res['period_s']:g} s, {b['n_y']} states. Error = max of |error| of T_max, "
-         f"T_min and A_1 over the reference range. Study wall time {res['study_wall_s']:.0f} s.",
+         f"T_min and A_1, in % of the reference range (as in the figure). Study wall time "
+         f"{res['study_wall_s']:.0f} s.",
          "",
          "## Reference", "",
          "| quantity | reference (collocation K={K}, d={d}) | harmonic balance H={H} | "
-         "difference / range |".format(K=ref["K"], d=ref["d"], H=chk["H"]),
+         "difference (% of range) |".format(K=ref["K"], d=ref["d"], H=chk["H"]),
          "|---|---|---|---|"]
     for k, name in (("t_max", "T_max (N)"), ("t_min", "T_min (N)"), ("a1", "A_1 (N)")):
-        L.append(f"| {name} | {ref[k + '_N']:.2f} | {chk[k + '_N']:.2f} | {chk['err_' + k]:+.2e} |")
+        L.append(f"| {name} | {ref[k + '_N']:.2f} | {chk[k + '_N']:.2f} | {_pct(chk['err_' + k], '{:+.2g}')} |")
     L += [f"| range (N) | {ref['range_N']:.2f} | | |", ""]
     for r in res["rows"]:  # the next-finest collocation as a second check
         if r["method"] == "collocation-newton" and (r["K"], r["d"]) == (ref["K"] // 2, ref["d"]):
-            L += [f"Collocation K={r['K']}, d={r['d']} against the reference: {r['error']:.2e} "
-                  f"(T_max {r['err_t_max']:+.2e}, T_min {r['err_t_min']:+.2e}, "
-                  f"A_1 {r['err_a1']:+.2e}).", ""]
+            L += [f"Collocation K={r['K']}, d={r['d']} against the reference: "
+                  f"{_pct(r['error'], '{:.3g}')} % of the range (T_max {_pct(r['err_t_max'], '{:+.2g}')} %, "
+                  f"T_min {_pct(r['err_t_min'], '{:+.2g}')} %, A_1 {_pct(r['err_a1'], '{:+.2g}')} %).", ""]
     L += [
           f"Reference solve: {ref['wall_s']:.1f} s, {ref['iterations']} Newton iterations, "
           f"{ref['unknowns']} unknowns.", "",
@@ -361,15 +368,18 @@ def summary_markdown(res: dict) -> str:
           f"(limit {res['dt_stable_s']:.4g} s).", "",
           "## Generalized-α transient", "",
           f"Run from rest at dt = T/{tr['n']} for {tr['periods_run']} periods; change of the "
-          "period's (T_max, T_min, A_1) against the last period, over the range:", "",
+          "period's (T_max, T_min, A_1) against the last period, in % of the range:", "",
           "| period | " + " | ".join(str(p + 1) for p in range(tr["periods_run"])) + " |",
           "|---|" + "---|" * tr["periods_run"],
-          "| change | " + " | ".join(f"{v:.1e}" for v in tr["deviation"]) + " |", "",
-          f"Error of that run's last period: {tr['final_error']:.2e}; needed: a transient below "
-          f"{TRANSIENT_FRACTION:g} of it ({tr['threshold']:.1e}): **{res['ga_periods']} periods**"
+          "| change (%) | " + " | ".join(_pct(v, "{:.2g}") for v in tr["deviation"]) + " |", "",
+          f"Error of that run's last period: {_pct(tr['final_error'], '{:.2g}')} %; needed: a transient "
+          f"below {TRANSIENT_FRACTION:g} of it ({_pct(tr['threshold'], '{:.2g}')} %): "
+          f"**{res['ga_periods']} periods**"
           + ("" if tr["converged"] else " (NOT reached within the run)") + ".", "",
           "## Runs", "",
-          "| method | config | error | err T_max | err T_min | err A_1 | wall (s) | repeats | "
+          "Errors in % of the reference tension range (signed: run minus reference; \"error\" is "
+          "the largest magnitude).", "",
+          "| method | config | error (%) | err T_max (%) | err T_min (%) | err A_1 (%) | wall (s) | repeats | "
           "solver core (s) | iterations | status |",
           "|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in res["rows"]:
@@ -380,29 +390,46 @@ def summary_markdown(res: dict) -> str:
             its = f"{its} ({r['iter_per_step']:.2f}/step)"
         elif r["guess_iterations"] is not None:
             its = f"{its} (+{r['guess_iterations']} guess)"
-        L.append(f"| {r['method']} | {r['config']} | {_fmt(r['error'], '{:.2e}')} | "
-                 f"{_fmt(r['err_t_max'], '{:+.1e}')} | {_fmt(r['err_t_min'], '{:+.1e}')} | "
-                 f"{_fmt(r['err_a1'], '{:+.1e}')} | {r['wall_s']:.3g} | {r['repeats']} | "
+        L.append(f"| {r['method']} | {r['config']} | {_pct(r['error'], '{:.3g}')} | "
+                 f"{_pct(r['err_t_max'], '{:+.2g}')} | {_pct(r['err_t_min'], '{:+.2g}')} | "
+                 f"{_pct(r['err_a1'], '{:+.2g}')} | {r['wall_s']:.3g} | {r['repeats']} | "
                  f"{_fmt(r['core_s'])} | {its} | {r['status']} |")
     L += ["", "## Time to reach each error level", "",
-          "Cheapest run (wall time, s) whose error is at most the level; its configuration.", "",
+          "Cheapest run (wall time, s) whose error is at most the level (in % of the reference "
+          "tension range); its configuration.", "",
           "| method | " + " | ".join(f"{100 * lev:g} %" for lev in LEVELS) + " |",
           "|---|" + "---|" * len(LEVELS)]
     for meth, v in res["time_to_level"].items():
         cells = [f"{r['wall_s']:.3g} ({r['config']})" if r else "not reached"
                  for r in (v[lev] for lev in LEVELS)]
         L.append(f"| {meth} | " + " | ".join(cells) + " |")
-    L.append("| **winner** | " + " | ".join(str(res["winners"][lev]) for lev in LEVELS) + " |")
+    L.append("| **winner** | " + " | ".join(res["winners"][lev] or "no method reached it"
+                                             for lev in LEVELS) + " |")
     return "\n".join(L) + "\n"
 
 
+RESOLUTION_NAMES = {"rk4": "P", "harmonic-balance": "H", "collocation-newton": "K",
+                    "collocation-ipopt": "K"}  # generalized-alpha: its dt, T/N
+
+
+def _resolutions(meth: str, values: list) -> str:
+    """The resolutions of one line, for its legend entry: "P = 2, 3, 4", "dt = T/25, T/50"."""
+    if meth == "generalized-alpha":
+        return "dt = " + ", ".join(f"T/{v}" for v in values)
+    return f"{RESOLUTION_NAMES[meth]} = " + ", ".join(str(v) for v in values)
+
+
 def plot(res: dict, path: Path) -> None:
+    """Error (% of the reference range) against wall time, log-log: one line per method at
+    fixed settings, its points joined in order of resolution, which the legend lists (no
+    labels on the points: they overlapped where the lines cross). Every line's error falls
+    (or levels off) as its resolution grows, so its points read from top to bottom."""
     markers = {"rk4": "o", "generalized-alpha": "s", "harmonic-balance": "^",
                "collocation-newton": "D", "collocation-ipopt": "v"}
     cmaps = {"rk4": plt.cm.Blues, "generalized-alpha": plt.cm.Greens,
              "harmonic-balance": plt.cm.Purples, "collocation-newton": plt.cm.Reds,
              "collocation-ipopt": plt.cm.Oranges}
-    fig, ax = plt.subplots(figsize=(12, 7), constrained_layout=True)
+    fig, ax = plt.subplots(figsize=(13, 7), constrained_layout=True)
     for meth in METHODS:
         fams = list(dict.fromkeys(r["family"] for r in res["rows"] if r["method"] == meth))
         for i, fam in enumerate(fams):
@@ -411,27 +438,26 @@ def plot(res: dict, path: Path) -> None:
             if not rs:
                 continue
             col = cmaps[meth](0.55 + 0.4 * i / max(len(fams) - 1, 1))
-            x, y = [r["wall_s"] for r in rs], [100 * r["error"] for r in rs]
-            ax.loglog(x, y, marker=markers[meth], color=col, ms=5, lw=1.2,
+            name = (f"{fam} (from rest)" if meth == "rk4" else fam if len(fams) > 1 else LABELS[meth])
+            ax.loglog([r["wall_s"] for r in rs], [100 * r["error"] for r in rs],
+                      marker=markers[meth], color=col, ms=5, lw=1.2,
                       ls="--" if meth == "collocation-ipopt" else "-",
-                      label=f"{fam} (from rest)" if meth == "rk4" else
-                      fam if len(fams) > 1 else LABELS[meth])
-            tag = {"rk4": "P", "generalized-alpha": "T/", "harmonic-balance": "H",
-                   "collocation-newton": "K", "collocation-ipopt": "K"}[meth]
-            for r, xx, yy in zip(rs, x, y):
-                ax.annotate(f"{tag}{r['resolution']}", (xx, yy), textcoords="offset points",
-                            xytext=(3, 3), fontsize=6, color=col)
-    for lev in LEVELS:
-        ax.axhline(100 * lev, color="0.4", lw=0.8, ls=":")
-        ax.text(0.995, 100 * lev, f"{100 * lev:g} %", va="bottom", ha="right", fontsize=8,
-                color="0.3", transform=ax.get_yaxis_transform())
+                      label=f"{name}: {_resolutions(meth, [r['resolution'] for r in rs])}")
+    for k, lev in enumerate(LEVELS):
+        ax.axhline(100 * lev, color="0.4", lw=0.8, ls=":",
+                   label="error levels: " + ", ".join(f"{100 * v:g} %" for v in LEVELS) if k == 0 else None)
+    ax.yaxis.set_major_formatter(ticker.FuncFormatter(lambda v, _: f"{v:g} %"))
+    ax.xaxis.set_major_formatter(ticker.FuncFormatter(lambda v, _: f"{v:g}"))
     ax.set_xlabel("wall time of one solve from scratch (model built), s")
-    ax.set_ylabel("error of T_max, T_min, A_1 (largest), % of the tension range")
+    ax.set_ylabel("error of T_max, T_min, A_1 (largest), % of the reference tension range")
     ref = res["reference"]
-    ax.set_title(f"Work-precision, seed-001 line: periodic fairlead tension\n(reference: "
+    quick = " (--quick: coarse grid and reference)" if res.get("quick") else ""
+    ax.set_title(f"Work-precision, seed-001 line: periodic fairlead tension{quick}\n(reference: "
                  f"collocation K={ref['K']}, d={ref['d']}; range {ref['range_N'] / 1e3:.1f} kN)")
     ax.grid(True, which="both", alpha=0.25)
-    ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
+    ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0,
+              title="method: its resolutions, in order along its line (error falls as they grow)",
+              title_fontsize=8)
     fig.savefig(path, dpi=150)
     plt.close(fig)
 

@@ -22,7 +22,7 @@ long run pays the Python interpreter once per batch of saved samples, not once p
   rho_inf in [0, 1] (1: none; 0: annihilates the highest frequencies in one step). Each
   step solves R = 0 by Newton's method with the exact Jacobian
   a_m I - a_f gamma dt df/dy from CasADi, factorised once per step by the block LU of
-  :mod:`symcable.solvers.sxlu` (written out in SX) and reused by the next iterations
+  :mod:`symcable.linalg.sxlu` (written out in SX) and reused by the next iterations
   (chord iterations), inside the step Function.
 """
 from __future__ import annotations
@@ -41,8 +41,8 @@ from ..functions import FastCall
 from ..models import build_dynamic_model
 from ..progress import ProgressBar
 from ..results_time import Trajectory
-from .linalg import sparse_solve
-from .sxlu import block_lu, block_plan
+from ..linalg.sparse import sparse_solve
+from ..linalg.sxlu import block_lu, block_plan
 from ..scene_loader import load_scene
 
 __all__ = ["Method", "ga_coefficients", "ga_residual_function", "rk4_stability_limit", "simulate",
@@ -232,7 +232,7 @@ def ga_residual_function(model, rho_inf: float) -> ca.Function:
 def _ga_linear_solver(model, J: ca.SX, args: list):
     """``(factor, solve, n_factors)`` for the iteration matrix ``J`` (SX in ``args``):
     ``factor(*args) -> f`` and ``solve(f, b) -> J^-1 b``. The block LU of
-    :mod:`symcable.solvers.sxlu` written out in SX when J's pattern allows a fixed
+    :mod:`symcable.linalg.sxlu` written out in SX when J's pattern allows a fixed
     elimination order (the generalized-α matrix alpha_m I - ... has a regular diagonal),
     else J's nonzeros and the sparse QR of ``sparse_solve``."""
     sp = J.sparsity()

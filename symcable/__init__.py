@@ -15,8 +15,7 @@ from .models import build_dynamic_model, build_model
 from .results import StaticSolution
 from .results_periodic import PeriodicSolution, PeriodicSweep
 from .results_time import Trajectory
-from .scene import Scene
-from .scene_loader import load_scene
+from .scene import Scene, load_scene
 from .solvers.modal import ModalSolution, modal_analysis
 from .solvers.periodic import solve_periodic, sweep_periodic
 from .solvers.static import solve_static

@@ -36,7 +36,7 @@ def _scene_summary(scene, model) -> str:
 
 def _static(scene_path, args) -> int:
     from .solvers.static import solve_static
-    from .scene_loader import load_scene
+    from .scene import load_scene
 
     scene = load_scene(scene_path)
     sol = solve_static(scene)
@@ -58,7 +58,7 @@ def _static(scene_path, args) -> int:
 
 def _check(args) -> int:
     from .models import build_model
-    from .scene_loader import load_scene
+    from .scene import load_scene
 
     scene = load_scene(args.scene)
     print(_scene_summary(scene, build_model(scene)))
@@ -91,7 +91,7 @@ def _s_mid(scene):
 
 
 def _simulate(args) -> int:
-    from .scene_loader import load_scene
+    from .scene import load_scene
     from .solvers.stepping import simulate
     from .plotting import plot_trajectory
 
@@ -104,7 +104,7 @@ def _simulate(args) -> int:
 
 
 def _periodic(args) -> int:
-    from .scene_loader import load_scene
+    from .scene import load_scene
     from .solvers.periodic import solve_periodic
     from .plotting import plot_periodic
 
@@ -115,7 +115,7 @@ def _periodic(args) -> int:
 
 
 def _modes(args) -> int:
-    from .scene_loader import load_scene
+    from .scene import load_scene
     from .solvers.modal import modal_analysis
     from .plotting import plot_modes
 
@@ -129,7 +129,7 @@ def _demo(args) -> int:
     from . import demo_scene_path
     from .solvers.periodic import solve_periodic
     from .plotting import plot_periodic, close
-    from .scene_loader import load_scene
+    from .scene import load_scene
 
     print("symcable demo 1/2: statics of the OC3-Hywind mooring line (planar, 50 segments, "
           "seabed contact)\n")
@@ -151,7 +151,7 @@ def _demo(args) -> int:
 
 def _codegen(args) -> int:
     from .codegen import export_scene
-    from .scene_loader import load_scene
+    from .scene import load_scene
 
     scene = load_scene(args.scene)
     for path in export_scene(scene, args.out):

@@ -36,8 +36,7 @@ from ..errors import SymcableError
 from ..models import build_dynamic_model
 from ..models.dynamic import DynamicModel
 from ..results import Exportable
-from ..scene import Scene
-from ..scene_loader import load_scene
+from ..scene import Scene, load_scene
 
 __all__ = ["ModalSolution", "modal_analysis"]
 

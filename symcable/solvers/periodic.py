@@ -38,8 +38,7 @@ from ..models import build_dynamic_model
 from ..models.dynamic import DynamicModel
 from ..results_time import slack_warnings
 from ..results_periodic import PeriodicSolution, PeriodicSweep
-from ..scene import Scene
-from ..scene_loader import load_scene
+from ..scene import Scene, load_scene
 from . import harmonic_balance as hbm
 from . import shooting
 from .harmonic_balance import SquareSolver, choice

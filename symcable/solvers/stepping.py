@@ -43,7 +43,7 @@ from ..progress import ProgressBar
 from ..results_time import Trajectory
 from ..linalg.sparse import sparse_solve
 from ..linalg.sxlu import block_lu, block_plan
-from ..scene_loader import load_scene
+from ..scene import load_scene
 
 __all__ = ["Method", "ga_coefficients", "ga_residual_function", "rk4_stability_limit", "simulate",
            "step_function"]

@@ -92,7 +92,7 @@ def _s_mid(scene):
 
 def _simulate(args) -> int:
     from .scene import load_scene
-    from .solvers.stepping import simulate
+    from .api import simulate
     from .plotting import plot_trajectory
 
     scene = load_scene(args.scene)
@@ -105,7 +105,7 @@ def _simulate(args) -> int:
 
 def _periodic(args) -> int:
     from .scene import load_scene
-    from .solvers.periodic import solve_periodic
+    from .api import solve_periodic
     from .plotting import plot_periodic
 
     scene = load_scene(args.scene)
@@ -116,7 +116,7 @@ def _periodic(args) -> int:
 
 def _modes(args) -> int:
     from .scene import load_scene
-    from .solvers.modal import modal_analysis
+    from .api import modal_analysis
     from .plotting import plot_modes
 
     scene = load_scene(args.scene)
@@ -127,7 +127,7 @@ def _modes(args) -> int:
 
 def _demo(args) -> int:
     from . import demo_scene_path
-    from .solvers.periodic import solve_periodic
+    from .api import solve_periodic
     from .plotting import plot_periodic, close
     from .scene import load_scene
 

@@ -374,7 +374,8 @@ def export_scene(scene, folder, stem: str = "symcable_scene") -> list:
     values, start and scales; ``main.c`` calling them; ``README.md``. Returns the paths."""
 
     from .functions import static_functions
-    from .models import build_dynamic_model, build_model
+    from .api import build_dynamic_model
+    from .models import build_model
     from .solvers.static import solve_static
     from .solvers.stepping import step_function
 

@@ -150,7 +150,7 @@ def _demo(args) -> int:
 
 
 def _codegen(args) -> int:
-    from .codegen import export_scene
+    from .export import export_scene
     from .scene import load_scene
 
     scene = load_scene(args.scene)

@@ -10,17 +10,15 @@ See the README for the scene-file contract and the CLI.
 """
 from __future__ import annotations
 
+from .api import build_dynamic_model, modal_analysis, simulate, solve_periodic, sweep_periodic
 from .errors import ConvergenceError, SceneError, SymcableError
-from .models import build_dynamic_model, build_model
+from .models import build_model
 from .results import StaticSolution
 from .results_periodic import PeriodicSolution, PeriodicSweep
 from .results_time import Trajectory
-from .scene import Scene
-from .scene_loader import load_scene
-from .solvers.modal import ModalSolution, modal_analysis
-from .solvers.periodic import solve_periodic, sweep_periodic
+from .scene import Scene, load_scene
+from .solvers.modal import ModalSolution
 from .solvers.static import solve_static
-from .solvers.stepping import simulate
 from . import analytic
 
 __version__ = "0.1.0"

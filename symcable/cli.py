@@ -36,7 +36,7 @@ def _scene_summary(scene, model) -> str:
 
 def _static(scene_path, args) -> int:
     from .solvers.static import solve_static
-    from .scene_loader import load_scene
+    from .scene import load_scene
 
     scene = load_scene(scene_path)
     sol = solve_static(scene)
@@ -58,7 +58,7 @@ def _static(scene_path, args) -> int:
 
 def _check(args) -> int:
     from .models import build_model
-    from .scene_loader import load_scene
+    from .scene import load_scene
 
     scene = load_scene(args.scene)
     print(_scene_summary(scene, build_model(scene)))
@@ -91,8 +91,8 @@ def _s_mid(scene):
 
 
 def _simulate(args) -> int:
-    from .scene_loader import load_scene
-    from .solvers.stepping import simulate
+    from .scene import load_scene
+    from .api import simulate
     from .plotting import plot_trajectory
 
     scene = load_scene(args.scene)
@@ -104,8 +104,8 @@ def _simulate(args) -> int:
 
 
 def _periodic(args) -> int:
-    from .scene_loader import load_scene
-    from .solvers.periodic import solve_periodic
+    from .scene import load_scene
+    from .api import solve_periodic
     from .plotting import plot_periodic
 
     scene = load_scene(args.scene)
@@ -115,8 +115,8 @@ def _periodic(args) -> int:
 
 
 def _modes(args) -> int:
-    from .scene_loader import load_scene
-    from .solvers.modal import modal_analysis
+    from .scene import load_scene
+    from .api import modal_analysis
     from .plotting import plot_modes
 
     scene = load_scene(args.scene)
@@ -127,9 +127,9 @@ def _modes(args) -> int:
 
 def _demo(args) -> int:
     from . import demo_scene_path
-    from .solvers.periodic import solve_periodic
+    from .api import solve_periodic
     from .plotting import plot_periodic, close
-    from .scene_loader import load_scene
+    from .scene import load_scene
 
     print("symcable demo 1/2: statics of the OC3-Hywind mooring line (planar, 50 segments, "
           "seabed contact)\n")
@@ -150,8 +150,8 @@ def _demo(args) -> int:
 
 
 def _codegen(args) -> int:
-    from .codegen import export_scene
-    from .scene_loader import load_scene
+    from .export import export_scene
+    from .scene import load_scene
 
     scene = load_scene(args.scene)
     for path in export_scene(scene, args.out):

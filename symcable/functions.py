@@ -9,8 +9,8 @@ import numpy as np
 
 from . import codegen as _codegen
 from .models.base import Model
-from .solvers.linalg import sparse_solve
-from .solvers.sxlu import block_lu, block_plan
+from .linalg.sparse import sparse_solve
+from .linalg.sxlu import block_lu, block_plan
 
 #: Newton iterations of the fused static solve (plain Newton from a good start converges in
 #: a handful of steps or not at all; a damped Newton takes over when it does not)
@@ -65,7 +65,7 @@ class StaticFunctions:
         sparse QR, one call per Newton iteration (the damped Newton's step)
     solve : casadi.Function     ``static_solve(w0, p, tol) -> (w, iterations,
         residual_norm, outputs)``: up to SOLVE_MAX_ITER plain Newton steps (stopping once
-        max |r| <= tol, N), each solved by the block LU of :mod:`symcable.solvers.sxlu`
+        max |r| <= tol, N), each solved by the block LU of :mod:`symcable.linalg.sxlu`
         written out in SX (sparse QR when the pattern has no fixed elimination order), and
         every model output packed in one vector (see ``unpack``)
     outputs : casadi.Function   ``static_outputs(w, p) -> named outputs of the model``
@@ -146,7 +146,7 @@ def _vm_static(model: Model) -> StaticFunctions:
 
 def _newton_update(model: Model, J: ca.SX, step: ca.Function) -> ca.Function:
     """``static_newton_update(w, p, r) -> dw = -J(w)^-1 r`` (r the residual at w, already
-    known), the fused solve's Newton step: the block LU of :mod:`symcable.solvers.sxlu`
+    known), the fused solve's Newton step: the block LU of :mod:`symcable.linalg.sxlu`
     written out in SX when the Jacobian's pattern allows a fixed elimination order, else
     ``step``'s (sparse QR, which evaluates r itself)."""
     w, p = model.w, model.p

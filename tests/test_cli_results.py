@@ -121,7 +121,7 @@ def test_plot_has_profile_and_forces(tmp_path):
 @pytest.fixture
 def small_seed001(tmp_path):
     """The built-in seed-001 scene cut to 20 segments, as a TOML file."""
-    from symcable.scene_loader import scene_to_toml
+    from symcable.scene import scene_to_toml
     d = sc.load_scene(sc.demo_scene_path("seed001")).to_dict()
     d["sections"][0]["segments"] = 20
     path = tmp_path / "seed001.toml"

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 import symcable as sc
-from symcable.solvers.periodic import solve_periodic
+from symcable.api import solve_periodic
 
 from conftest import seed001
 

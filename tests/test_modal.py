@@ -9,8 +9,9 @@ import pytest
 
 import symcable as sc
 from symcable.analytic import sagged_cable_frequencies, taut_string_frequencies
+from symcable.api import modal_analysis
 from symcable.errors import SymcableError
-from symcable.solvers.modal import ModalSolution, modal_analysis, undamped_parameters
+from symcable.solvers.modal import ModalSolution, undamped_parameters
 
 from conftest import seed001, taut_string
 

@@ -12,10 +12,10 @@ import numpy as np
 import pytest
 
 import symcable as sc
+from symcable.api import solve_periodic, sweep_periodic
 from symcable.errors import ConvergenceError, SceneError, SymcableError
 from symcable.models.planar_dynamics import reconstruct_positions
 from symcable.results_periodic import PeriodicSolution, PeriodicSweep
-from symcable.solvers.periodic import solve_periodic, sweep_periodic
 
 from conftest import seed001
 

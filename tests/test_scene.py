@@ -1,4 +1,4 @@
-"""Scene loading and validation (symcable.scene_loader; design.md, "Scene file (TOML), version 1").
+"""Scene loading and validation (symcable.scene.load; design.md, "Scene file (TOML), version 1").
 
 Layer 1 (unit) tests: no solver runs. Numbers are compared exactly where the loader only copies
 them, and with ``pytest.approx`` (relative 1e-12, round-off of one formula) where it computes.
@@ -15,7 +15,7 @@ import pytest
 
 from symcable.errors import SceneError
 from symcable.scene import End, EndCondition, LineType, Model, Scene, Seabed
-from symcable.scene_loader import load_scene, scene_to_dict, scene_to_toml
+from symcable.scene import load_scene, scene_to_dict, scene_to_toml
 
 G = 9.80665
 

@@ -12,9 +12,10 @@ import numpy as np
 import pytest
 
 import symcable as sc
+from symcable.api import solve_periodic, sweep_periodic
 from symcable.errors import ConvergenceError, SymcableError
 from symcable.solvers import harmonic_balance as hbm
-from symcable.solvers.periodic import periodic_params, solve_periodic, sweep_periodic
+from symcable.solvers.periodic import periodic_params
 
 from conftest import seed001
 

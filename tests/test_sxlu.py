@@ -1,4 +1,4 @@
-"""The block LU written out in SX (symcable.solvers.sxlu): exact on the patterns the cable
+"""The block LU written out in SX (symcable.linalg.sxlu): exact on the patterns the cable
 systems have, an elimination order that depends on the pattern alone, and a clear refusal
 where no fixed order exists."""
 from __future__ import annotations
@@ -11,8 +11,8 @@ import pytest
 
 import symcable as sc
 from symcable.functions import static_functions
+from symcable.linalg.sxlu import BlockLU, block_lu_check, block_matching, block_plan
 from symcable.solvers.stepping import ga_residual_function
-from symcable.solvers.sxlu import BlockLU, block_lu_check, block_matching, block_plan
 
 from conftest import OC3, seed001
 

@@ -43,7 +43,7 @@ from typing import Callable
 import numpy as np
 
 import symcable as sc
-from symcable.solvers.periodic import solve_periodic
+from symcable.api import solve_periodic
 from symcable.solvers.stepping import rk4_stability_limit
 
 HERE = Path(__file__).resolve().parent

@@ -62,8 +62,8 @@ from matplotlib import ticker  # noqa: E402
 import numpy as np  # noqa: E402
 
 import symcable as sc  # noqa: E402
+from symcable.api import solve_periodic  # noqa: E402
 from symcable.errors import ConvergenceError  # noqa: E402
-from symcable.solvers.periodic import solve_periodic  # noqa: E402
 from symcable.solvers.stepping import rk4_stability_limit  # noqa: E402
 
 HERE = Path(__file__).resolve().parent

@@ -9,7 +9,8 @@ from .dynamic import DynamicModel
 from .planar import build_planar
 from .planar_dynamics import build_planar_dynamics
 
-__all__ = ["DynamicModel", "Guess", "Model", "build_dynamic_model", "build_model"]
+__all__ = ["DynamicModel", "Guess", "Model", "build_model", "cache_dynamic_model",
+           "cached_dynamic_model", "linearised_model"]
 
 _BUILDERS = {ModelKind.PLANAR: build_planar}
 _DYNAMIC_BUILDERS = {ModelKind.PLANAR: build_planar_dynamics}
@@ -35,18 +36,23 @@ def build_model(scene: Scene) -> Model:
     return model
 
 
-def build_dynamic_model(scene: Scene, static=None) -> DynamicModel:
-    """The scene's dynamics linearised about its static solution (solved here when not
-    given), as CasADi expressions. Cached like :func:`build_model` when ``static`` is not
-    given."""
-    if static is not None:
-        return _DYNAMIC_BUILDERS[scene.model](scene, static)
-    key = "dyn:" + repr(scene.to_dict())
-    model = _CACHE.get(key)
-    if model is None:
-        from ..solvers.static import solve_static
-        model = _DYNAMIC_BUILDERS[scene.model](scene, solve_static(scene))
-        _CACHE[key] = model
-        if len(_CACHE) > _CACHE_SIZE:
-            _CACHE.popitem(last=False)
+def linearised_model(scene: Scene, static) -> DynamicModel:
+    """The scene's dynamics linearised about ``static`` (its
+    :class:`~symcable.results.StaticSolution`), as CasADi expressions; not cached.
+    :func:`symcable.api.build_dynamic_model` solves the static state and caches."""
+    return _DYNAMIC_BUILDERS[scene.model](scene, static)
+
+
+def cached_dynamic_model(scene: Scene) -> DynamicModel | None:
+    """The dynamic model cached for this scene's content by :func:`cache_dynamic_model`,
+    or None."""
+    return _CACHE.get("dyn:" + repr(scene.to_dict()))
+
+
+def cache_dynamic_model(scene: Scene, model: DynamicModel) -> DynamicModel:
+    """Cache ``model`` as the scene's dynamic model (in the cache of :func:`build_model`,
+    the 16 most recent models); returns it."""
+    _CACHE["dyn:" + repr(scene.to_dict())] = model
+    if len(_CACHE) > _CACHE_SIZE:
+        _CACHE.popitem(last=False)
     return model

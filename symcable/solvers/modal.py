@@ -33,11 +33,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import SymcableError
-from ..models import build_dynamic_model
 from ..models.dynamic import DynamicModel
 from ..results import Exportable
-from ..scene import Scene
-from ..scene_loader import load_scene
 
 __all__ = ["ModalSolution", "modal_analysis"]
 
@@ -140,18 +137,20 @@ def _shape(disp: np.ndarray) -> np.ndarray:
 
 
 def modal_analysis(scene, n_modes: int = 10, *, model: DynamicModel | None = None,
-                   max_dense: int = MAX_DENSE, codegen: bool | None = None) -> ModalSolution:
-    """The lowest undamped natural frequencies and mode shapes of a line.
+                   max_dense: int = MAX_DENSE, codegen: bool | None = None,
+                   started: float | None = None) -> ModalSolution:
+    """The lowest undamped natural frequencies and mode shapes of a line, for a dynamic
+    model already built; :func:`symcable.modal_analysis` builds it from a scene.
 
     Parameters
     ----------
-    scene : Scene, dict or path
-        Anything :func:`symcable.load_scene` takes; its static state is solved here unless
-        ``model`` is given (then ``scene`` may be None).
+    scene : Scene, dict, path or None
+        Not used here (the model is given): :func:`symcable.modal_analysis` builds the
+        model of a scene, solving its static state.
     n_modes : int
         Number of modes (>= 1): the lowest, each conjugate pair once, zero modes skipped.
         Fewer are returned, with a warning, when the model has fewer.
-    model : DynamicModel, optional
+    model : DynamicModel
         A dynamic model already built (:func:`symcable.build_dynamic_model`).
     max_dense : int
         Largest state size n_y solved (dense eigenvalue problem, O(n_y^3): ~20 s at 3000).
@@ -160,6 +159,10 @@ def modal_analysis(scene, n_modes: int = 10, *, model: DynamicModel | None = Non
         when a compiler is found). The time here is the dense eigenvalue solve (LAPACK),
         which generated C does not change; the option is for uniformity and for models
         whose Jacobian is costly.
+    started : float, optional
+        ``time.perf_counter()`` when the caller began (:func:`symcable.modal_analysis`,
+        which builds the model first): ``stats["model_time"]`` and ``stats["wall_time"]``
+        count from it.
 
     Returns
     -------
@@ -170,14 +173,13 @@ def modal_analysis(scene, n_modes: int = 10, *, model: DynamicModel | None = Non
     SymcableError
         On ``n_modes < 1`` or a model larger than ``max_dense``.
     """
-    t_start = time.perf_counter()
+    t_start = time.perf_counter() if started is None else started
     if isinstance(n_modes, bool) or int(n_modes) != n_modes or n_modes < 1:
         raise SymcableError(f"n_modes = {n_modes!r}: must be an integer >= 1")
     n_modes = int(n_modes)
     if model is None:
-        if not isinstance(scene, Scene):
-            scene = load_scene(scene)
-        model = build_dynamic_model(scene)
+        raise SymcableError("model = None: give the dynamic model "
+                            "(symcable.modal_analysis builds it from a scene)")
     t_model = time.perf_counter()
     n_y = model.n_y
     if n_y > max_dense:

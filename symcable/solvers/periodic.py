@@ -34,12 +34,10 @@ import numpy as np
 
 from ..codegen import use_codegen
 from ..errors import ConvergenceError, SceneError, SymcableError
-from ..models import build_dynamic_model
 from ..models.dynamic import DynamicModel
 from ..results_time import slack_warnings
 from ..results_periodic import PeriodicSolution, PeriodicSweep
-from ..scene import Scene
-from ..scene_loader import load_scene
+from ..scene import Scene, load_scene
 from . import harmonic_balance as hbm
 from . import shooting
 from .harmonic_balance import SquareSolver, choice
@@ -294,7 +292,9 @@ def periodic_params(model: DynamicModel, **blocks) -> np.ndarray:
 def _model_for(scene, model: DynamicModel | None) -> tuple[Scene, DynamicModel]:
     if not isinstance(scene, Scene):
         scene = load_scene(scene)
-    model = model or build_dynamic_model(scene)
+    if model is None:
+        raise SymcableError(f"model = None: give the dynamic model of scene '{scene.name}' "
+                            "(symcable.solve_periodic and symcable.sweep_periodic build it)")
     if model.period is None:
         raise SceneError(f"scene '{scene.name}' has no prescribed motion: a periodic response needs "
                          "an excitation (add [end_b.motion] with its period, s)")
@@ -310,8 +310,10 @@ def solve_periodic(scene, method: str = "collocation", *, intervals: int | None 
                    model: DynamicModel | None = None, params: np.ndarray | None = None,
                    initial: PeriodicSolution | None = None,
                    tol: float | None = None, codegen: bool | None = None,
-                   steps: int | None = None, rho_inf: float = 0.5) -> PeriodicSolution:
-    """Periodic steady state of a scene's dynamics over one period of its excitation.
+                   steps: int | None = None, rho_inf: float = 0.5,
+                   started: float | None = None) -> PeriodicSolution:
+    """Periodic steady state of a scene's dynamics over one period of its excitation, for a
+    dynamic model already built; :func:`symcable.solve_periodic` builds it from a scene.
 
     Parameters
     ----------
@@ -343,8 +345,8 @@ def solve_periodic(scene, method: str = "collocation", *, intervals: int | None 
         tol, hessian_approximation limited-memory``.
     resolution : int
         Output times per period.
-    model : DynamicModel, optional
-        A model already built for this scene (:func:`symcable.build_dynamic_model`).
+    model : DynamicModel
+        The model built for this scene (:func:`symcable.build_dynamic_model`).
     params : ndarray (n_p,), optional
         Model parameters (default: the model's periodic steady-state parameters,
         ``model.p_periodic``, i.e. ``p_value`` without a start-up ramp).
@@ -367,6 +369,9 @@ def solve_periodic(scene, method: str = "collocation", *, intervals: int | None 
     rho_inf : float
         Shooting only: generalized-α spectral radius at infinite step, in [0, 1] (default
         0.5, as ``simulate``).
+    started : float, optional
+        ``time.perf_counter()`` when the caller began (:func:`symcable.solve_periodic`,
+        which builds the model first): ``stats["wall_time"]`` counts from it.
 
     Returns
     -------
@@ -380,7 +385,7 @@ def solve_periodic(scene, method: str = "collocation", *, intervals: int | None 
         The solver did not converge; ``partial`` is the last iterate as a PeriodicSolution
         with status "failed", ``diagnostics`` the solver's return status and history.
     """
-    t0 = time.perf_counter()
+    t0 = time.perf_counter() if started is None else started
     cfg = _config(method, intervals, degree, scheme, solver, harmonics, samples, ipopt_options,
                   resolution, tol, codegen, steps, rho_inf)
     scene, model = _model_for(scene, model)
@@ -395,7 +400,8 @@ def sweep_periodic(scene, periods: Sequence[float], method: str = "collocation",
                    samples: int | None = None, ipopt_options: Mapping | None = None,
                    resolution: int = 200, model: DynamicModel | None = None,
                    tol: float | None = None, codegen: bool | None = None,
-                   steps: int | None = None, rho_inf: float = 0.5) -> PeriodicSweep:
+                   steps: int | None = None, rho_inf: float = 0.5,
+                   started: float | None = None) -> PeriodicSweep:
     """Fairlead tension response over excitation periods (a tension RAO), by continuation.
 
     Each period sets the ``omega`` block of the model's periodic parameters to 2 pi / T,
@@ -413,7 +419,7 @@ def sweep_periodic(scene, periods: Sequence[float], method: str = "collocation",
     ConvergenceError
         When every period fails.
     """
-    t0 = time.perf_counter()
+    t0 = time.perf_counter() if started is None else started
     cfg = _config(method, intervals, degree, scheme, solver, harmonics, samples, ipopt_options,
                   resolution, tol, codegen, steps, rho_inf)
     scene, model = _model_for(scene, model)

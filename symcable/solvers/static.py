@@ -12,8 +12,7 @@ from ..functions import SOLVE_MAX_ITER, static_functions
 from ..models import build_model
 from ..models.base import Model
 from ..results import StaticSolution
-from ..scene import Scene
-from ..scene_loader import load_scene
+from ..scene import Scene, load_scene
 from .newton import NewtonResult, newton
 
 #: default residual tolerance, relative to the model's force scale

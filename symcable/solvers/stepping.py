@@ -22,7 +22,7 @@ long run pays the Python interpreter once per batch of saved samples, not once p
   rho_inf in [0, 1] (1: none; 0: annihilates the highest frequencies in one step). Each
   step solves R = 0 by Newton's method with the exact Jacobian
   a_m I - a_f gamma dt df/dy from CasADi, factorised once per step by the block LU of
-  :mod:`symcable.solvers.sxlu` (written out in SX) and reused by the next iterations
+  :mod:`symcable.linalg.sxlu` (written out in SX) and reused by the next iterations
   (chord iterations), inside the step Function.
 """
 from __future__ import annotations
@@ -38,12 +38,11 @@ import numpy as np
 from ..codegen import compile_functions, use_codegen
 from ..errors import ConvergenceError, SymcableError
 from ..functions import FastCall
-from ..models import build_dynamic_model
 from ..progress import ProgressBar
 from ..results_time import Trajectory
-from .linalg import sparse_solve
-from .sxlu import block_lu, block_plan
-from ..scene_loader import load_scene
+from ..linalg.sparse import sparse_solve
+from ..linalg.sxlu import block_lu, block_plan
+from ..scene import load_scene
 
 __all__ = ["Method", "ga_coefficients", "ga_residual_function", "rk4_stability_limit", "simulate",
            "step_function"]
@@ -232,7 +231,7 @@ def ga_residual_function(model, rho_inf: float) -> ca.Function:
 def _ga_linear_solver(model, J: ca.SX, args: list):
     """``(factor, solve, n_factors)`` for the iteration matrix ``J`` (SX in ``args``):
     ``factor(*args) -> f`` and ``solve(f, b) -> J^-1 b``. The block LU of
-    :mod:`symcable.solvers.sxlu` written out in SX when J's pattern allows a fixed
+    :mod:`symcable.linalg.sxlu` written out in SX when J's pattern allows a fixed
     elimination order (the generalized-α matrix alpha_m I - ... has a regular diagonal),
     else J's nonzeros and the sparse QR of ``sparse_solve``."""
     sp = J.sparsity()
@@ -437,13 +436,16 @@ def _bad_state(Y: np.ndarray, inv_scale: np.ndarray) -> np.ndarray:
 def simulate(scene, duration: float, dt: float | None = None, method: str = "generalized-alpha", *,
              rho_inf: float = 0.5, save_every: int | None = None, save_times=None,
              progress: bool | None = None, model=None, params=None,
-             newton_tol: float | None = None, codegen: bool | None = None) -> Trajectory:
-    """Time response of a line from rest at t = 0 (where its excitation starts).
+             newton_tol: float | None = None, codegen: bool | None = None,
+             started: float | None = None) -> Trajectory:
+    """Time response of a line from rest at t = 0 (where its excitation starts), for a
+    dynamic model already built; :func:`symcable.simulate` builds it from a scene.
 
     Parameters
     ----------
-    scene : Scene, dict or path
-        Anything :func:`symcable.load_scene` takes (may be None when ``model`` is given).
+    scene : Scene, dict or path, optional
+        Anything :func:`symcable.load_scene` takes, for the result's name (None: the name
+        of the scene the model was built for).
     duration : float
         Simulated time, s.
     dt : float, optional
@@ -465,8 +467,8 @@ def simulate(scene, duration: float, dt: float | None = None, method: str = "gen
     progress : bool, optional
         A progress bar on stderr: True always, False never, None only for a run expected to
         take over 2 s with stderr a terminal.
-    model : DynamicModel, optional
-        The model to integrate (default ``build_dynamic_model(scene)``).
+    model : DynamicModel
+        The model to integrate (:func:`symcable.build_dynamic_model`).
     params : array_like (n_p,), optional
         Parameter vector replacing ``model.p_value``, e.g. ``model.with_params(amp_b=[0, 0])``.
     newton_tol : float, optional
@@ -478,6 +480,9 @@ def simulate(scene, duration: float, dt: float | None = None, method: str = "gen
         never in Python. Default None: generated C when a C compiler is found (see
         :mod:`symcable.codegen`); True without a compiler warns once and uses the virtual
         machine. Results agree with the virtual machine's to round-off.
+    started : float, optional
+        ``time.perf_counter()`` when the caller began (:func:`symcable.simulate`, which
+        builds the model first): ``stats["wall_time"]`` counts from it.
 
     Returns
     -------
@@ -497,14 +502,15 @@ def simulate(scene, duration: float, dt: float | None = None, method: str = "gen
         ``residual`` (max |R| dt / y_scale at the last Newton iterate) or ``state_norm``
         (max |y| / y_scale reached).
     """
-    wall0 = _time.perf_counter()
+    wall0 = _time.perf_counter() if started is None else started
     meth = Method.parse(method)
     duration = _check_positive("duration", duration, "s")
     if scene is None and model is None:
         raise SymcableError("scene = None: give a scene, or a model to integrate")
     sc = load_scene(scene) if scene is not None else None
     if model is None:
-        model = build_dynamic_model(sc)
+        raise SymcableError("model = None: give the dynamic model to integrate "
+                            "(symcable.simulate builds it from a scene)")
     scene_name = sc.name if sc is not None else getattr(model.info.get("scene"), "name", model.name)
     p = np.array(model.p_value if params is None else params, dtype=float).ravel()
     if p.shape != np.shape(model.p_value):

@@ -24,8 +24,9 @@ if sys.version_info >= (3, 11):
 else:  # pragma: no cover - exercised on Python 3.10 only
     import tomli as tomllib
 
-from .errors import SceneError
-from .scene import End, EndCondition, Environment, LineType, Model, Motion, Scene, Seabed, Section
+from ..errors import SceneError
+from .model import (_LINE_KEYS, End, EndCondition, Environment, LineType, Model, Motion, Scene, Seabed,
+                    Section, scene_to_dict)
 
 __all__ = ["load_scene", "scene_to_dict", "scene_to_toml"]
 
@@ -36,8 +37,6 @@ _BARE_KEY = re.compile(r"[A-Za-z0-9_-]+")
 _TOP_KEYS = ("name", "model", "environment", "seabed", "line_types", "sections", "end_a", "end_b")
 _ENV_KEYS = ("gravity", "water_density", "depth", "current")
 _SEABED_KEYS = ("stiffness", "friction")
-_LINE_KEYS = ("EA", "EI", "mass", "diameter", "weight", "cd_normal", "cd_tangential", "ca_normal",
-              "max_strain")
 _SECTION_KEYS = ("type", "length", "segments")
 _END_KEYS = ("condition", "position", "angle_deg", "force", "motion")
 _MOTION_KEYS = ("kind", "period", "amplitude", "phase_deg")
@@ -393,45 +392,6 @@ def _build(data: Mapping, source: str) -> Scene:
     return Scene(name=name, model=model, environment=env, seabed=seabed,
                  line_types=MappingProxyType(types), sections=sections,
                  end_a=ends["end_a"], end_b=ends["end_b"], source=source)
-
-
-def scene_to_dict(scene: Scene) -> dict:
-    """The scene as a plain dict in the file's layout, every key written out.
-
-    Angles are in degrees, vectors are lists, the (possibly computed) ``weight`` is explicit,
-    ``environment.depth`` and ``[seabed]`` are omitted when there is no seabed.
-    ``load_scene(scene_to_dict(s))`` equals ``s`` except for ``source``.
-    """
-    env = scene.environment
-    environment: dict[str, Any] = {"gravity": env.gravity, "water_density": env.water_density}
-    if env.depth is not None:
-        environment["depth"] = env.depth
-    environment["current"] = list(env.current)
-    out: dict[str, Any] = {"name": scene.name, "model": Model(scene.model).value,
-                           "environment": environment}
-    if scene.seabed is not None:
-        out["seabed"] = {"stiffness": scene.seabed.stiffness, "friction": scene.seabed.friction}
-    types = dict(scene.line_types)
-    for s in scene.sections:  # a hand-built Scene may hold types missing from the mapping
-        types.setdefault(s.line_type.name, s.line_type)
-    out["line_types"] = {name: {k: getattr(lt, k) for k in _LINE_KEYS}
-                         for name, lt in types.items()}
-    out["sections"] = [{"type": s.line_type.name, "length": s.length, "segments": s.segments}
-                       for s in scene.sections]
-    for key, end in (("end_a", scene.end_a), ("end_b", scene.end_b)):
-        e: dict[str, Any] = {"condition": EndCondition(end.condition).value}
-        if end.position is not None:
-            e["position"] = list(end.position)
-        if end.angle_deg is not None:
-            e["angle_deg"] = end.angle_deg
-        if end.force is not None:
-            e["force"] = list(end.force)
-        if end.motion is not None:
-            m = end.motion
-            e["motion"] = {"kind": m.kind, "period": m.period, "amplitude": list(m.amplitude),
-                           "phase_deg": list(m.phase_deg)}
-        out[key] = e
-    return out
 
 
 def _toml_value(v: Any) -> str:

@@ -2,7 +2,7 @@
 
 Generic: it sees a square sparsity pattern and a block size, nothing about cables.
 
-Why: CasADi's sparse QR (:mod:`symcable.solvers.linalg`) is compiled C++ in the virtual
+Why: CasADi's sparse QR (:mod:`symcable.linalg.sparse`) is compiled C++ in the virtual
 machine and generic index-driven C in generated code, so generating code cannot make it
 faster, and it dominates a Newton iteration of the banded cable systems (12 us of 14 on the
 OC3 statics). Written out as straight-line arithmetic on the nonzeros, with the fill computed

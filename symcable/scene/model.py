@@ -12,12 +12,16 @@ from __future__ import annotations
 import enum
 import math
 from dataclasses import dataclass, field
-from typing import Mapping
+from typing import Any, Mapping
 
 __all__ = [
     "EndCondition", "Model", "LineType", "Section", "Motion", "End", "Environment", "Seabed",
-    "Scene",
+    "Scene", "scene_to_dict",
 ]
+
+#: keys of a line type (``[line_types.NAME]``) in the file, in the order they are written
+_LINE_KEYS = ("EA", "EI", "mass", "diameter", "weight", "cd_normal", "cd_tangential", "ca_normal",
+              "max_strain")
 
 
 class EndCondition(str, enum.Enum):
@@ -262,5 +266,43 @@ class Scene:
     def to_dict(self) -> dict:
         """The scene as a plain dict in the file's layout (angles in degrees), such that
         ``load_scene(scene.to_dict())`` gives an equal scene."""
-        from .scene_loader import scene_to_dict
         return scene_to_dict(self)
+
+
+def scene_to_dict(scene: Scene) -> dict:
+    """The scene as a plain dict in the file's layout, every key written out.
+
+    Angles are in degrees, vectors are lists, the (possibly computed) ``weight`` is explicit,
+    ``environment.depth`` and ``[seabed]`` are omitted when there is no seabed.
+    ``load_scene(scene_to_dict(s))`` equals ``s`` except for ``source``.
+    """
+    env = scene.environment
+    environment: dict[str, Any] = {"gravity": env.gravity, "water_density": env.water_density}
+    if env.depth is not None:
+        environment["depth"] = env.depth
+    environment["current"] = list(env.current)
+    out: dict[str, Any] = {"name": scene.name, "model": Model(scene.model).value,
+                           "environment": environment}
+    if scene.seabed is not None:
+        out["seabed"] = {"stiffness": scene.seabed.stiffness, "friction": scene.seabed.friction}
+    types = dict(scene.line_types)
+    for s in scene.sections:  # a hand-built Scene may hold types missing from the mapping
+        types.setdefault(s.line_type.name, s.line_type)
+    out["line_types"] = {name: {k: getattr(lt, k) for k in _LINE_KEYS}
+                         for name, lt in types.items()}
+    out["sections"] = [{"type": s.line_type.name, "length": s.length, "segments": s.segments}
+                       for s in scene.sections]
+    for key, end in (("end_a", scene.end_a), ("end_b", scene.end_b)):
+        e: dict[str, Any] = {"condition": EndCondition(end.condition).value}
+        if end.position is not None:
+            e["position"] = list(end.position)
+        if end.angle_deg is not None:
+            e["angle_deg"] = end.angle_deg
+        if end.force is not None:
+            e["force"] = list(end.force)
+        if end.motion is not None:
+            m = end.motion
+            e["motion"] = {"kind": m.kind, "period": m.period, "amplitude": list(m.amplitude),
+                           "phase_deg": list(m.phase_deg)}
+        out[key] = e
+    return out

@@ -1,0 +1,124 @@
+"""The orchestration layer: scene -> model -> static solution -> dynamics.
+
+Below this module each layer knows only the ones under it: formulations turn a scene into
+a model (:mod:`symcable.models`) and never call a solver; solvers solve a model they are
+given (:mod:`symcable.solvers`). What starts from a scene and needs a solver on the way
+lives here: the dynamic model, which is linearised about the static solution, and the
+analyses of a scene's dynamics, which build that model first. The package exports these
+functions (``sc.simulate(scene, ...)``); their options are those of the solvers they call.
+"""
+from __future__ import annotations
+
+import time
+from typing import Mapping, Sequence
+
+import numpy as np
+
+from .models import DynamicModel, cache_dynamic_model, cached_dynamic_model, linearised_model
+from .results_periodic import PeriodicSolution, PeriodicSweep
+from .results_time import Trajectory
+from .scene import Scene, load_scene
+from .solvers import modal as _modal
+from .solvers import periodic as _periodic
+from .solvers import stepping as _stepping
+from .solvers.modal import MAX_DENSE, ModalSolution
+from .solvers.static import solve_static
+
+__all__ = ["build_dynamic_model", "modal_analysis", "simulate", "solve_periodic", "sweep_periodic"]
+
+
+def build_dynamic_model(scene: Scene, static=None) -> DynamicModel:
+    """The scene's dynamics linearised about its static solution (solved here when not
+    given), as CasADi expressions. Cached like :func:`symcable.build_model` when ``static``
+    is not given."""
+    if static is not None:
+        return linearised_model(scene, static)
+    model = cached_dynamic_model(scene)
+    if model is None:
+        model = cache_dynamic_model(scene, linearised_model(scene, solve_static(scene)))
+    return model
+
+
+def simulate(scene, duration: float, dt: float | None = None, method: str = "generalized-alpha", *,
+             rho_inf: float = 0.5, save_every: int | None = None, save_times=None,
+             progress: bool | None = None, model: DynamicModel | None = None, params=None,
+             newton_tol: float | None = None, codegen: bool | None = None) -> Trajectory:
+    """Time response of a line from rest at t = 0 (where its excitation starts).
+
+    ``scene`` is anything :func:`symcable.load_scene` takes; its dynamic model is built
+    here (:func:`build_dynamic_model`, which solves the static state) unless ``model`` is
+    given, and then ``scene`` may be None. The other parameters, the result and the errors
+    are those of :func:`symcable.solvers.stepping.simulate`.
+    """
+    started = time.perf_counter()
+    if model is None and scene is not None:
+        scene = load_scene(scene)
+        model = build_dynamic_model(scene)
+    return _stepping.simulate(scene, duration, dt, method, rho_inf=rho_inf, save_every=save_every,
+                              save_times=save_times, progress=progress, model=model, params=params,
+                              newton_tol=newton_tol, codegen=codegen, started=started)
+
+
+def solve_periodic(scene, method: str = "collocation", *, intervals: int | None = None,
+                   degree: int = 3, scheme: str = "radau", solver: str | None = None,
+                   harmonics: int | None = None, samples: int | None = None,
+                   ipopt_options: Mapping | None = None, resolution: int = 200,
+                   model: DynamicModel | None = None, params: np.ndarray | None = None,
+                   initial: PeriodicSolution | None = None,
+                   tol: float | None = None, codegen: bool | None = None,
+                   steps: int | None = None, rho_inf: float = 0.5) -> PeriodicSolution:
+    """Periodic steady state of a scene's dynamics over one period of its excitation.
+
+    ``scene`` is anything :func:`symcable.load_scene` takes, and must prescribe a motion;
+    its dynamic model is built here (:func:`build_dynamic_model`) unless ``model`` is given.
+    The other parameters, the result and the errors are those of
+    :func:`symcable.solvers.periodic.solve_periodic`.
+    """
+    started = time.perf_counter()
+    if model is None:
+        scene = load_scene(scene)
+        model = build_dynamic_model(scene)
+    return _periodic.solve_periodic(
+        scene, method, intervals=intervals, degree=degree, scheme=scheme, solver=solver,
+        harmonics=harmonics, samples=samples, ipopt_options=ipopt_options, resolution=resolution,
+        model=model, params=params, initial=initial, tol=tol, codegen=codegen, steps=steps,
+        rho_inf=rho_inf, started=started)
+
+
+def sweep_periodic(scene, periods: Sequence[float], method: str = "collocation", *,
+                   intervals: int | None = None, degree: int = 3, scheme: str = "radau",
+                   solver: str | None = None, harmonics: int | None = None,
+                   samples: int | None = None, ipopt_options: Mapping | None = None,
+                   resolution: int = 200, model: DynamicModel | None = None,
+                   tol: float | None = None, codegen: bool | None = None,
+                   steps: int | None = None, rho_inf: float = 0.5) -> PeriodicSweep:
+    """Fairlead tension response over excitation periods (a tension RAO), by continuation.
+
+    ``scene`` as in :func:`solve_periodic`; the model is built once for the whole sweep.
+    The other parameters, the result and the errors are those of
+    :func:`symcable.solvers.periodic.sweep_periodic`.
+    """
+    started = time.perf_counter()
+    if model is None:
+        scene = load_scene(scene)
+        model = build_dynamic_model(scene)
+    return _periodic.sweep_periodic(
+        scene, periods, method, intervals=intervals, degree=degree, scheme=scheme, solver=solver,
+        harmonics=harmonics, samples=samples, ipopt_options=ipopt_options, resolution=resolution,
+        model=model, tol=tol, codegen=codegen, steps=steps, rho_inf=rho_inf, started=started)
+
+
+def modal_analysis(scene, n_modes: int = 10, *, model: DynamicModel | None = None,
+                   max_dense: int = MAX_DENSE, codegen: bool | None = None) -> ModalSolution:
+    """The lowest undamped natural frequencies and mode shapes of a line.
+
+    ``scene`` is anything :func:`symcable.load_scene` takes; its static state is solved and
+    its dynamic model built here unless ``model`` is given (then ``scene`` may be None).
+    The other parameters, the result and the errors are those of
+    :func:`symcable.solvers.modal.modal_analysis`.
+    """
+    started = time.perf_counter()
+    if model is None:
+        model = build_dynamic_model(load_scene(scene))
+    return _modal.modal_analysis(scene, n_modes, model=model, max_dense=max_dense, codegen=codegen,
+                                 started=started)

@@ -1,0 +1,149 @@
+"""Standalone C for a whole scene (``symcable codegen SCENE``): the scene's static solve and
+time step as C sources with their data, an example ``main.c`` and a README.
+
+It builds the scene's models, derives and solves them, so it sits at the top of the
+package beside :mod:`symcable.api`; writing the C itself is :func:`symcable.codegen.export_sources`.
+"""
+from __future__ import annotations
+
+from pathlib import Path
+
+import casadi as ca
+
+from .api import build_dynamic_model
+from .codegen import export_sources
+from .errors import SymcableError
+from .functions import static_functions
+from .models import build_model
+from .solvers.static import solve_static
+from .solvers.stepping import step_function
+
+__all__ = ["export_scene"]
+
+
+_MAIN_C = r"""/* Example: call symcable's generated functions from C.
+ * Build:  cc -O2 -Wall main.c {stem}.c -lm -o example && ./example
+ * Every function has CasADi's calling convention: arrays of input and output pointers,
+ * integer and real work arrays sized by <name>_work, and a memory slot from
+ * <name>_checkout (see {stem}.h and README.md). */
+#include <stdio.h>
+#include <stdlib.h>
+#include "{stem}.h"
+#include "{stem}_data.h"
+
+/* Evaluate `f` (one of the generated functions) with inputs `arg`, outputs `res`. */
+#define CALL(f, arg, res) do {{ \
+    casadi_int n_arg, n_res, n_iw, n_w; \
+    f##_work(&n_arg, &n_res, &n_iw, &n_w); \
+    const casadi_real **a_ = malloc(sizeof(*a_) * (n_arg > 0 ? n_arg : 1)); \
+    casadi_real **r_ = malloc(sizeof(*r_) * (n_res > 0 ? n_res : 1)); \
+    casadi_int *iw_ = malloc(sizeof(*iw_) * (n_iw > 0 ? n_iw : 1)); \
+    casadi_real *w_ = malloc(sizeof(*w_) * (n_w > 0 ? n_w : 1)); \
+    for (casadi_int i_ = 0; i_ < f##_n_in(); ++i_) a_[i_] = (arg)[i_]; \
+    for (casadi_int i_ = 0; i_ < f##_n_out(); ++i_) r_[i_] = (res)[i_]; \
+    f##_incref(); \
+    int mem_ = f##_checkout(); \
+    int flag_ = f(a_, r_, iw_, w_, mem_); \
+    f##_release(mem_); \
+    f##_decref(); \
+    free(a_); free(r_); free(iw_); free(w_); \
+    if (flag_) {{ fprintf(stderr, #f " failed\n"); return 1; }} \
+}} while (0)
+
+int main(void) {{
+  /* static configuration: plain Newton from the catenary start */
+  static casadi_real w[N_W], iterations, residual, outputs[N_OUT];
+  casadi_real tol = STATIC_TOL;
+  const casadi_real *arg[] = {{W_START, P_STATIC, &tol}};
+  casadi_real *res[] = {{w, &iterations, &residual, outputs}};
+  CALL(static_solve, arg, res);
+  printf("static: %g Newton iterations, residual %.3g N (tolerance %.3g N)\n",
+         iterations, residual, tol);
+{dynamic}  return 0;
+}}
+"""
+
+_MAIN_DYN = r"""  /* 100 generalized-alpha steps of dt = period / 100 from rest */
+  {{
+    static casadi_real y[N_Y], ydot[N_Y], y1[N_Y], ydot1[N_Y];
+    casadi_real k = 0, k1, its, failed, measure, t0 = 0, dt = DT;
+    casadi_real settings[2] = {{0.5, 1e-10}}; /* rho_inf, Newton tolerance */
+    for (int i = 0; i < N_Y; ++i) y[i] = Y0[i];
+    for (int n = 0; n < 100; ++n) {{
+      const casadi_real *a[] = {{y, ydot, &k, &t0, &dt, P_DYNAMIC, Y_SCALE, settings}};
+      casadi_real *r[] = {{y1, ydot1, &k1, &its, &failed, &measure}};
+      CALL(ga_step, a, r);
+      if (failed) {{ fprintf(stderr, "step %d: Newton failed\n", n); return 1; }}
+      for (int i = 0; i < N_Y; ++i) {{ y[i] = y1[i]; ydot[i] = ydot1[i]; }}
+      k = k1;
+    }}
+    printf("dynamics: 100 steps done, t = %g s\n", k * dt);
+  }}
+"""
+
+
+def _c_array(name: str, values) -> str:
+    vals = ", ".join(repr(float(v)) for v in values) or "0.0"
+    return f"static const casadi_real {name}[] = {{{vals}}};\n"
+
+
+def export_scene(scene, folder, stem: str = "symcable_scene") -> list:
+    """Standalone C for ``scene`` (``symcable codegen``): ``<stem>.c``/``.h`` with the static
+    residual, Jacobian and solve, and (when the scene moves and hangs free of the seabed) the
+    generalized-α step and dynamic outputs; ``<stem>_data.h`` with the scene's parameter
+    values, start and scales; ``main.c`` calling them; ``README.md``. Returns the paths."""
+    folder = Path(folder)
+    model = build_model(scene)
+    st = static_functions(model, codegen=False)
+    sol = solve_static(scene, model=model, codegen=False)
+    start = model._cache["first_guess"].w
+    funcs = [st.residual, st.jacobian, st.solve, st.outputs]
+    dyn, why_not = None, ""
+    if any(e.motion is not None for e in (scene.end_a, scene.end_b)):
+        try:
+            dyn = build_dynamic_model(scene, static=sol)
+        except SymcableError as exc:
+            why_not = str(exc)
+    else:
+        why_not = "the scene prescribes no end motion"
+    data = [f"/* {scene.name}: parameter values for {stem}.c (SI units) */\n",
+            "#ifndef casadi_real\n#define casadi_real double\n#endif\n",
+            f"#define N_W {model.n_w}\n#define N_OUT {st.solve.nnz_out(3)}\n",
+            f"#define STATIC_TOL {sol.stats['tolerance']!r}\n",
+            _c_array("W_START", start), _c_array("P_STATIC", model.p_target)]
+    if dyn is not None:
+        funcs += [step_function(dyn, "generalized-alpha", codegen=False), dyn.functions().outputs]
+        data += [f"#define N_Y {dyn.n_y}\n#define DT {dyn.period / 100.0!r}\n",
+                 _c_array("Y0", dyn.y0), _c_array("P_DYNAMIC", dyn.p_value),
+                 _c_array("Y_SCALE", dyn.y_scale)]
+    src, hdr = export_sources(funcs, folder, stem)
+    paths = [src, hdr]
+    p = folder / f"{stem}_data.h"
+    p.write_text("".join(data))
+    paths.append(p)
+    p = folder / "main.c"
+    p.write_text(_MAIN_C.format(stem=stem, dynamic=_MAIN_DYN.format() if dyn is not None else ""))
+    paths.append(p)
+    lines = [f"# Generated C for scene '{scene.name}'", "",
+             f"Written by symcable (CasADi {ca.__version__}). Build and run the example:", "",
+             "```sh", f"cc -O2 -Wall main.c {stem}.c -lm -o example && ./example", "```", "",
+             "Functions (CasADi's calling convention: see the header; sizes in SI units):", ""]
+    for f in funcs:
+        ins = ", ".join(f"{f.name_in(i)}[{f.nnz_in(i)}]" for i in range(f.n_in()))
+        outs = ", ".join(f"{f.name_out(i)}[{f.nnz_out(i)}]" for i in range(f.n_out()))
+        lines.append(f"- `{f.name()}({ins}) -> ({outs})`")
+    lines += ["", "- `static_*`: w holds node positions (m), segment angles (rad) and strains; "
+              "p the scene parameters (`P_STATIC`); residual rows in N. `static_solve` runs up to "
+              "12 Newton steps and packs every output (see symcable's "
+              "`StaticFunctions.unpack`).",
+              "- `static_jacobian`: J is sparse (column-compressed; its pattern is given by "
+              "`static_jacobian_sparsity_out(1)`)."]
+    if dyn is not None:
+        lines += ["- `ga_step`: one generalized-alpha step (settings = [rho_inf, Newton "
+                  "tolerance]); `dyn_outputs`: tensions (N) and end forces of a state."]
+    else:
+        lines += ["", f"No time-step function: {why_not}."]
+    p = folder / "README.md"
+    p.write_text("\n".join(lines) + "\n")
+    paths.append(p)
+    return paths

@@ -10,7 +10,8 @@ See the README for the scene-file contract and the CLI.
 """
 from __future__ import annotations
 
-from .api import build_dynamic_model, modal_analysis, simulate, solve_periodic, sweep_periodic
+from .api import (build_dynamic_model, end_stiffness, modal_analysis, simulate, solve_periodic,
+                  sweep_periodic)
 from .errors import ConvergenceError, SceneError, SymcableError
 from .models import build_model
 from .results import StaticSolution
@@ -19,6 +20,16 @@ from .results_time import Trajectory
 from .scene import Scene, load_scene
 from .solvers.modal import ModalSolution
 from .solvers.static import solve_static
+from .models.assembly import Prescribed, Shared, assemble
+from .models.mechanism import Mechanism, Output, ParamBlocks, PartLayout, Layout, Scales, Start
+from .models import toys
+from .results_mechanism import Equilibrium, Linearization, MechanismModes, MechanismTrajectory
+from .results_periodic_mech import MechanismPeriodic
+from .solvers.equilibrium import solve_equilibrium
+from .solvers.integrate import integrate
+from .solvers.linearize import linearize_mechanism, mechanism_modes, output_sensitivity
+from .solvers.options import RK4, Collocation, GeneralizedAlpha, HarmonicBalance, Shooting
+from .solvers.periodic_mech import solve_periodic_mech
 from . import analytic
 
 __version__ = "0.1.0"
@@ -43,6 +54,35 @@ __all__ = [
     "solve_static",
     "sweep_periodic",
     "demo_scene_path",
+    "end_stiffness",
+    # the Mechanism core: any formulation, assembled parts, generic solvers
+    "Mechanism",
+    "Output",
+    "ParamBlocks",
+    "PartLayout",
+    "Layout",
+    "Scales",
+    "Start",
+    "Prescribed",
+    "Shared",
+    "assemble",
+    "toys",
+    "Equilibrium",
+    "Linearization",
+    "MechanismModes",
+    "MechanismPeriodic",
+    "MechanismTrajectory",
+    "solve_equilibrium",
+    "integrate",
+    "solve_periodic_mech",
+    "mechanism_modes",
+    "linearize_mechanism",
+    "output_sensitivity",
+    "GeneralizedAlpha",
+    "RK4",
+    "Collocation",
+    "HarmonicBalance",
+    "Shooting",
     "__version__",
 ]
 

@@ -22,6 +22,12 @@ from .solvers import modal as _modal
 from .solvers import periodic as _periodic
 from .solvers import stepping as _stepping
 from .solvers.modal import MAX_DENSE, ModalSolution
+from .errors import SymcableError
+from .models import build_model
+from .models.mechanism import Start
+from .models.static_mechanism import static_mechanism
+from .solvers.equilibrium import solve_equilibrium
+from .solvers.linearize import output_sensitivity
 from .solvers.static import solve_static
 
 __all__ = ["build_dynamic_model", "modal_analysis", "simulate", "solve_periodic", "sweep_periodic"]
@@ -122,3 +128,32 @@ def modal_analysis(scene, n_modes: int = 10, *, model: DynamicModel | None = Non
         model = build_dynamic_model(load_scene(scene))
     return _modal.modal_analysis(scene, n_modes, model=model, max_dense=max_dense, codegen=codegen,
                                  started=started)
+
+
+def end_stiffness(scene, end: str = "b", *, static=None) -> np.ndarray:
+    """The stiffness a line presents at its end ``"a"`` or ``"b"``: K = -dF/dx, (dim, dim)
+    N/m, with F the force the line exerts on that end and x the end's prescribed position,
+    the rest of the line in equilibrium. Exact: CasADi's derivatives of the static residual
+    and of the end force, by the implicit function theorem (no finite differences). The end
+    must be pinned (have a prescribed position).
+
+    Parameters
+    ----------
+    scene : Scene, dict or path
+    end : ``"a"`` or ``"b"``
+    static : StaticSolution, optional
+        The static state of the same scene (solved here when not given).
+    """
+    if end not in ("a", "b"):
+        raise SymcableError(f"end = {end!r}: must be 'a' or 'b'")
+    scene = load_scene(scene)
+    cond = getattr(scene, f"end_{end}").condition
+    if str(getattr(cond, "value", cond)) != "pinned":
+        raise SymcableError(f"end_{end}.condition = {getattr(cond, 'value', cond)!r}: the end "
+                            "stiffness is defined for a pinned end (a prescribed position)")
+    model = build_model(scene)
+    mech = static_mechanism(model)
+    st = solve_static(scene, model=model) if static is None else static
+    p = mech.params.values
+    eq = solve_equilibrium(mech, p, starts=[Start(st.unknowns, np.zeros(0), p, "static solution")])
+    return -output_sensitivity(mech, eq, f"end_force_{end}", f"end_{end}.position")

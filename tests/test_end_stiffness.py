@@ -8,8 +8,8 @@ import pytest
 
 import symcable as sc
 from symcable.errors import SymcableError
-from symcable.scene_loader import load_scene
-from symcable.solvers.linearize import end_stiffness
+from symcable.api import end_stiffness
+from symcable.scene import load_scene
 
 
 def _oc3(segments=None, bed=None):

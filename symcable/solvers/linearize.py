@@ -23,7 +23,7 @@ from ..models.mechanism import Mechanism
 from ..results_mechanism import Equilibrium, Linearization, MechanismModes
 from .equilibrium import reduced_stiffness  # noqa: F401  (re-exported for callers)
 
-__all__ = ["end_stiffness", "linearize_mechanism", "mechanism_modes", "output_sensitivity"]
+__all__ = ["linearize_mechanism", "mechanism_modes", "output_sensitivity"]
 
 #: largest reduced system solved densely
 DENSE_MAX_N = 4000
@@ -117,38 +117,3 @@ def output_sensitivity(mech: Mechanism, eq: Equilibrium, output: str, block: str
     dq, dz = dx[:mech.n_q], dx[mech.n_q:]
     return y_q[sl_y] @ dq + y_z[sl_y] @ dz + y_p[sl_y][:, sl_p]
 
-
-def end_stiffness(scene, end: str = "b", *, static=None) -> np.ndarray:
-    """The stiffness a line presents at its end ``"a"`` or ``"b"``: K = -dF/dx, (dim, dim)
-    N/m, with F the force the line exerts on that end and x the end's prescribed position,
-    the rest of the line in equilibrium (exact, from CasADi's derivatives by the implicit
-    function theorem; a pinned end is required).
-
-    Parameters
-    ----------
-    scene : Scene, dict or path
-    end : ``"a"`` or ``"b"``
-    static : StaticSolution, optional
-        The static state (solved here when not given).
-    """
-    from ..models import build_model
-    from ..models.static_mechanism import static_mechanism
-    from ..scene_loader import load_scene
-    from .static import solve_static
-
-    if end not in ("a", "b"):
-        raise SymcableError(f"end = {end!r}: must be 'a' or 'b'")
-    scene = load_scene(scene) if not hasattr(scene, "sections") else scene
-    cond = getattr(scene, f"end_{end}").condition
-    if str(getattr(cond, "value", cond)) != "pinned":
-        raise SymcableError(f"end_{end}.condition = {getattr(cond, 'value', cond)!r}: the end "
-                            "stiffness is defined for a pinned end (a prescribed position)")
-    model = build_model(scene)
-    mech = static_mechanism(model)
-    st = solve_static(scene) if static is None else static
-    from ..models.mechanism import Start
-    from .equilibrium import solve_equilibrium
-    p = mech.params.values
-    eq = solve_equilibrium(mech, p, starts=[Start(st.unknowns, np.zeros(0), p, "static solution")])
-    dF = output_sensitivity(mech, eq, f"end_force_{end}", f"end_{end}.position")
-    return -dF

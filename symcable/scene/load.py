@@ -19,6 +19,8 @@ import sys
 from types import MappingProxyType
 from typing import Any, Mapping
 
+import tomli_w
+
 if sys.version_info >= (3, 11):
     import tomllib
 else:  # pragma: no cover - exercised on Python 3.10 only
@@ -394,33 +396,6 @@ def _build(data: Mapping, source: str) -> Scene:
                  end_a=ends["end_a"], end_b=ends["end_b"], source=source)
 
 
-def _toml_value(v: Any) -> str:
-    if isinstance(v, bool):
-        return "true" if v else "false"
-    if isinstance(v, (int, float)):
-        return repr(v)
-    if isinstance(v, str):
-        return _quote(v)
-    return "[" + ", ".join(_toml_value(x) for x in v) + "]"
-
-
-def _toml_lines(d: Mapping, prefix: str = "") -> list[str]:
-    """Key/value lines of ``d``, then its tables and arrays of tables, recursively."""
-    def array_of_tables(v):
-        return isinstance(v, list) and bool(v) and all(isinstance(x, Mapping) for x in v)
-    lines = [f"{_key('', k)} = {_toml_value(v)}" for k, v in d.items()
-             if not isinstance(v, Mapping) and not array_of_tables(v)]
-    for k, v in d.items():
-        if isinstance(v, Mapping):
-            body = _toml_lines(v, _key(prefix, k))
-            # a table holding only sub-tables ([line_types]) needs no header of its own
-            lines += (["", f"[{_key(prefix, k)}]"] if not body or body[0] else []) + body
-        elif array_of_tables(v):
-            for item in v:
-                lines += ["", f"[[{_key(prefix, k)}]]"] + _toml_lines(item, _key(prefix, k))
-    return lines
-
-
 def scene_to_toml(scene: Scene) -> str:
     """The scene as TOML text (the layout of :func:`scene_to_dict`), ready to write to a file."""
-    return "\n".join(_toml_lines(scene_to_dict(scene))).lstrip("\n") + "\n"
+    return tomli_w.dumps(scene_to_dict(scene))

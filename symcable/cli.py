@@ -62,6 +62,23 @@ def _check(args) -> int:
 
     scene = load_scene(args.scene)
     print(_scene_summary(scene, build_model(scene)))
+    if not any(e.motion is not None for e in (scene.end_a, scene.end_b)):
+        print("ok")
+        return 0
+    # a moving scene: its dynamics are linearised about the static state, so whether they
+    # can run is only known from that state (a line resting on the seabed cannot yet)
+    from .models.planar_dynamics import dynamics_refusal
+    from .solvers.static import solve_static
+
+    static = solve_static(scene, codegen=False)
+    refusal = dynamics_refusal(scene, static)
+    if refusal is not None:
+        print(f"dynamics   refused: {refusal}")
+        print("not ok: the scene's motion cannot run (simulate and periodic would refuse it; "
+              "static runs)")
+        return 1
+    print(f"dynamics   ok: linearised about the static state (fairlead tension "
+          f"{static.fairlead_tension / 1e3:.4g} kN, grounded length {static.grounded_length:.3g} m)")
     print("ok")
     return 0
 

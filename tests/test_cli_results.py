@@ -150,3 +150,16 @@ def test_cli_simulate_periodic_modes_json(small_seed001, tmp_path, capsys):
     d = json.loads(capsys.readouterr().out)
     np.testing.assert_allclose(d["frequencies"], sc.modal_analysis(small_seed001, 3).frequencies,
                                rtol=1e-9)
+
+
+def test_cli_check_reports_dynamics_that_would_be_refused(capsys):
+    """`check` on a scene with a motion also says whether that motion can run: the built-in
+    OC3 scene moves its fairlead but rests 135 m on the seabed, which the dynamics refuse, so
+    `check` names the reason and exits 1 (not "ok"); the suspended seed-001 scene is "ok"."""
+    assert main(["check", str(sc.demo_scene_path("oc3"))]) == 1
+    out = capsys.readouterr().out
+    assert "dynamics   refused:" in out and "on the seabed" in out
+    assert "not ok" in out and not out.rstrip().endswith("\nok")
+    assert main(["check", str(sc.demo_scene_path("seed001"))]) == 0
+    out = capsys.readouterr().out
+    assert "dynamics   ok" in out and out.rstrip().endswith("\nok")

@@ -73,19 +73,54 @@ def _node_frames(phi_s):
     return ca.vertcat(phi_s[0], 0.5 * (phi_s[:-1] + phi_s[1:]), phi_s[N - 1])
 
 
+#: Largest grounded length the dynamics accept, as a fraction of the shortest segment. The
+#: penalty contact is smoothed (:func:`~symcable.models.terms.smooth_ramp`), so a node clear
+#: of the seabed by h still carries k d delta^2 / (4 h) per metre, and a taut line whose
+#: anchor sits on the seabed reports a grounded length of 1e-7..1e-3 m where no node rests on
+#: it. The grounded length is the length whose weight the seabed carries: below 1 % of a
+#: segment, the seabed carries less than 1 % of one segment's weight (a node must sink about
+#: 0.75 delta, 1 % of its penetration under its own weight, before it does), far below what
+#: the discretisation resolves (each node lumps half of each adjacent segment), so leaving
+#: contact out of the dynamics changes nothing it resolves. A fraction of the segment length
+#: rather than a penetration depth because the statics report a length, and the refusal
+#: must agree with what they print.
+GROUNDED_TOLERANCE = 0.01
+
+
+def grounded_tolerance(scene: Scene) -> float:
+    """Grounded length (m) up to which the dynamics treat the line as clear of the seabed."""
+    return GROUNDED_TOLERANCE * min(sec.ds for sec in scene.sections)
+
+
 def _check_scene(scene: Scene, static) -> None:
     if static.status != "converged":
         raise SceneError("static solution: status = %r: the dynamics needs a converged static state"
                          % static.status)
-    if scene.seabed is not None and static.grounded_length > 0.0:
+    if scene.seabed is not None and static.grounded_length > grounded_tolerance(scene):
+        held = [(e.position[-1], name, other) for name, e, other in
+                (("end_a", scene.end_a, "end_b"), ("end_b", scene.end_b, "end_a")) if e.is_fixed]
+        _, low, other = min(held)
         raise SceneError(
             f"environment.depth = {scene.environment.depth} m: the static line rests "
-            f"{static.grounded_length:.3g} m on the seabed, and planar dynamics with seabed "
-            "contact is not supported yet (lift the line off the seabed or remove the depth)")
+            f"{static.grounded_length:.3g} m on the seabed (more than {grounded_tolerance(scene):.3g} m, "
+            f"{100 * GROUNDED_TOLERANCE:g} % of a segment), and planar dynamics with seabed contact "
+            f"is not supported yet: move {low}.position further from {other} along the seabed "
+            "until the static line lifts off it (grounded length 0), or analyse this scene with "
+            "statics only (symcable static) until seabed contact in the dynamics lands")
     periods = {e.motion.period for e in (scene.end_a, scene.end_b) if e.motion is not None}
     if len(periods) > 1:
         raise SceneError(f"end_a.motion.period, end_b.motion.period = {sorted(periods)} s: "
                          "both ends must move with the same period")
+
+
+def dynamics_refusal(scene: Scene, static) -> str | None:
+    """Why :func:`build_planar_dynamics` would refuse ``scene`` about ``static`` (the
+    SceneError's one-line message), or None when the dynamics can be built."""
+    try:
+        _check_scene(scene, static)
+    except SceneError as exc:
+        return str(exc)
+    return None
 
 
 def build_planar_dynamics(scene: Scene, static) -> DynamicModel:

@@ -74,16 +74,31 @@ def _envelope_axis(ax, s_mid, lo, hi, static=None):
     ax.legend(loc="best", fontsize=8)
 
 
+def _least_axial_force(ax, t, axial_force):
+    """The least signed axial force along the line at each time (kN; < 0 is compression,
+    which the tension magnitudes hide), a dashed zero line, and the compressive part shaded."""
+    if axial_force is None or not np.size(axial_force):
+        return
+    least = np.min(np.asarray(axial_force), axis=1) / 1e3
+    ax.plot(t, least, color="C2", lw=1.0, label="least axial force along the line (+ tension)")
+    ax.axhline(0.0, color="k", lw=0.8, ls="--")
+    if np.any(least < 0.0):
+        ax.fill_between(t, least, 0.0, where=least < 0.0, color="C3", alpha=0.35,
+                        label="compression")
+
+
 def plot_trajectory(traj, path=None, s_mid=None):
-    """Time response: fairlead and anchor tension against time above the tension envelope
-    along the line (least/largest segment tension over the saved samples), kN; slack is
-    marked. ``s_mid`` (n_seg,) m defaults to the trajectory's own ``s``. Returns the Figure."""
+    """Time response: fairlead and anchor tension against time, with the least signed axial
+    force along the line (compression below the dashed zero line, shaded), above the tension
+    envelope along the line (least/largest segment tension over the saved samples), kN; slack
+    is marked. ``s_mid`` (n_seg,) m defaults to the trajectory's own ``s``. Returns the Figure."""
     fig, (ax_t, ax_e) = plt.subplots(2, 1, figsize=(8.0, 7.0))
     t = traj.time
     ax_t.plot(t, traj.fairlead_tension / 1e3, color="C0", lw=1.5, label="fairlead (end B)")
     ax_t.plot(t, traj.anchor_tension / 1e3, color="C1", lw=1.0, alpha=0.8, label="anchor (end A)")
+    _least_axial_force(ax_t, t, getattr(traj, "axial_force", None))
     ax_t.set_xlabel("time, t (s)")
-    ax_t.set_ylabel("tension (kN)")
+    ax_t.set_ylabel("tension, axial force (kN)")
     ax_t.set_title(f"{traj.scene_name}\n{traj.method}, dt = {traj.dt:.4g} s, status {traj.status}",
                    fontsize=10)
     ax_t.grid(True, alpha=0.3)
@@ -108,13 +123,18 @@ def plot_trajectory(traj, path=None, s_mid=None):
 
 
 def plot_periodic(per, path=None, s_mid=None):
-    """Periodic steady state: one period of fairlead tension, its harmonic amplitudes, and
-    the tension envelope along the line. Returns the Figure."""
+    """Periodic steady state: one period of fairlead tension with the least signed axial
+    force along the line (compression below the dashed zero line, shaded), its harmonic
+    amplitudes, and the tension envelope on the nodes along the line (at ``per.s``, else
+    ``s_mid`` when it matches, else node index). Returns the Figure."""
     fig = plt.figure(figsize=(9.0, 7.0))
     ax1 = fig.add_subplot(2, 2, 1)
-    ax1.plot(per.time / per.period, per.fairlead_tension / 1e3, color="C0")
+    ax1.plot(per.time / per.period, per.fairlead_tension / 1e3, color="C0", label="fairlead")
+    _least_axial_force(ax1, per.time / per.period, getattr(per, "axial_force", None))
+    if getattr(per, "axial_force", None) is not None:
+        ax1.legend(loc="best", fontsize=7)
     ax1.set_xlabel("time / period, t/T (-)")
-    ax1.set_ylabel("fairlead tension (kN)")
+    ax1.set_ylabel("fairlead tension, axial force (kN)")
     ax1.set_title(f"one period, T = {per.period:g} s ({per.method})")
     ax1.grid(True, alpha=0.3)
     ax2 = fig.add_subplot(2, 2, 2)
@@ -127,9 +147,12 @@ def plot_periodic(per, path=None, s_mid=None):
     ax2.grid(True, alpha=0.3)
     ax3 = fig.add_subplot(2, 1, 2)
     lo, hi = np.asarray(per.tension_min), np.asarray(per.tension_max)
-    _envelope_axis(ax3, np.arange(lo.size) if s_mid is None else s_mid, lo, hi)
-    if s_mid is None:
-        ax3.set_xlabel("segment index from end A")
+    x = getattr(per, "s", None)
+    if x is None or np.size(x) != lo.size:
+        x = s_mid if s_mid is not None and np.size(s_mid) == lo.size else None
+    _envelope_axis(ax3, np.arange(lo.size) if x is None else x, lo, hi)
+    if x is None:
+        ax3.set_xlabel("node index from end A")
     ax3.set_title("tension envelope over the period")
     fig.tight_layout()
     if path is not None:

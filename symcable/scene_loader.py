@@ -315,6 +315,8 @@ def _check_geometry(env: Environment, sections: tuple[Section, ...], ends: dict[
                 and end.position[-1] < -env.depth - 1e-9 * env.depth:
             raise _err(f"{name}.position", list(end.position), "m", "below the seabed at "
                        f"z = {-env.depth!r} m (environment.depth = {env.depth!r})")
+        if end.motion is not None:
+            _check_motion_speed(name, end.motion, lt)
     a, b = ends["end_a"].position, ends["end_b"].position
     if a is not None and b is not None:
         distance = math.dist(a, b)
@@ -326,6 +328,35 @@ def _check_geometry(env: Environment, sections: tuple[Section, ...], ends: dict[
             raise SceneError(f"end_b.position = {list(b)!r}: the ends are {_fmt(distance)} m apart "
                              f"but the line stretches to at most {_fmt(reach)} m (length "
                              f"{_fmt(length)} m at {strain})")
+
+
+def _check_motion_speed(name: str, motion: Motion, lt: LineType) -> None:
+    """Reject a motion too fast for the line to follow within its strain range.
+
+    Physical basis: an end moved at speed v along the line launches an axial wave whose strain
+    is v / c, with c = sqrt(EA / mass) the line's axial wave speed (the impedance relation
+    of an elastic rod, force = EA v / c). So an end speed above ``max_strain * c`` asks for
+    more strain than the line takes, whatever the rest of the scene. Which part of the motion
+    runs along the line is only known after the statics, so the bound is applied to the
+    end's largest speed: it then also rejects a purely transverse motion that fast, which is
+    just as meaningless (e.g. 70 m/s for the seed-001 chain, 220 m/s for the OC3 line; a
+    fairlead moves at a few m/s). Slower motions that still overstretch the line are caught
+    on the result, whose status is then "invalid" (results_time.strain_warnings)."""
+    if motion.kind != "harmonic" or len(motion.amplitude) != 2:
+        return
+    ax, az = motion.amplitude
+    delta = motion.phase[1] - motion.phase[0]
+    # max over t of |(A_x w sin(wt + p_x), A_z w sin(wt + p_z))|
+    peak = math.sqrt(0.5 * (ax * ax + az * az) + 0.5 * abs(ax * ax + az * az * complex(
+        math.cos(2 * delta), math.sin(2 * delta))))
+    limit = lt.max_strain * math.sqrt(lt.EA / lt.mass)
+    if peak * motion.omega > limit:
+        raise _err(f"{name}.motion.period", motion.period, "s",
+                   f"the end would move at up to {peak * motion.omega:.3g} m/s, faster than "
+                   f"max_strain * sqrt(EA / mass) = {limit:.3g} m/s of line type {lt.name!r} "
+                   "(an end moving along the line at v launches an axial wave of strain "
+                   f"v / sqrt(EA / mass), beyond max_strain = {lt.max_strain:g}): must be >= "
+                   f"{2 * math.pi * peak / limit:.3g} s for this amplitude")
 
 
 # ----------------------------------------------------------------------------- public API

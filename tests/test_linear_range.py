@@ -104,3 +104,25 @@ def test_cli_exits_non_zero_with_one_line_on_an_invalid_result(tmp_path, capsys)
     assert main(["periodic", str(path), "--method", "harmonic-balance"]) == 0
     assert capsys.readouterr().err == ""
 
+
+@pytest.mark.parametrize("line", ["oc3", "seed001"])
+def test_axial_stiffness_beyond_float64_is_refused_with_the_bound(line):
+    """EA = 1e20 N once failed as a bare "singular Jacobian". The cause: the strain the
+    line's weight causes, |w| L / EA, must be at least 1e-9 for a float64 static solve (the
+    compatibility rows magnify the coordinates' round-off by EA/ds). Just inside the bound
+    (EA = 0.99e9 |w| L) the static solve converges, by plain Newton, to the practically
+    inextensible answer (the fairlead tension within 1e-6 of the one at 1e8 |w| L, whose
+    stretch is 1e-8 of the length); just outside (1.01e9 |w| L) and at 1e20 N the scene is
+    refused on reading, with the key, the value and the bound."""
+    d = OC3 if line == "oc3" else seed001()
+    load = 698.094 * 902.2
+    ref = dict(d, line_types={"chain": dict(d["line_types"]["chain"], EA=1e8 * load)})
+    inside = dict(d, line_types={"chain": dict(d["line_types"]["chain"], EA=0.99e9 * load)})
+    st = sc.solve_static(inside)
+    assert st.status == "converged" and st.stats["path"] == "newton"
+    assert st.fairlead_tension == pytest.approx(sc.solve_static(ref).fairlead_tension, rel=1e-6)
+    for EA in (1.01e9 * load, 1e20):
+        outside = dict(d, line_types={"chain": dict(d["line_types"]["chain"], EA=EA)})
+        with pytest.raises(SceneError, match=r"line_types.chain.EA = .* N: too stiff for float64.*"
+                                             r"must be <= 6.298e\+14 N \(EA / load <= 1e\+09"):
+            sc.load_scene(outside)

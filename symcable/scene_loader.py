@@ -1,4 +1,4 @@
-"""Reading, validating and writing scenes (``design.md``, "Scene file (TOML), version 1").
+"""Reading, validating and writing scenes (the scene-file layout of the README, "A scene file").
 
 :func:`load_scene` turns a TOML file or a dict in the file's layout into a frozen
 :class:`~symcable.scene.Scene`; :func:`scene_to_dict` and :func:`scene_to_toml` go back.

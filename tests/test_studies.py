@@ -1,5 +1,5 @@
 """The studies' --quick modes: they run, write their outputs, and their numbers meet the issues'
-criteria. No wall-clock assertions (design.md: speed is measured in studies, never asserted)."""
+criteria. No wall-clock assertions (speed is measured in studies, never asserted in a test)."""
 from __future__ import annotations
 
 
@@ -40,7 +40,7 @@ def test_static_accuracy_converges(static_accuracy):
 
 
 def test_static_accuracy_oc3_headline(static_accuracy):
-    """The OC3 line as design.md gives it (1e5 Pa/m seabed, 50 segments) against MoorPy: the
+    """The OC3 line as symcable/data/oc3.toml gives it (1e5 Pa/m seabed, 50 segments) against MoorPy: the
     issue's criteria, fairlead tension within 0.5 % and grounded length within 3 %."""
     _, res = static_accuracy
     h = res["oc3"]

@@ -241,7 +241,7 @@ def strain_warnings(time: np.ndarray, s: np.ndarray, strain: np.ndarray,
     rows = np.flatnonzero(np.any(bad, axis=1))
     mag = np.where(np.isfinite(strain), np.abs(strain), np.inf)
     i, j = np.unravel_index(int(np.argmax(np.where(bad, mag / limit, -1.0))), strain.shape)
-    value = f"{strain[i, j]:.3g}" if np.isfinite(strain[i, j]) else "not finite"
+    value = f"{strain[i, j]:.4g}" if np.isfinite(strain[i, j]) else "not finite"
     return True, (f"invalid: the total axial strain reaches {value} at t = {time[i]:.6g} s, "
                   f"s = {s[j]:.6g} m (segment {j}; {len(rows)} of {len(time)} samples beyond), "
                   f"outside max_strain = {limit[j]:.3g} of its line type: the dynamics are "
@@ -265,7 +265,7 @@ def end_force_warnings(time: np.ndarray, ends: dict) -> tuple[bool, tuple]:
         if not np.any(bad):
             continue
         i = int(np.argmax(np.where(bad, np.where(np.isfinite(eq), eq, np.inf), -1.0)))
-        value = f"{t[i]:.3g} N, a strain |T|/EA = {eq[i]:.3g}" if np.isfinite(eq[i]) else "not finite"
+        value = f"{t[i]:.4g} N, a strain |T|/EA = {eq[i]:.4g}" if np.isfinite(eq[i]) else "not finite"
         warns.append(f"invalid: the {name} tension reaches {value} at t = {time[i]:.6g} s "
                      f"({int(np.sum(bad))} of {len(t)} samples beyond), outside max_strain = "
                      f"{limit:.3g} of its end segment's line type: the dynamics are linearised "

@@ -197,3 +197,14 @@ def test_time_series_plots_show_compression(tmp_path):
     env = plot_periodic(per).get_axes()[-1]
     xs = np.concatenate([np.asarray(p.vertices)[:, 0] for c in env.collections for p in c.get_paths()])
     assert xs.min() == 0.0 and xs.max() == pytest.approx(902.2)
+
+
+def test_solution_repr_is_short():
+    """repr of a result is one line with the class, status, key scalars and array shapes,
+    not every array (it printed 17 arrays of 50 numbers each)."""
+    st = sc.solve_static(OC3)
+    text = repr(st)
+    assert "\n" not in text and len(text) < 600
+    assert text.startswith("StaticSolution(status='converged'")
+    assert "fairlead_tension=911428" in text and "positions=<51x2>" in text
+    assert "grounded_length=134.5" in text

@@ -1,6 +1,9 @@
 """The ``symcable`` command: check a scene, solve it, run the demo.
 
-Every symcable error becomes one line on stderr and exit status 2; no traceback.
+Every symcable error becomes one line on stderr and exit status 2; no traceback. A dynamic
+result outside the range where the linearised dynamics hold (status "invalid") is printed,
+with its reason on one line of stderr and exit status 3; ``check`` exits 1 when the scene's
+motion would be refused.
 """
 from __future__ import annotations
 
@@ -62,6 +65,23 @@ def _check(args) -> int:
 
     scene = load_scene(args.scene)
     print(_scene_summary(scene, build_model(scene)))
+    if not any(e.motion is not None for e in (scene.end_a, scene.end_b)):
+        print("ok")
+        return 0
+    # a moving scene: its dynamics are linearised about the static state, so whether they
+    # can run is only known from that state (a line resting on the seabed cannot yet)
+    from .models.planar_dynamics import dynamics_refusal
+    from .solvers.static import solve_static
+
+    static = solve_static(scene, codegen=False)
+    refusal = dynamics_refusal(scene, static)
+    if refusal is not None:
+        print(f"dynamics   refused: {refusal}")
+        print("not ok: the scene's motion cannot run (simulate and periodic would refuse it; "
+              "static runs)")
+        return 1
+    print(f"dynamics   ok: linearised about the static state (fairlead tension "
+          f"{static.fairlead_tension / 1e3:.4g} kN, grounded length {static.grounded_length:.3g} m)")
     print("ok")
     return 0
 
@@ -84,10 +104,18 @@ def _emit(result, args, plot) -> None:
             print(f"plot              {args.plot}")
 
 
-def _s_mid(scene):
-    from .models.planar import segment_table
-    seg = segment_table(scene)
-    return seg["s"][:-1] + 0.5 * seg["ds"]
+#: exit status of a dynamic result whose status is "invalid" (outside the range where the
+#: linearised dynamics hold): it was computed and is printed, but it is not an answer
+EXIT_INVALID = 3
+
+
+def _exit_status(result) -> int:
+    """0, or EXIT_INVALID with the reason on one line of stderr for an invalid result."""
+    if result.status != "invalid":
+        return 0
+    why = next((w for w in result.warnings if w.startswith("invalid")), "invalid result")
+    print(f"symcable: {why}", file=sys.stderr)
+    return EXIT_INVALID
 
 
 def _simulate(args) -> int:
@@ -100,7 +128,7 @@ def _simulate(args) -> int:
     duration = args.duration or (10.0 * period if period else 60.0)
     traj = simulate(scene, duration, dt=args.dt, method=args.method)
     _emit(traj, args, lambda path: plot_trajectory(traj, path))
-    return 0
+    return _exit_status(traj)
 
 
 def _periodic(args) -> int:
@@ -110,8 +138,8 @@ def _periodic(args) -> int:
 
     scene = load_scene(args.scene)
     per = solve_periodic(scene, method=args.method)
-    _emit(per, args, lambda path: plot_periodic(per, path, s_mid=_s_mid(scene)))
-    return 0
+    _emit(per, args, lambda path: plot_periodic(per, path))
+    return _exit_status(per)
 
 
 def _modes(args) -> int:
@@ -144,7 +172,7 @@ def _demo(args) -> int:
     print(per.summary())
     stem = Path(plot)
     periodic_plot = stem.with_name(stem.stem + "-periodic" + stem.suffix)
-    close(plot_periodic(per, periodic_plot, s_mid=_s_mid(scene)))
+    close(plot_periodic(per, periodic_plot))
     print(f"plot              {periodic_plot}")
     return 0
 

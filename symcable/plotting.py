@@ -226,9 +226,23 @@ def plot_static(sol, path: str | Path | None = None, seabed_z: float | None = No
 
 
 # ---------------------------------------------------------------------------- dynamics
+def _least_axial_force(ax, t, axial_force):
+    """The least signed axial force along the line at each time (kN; < 0 is compression,
+    which the tension magnitudes hide), a dashed zero line, and the compressive part shaded."""
+    if axial_force is None or not np.size(axial_force):
+        return
+    least = np.min(np.asarray(axial_force), axis=1) / 1e3
+    ax.plot(t, least, color="C2", lw=1.0, label="least axial force along the line (+ tension)")
+    ax.axhline(0.0, color="k", lw=0.8, ls="--")
+    if np.any(least < 0.0):
+        ax.fill_between(t, least, 0.0, where=least < 0.0, color="C3", alpha=0.35,
+                        label="compression")
+
+
 def plot_trajectory(traj, path=None, s_mid=None):
-    """Time response: fairlead and anchor tension against time above the tension envelope
-    along the line (least/largest segment tension over the saved samples), kN. The title
+    """Time response: fairlead and anchor tension against time, with the least signed axial
+    force along the line (compression below the dashed zero line, shaded), above the tension
+    envelope along the line (least/largest segment tension over the saved samples), kN. The title
     gives the scene, method, time step and status; a slack result is marked in red (where it
     went slack, and the zero-tension line). ``s_mid`` (n_seg,) m defaults to the
     trajectory's own ``s``. Returns the Figure."""
@@ -237,8 +251,9 @@ def plot_trajectory(traj, path=None, s_mid=None):
     t = traj.time
     ax_t.plot(t, traj.fairlead_tension / 1e3, color="C0", lw=1.5, label="fairlead (end B)")
     ax_t.plot(t, traj.anchor_tension / 1e3, color="C1", lw=1.0, alpha=0.8, label="anchor (end A)")
+    _least_axial_force(ax_t, t, getattr(traj, "axial_force", None))
     ax_t.set_xlabel("time, t (s)")
-    ax_t.set_ylabel("end tension (kN)")
+    ax_t.set_ylabel("tension, axial force (kN)")
     ax_t.set_title(f"{traj.scene_name}\ntime response: {traj.method}, dt = {traj.dt:.4g} s, "
                    f"status {traj.status}", fontsize=10)
     ax_t.grid(True, alpha=0.3)
@@ -265,10 +280,12 @@ def plot_trajectory(traj, path=None, s_mid=None):
 
 
 def plot_periodic(per, path=None, s_mid=None):
-    """Periodic steady state: one period of fairlead tension, its harmonic amplitudes, and
-    the tension envelope along the line (``s_mid`` (n_seg,) m, else segment index). The
-    title gives the scene, method, period and status; a slack result is marked in red
-    (where it went slack, and the zero-tension line). Returns the Figure."""
+    """Periodic steady state: one period of fairlead tension with the least signed axial
+    force along the line (compression below the dashed zero line, shaded), its harmonic
+    amplitudes, and the tension envelope on the nodes along the line (at ``per.s``, else
+    ``s_mid`` when it matches, else node index). The title gives the scene, method, period
+    and status; a slack result is marked in red (where it went slack, and the zero-tension
+    line). Returns the Figure."""
     slack = per.status == "slack"
     fig = plt.figure(figsize=(10.0, 7.5))
     fig.suptitle(f"{per.scene_name}\nperiodic steady state: {per.method}, period T = "
@@ -276,8 +293,11 @@ def plot_periodic(per, path=None, s_mid=None):
                  color=SLACK_COLOR if slack else "k")
     ax1 = fig.add_subplot(2, 2, 1)
     ax1.plot(per.time / per.period, per.fairlead_tension / 1e3, color="C0", label="fairlead")
+    _least_axial_force(ax1, per.time / per.period, getattr(per, "axial_force", None))
+    if getattr(per, "axial_force", None) is not None:
+        ax1.legend(loc="best", fontsize=7)
     ax1.set_xlabel("time / period, t/T (-)")
-    ax1.set_ylabel("fairlead tension (kN)")
+    ax1.set_ylabel("fairlead tension, axial force (kN)")
     ax1.set_title(f"fairlead tension over one period (T = {per.period:g} s)", fontsize=10)
     ax1.grid(True, alpha=0.3)
     ax2 = fig.add_subplot(2, 2, 2)
@@ -290,19 +310,22 @@ def plot_periodic(per, path=None, s_mid=None):
     ax2.grid(True, alpha=0.3)
     ax3 = fig.add_subplot(2, 1, 2)
     lo, hi = np.asarray(per.tension_min), np.asarray(per.tension_max)
-    xs = np.arange(lo.size) if s_mid is None else np.asarray(s_mid)
+    x = getattr(per, "s", None)
+    if x is None or np.size(x) != lo.size:
+        x = s_mid if s_mid is not None and np.size(s_mid) == lo.size else None
+    xs = np.arange(lo.size) if x is None else np.asarray(x)
     ax3.fill_between(xs, lo / 1e3, hi / 1e3, color="C0", alpha=0.3, label="min-max over the period")
     ax3.plot(xs, lo / 1e3, color="C0", lw=1.0, label="least")
     ax3.plot(xs, hi / 1e3, color="C4", lw=1.0, label="largest")
-    ax3.set_xlabel("segment index from end A (-)" if s_mid is None else
+    ax3.set_xlabel("node index from end A (-)" if x is None else
                    "unstretched arc length from end A, s (m)")
-    ax3.set_ylabel("segment tension (kN)")
+    ax3.set_ylabel("tension on the nodes (kN)")
     ax3.set_title("tension envelope over the period", fontsize=10)
     ax3.grid(True, alpha=0.3)
     if slack:
         where, s_first = _slack_where(per.warnings)
         _mark_slack(ax1)
-        _mark_slack(ax3, s_first if s_mid is not None else None)
+        _mark_slack(ax3, s_first if x is not None else None)
         ax1.legend(loc="best", fontsize=8)
         ax3.set_title(f"tension envelope over the period\nSLACK: {where} "
                       "(linearised model invalid there)", fontsize=10, color=SLACK_COLOR)

@@ -29,6 +29,23 @@ class Exportable:
     ``to_json``, ``save`` (``.npz`` or ``.json``) and the classmethod ``load``. Array fields
     come back as float arrays, tuple fields as tuples."""
 
+    def short_repr(self) -> str:
+        """``Class(status, name, key scalars, array shapes)`` on one line, not every array."""
+        head, scalars, arrays = [], [], []
+        for f in fields(self):
+            v = getattr(self, f.name)
+            if f.name == "status":
+                head.insert(0, f"status={v!r}")
+            elif isinstance(v, np.ndarray):
+                arrays.append(f"{f.name}=<{'x'.join(map(str, v.shape)) or 'scalar'}>")
+            elif isinstance(v, (float, np.floating)):
+                scalars.append(f"{f.name}={float(v):.6g}")
+            elif isinstance(v, (str, bool, int, np.integer)):
+                head.append(f"{f.name}={v!r}")
+        n_warn = len(getattr(self, "warnings", ()) or ())
+        tail = [f"warnings=<{n_warn}>"] if n_warn else []
+        return f"{type(self).__name__}({', '.join(head + scalars + arrays + tail)})"
+
     # ------------------------------------------------------------------ export
     def to_dict(self) -> dict:
         """Every field as plain JSON-able Python (lists for arrays), units as documented."""
@@ -60,6 +77,11 @@ class Exportable:
         return path
 
     @classmethod
+    def _decode(cls, d: dict) -> dict:
+        """Undo what a subclass's :meth:`to_dict` changed from the plain fields."""
+        return d
+
+    @classmethod
     def load(cls, path: str | Path):
         """Read a solution written by :meth:`save`."""
         path = Path(path)
@@ -71,6 +93,7 @@ class Exportable:
                 d.update({k: z[k] for k in z.files if k != "__meta__"})
         else:
             raise SymcableError(f"load path = '{path}': suffix must be .npz or .json")
+        d = cls._decode(d)
         kw = {}
         for f in fields(cls):
             v = d.get(f.name)
@@ -146,6 +169,8 @@ class StaticSolution(Exportable):
     stats: dict = field(default_factory=dict)
     warnings: tuple = ()
     unknowns: np.ndarray | None = None
+
+    __repr__ = Exportable.short_repr
 
     # ------------------------------------------------------------------ summary
     def summary(self) -> str:

@@ -10,6 +10,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .errors import SymcableError
 from .results import Exportable
 
 __all__ = ["PeriodicSolution", "PeriodicSweep"]
@@ -43,17 +44,22 @@ class PeriodicSolution(Exportable):
     fairlead_force : ndarray (n, 2)
         Force the line exerts on its fairlead, (Fx, Fz), N (empty (n, 0) if the model has
         no such output).
-    tension_min, tension_max : ndarray (n_seg,)
-        Envelope of the segment tension over the period (minimum and maximum over the
-        output times), N (empty if the model has no ``tension`` output).
+    tension_min, tension_max : ndarray (n_seg + 1,)
+        Envelope of the tension on the nodes over the period (minimum and maximum over the
+        output times), N, ends included: at end B it is the fairlead tension's, at end A the
+        anchor tension's, inside the mean of the two adjacent segments' (as the statics'
+        ``tension``). Empty if the model has no ``tension`` output.
     fairlead_tension_harmonics_amplitude : ndarray (H+1,)
         Amplitudes A_h of ``T_f(t) = A_0 + sum_h A_h cos(h w t + phi_h)``, N; A_0 is the mean.
     fairlead_tension_harmonics_phase : ndarray (H+1,)
         Phases phi_h, rad (phi_0 = 0).
     status : str
         ``"converged"``; ``"slack"`` (converged, but a tension reached zero somewhere over the
-        period, so the linearised model is outside its range: see ``warnings``); ``"failed"``
-        (only on a ConvergenceError's partial result).
+        period, so the linearised model is outside its range: see ``warnings``);
+        ``"invalid"`` (converged, but the total axial strain left the line type's
+        ``max_strain`` somewhere, or a value is not finite: the linearised dynamics do not
+        hold and the numbers are not an answer; see ``warnings``); ``"failed"`` (only on a
+        ConvergenceError's partial result).
     stats : dict
         ``solver`` (``"ipopt"``/``"newton"``; ``"anderson"`` for shooting, whose
         ``iterations`` are the periods marched, with ``steps``, ``rho_inf`` and
@@ -73,7 +79,18 @@ class PeriodicSolution(Exportable):
         scaled integrator state at t = 0, ``(y / y_scale, ydot dt / y_scale)`` (2 n_y,).
     params : ndarray (n_p,) or None
         The model parameters solved for (``omega`` among them), to evaluate the model's
-        functions on this solution.
+        functions on this solution. ``param(name)`` gives one named block; in JSON
+        (``to_dict``) they are written as named blocks, ``{"omega": 0.628, "phi_s": [...],
+        ...}``.
+    param_names : tuple of str
+        The name of each entry of ``params``: ``"block[i]"``, or ``"block"`` for a block of one
+        (e.g. ``"phi_s[3]"``, ``"omega"``; the blocks are the model's ``p_names``).
+    s : ndarray (n_seg + 1,) or None
+        Unstretched arc length of the nodes from end A, m: where ``tension_min`` and
+        ``tension_max`` are given.
+    axial_force : ndarray (n, n_seg) or None
+        Signed total axial force of each segment at the output times, N: positive in
+        tension, negative in compression (the envelopes, magnitudes, never show the sign).
     """
 
     scene_name: str
@@ -92,6 +109,51 @@ class PeriodicSolution(Exportable):
     warnings: tuple = ()
     unknowns: np.ndarray | None = None
     params: np.ndarray | None = None
+    param_names: tuple = ()
+    s: np.ndarray | None = None
+    axial_force: np.ndarray | None = None
+
+    __repr__ = Exportable.short_repr
+
+    def param(self, name: str) -> np.ndarray:
+        """The block ``name`` of ``params`` (e.g. ``"omega"``, ``"phi_s"``), as an array."""
+        idx = [i for i, n in enumerate(self.param_names) if n == name or n.startswith(name + "[")]
+        if self.params is None or not idx:
+            blocks = sorted({n.split("[")[0] for n in self.param_names})
+            raise SymcableError(f"param name = {name!r}: not a parameter block of this solution "
+                                f"(blocks: {', '.join(blocks) or 'none recorded'})")
+        return np.asarray(self.params, dtype=float)[idx]
+
+    def to_dict(self) -> dict:
+        """Every field as plain JSON-able Python; ``params`` as named blocks (a block of one
+        as a number, others as lists), ``param_names`` folded into them."""
+        d = super().to_dict()
+        if self.params is not None and len(self.param_names) == np.size(self.params):
+            blocks: dict = {}
+            for name, v in zip(self.param_names, np.asarray(self.params, dtype=float).tolist()):
+                base = name.split("[")[0]
+                if "[" in name:
+                    blocks.setdefault(base, []).append(v)
+                else:
+                    blocks[base] = v
+            d["params"] = blocks
+            d.pop("param_names", None)
+        return d
+
+    @classmethod
+    def _decode(cls, d: dict) -> dict:
+        params = d.get("params")
+        if isinstance(params, dict):
+            names, values = [], []
+            for base, v in params.items():
+                if isinstance(v, list):
+                    names += [f"{base}[{i}]" for i in range(len(v))]
+                    values += v
+                else:
+                    names.append(base)
+                    values.append(v)
+            d = {**d, "params": values, "param_names": names}
+        return d
 
     @property
     def fairlead_tension_amplitude(self) -> float:
@@ -104,9 +166,14 @@ class PeriodicSolution(Exportable):
         st = self.stats
         tf = self.fairlead_tension
         amp, ph = self.fairlead_tension_harmonics_amplitude, self.fairlead_tension_harmonics_phase
-        disc = (f"{st.get('intervals', '?')} intervals of degree {st.get('degree', '?')} "
-                f"({st.get('scheme', '?')})" if self.method == "collocation" else
-                f"{st.get('harmonics', '?')} harmonics, {st.get('samples', '?')} samples")
+        if self.method == "collocation":
+            disc = (f"{st.get('intervals', '?')} intervals of degree {st.get('degree', '?')} "
+                    f"({st.get('scheme', '?')})")
+        elif self.method == "shooting":
+            disc = (f"{st.get('steps', '?')} generalized-alpha steps per period, "
+                    f"{st.get('periods', '?')} periods iterated")
+        else:
+            disc = f"{st.get('harmonics', '?')} harmonics, {st.get('samples', '?')} samples"
         lines = [
             f"scene             {self.scene_name}",
             f"periodic          {self.method}, {disc}, period {self.period:.4g} s",
@@ -118,7 +185,12 @@ class PeriodicSolution(Exportable):
         ]
         if self.tension_max.size:
             lines.append(f"tension envelope  min {np.min(self.tension_min) / 1e3:.4f} kN, "
-                         f"max {np.max(self.tension_max) / 1e3:.4f} kN along the line")
+                         f"max {np.max(self.tension_max) / 1e3:.4f} kN along the line "
+                         "(nodes, ends included)")
+        if self.axial_force is not None and np.size(self.axial_force):
+            lines.append(f"axial force       min {np.min(self.axial_force) / 1e3:.4f} kN, "
+                         f"max {np.max(self.axial_force) / 1e3:.4f} kN along the line "
+                         "(signed: < 0 is compression)")
         lines.append(
             f"solver            {st.get('solver', '?')}: {st.get('iterations', '?')} iterations "
             f"({st.get('return_status', '?')}), residual {st.get('residual_norm', float('nan')):.3g}, "
@@ -153,8 +225,8 @@ class PeriodicSweep(Exportable):
     statuses : tuple of str
         Status of each periodic solve (see :class:`PeriodicSolution`).
     status : str
-        ``"converged"`` when every solve converged (``"slack"`` when one went slack),
-        ``"partial"`` when some failed.
+        ``"converged"`` when every solve converged (``"invalid"`` when one left the line's
+        strain range, else ``"slack"`` when one went slack), ``"partial"`` when some failed.
     stats : dict
         ``wall_time`` (s, whole sweep), and per period lists ``iterations``, ``solve_time``
         (s), ``build_time`` (s, building solver functions: the first period only, since one

@@ -9,7 +9,8 @@ import numpy as np
 
 from .results import Exportable
 
-__all__ = ["Trajectory", "slack_warnings"]
+__all__ = ["Trajectory", "end_force_warnings", "node_tension", "range_warnings", "slack_warnings",
+           "strain_warnings"]
 
 
 @dataclass(frozen=True)
@@ -34,7 +35,8 @@ class Trajectory(Exportable):
     fairlead_force, anchor_force : ndarray (n_t, 2)
         Those forces, (F_x, F_z), N.
     tension : ndarray (n_t, n_seg)
-        Magnitude of the total internal force of each segment (static plus dynamic), N.
+        Magnitude of the total internal force of each segment (static plus dynamic), N:
+        never negative, so it cannot show compression (see ``axial_force``).
     strain : ndarray (n_t, n_seg)
         Dynamic strain of each segment (increment on the static strain), -.
     angle : ndarray (n_t, n_seg)
@@ -46,14 +48,24 @@ class Trajectory(Exportable):
     status : str
         ``"converged"`` (every step done), ``"slack"`` (done, but the total axial tension
         fell to zero or below somewhere: the model linearised about a taut state is invalid
-        there; see ``warnings``) or ``"failed"`` (only on a ConvergenceError's partial
-        result, which ends at the last good step).
+        there; see ``warnings``), ``"invalid"`` (done, but the total axial strain left the
+        line type's ``max_strain`` somewhere, or a result is not finite: the linearised
+        dynamics do not hold there and the numbers are not an answer; see ``warnings``) or
+        ``"failed"`` (only on a ConvergenceError's partial result, which ends at the last
+        good step).
     stats : dict
         ``steps``, ``dt`` (s), ``dt_requested`` (s), ``dt_stable`` (s, RK4's estimated
         stability limit), ``newton_iterations`` (total), ``newton_iterations_max`` (per
         step), ``newton_tol``, ``wall_time`` (s), ``us_per_step``, ``samples``,
         ``rho_inf``, ``alpha_m``, ``alpha_f``, ``gamma`` (generalized-α).
     warnings : tuple of str
+    axial_force : ndarray (n_t, n_seg)
+        Signed total axial force of each segment (static plus dynamic), N: positive in
+        tension, negative in compression (the sign ``tension`` drops). None in files saved
+        before it existed.
+    positions : ndarray (n_t, n_seg + 1, 2)
+        Node positions (x, z) at the samples, m, chained from the total angle and strain
+        (see :mod:`symcable.models.planar_dynamics`). None in files saved before it existed.
     """
 
     scene_name: str
@@ -72,6 +84,10 @@ class Trajectory(Exportable):
     status: str
     stats: dict = field(default_factory=dict)
     warnings: tuple = ()
+    axial_force: np.ndarray | None = None
+    positions: np.ndarray | None = None
+
+    __repr__ = Exportable.short_repr
 
     # ------------------------------------------------------------------ building
     @classmethod
@@ -79,8 +95,9 @@ class Trajectory(Exportable):
                      outputs: Mapping[str, np.ndarray], method: str, dt: float, status: str,
                      stats: dict, warnings: tuple = ()) -> "Trajectory":
         """Assemble a trajectory from the model's named outputs at the samples (each
-        ``(n_t, ...)``), checking for slack: a slack line gets a warning and status
-        ``"slack"`` (a failed run stays ``"failed"``)."""
+        ``(n_t, ...)``), checking the linearisation's range: a strain beyond the line's
+        ``max_strain`` gives status ``"invalid"``, else a slack line gives ``"slack"``, each
+        with a warning (a failed run stays ``"failed"``)."""
         n_t = len(time)
         n_seg = np.asarray(outputs["tension"]).reshape(n_t, -1).shape[1]
         s_nodes = model.info.get("s_nodes") if model is not None else None
@@ -95,12 +112,21 @@ class Trajectory(Exportable):
         strain = get("strain", (n_t, n_seg))
         static = model.info.get("static") if model is not None else None
         if static is not None and np.shape(static.strain) == (n_seg,):
-            slack, extra = slack_warnings(time, s, np.asarray(static.strain) + strain, static.strain)
+            total = np.asarray(static.strain) + strain
+            slack, extra = slack_warnings(time, s, total, static.strain)
+            bad, beyond = range_warnings(model, time, s, total, outputs)
+            extra = beyond + extra
         else:
             slack, extra = slack_warnings(time, s, tension)
+            bad = False
         warns = tuple(warnings) + extra
-        if status == "converged" and slack:
+        if status == "converged" and bad:
+            status = "invalid"
+        elif status == "converged" and slack:
             status = "slack"
+        positions = outputs.get("positions")
+        if positions is not None:
+            positions = np.asarray(positions, dtype=float).reshape(n_t, n_seg + 1, 2)
         return cls(scene_name=scene_name, time=np.asarray(time, dtype=float), s=s,
                    states=np.asarray(states, dtype=float).reshape(n_t, -1),
                    fairlead_tension=get("fairlead_tension", (n_t,)),
@@ -109,19 +135,13 @@ class Trajectory(Exportable):
                    anchor_force=get("anchor_force", (n_t, 2)),
                    tension=tension, strain=strain, angle=get("angle", (n_t, n_seg)),
                    method=str(method), dt=float(dt), status=status, stats=dict(stats),
-                   warnings=warns)
+                   warnings=warns, axial_force=get("axial_force", (n_t, n_seg)),
+                   positions=positions)
 
     # ------------------------------------------------------------------ derived
     @property
     def n_t(self) -> int:
         return int(len(self.time))
-
-    def positions(self, model) -> np.ndarray:
-        """Node positions (n_t, n_seg + 1, 2), m, reconstructed from the total angle and
-        strain (seed S3). ``model`` is the :class:`~symcable.models.DynamicModel` the run used
-        (``symcable.build_dynamic_model(scene)``)."""
-        from .models.planar_dynamics import reconstruct_positions
-        return reconstruct_positions(model, self.strain, self.angle)
 
     def tension_envelope(self) -> tuple[np.ndarray, np.ndarray]:
         """Least and largest segment tension over the saved samples, each (n_seg,), N."""
@@ -149,6 +169,9 @@ class Trajectory(Exportable):
             f"segment tension   {np.min(lo) / 1e3 if np.size(lo) else np.nan:.4f} .. "
             f"{np.max(hi) / 1e3 if np.size(hi) else np.nan:.4f} kN over the line",
             f"dynamic strain    {rng(self.strain)} -",
+            f"axial force       {rng(self.axial_force, 1e3)} kN over the line "
+            "(signed: < 0 is compression)" if self.axial_force is not None else
+            "axial force       -",
             f"dynamic angle     {rng(np.degrees(self.angle))} deg",
         ]
         solver = (f"solver            {1e3 * st.get('wall_time', float('nan')):.1f} ms, "
@@ -197,3 +220,88 @@ def slack_warnings(time: np.ndarray, s: np.ndarray, axial: np.ndarray,
                     f"to {time[rows[-1]]:.6g} s): the dynamics linearised about the taut static "
                     "state is invalid there")
     return True, tuple(warns)
+
+def strain_warnings(time: np.ndarray, s: np.ndarray, strain: np.ndarray,
+                    max_strain: np.ndarray) -> tuple[bool, tuple]:
+    """Range check shared by every dynamic result: ``(invalid, warnings)``.
+
+    The dynamics are linearised about the static state, which holds only while each
+    segment's total axial strain (static plus dynamic), ``strain`` (n_t, n_seg), stays
+    within what its line type takes, ``max_strain`` (n_seg,) (the scene's ``max_strain``, the
+    same limit that decides whether a fairlead is out of reach). Beyond it, or where a value
+    is not finite, the numbers are not an answer (an excitation far too fast or too large for
+    the line). ``time`` (n_t,) s and ``s`` (n_seg,) m place the worst sample in the message.
+    """
+    strain = np.asarray(strain, dtype=float)
+    limit = np.broadcast_to(np.asarray(max_strain, dtype=float), strain.shape[1:])
+    with np.errstate(invalid="ignore"):
+        bad = ~(np.abs(strain) <= limit)
+    if not np.any(bad):
+        return False, ()
+    rows = np.flatnonzero(np.any(bad, axis=1))
+    mag = np.where(np.isfinite(strain), np.abs(strain), np.inf)
+    i, j = np.unravel_index(int(np.argmax(np.where(bad, mag / limit, -1.0))), strain.shape)
+    value = f"{strain[i, j]:.4g}" if np.isfinite(strain[i, j]) else "not finite"
+    return True, (f"invalid: the total axial strain reaches {value} at t = {time[i]:.6g} s, "
+                  f"s = {s[j]:.6g} m (segment {j}; {len(rows)} of {len(time)} samples beyond), "
+                  f"outside max_strain = {limit[j]:.3g} of its line type: the dynamics are "
+                  "linearised about the static state and do not hold there, so these numbers "
+                  "are not an answer (check the excitation's period and amplitude)",)
+
+
+def end_force_warnings(time: np.ndarray, ends: dict) -> tuple[bool, tuple]:
+    """The same range check on the end forces: ``ends`` maps a name (``"fairlead"``) to
+    ``(tension (n_t,) N, EA of the end segment N, its max_strain)``. The force on an end is
+    carried by the segment beside it, so ``|F| / EA`` beyond ``max_strain`` is a strain the
+    line cannot take even where the discrete strains do not show it (a fast prescribed
+    motion loads an end through the inertia of its lumped mass). Returns ``(invalid,
+    warnings)``."""
+    warns = []
+    for name, (tension, EA, limit) in ends.items():
+        t = np.asarray(tension, dtype=float)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            eq = np.abs(t) / EA
+            bad = ~(eq <= limit)
+        if not np.any(bad):
+            continue
+        i = int(np.argmax(np.where(bad, np.where(np.isfinite(eq), eq, np.inf), -1.0)))
+        value = f"{t[i]:.4g} N, a strain |T|/EA = {eq[i]:.4g}" if np.isfinite(eq[i]) else "not finite"
+        warns.append(f"invalid: the {name} tension reaches {value} at t = {time[i]:.6g} s "
+                     f"({int(np.sum(bad))} of {len(t)} samples beyond), outside max_strain = "
+                     f"{limit:.3g} of its end segment's line type: the dynamics are linearised "
+                     "about the static state and do not hold there, so these numbers are not "
+                     "an answer (check the excitation's period and amplitude)")
+    return bool(warns), tuple(warns)
+
+
+def range_warnings(model, time: np.ndarray, s: np.ndarray, strain: np.ndarray,
+                   outputs: Mapping[str, np.ndarray]) -> tuple[bool, tuple]:
+    """:func:`strain_warnings` on the total segment strain (n_t, n_seg) and
+    :func:`end_force_warnings` on the ``fairlead_tension``/``anchor_tension`` outputs, with the
+    limits the model gives (``info["max_strain"]`` per segment, ``info["segments"]["EA"]``);
+    ``(False, ())`` for a model that gives none."""
+    info = model.info if model is not None else {}
+    limit = info.get("max_strain")
+    if limit is None:
+        return False, ()
+    limit = np.asarray(limit, dtype=float)
+    bad, warns = strain_warnings(time, s, strain, limit)
+    EA = np.asarray(info.get("segments", {}).get("EA", []), dtype=float)
+    if EA.size == limit.size:
+        ends = {name: (np.ravel(outputs[key]), EA[k], limit[k])
+                for name, key, k in (("fairlead", "fairlead_tension", -1), ("anchor", "anchor_tension", 0))
+                if outputs.get(key) is not None}
+        bad_end, more = end_force_warnings(time, ends)
+        bad, warns = bad or bad_end, warns + more
+    return bad, warns
+
+
+def node_tension(tension: np.ndarray, anchor: np.ndarray | None,
+                 fairlead: np.ndarray | None) -> np.ndarray:
+    """Tension on the nodes (n_t, n_seg + 1), N, as the statics give it: at the ends the end
+    forces' magnitudes (``anchor``, ``fairlead``, (n_t,)), inside the mean of the two adjacent
+    segments' ``tension`` (n_t, n_seg). An end without its force takes its segment's."""
+    tension = np.atleast_2d(np.asarray(tension, dtype=float))
+    a = tension[:, 0] if anchor is None else np.asarray(anchor, dtype=float).ravel()
+    b = tension[:, -1] if fairlead is None else np.asarray(fairlead, dtype=float).ravel()
+    return np.column_stack([a, 0.5 * (tension[:, :-1] + tension[:, 1:]), b])

@@ -150,3 +150,61 @@ def test_cli_simulate_periodic_modes_json(small_seed001, tmp_path, capsys):
     d = json.loads(capsys.readouterr().out)
     np.testing.assert_allclose(d["frequencies"], sc.modal_analysis(small_seed001, 3).frequencies,
                                rtol=1e-9)
+
+
+def test_cli_check_reports_dynamics_that_would_be_refused(capsys):
+    """`check` on a scene with a motion also says whether that motion can run: the built-in
+    OC3 scene moves its fairlead but rests 135 m on the seabed, which the dynamics refuse, so
+    `check` names the reason and exits 1 (not "ok"); the suspended seed-001 scene is "ok"."""
+    assert main(["check", str(sc.demo_scene_path("oc3"))]) == 1
+    out = capsys.readouterr().out
+    assert "dynamics   refused:" in out and "on the seabed" in out
+    assert "not ok" in out and not out.rstrip().endswith("\nok")
+    assert main(["check", str(sc.demo_scene_path("seed001"))]) == 0
+    out = capsys.readouterr().out
+    assert "dynamics   ok" in out and out.rstrip().endswith("\nok")
+
+
+def test_time_series_plots_show_compression(tmp_path):
+    """A time run and a periodic solution of the seed-001 line (20 segments) at 10 times its
+    amplitude, where the top segments go into compression (the signed axial force reaches
+    about -160 kN; the tension magnitudes stay above 50 kN): their time-series panel draws
+    the least axial force along the line, which goes below the dashed zero line, with the
+    compressive part shaded. The periodic envelope is on the nodes (21 points, from s = 0)."""
+    from matplotlib.collections import PolyCollection
+    from symcable.plotting import close, plot_periodic, plot_trajectory
+
+    d = sc.load_scene(sc.demo_scene_path("seed001")).to_dict()
+    d["sections"][0]["segments"] = 20
+    d["end_b"]["motion"]["amplitude"] = [12.0, 6.0]
+    scene = sc.load_scene(d)
+    model = sc.build_dynamic_model(scene)
+    tr = sc.simulate(scene, 20.0, dt=0.1, model=model)
+    per = sc.solve_periodic(scene, "harmonic-balance", harmonics=4, model=model)
+    for result, figure in ((tr, plot_trajectory(tr, tmp_path / "t.png")),
+                           (per, plot_periodic(per, tmp_path / "p.png"))):
+        assert result.status == "slack" and np.min(result.axial_force) < -1e5
+        assert np.min(result.fairlead_tension) > 0.0  # the magnitudes hide it
+        ax = figure.get_axes()[0]
+        zero = [ln for ln in ax.get_lines() if ln.get_linestyle() == "--"
+                and np.all(np.asarray(ln.get_ydata()) == 0.0)]
+        least = [ln for ln in ax.get_lines() if ln.get_label().startswith("least axial force")]
+        assert zero and least and np.min(least[0].get_ydata()) < -100.0  # kN
+        shaded = [c for c in ax.collections if isinstance(c, PolyCollection)
+                  and c.get_label() == "compression"]
+        assert shaded and ax.get_ylim()[0] < np.min(least[0].get_ydata())
+        close(figure)
+    env = plot_periodic(per).get_axes()[-1]
+    xs = np.concatenate([np.asarray(p.vertices)[:, 0] for c in env.collections for p in c.get_paths()])
+    assert xs.min() == 0.0 and xs.max() == pytest.approx(902.2)
+
+
+def test_solution_repr_is_short():
+    """repr of a result is one line with the class, status, key scalars and array shapes,
+    not every array (it printed 17 arrays of 50 numbers each)."""
+    st = sc.solve_static(OC3)
+    text = repr(st)
+    assert "\n" not in text and len(text) < 600
+    assert text.startswith("StaticSolution(status='converged'")
+    assert "fairlead_tension=911428" in text and "positions=<51x2>" in text
+    assert "grounded_length=134.5" in text

@@ -26,9 +26,37 @@ def small_seed(segments=10):
     return d
 
 
-def test_a_compiler_is_present():
-    # the machines symcable is built and tested on have one; every test below needs it
-    assert codegen.compiler() is not None
+def _fake_exe(folder, name):
+    path = folder / name
+    path.write_text("#!/bin/sh\nexit 0\n")
+    path.chmod(0o755)
+    return str(path)
+
+
+def test_compiler_lookup_follows_cc_then_path(monkeypatch, tmp_path):
+    """symcable's choice of compiler, not the machine's: ``$CC`` (its first word, looked up on
+    the PATH) wins; without it the first of cc, gcc, clang on the PATH; None when there is
+    none, and then ``codegen=None`` quietly means the virtual machine. Fake executables on
+    a PATH of our own, so the answer does not depend on what this machine has installed."""
+    bin_dir = tmp_path / "bin"
+    bin_dir.mkdir()
+    monkeypatch.setenv("PATH", str(bin_dir))
+    monkeypatch.delenv("CC", raising=False)
+    monkeypatch.delenv("SYMCABLE_CODEGEN", raising=False)
+    assert codegen.compiler() is None
+    assert codegen.use_codegen(None) is False  # no compiler: the VM, no warning
+    clang = _fake_exe(bin_dir, "clang")
+    monkeypatch.setenv("PATH", str(bin_dir) + ":")  # a new PATH: looked up again
+    assert codegen.compiler() == clang
+    gcc = _fake_exe(bin_dir, "gcc")
+    monkeypatch.setenv("PATH", str(bin_dir) + "::")
+    assert codegen.compiler() == gcc  # gcc before clang
+    mycc = _fake_exe(bin_dir, "mycc")
+    monkeypatch.setenv("CC", "mycc -m64")
+    assert codegen.compiler() == mycc  # $CC first, its first word
+    monkeypatch.setenv("CC", "nosuchcc")
+    assert codegen.compiler() is None  # a $CC that is not there is not replaced by gcc
+    assert codegen.use_codegen(None) is False
 
 
 def test_static_compiled_equals_vm():

@@ -1,4 +1,4 @@
-"""Scene loading and validation (symcable.scene.load; design.md, "Scene file (TOML), version 1").
+"""Scene loading and validation (symcable.scene.load; the README's "A scene file").
 
 Layer 1 (unit) tests: no solver runs. Numbers are compared exactly where the loader only copies
 them, and with ``pytest.approx`` (relative 1e-12, round-off of one formula) where it computes.
@@ -62,7 +62,7 @@ def same_but_source(a: Scene, b: Scene) -> bool:
 # ----------------------------------------------------------------------------- good input
 
 def test_oc3_file_loads_with_the_published_numbers():
-    """oc3.toml gives the OC3-Hywind line of NREL/TP-500-47535 and the motion of design.md."""
+    """oc3.toml gives the OC3-Hywind line of NREL/TP-500-47535 and the elliptic fairlead motion of Boral et al."""
     with importlib.resources.as_file(oc3_path()) as path:
         s = load_scene(path)
         assert s.source == str(path)

@@ -138,12 +138,21 @@ def test_newton_failure_raises_with_partial(line):
 
 
 def test_slack_is_reported(line):
-    """A fairlead motion of 30 m amplitude slackens the line: the trajectory says so (status
-    "slack" and a warning with the time and arc length), never silently."""
+    """A fairlead motion of 30 m amplitude slackens the line: the trajectory says so (a
+    warning with the time and arc length), never silently. It also stretches the top
+    segment to a total strain of 0.126, beyond the chain's max_strain 0.1, so its status is
+    "invalid" (status changed by the strain-range check: it was "slack"), with both
+    warnings. At 20 m the line slackens (total strain down to -0.008) but stays within 0.078
+    of stretch: status "slack"."""
     d, m = line
     tr = simulate(d, 10.0, dt=0.1, model=m, params=m.with_params(amp_b=[30.0, 30.0]))
+    assert tr.status == "invalid"
+    assert any("slack" in w and "s =" in w for w in tr.warnings)
+    assert any("max_strain = 0.1" in w and "s =" in w for w in tr.warnings)
+    tr = simulate(d, 10.0, dt=0.1, model=m, params=m.with_params(amp_b=[20.0, 20.0]))
     assert tr.status == "slack"
     assert any("slack" in w and "s =" in w for w in tr.warnings)
+    assert np.min(tr.axial_force) < 0.0  # the signed force shows the compression
 
 
 def test_bad_arguments():
@@ -171,11 +180,16 @@ def test_saving_and_round_trip(line, tmp_path, capsys):
     every5 = simulate(d, 2.0, dt=0.1, model=m, save_every=5)
     np.testing.assert_allclose(tr2.states, every5.states[[1, 2]], rtol=1e-13, atol=1e-300)
     assert tr.fairlead_force.shape == (6, 2) and tr.tension.shape == (6, 20)
-    assert tr.positions(m).shape == (6, 21, 2)
+    # an array built with the trajectory (API change: it was a method taking the model)
+    assert tr.positions.shape == (6, 21, 2) and tr.axial_force.shape == (6, 20)
+    from symcable.models.planar_dynamics import reconstruct_positions
+    np.testing.assert_allclose(tr.positions, reconstruct_positions(m, tr.strain, tr.angle),
+                               rtol=0, atol=1e-9)
     assert "fairlead tension" in tr.summary()
     for suffix in (".npz", ".json"):
         back = Trajectory.load(tr.save(tmp_path / f"traj{suffix}"))
-        for name in ("time", "states", "fairlead_tension", "fairlead_force", "tension", "angle", "s"):
+        for name in ("time", "states", "fairlead_tension", "fairlead_force", "tension", "angle", "s",
+                     "axial_force", "positions"):
             np.testing.assert_array_equal(getattr(back, name), getattr(tr, name))
         assert (back.method, back.dt, back.status, back.warnings) == (tr.method, tr.dt, tr.status, tr.warnings)
         assert back.stats["steps"] == tr.stats["steps"]

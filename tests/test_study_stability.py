@@ -1,6 +1,6 @@
 """The stability study's --quick mode (studies/stability/run.py): it runs, writes its outputs,
 and shows what the study is for: RK4 above its stability limit fails with a ConvergenceError
-while generalized-alpha at the same dt converges. No wall-clock assertions (design.md)."""
+while generalized-alpha at the same dt converges. No wall-clock assertions (speed is measured in studies)."""
 from __future__ import annotations
 
 import csv

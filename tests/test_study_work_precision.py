@@ -1,6 +1,6 @@
 """The work-precision study's --quick mode: it runs, writes its outputs, every method converges
 over its (quick) grid, and the periodic solvers agree with the reference. No wall-clock
-assertions (design.md: speed is measured in studies, never asserted)."""
+assertions (speed is measured in studies, never asserted in a test)."""
 from __future__ import annotations
 
 

@@ -1,4 +1,4 @@
-"""MoorDyn-C (``moordyn`` 2.7.2, the lumped-mass peer) on the line and fairlead motion of seed 001.
+"""MoorDyn-C (``moordyn`` 2.7.2, the lumped-mass peer) on the seed-001 line and its fairlead motion.
 
 The scene is ``symcable/data/seed001.toml``: one planar chain, anchor pinned, fairlead moved on
 an ellipse ``dx = 2 r cos(wt)``, ``dz = r sin(wt)`` about its static place with symcable's

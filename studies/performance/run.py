@@ -23,21 +23,31 @@ Run ``python studies/performance/run.py [--quick] [--out DIR]``; needs ``symcabl
 from __future__ import annotations
 
 import argparse
+import importlib.util
 import json
 import math
 import statistics
-import sys
 import time
 from pathlib import Path
 
 import numpy as np
 
-HERE = Path(__file__).resolve().parent
-sys.path.insert(0, str(HERE))
-import moordyn_line as mdl  # noqa: E402
+import symcable as sc
+from symcable.functions import static_functions
 
-import symcable as sc  # noqa: E402
-from symcable.functions import static_functions  # noqa: E402
+HERE = Path(__file__).resolve().parent
+
+
+def _load_helper(name: str):
+    """Import ``HERE/<name>.py`` by its file path: studies/ is not a package, and putting
+    this folder on ``sys.path`` would let its modules shadow installed ones."""
+    spec = importlib.util.spec_from_file_location(f"performance_{name}", HERE / f"{name}.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+mdl = _load_helper("moordyn_line")
 
 T = 10.0
 #: at most this many steps per period for the equal-accuracy run (see ``equal_steps``)

@@ -10,7 +10,7 @@ time compare with MoorPy's catenary (``moorpy.Catenary.catenary``) on the same l
 Three single-section, pinned-pinned lines: ``taut`` (0.8 % strain, suspended), ``slack``
 (deep sag, suspended) and ``seabed`` (the OC3 line on a stiff 1e8 Pa/m seabed, compared with
 the closed form with a frictionless seabed), at 10 ... 320 segments. Then the headline: the
-OC3 line as ``design.md`` gives it (1e5 Pa/m seabed, 50 segments) against MoorPy (CB = 0).
+OC3 line as ``symcable/data/oc3.toml`` gives it (1e5 Pa/m seabed, 50 segments) against MoorPy (CB = 0).
 
 Timing: median of R repeats of ``solve_static`` with a pre-built model, interleaved with the
 same number of MoorPy calls on the same line (so machine noise hits both); the one-time cost
@@ -53,7 +53,7 @@ SEGMENTS_FULL, SEGMENTS_QUICK = (10, 20, 40, 80, 160, 320), (10, 20, 40)
 REPEATS_FULL, REPEATS_QUICK = 15, 3
 NO_SEABED = -1e3  # MoorPy: CB < 0 means no seabed contact, seabed |CB| m below end A
 
-# the OC3-Hywind line of design.md (anchor on the seabed at z = -depth)
+# the OC3-Hywind line of symcable/data/oc3.toml (anchor on the seabed at z = -depth)
 OC3 = {
     "name": "OC3 line",
     "model": "planar",
@@ -149,7 +149,7 @@ def observed_orders(rows: list, line: str) -> list:
 
 
 def oc3_headline(repeats: int) -> dict:
-    """The OC3 line of design.md (1e5 Pa/m seabed, 50 segments) against MoorPy (CB = 0)."""
+    """The OC3 line of symcable/data/oc3.toml (1e5 Pa/m seabed, 50 segments) against MoorPy (CB = 0)."""
     scene = sc.load_scene(OC3)
     model = sc.build_model(scene)
     sc.solve_static(scene, model=model)  # warm up: build the functions outside the timing
@@ -197,7 +197,7 @@ def summary_markdown(res: dict) -> str:
     for name, orders in res["orders"].items():
         lines.append(f"- {name}: " + ", ".join(f"{o:.2f}" for o in orders))
     h = res["oc3"]
-    lines += ["", "OC3 headline (design.md scene: seabed 1e5 Pa/m, 50 segments = 51 nodes; "
+    lines += ["", "OC3 headline (symcable/data/oc3.toml: seabed 1e5 Pa/m, 50 segments = 51 nodes; "
               "MoorPy CB = 0, nNodes = 51):", "",
               "| quantity | symcable | MoorPy | difference |", "|---|---|---|---|",
               f"| fairlead tension (N) | {h['fairlead_tension_N']:.6g} | "

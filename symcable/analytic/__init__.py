@@ -16,7 +16,7 @@ Contents
 * :func:`carlson_rf`, :func:`carlson_rd`, :func:`elliptic_f`, :func:`elliptic_e` -- the
   special functions these need.
 
-Conventions (``design.md``): SI units, planar (x, z) with z up, arc length ``s`` is the
+Conventions: SI units, planar (x, z) with z up, arc length ``s`` is the
 unstretched length measured from end A (origin) to end B.
 """
 from __future__ import annotations

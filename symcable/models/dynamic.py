@@ -5,7 +5,7 @@ A formulation turns a scene and its static solution into an ODE in first-order f
     dy/dt = f(y, t; p),        y(t) in R^n_y,
 
 with the boundary motion already inside f (a prescribed end velocity enters as a known
-function of t). The DAE form of ``design.md``, F(y', y, t; p) = y' - f(y, t; p) = 0, is
+function of t). Its DAE form, F(y', y, t; p) = y' - f(y, t; p) = 0, is
 :meth:`DynamicModel.residual`. Solvers never ask which formulation they integrate.
 """
 from __future__ import annotations

@@ -1,4 +1,7 @@
-"""Planar cable with extension and bending (seed 001, Algorithm S1), as CasADi expressions.
+"""Planar cable with extension and bending, as CasADi expressions: the statics of S. Boral,
+J. Hickey and B. Basu, "Modeling and Simulation of Periodic Cable Dynamics with Bending
+Stiffness Using Time-Domain and Multi-Harmonic Balance Methods" (Algorithm S1 of its
+supplementary code overview: the line in tangent angle and axial strain).
 
 Discretisation
 --------------
@@ -30,13 +33,13 @@ Derived quantities:
 Residuals (every row a force, N):
 
 * compatibility per segment, scaled by ``EA_j / ds_j``:
-  ``r_{j+1} - r_j - ds_j (1 + eps_j) t_j = 0``  (the seed's geometric closure, midpoint rule);
+  ``r_{j+1} - r_j - ds_j (1 + eps_j) t_j = 0``  (the paper's geometric closure, midpoint rule);
 * equilibrium per unknown node: ``F_i - F_{i-1} + P_i = 0`` with ``F_{-1} = F_N = 0`` and
   ``P_i`` the external load lumped on the node: half of each adjacent segment's weight
   and drag, the seabed contact over the node's tributary length, and at a free end its
   applied force. A held (pinned or clamped) end node cannot press into the seabed, so its
   contact is evaluated at its neighbour's penetration: an anchor lying on the seabed then
-  carries the horizontal pull only, as on a rigid seabed, not its half segment's weight. These are the seed's R1 (tangential) and R2 (normal) balances in
+  carries the horizontal pull only, as on a rigid seabed, not its half segment's weight. These are the paper's R1 (tangential) and R2 (normal) balances in
   Cartesian components; with ``Q = -EI phi''`` R2's ``-EI phi'''`` appears exactly.
 
 Prescribed positions and angles of the ends enter as parameters, not unknowns, so the

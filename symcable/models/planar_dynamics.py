@@ -1,4 +1,7 @@
-"""Planar cable dynamics linearised about the static state (seed 001, Algorithm S2).
+"""Planar cable dynamics linearised about the static state, after S. Boral, J. Hickey and
+B. Basu, "Modeling and Simulation of Periodic Cable Dynamics with Bending Stiffness Using
+Time-Domain and Multi-Harmonic Balance Methods" (Algorithm S2 of its supplementary code
+overview; "the paper" below).
 
 Discretisation (the statics' own, see :mod:`symcable.models.planar`)
 -------------------------------------------------------------------
@@ -17,7 +20,7 @@ Equations (everything linear in the state except drag):
   ``de_j/dt = t_j . (V_{j+1} - V_j) / ds_j`` and
   ``dphi_j/dt = n_j . (V_{j+1} - V_j) / (ds_j (1 + eps_j))``, where ``V_i`` is the node's
   Cartesian velocity (from ``u, v``, or the prescribed end motion) and ``t_j, n_j`` the static
-  segment frame. These are the seed's ``de/dt = du/ds - v dphi_s/ds`` and
+  segment frame. These are the paper's ``de/dt = du/ds - v dphi_s/ds`` and
   ``dphi/dt = dv/ds + u dphi_s/ds``;
 * momentum per free node, projected on its static frame:
   ``m_t,i du_i/dt = t_i . R_i`` and ``m_n,i dv_i/dt = n_i . R_i`` with
@@ -26,10 +29,10 @@ Equations (everything linear in the state except drag):
   linearisation (CasADi ``jtimes``) of the statics' internal force ``T t + Q n`` in the
   direction ``(phi_j, e_j)``: the increments ``EA e t``, the rotated static tension
   ``T phi n`` and the bending shear are all in it, written out by CasADi. Weight does not
-  change in Cartesian components, so it gives no increment (the seed's ``W phi`` terms are
+  change in Cartesian components, so it gives no increment (the paper's ``W phi`` terms are
   the rotated static tension, by the static balance);
 * drag: per segment, Morison on the water's velocity relative to the segment's mean velocity,
-  on the segment as it is (total angle and strain: the seed uses the static angle, which
+  on the segment as it is (total angle and strain: the paper uses the static angle, which
   drops the first-order change of drag as the line turns in the current), minus the steady drag of the static balance (at the static
   state's current). So the static state is an exact rest state of the dynamics, and a
   changed current parameter loads the line.
@@ -39,16 +42,20 @@ anchor; the derivative of the harmonic displacement ``x_i(t) = A_i cos(omega t +
 about the static place, of the scene's ``motion``); a clamped end keeps its static angle; a
 free end carries its dead load, which does not change. A run from rest (``p_value``) ramps
 the displacement in over the first period so that it ends up about the scene's position,
-where the seed's velocity-only start would leave it offset by ``A cos(phase)``; the periodic
+where the paper's velocity-only start would leave it offset by ``A cos(phase)``; the periodic
 steady state (``p_periodic``) has no ramp. With both ends held, the end-to-end closure that
 the kinematics conserve is stabilised (``dc/dt = -beta c``; see the code), which is zero on
 the physical solution.
 
-Outputs (S3): the force the line exerts on its ends, static plus the increment of the end
-node's balance (``dP_N - dF_{N-1}`` at B, ``dP_0 + dF_0`` at A, less the d'Alembert force of
-a moving end's lumped mass; the seed's ``T_static + EA e[N]`` is its leading term), their
-magnitudes, the segment tension ``|F + dF|``, and ``e``, ``phi``. Shapes are reconstructed from the total angle and strain by
-:func:`reconstruct_positions`.
+Outputs (the paper's Algorithm S3): the force the line exerts on its ends, static plus the
+increment of the end node's balance (``dP_N - dF_{N-1}`` at B, ``dP_0 + dF_0`` at A, less the
+d'Alembert force of a moving end's lumped mass; the paper's ``T_static + EA e[N]`` is its
+leading term), their magnitudes, the segment tension ``|F + dF|`` (a magnitude, never negative), the signed
+segment axial force ``EA (eps_s + e)`` (positive = tension, negative = compression), ``e``,
+``phi``, and the node positions, chained from the total angle and strain as
+``r_{j+1} = r_j + ds (1 + eps_s + e) (cos, sin)(phi_s + phi)`` from a held end's place (its
+static place plus its prescribed displacement; end B's when end A is free).
+:func:`reconstruct_positions` does the same in NumPy from end A's static place.
 """
 from __future__ import annotations
 
@@ -73,19 +80,54 @@ def _node_frames(phi_s):
     return ca.vertcat(phi_s[0], 0.5 * (phi_s[:-1] + phi_s[1:]), phi_s[N - 1])
 
 
+#: Largest grounded length the dynamics accept, as a fraction of the shortest segment. The
+#: penalty contact is smoothed (:func:`~symcable.models.terms.smooth_ramp`), so a node clear
+#: of the seabed by h still carries k d delta^2 / (4 h) per metre, and a taut line whose
+#: anchor sits on the seabed reports a grounded length of 1e-7..1e-3 m where no node rests on
+#: it. The grounded length is the length whose weight the seabed carries: below 1 % of a
+#: segment, the seabed carries less than 1 % of one segment's weight (a node must sink about
+#: 0.75 delta, 1 % of its penetration under its own weight, before it does), far below what
+#: the discretisation resolves (each node lumps half of each adjacent segment), so leaving
+#: contact out of the dynamics changes nothing it resolves. A fraction of the segment length
+#: rather than a penetration depth because the statics report a length, and the refusal
+#: must agree with what they print.
+GROUNDED_TOLERANCE = 0.01
+
+
+def grounded_tolerance(scene: Scene) -> float:
+    """Grounded length (m) up to which the dynamics treat the line as clear of the seabed."""
+    return GROUNDED_TOLERANCE * min(sec.ds for sec in scene.sections)
+
+
 def _check_scene(scene: Scene, static) -> None:
     if static.status != "converged":
         raise SceneError("static solution: status = %r: the dynamics needs a converged static state"
                          % static.status)
-    if scene.seabed is not None and static.grounded_length > 0.0:
+    if scene.seabed is not None and static.grounded_length > grounded_tolerance(scene):
+        held = [(e.position[-1], name, other) for name, e, other in
+                (("end_a", scene.end_a, "end_b"), ("end_b", scene.end_b, "end_a")) if e.is_fixed]
+        _, low, other = min(held)
         raise SceneError(
             f"environment.depth = {scene.environment.depth} m: the static line rests "
-            f"{static.grounded_length:.3g} m on the seabed, and planar dynamics with seabed "
-            "contact is not supported yet (lift the line off the seabed or remove the depth)")
+            f"{static.grounded_length:.3g} m on the seabed (more than {grounded_tolerance(scene):.3g} m, "
+            f"{100 * GROUNDED_TOLERANCE:g} % of a segment), and planar dynamics with seabed contact "
+            f"is not supported yet: move {low}.position further from {other} along the seabed "
+            "until the static line lifts off it (grounded length 0), or analyse this scene with "
+            "statics only (symcable static) until seabed contact in the dynamics lands")
     periods = {e.motion.period for e in (scene.end_a, scene.end_b) if e.motion is not None}
     if len(periods) > 1:
         raise SceneError(f"end_a.motion.period, end_b.motion.period = {sorted(periods)} s: "
                          "both ends must move with the same period")
+
+
+def dynamics_refusal(scene: Scene, static) -> str | None:
+    """Why :func:`build_planar_dynamics` would refuse ``scene`` about ``static`` (the
+    SceneError's one-line message), or None when the dynamics can be built."""
+    try:
+        _check_scene(scene, static)
+    except SceneError as exc:
+        return str(exc)
+    return None
 
 
 def build_planar_dynamics(scene: Scene, static) -> DynamicModel:
@@ -100,7 +142,7 @@ def build_planar_dynamics(scene: Scene, static) -> DynamicModel:
     # --- parameters, in named blocks
     blocks = [("phi_s", N), ("eps_s", N), ("amp_a", 2), ("phase_a", 2), ("amp_b", 2),
               ("phase_b", 2), ("omega", 1), ("current", 2), ("current_s", 2), ("force_a_s", 2),
-              ("force_b_s", 2), ("ramp", 1), ("beta", 1)]
+              ("force_b_s", 2), ("ramp", 1), ("beta", 1), ("pos_a_s", 2), ("pos_b_s", 2)]
     slices, k = {}, 0
     for name, n in blocks:
         slices[name] = slice(k, k + n)
@@ -119,6 +161,7 @@ def build_planar_dynamics(scene: Scene, static) -> DynamicModel:
         "force_a_s": static.anchor_force, "force_b_s": static.fairlead_force,
         "ramp": period or 0.0,
         "beta": 2 * math.pi / period if period else 1.0,
+        "pos_a_s": static.positions[0], "pos_b_s": static.positions[-1],
     }
     p_value = np.concatenate([np.atleast_1d(np.asarray(values[n], dtype=float)) for n, _ in blocks])
 
@@ -268,6 +311,21 @@ def build_planar_dynamics(scene: Scene, static) -> DynamicModel:
 
     force_b = P["force_b_s"] + ca.vertcat(dPx[N] - dFx[N - 1], dPz[N] - dFz[N - 1]) - inertia(N)
     force_a = P["force_a_s"] + ca.vertcat(dPx[0] + dFx[0], dPz[0] + dFz[0]) - inertia(0)
+    # node positions (the paper's S3) from the total angle and strain, chained from a held
+    # end's place (static, plus its prescribed displacement); from end B when end A is free
+    ang, stretch = phi_s + phi_dyn, ds * (1.0 + eps_s + e_dyn)
+    step_x, step_z = stretch * ca.cos(ang), stretch * ca.sin(ang)
+    if a.condition is not EndCondition.FREE:
+        px, pz = [P["pos_a_s"][0] + disp[0][0]], [P["pos_a_s"][1] + disp[0][1]]
+        for j in range(N):
+            px.append(px[-1] + step_x[j])
+            pz.append(pz[-1] + step_z[j])
+    else:
+        px, pz = [P["pos_b_s"][0] + disp[1][0]], [P["pos_b_s"][1] + disp[1][1]]
+        for j in range(N - 1, -1, -1):
+            px.append(px[-1] - step_x[j])
+            pz.append(pz[-1] - step_z[j])
+        px, pz = px[::-1], pz[::-1]
     outputs = {
         "fairlead_tension": ca.norm_2(force_b),
         "anchor_tension": ca.norm_2(force_a),
@@ -277,6 +335,7 @@ def build_planar_dynamics(scene: Scene, static) -> DynamicModel:
         "axial_force": ca.DM(seg["EA"]) * (eps_s + e_dyn),
         "strain": e_dyn,
         "angle": phi_dyn,
+        "positions": ca.horzcat(ca.vertcat(*px), ca.vertcat(*pz)),
     }
 
     kinds_arr = np.array(kinds)
@@ -298,6 +357,10 @@ def build_planar_dynamics(scene: Scene, static) -> DynamicModel:
         "kinds": tuple(kinds), "dynamic_nodes": tuple(dyn_nodes), "segments": seg,
         "s_nodes": seg["s"], "static": static, "terms": tuple(term_names),
         "mass_tangential": m_t, "mass_normal": m_n, "scene": scene,
+        # per segment: the largest total axial strain its line type takes, the range the
+        # linearised dynamics are checked against (results_time.strain_warnings)
+        "max_strain": np.concatenate([[sec.line_type.max_strain] * sec.segments
+                                      for sec in scene.sections]),
     })
     p_periodic = np.array(p_value)
     p_periodic[slices["ramp"]] = 0.0
@@ -312,7 +375,7 @@ def build_planar_dynamics(scene: Scene, static) -> DynamicModel:
 
 
 def reconstruct_positions(model: DynamicModel, e: np.ndarray, phi: np.ndarray) -> np.ndarray:
-    """Node positions (n_times, N+1, 2), m, from dynamic strain and angle (n_times, N) (S3):
+    """Node positions (n_times, N+1, 2), m, from dynamic strain and angle (n_times, N):
     ``r_{j+1} = r_j + ds (1 + eps_s + e) (cos, sin)(phi_s + phi)`` from end A's static place."""
     st = model.info["static"]
     ds = model.info["segments"]["ds"]

@@ -37,8 +37,9 @@ def morison_drag(rho, diameter, cd_n, cd_t, u_t, u_n, strain):
     """Morison drag per unstretched length on a line element, N/m, as (f_t, f_n).
 
     ``u_t``, ``u_n`` are the tangential and normal components of the velocity of the water
-    relative to the line (m/s). As in seed 001 the projected diameter times stretched
-    length scales with sqrt(1 + strain) (constant volume): f = 0.5 rho d Cd |u| u sqrt(1+e).
+    relative to the line (m/s). As in Boral, Hickey & Basu (cited in :mod:`symcable.models.planar`)
+    the projected diameter times stretched length scales with sqrt(1 + strain) (constant
+    volume): f = 0.5 rho d Cd |u| u sqrt(1+e).
     """
     stretch = ca.sqrt(1.0 + strain)
     f_t = 0.5 * rho * diameter * cd_t * ca.fabs(u_t) * u_t * stretch

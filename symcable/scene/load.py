@@ -1,4 +1,4 @@
-"""Reading, validating and writing scenes (``design.md``, "Scene file (TOML), version 1").
+"""Reading, validating and writing scenes (the scene-file layout of the README, "A scene file").
 
 :func:`load_scene` turns a TOML file or a dict in the file's layout into a frozen
 :class:`~symcable.scene.Scene`; :func:`scene_to_dict` and :func:`scene_to_toml` go back.
@@ -316,6 +316,9 @@ def _check_geometry(env: Environment, sections: tuple[Section, ...], ends: dict[
                 and end.position[-1] < -env.depth - 1e-9 * env.depth:
             raise _err(f"{name}.position", list(end.position), "m", "below the seabed at "
                        f"z = {-env.depth!r} m (environment.depth = {env.depth!r})")
+        if end.motion is not None:
+            _check_motion_speed(name, end.motion, lt)
+    _check_stiffness(sections, ends)
     a, b = ends["end_a"].position, ends["end_b"].position
     if a is not None and b is not None:
         distance = math.dist(a, b)
@@ -327,6 +330,67 @@ def _check_geometry(env: Environment, sections: tuple[Section, ...], ends: dict[
             raise SceneError(f"end_b.position = {list(b)!r}: the ends are {_fmt(distance)} m apart "
                              f"but the line stretches to at most {_fmt(reach)} m (length "
                              f"{_fmt(length)} m at {strain})")
+
+
+#: Largest axial stiffness over the line's load, EA / (|w| L + |end forces|): beyond it the
+#: strain the load causes, below 1e-9, is not resolved by a float64 static solve. The
+#: compatibility rows (EA/ds) (r_{j+1} - r_j - ds (1 + eps) t) carry the round-off of the
+#: coordinates, eps_64 |r|, magnified by EA/ds, so the residual floor relative to the line's
+#: weight grows as 100 eps_64 N EA / (|w| L) (N segments): at 1e9 and 50 segments it is
+#: already 2e-3 of the weight (the OC3 line's tolerance 1.3 kN against its 630 kN), and the
+#: closed-form start (an elastic catenary) is not built past it. Measured on four lines
+#: (10-200 segments, slack, taut, on a seabed): solved at 0.99e9, Newton fails ("singular
+#: Jacobian", "no decrease") from 1.01e9 on, and at 1.6e11 it "converged" 16 % off.
+MAX_STIFFNESS_RATIO = 1e9
+
+
+def _check_stiffness(sections: tuple[Section, ...], ends: dict[str, End]) -> None:
+    """Reject an EA so large against the line's load that float64 cannot resolve its strain
+    (see :data:`MAX_STIFFNESS_RATIO`). A line with no weight and no end force takes its
+    strain from the end positions alone, and is not checked."""
+    load = sum(abs(s.line_type.weight) * s.length for s in sections)
+    load += sum(math.hypot(*e.force) for e in ends.values() if e.force is not None)
+    if not load > 0.0:
+        return
+    for s in sections:
+        lt = s.line_type
+        if lt.EA > MAX_STIFFNESS_RATIO * load:
+            raise _err(_key(_key("line_types", lt.name), "EA"), lt.EA, "N",
+                       f"too stiff for float64: the strain the line's load causes, "
+                       f"(|weight| * length + end forces) / EA = {load:.4g} N / EA = "
+                       f"{load / lt.EA:.3g}, is below the 1e-9 that a double-precision static "
+                       f"solve resolves: must be <= {MAX_STIFFNESS_RATIO * load:.4g} N "
+                       f"(EA / load <= {MAX_STIFFNESS_RATIO:g}; the line is then practically "
+                       "inextensible anyway)")
+
+
+def _check_motion_speed(name: str, motion: Motion, lt: LineType) -> None:
+    """Reject a motion too fast for the line to follow within its strain range.
+
+    Physical basis: an end moved at speed v along the line launches an axial wave whose strain
+    is v / c, with c = sqrt(EA / mass) the line's axial wave speed (the impedance relation
+    of an elastic rod, force = EA v / c). So an end speed above ``max_strain * c`` asks for
+    more strain than the line takes, whatever the rest of the scene. Which part of the motion
+    runs along the line is only known after the statics, so the bound is applied to the
+    end's largest speed: it then also rejects a purely transverse motion that fast, which is
+    just as meaningless (e.g. 70 m/s for the seed-001 chain, 220 m/s for the OC3 line; a
+    fairlead moves at a few m/s). Slower motions that still overstretch the line are caught
+    on the result, whose status is then "invalid" (results_time.strain_warnings)."""
+    if motion.kind != "harmonic" or len(motion.amplitude) != 2:
+        return
+    ax, az = motion.amplitude
+    delta = motion.phase[1] - motion.phase[0]
+    # max over t of |(A_x w sin(wt + p_x), A_z w sin(wt + p_z))|
+    peak = math.sqrt(0.5 * (ax * ax + az * az) + 0.5 * abs(ax * ax + az * az * complex(
+        math.cos(2 * delta), math.sin(2 * delta))))
+    limit = lt.max_strain * math.sqrt(lt.EA / lt.mass)
+    if peak * motion.omega > limit:
+        raise _err(f"{name}.motion.period", motion.period, "s",
+                   f"the end would move at up to {peak * motion.omega:.3g} m/s, faster than "
+                   f"max_strain * sqrt(EA / mass) = {limit:.3g} m/s of line type {lt.name!r} "
+                   "(an end moving along the line at v launches an axial wave of strain "
+                   f"v / sqrt(EA / mass), beyond max_strain = {lt.max_strain:g}): must be >= "
+                   f"{2 * math.pi * peak / limit:.3g} s for this amplitude")
 
 
 # ----------------------------------------------------------------------------- public API

@@ -1,7 +1,7 @@
 """Scenes: the validated, frozen description of one cable problem.
 
-A scene comes from a TOML file or a plain dict (the contract of ``design.md``, "Scene file,
-version 1") through :func:`load_scene`, which checks every key and raises a one-line
+A scene comes from a TOML file or a plain dict (the layout the README documents under "A
+scene file") through :func:`load_scene`, which checks every key and raises a one-line
 :class:`~symcable.errors.SceneError` naming the key, the value and what is allowed.
 
 Units are SI throughout; angles are degrees in the file and radians in the dataclasses

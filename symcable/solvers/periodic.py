@@ -35,7 +35,7 @@ import numpy as np
 from ..codegen import use_codegen
 from ..errors import ConvergenceError, SceneError, SymcableError
 from ..models.dynamic import DynamicModel
-from ..results_time import slack_warnings
+from ..results_time import node_tension, range_warnings, slack_warnings
 from ..results_periodic import PeriodicSolution, PeriodicSweep
 from ..scene import Scene, load_scene
 from . import harmonic_balance as hbm
@@ -376,6 +376,11 @@ def solve_periodic(scene, method: str = "collocation", *, intervals: int | None 
     Returns
     -------
     PeriodicSolution
+        ``status`` "converged"; "invalid" (with a warning naming the quantity and the limit)
+        when the total axial strain of a segment, or an end tension over its segment's EA,
+        leaves the line type's ``max_strain`` over the period: the dynamics are linearised
+        about the static state and the numbers are then not an answer; else "slack" when the
+        total tension reaches zero somewhere.
 
     Raises
     ------
@@ -467,7 +472,8 @@ def sweep_periodic(scene, periods: Sequence[float], method: str = "collocation",
     if all(s == "failed" for s in statuses):
         raise ConvergenceError(f"periodic sweep: no period converged ({warnings[-1]})", partial=None,
                                diagnostics={"warnings": warnings, "stats": stats})
-    status = ("partial" if "failed" in statuses else "slack" if "slack" in statuses else "converged")
+    status = ("partial" if "failed" in statuses else "invalid" if "invalid" in statuses
+              else "slack" if "slack" in statuses else "converged")
     stats["wall_time"] = time.perf_counter() - t0
     return PeriodicSweep(
         scene_name=scene.name, method=cfg.method.value, periods=periods,
@@ -632,20 +638,39 @@ def _solution(scene_name, model, p, T, cfg, states_of, x, status, stats, n_harm)
     ft = outs["fairlead_tension"].ravel()
     force = outs["fairlead_force"].reshape(n, -1) if "fairlead_force" in outs else np.zeros((n, 0))
     tension = outs["tension"].T if "tension" in outs else np.zeros((n, 0))
+    if tension.size:  # on the nodes, ends included: the end forces' magnitudes at the ends
+        anchor = outs["anchor_tension"].ravel() if "anchor_tension" in outs else None
+        tension = node_tension(tension, anchor, ft)
+    axial_force = outs["axial_force"].reshape(-1, n).T if "axial_force" in outs else None
     c = np.fft.rfft(ft) / n
     H = min(n_harm, (n - 1) // 2)
     amp = np.concatenate([[c[0].real], 2.0 * np.abs(c[1:H + 1])])
     phase = np.concatenate([[0.0], np.angle(c[1:H + 1])])
     warnings = ()
+    s_nodes = np.asarray(model.info["s_nodes"], dtype=float) if "s_nodes" in model.info else None
     if status == "converged":
         static = model.info.get("static")
         axial = outs.get("axial_force", outs.get("tension")).reshape(-1, n).T
-        s_mid = np.asarray(model.info["s_nodes"])
-        s_mid = 0.5 * (s_mid[:-1] + s_mid[1:]) if s_mid.size == axial.shape[1] + 1 else np.arange(axial.shape[1])
+        s_mid = s_nodes
+        s_mid = 0.5 * (s_mid[:-1] + s_mid[1:]) if s_mid is not None and s_mid.size == axial.shape[1] + 1 \
+            else np.arange(axial.shape[1])
         slack, warnings = slack_warnings(tau * T, s_mid, axial,
                                          None if static is None else static.axial_force)
-        if slack:
+        invalid = False
+        if static is not None and "strain" in outs:
+            total = np.asarray(static.strain) + outs["strain"].reshape(-1, n).T
+            invalid, beyond = range_warnings(model, tau * T, s_mid, total, outs)
+            warnings = beyond + warnings
+        if invalid:
+            status = "invalid"
+        elif slack:
             status = "slack"
+    slices = getattr(model, "p_slices", {}) or {}
+    names = [""] * np.size(p)
+    for block, sl in slices.items():
+        idx = range(*sl.indices(np.size(p)))
+        for i, k in enumerate(idx):
+            names[k] = block if len(idx) == 1 else f"{block}[{i}]"
     return PeriodicSolution(
         scene_name=scene_name, method=cfg.method.value, period=float(T), time=tau * T, states=Y,
         fairlead_tension=ft, fairlead_force=force,
@@ -653,4 +678,6 @@ def _solution(scene_name, model, p, T, cfg, states_of, x, status, stats, n_harm)
         tension_max=tension.max(axis=0) if tension.size else np.zeros(0),
         fairlead_tension_harmonics_amplitude=amp, fairlead_tension_harmonics_phase=phase,
         status=status, stats=stats, warnings=tuple(warnings), unknowns=np.asarray(x, dtype=float),
-        params=np.asarray(p, dtype=float))
+        params=np.asarray(p, dtype=float), param_names=tuple(names) if all(names) else (),
+        s=s_nodes if s_nodes is not None and s_nodes.size == tension.shape[1] else None,
+        axial_force=axial_force)

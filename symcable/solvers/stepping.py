@@ -487,8 +487,11 @@ def simulate(scene, duration: float, dt: float | None = None, method: str = "gen
     Returns
     -------
     Trajectory
-        ``status`` "converged", or "slack" with a warning when the total tension fell to
-        zero somewhere (the linearised model is then invalid).
+        ``status`` "converged"; "invalid" with a warning when the total axial strain of a
+        segment, or an end tension over its segment's EA, left the line type's
+        ``max_strain`` (the dynamics linearised about the static state do not hold there:
+        the numbers are not an answer); else "slack" with a warning when the total tension
+        fell to zero somewhere (the linearised model is then invalid too).
 
     Raises
     ------

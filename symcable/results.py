@@ -9,7 +9,7 @@ import numpy as np
 
 from .errors import SymcableError
 
-__all__ = ["Exportable", "StaticSolution"]
+__all__ = ["Exportable", "OneLine", "StaticSolution"]
 
 
 def _jsonable(v):
@@ -106,8 +106,31 @@ class Exportable:
 
 
 
+class OneLine:
+    """Results per part for a one-line scene: ``.lines["line"]`` is the result itself (the
+    same fields), ``.points`` and ``.bodies`` are empty. Scenes of several parts give each
+    line, point and body its own entry."""
+
+    LINE_NAME = "line"
+
+    @property
+    def lines(self):
+        from types import MappingProxyType
+        return MappingProxyType({self.LINE_NAME: self})
+
+    @property
+    def points(self):
+        from types import MappingProxyType
+        return MappingProxyType({})
+
+    @property
+    def bodies(self):
+        from types import MappingProxyType
+        return MappingProxyType({})
+
+
 @dataclass(frozen=True)
-class StaticSolution(Exportable):
+class StaticSolution(OneLine, Exportable):
     """Static configuration of a line. ``n`` is the number of nodes, ``n - 1`` of segments.
 
     Attributes

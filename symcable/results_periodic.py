@@ -11,13 +11,13 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .errors import SymcableError
-from .results import Exportable
+from .results import Exportable, OneLine
 
 __all__ = ["PeriodicSolution", "PeriodicSweep"]
 
 
 @dataclass(frozen=True)
-class PeriodicSolution(Exportable):
+class PeriodicSolution(OneLine, Exportable):
     """Periodic steady state of a dynamic model over one excitation period.
 
     ``n`` is the number of output times (``resolution``), ``n_y`` the number of states,

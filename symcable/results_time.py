@@ -7,14 +7,14 @@ from typing import Mapping
 
 import numpy as np
 
-from .results import Exportable
+from .results import Exportable, OneLine
 
 __all__ = ["Trajectory", "end_force_warnings", "node_tension", "range_warnings", "slack_warnings",
            "strain_warnings"]
 
 
 @dataclass(frozen=True)
-class Trajectory(Exportable):
+class Trajectory(OneLine, Exportable):
     """A time history of a line, sampled at the saved steps.
 
     ``n_t`` is the number of saved samples, ``n_y`` the number of states, ``n_seg`` the

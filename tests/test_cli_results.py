@@ -208,3 +208,13 @@ def test_solution_repr_is_short():
     assert text.startswith("StaticSolution(status='converged'")
     assert "fairlead_tension=911428" in text and "positions=<51x2>" in text
     assert "grounded_length=134.5" in text
+
+
+def test_results_per_part_for_a_one_line_scene():
+    """Every result has .lines[name], .points and .bodies; a one-line scene's only line is
+    the result itself (same fields), and it has no points or bodies."""
+    st = sc.solve_static(OC3)
+    assert list(st.lines) == ["line"] and st.lines["line"] is st
+    assert st.lines["line"].fairlead_tension == st.fairlead_tension
+    assert dict(st.points) == {} and dict(st.bodies) == {}
+    assert "lines" not in st.to_dict()  # views, not exported fields

@@ -286,3 +286,24 @@ def test_adaptive_steps_follow_the_tolerance():
     assert runs[1e-6].time[-1] == pytest.approx(20.0, rel=1e-12)
     with pytest.raises(SymcableError, match="adaptive steps need generalized-alpha"):
         integrate(mech, 1.0, tol=1e-6, method=RK4())
+
+
+# ---------------------------------------------------------------------------- planar
+@pytest.mark.parametrize("name", ["oc3", "seed001"])
+def test_planar_statics_through_the_generic_solver(name):
+    """The planar formulation's statics as a Mechanism (models/static_mechanism.py), solved by
+    the generic solve_equilibrium from the formulation's own starts (closed-form catenary with
+    seabed): the same state as the planar solve_static to its tolerance (end forces within
+    1e-9 relative: both converge Newton to ~1e-12 of the tension from the same start)."""
+    import symcable as sc
+    from symcable.models import build_model
+    from symcable.models.static_mechanism import static_mechanism
+
+    scene = sc.load_scene(sc.demo_scene_path(name))
+    st = sc.solve_static(scene, codegen=False)
+    mech = static_mechanism(build_model(scene))
+    eq = solve_equilibrium(mech)
+    assert eq.status == "converged" and eq.stats["stable"] is None  # no mass: not judged
+    np.testing.assert_allclose(np.ravel(eq.outputs["end_force_b"]), st.fairlead_force, rtol=1e-9)
+    np.testing.assert_allclose(np.ravel(eq.outputs["end_force_a"]), st.anchor_force, rtol=1e-9,
+                               atol=1e-9 * st.fairlead_tension)

@@ -12,7 +12,7 @@ import pytest
 import symcable as sc
 from symcable.cli import EXIT_INVALID, main
 from symcable.errors import SceneError
-from symcable.scene_loader import scene_to_toml
+from symcable.scene import scene_to_toml
 
 from conftest import OC3, seed001
 

@@ -65,7 +65,7 @@ def simulate(scene, duration: float, dt: float | None = None, method: str = "gen
                               newton_tol=newton_tol, codegen=codegen, started=started)
 
 
-def solve_periodic(scene, method: str = "collocation", *, intervals: int | None = None,
+def solve_periodic(scene, method: str = "shooting", *, intervals: int | None = None,
                    degree: int = 3, scheme: str = "radau", solver: str | None = None,
                    harmonics: int | None = None, samples: int | None = None,
                    ipopt_options: Mapping | None = None, resolution: int = 200,

@@ -168,7 +168,7 @@ def _demo(args) -> int:
     print("\nsymcable demo 2/2: periodic steady state of the seed-001 line (suspended, current "
           "0.5 m/s, elliptic fairlead motion, T = 10 s)\n")
     scene = load_scene(demo_scene_path("seed001"))
-    per = solve_periodic(scene)
+    per = solve_periodic(scene, "collocation")  # as docs/demo-periodic.png and its caption
     print(per.summary())
     stem = Path(plot)
     periodic_plot = stem.with_name(stem.stem + "-periodic" + stem.suffix)
@@ -223,7 +223,7 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("periodic", help="periodic steady state over one excitation period")
     p.add_argument("scene")
     _output_options(p, "solution")
-    p.add_argument("--method", default="collocation", choices=["collocation", "harmonic-balance", "shooting"])
+    p.add_argument("--method", default="shooting", choices=["collocation", "harmonic-balance", "shooting"])
     p = sub.add_parser("modes", help="natural frequencies and mode shapes")
     p.add_argument("scene")
     _output_options(p, "modes")

@@ -98,8 +98,8 @@ def test_simulate_compiled_equals_vm(method):
 def test_periodic_and_modes_compiled_equal_vm():
     scene = sc.load_scene(small_seed(10))
     model = sc.build_dynamic_model(scene)
-    vm = sc.solve_periodic(scene, model=model, intervals=8, codegen=False)
-    cg = sc.solve_periodic(scene, model=model, intervals=8, codegen=True)
+    vm = sc.solve_periodic(scene, "collocation", model=model, intervals=8, codegen=False)
+    cg = sc.solve_periodic(scene, "collocation", model=model, intervals=8, codegen=True)
     assert cg.stats["compiled"] and not vm.stats["compiled"]
     rng = np.ptp(vm.fairlead_tension)
     # both converge to 1e-10 scaled states per second; tension agrees far below 1e-6 of range

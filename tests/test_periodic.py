@@ -41,14 +41,15 @@ def model(scene):
 @pytest.fixture(scope="module")
 def colloc(scene, model):
     """Collocation, IPOPT, defaults (40 intervals of Radau degree 3)."""
-    return solve_periodic(scene, model=model)
+    return solve_periodic(scene, "collocation", model=model)
 
 
 @pytest.fixture(scope="module")
 def reference(scene, model):
     """Collocation on 160 intervals: the reference of the convergence tests (its own error,
     ~1/64 of the 40-interval one at the measured order 3, is below what they resolve)."""
-    return solve_periodic(scene, intervals=160, solver="newton", model=model, resolution=160)
+    return solve_periodic(scene, "collocation", intervals=160, solver="newton", model=model,
+                          resolution=160)
 
 
 def _range(tf):
@@ -67,10 +68,10 @@ def test_collocation_and_harmonic_balance_agree(scene, model, colloc):
     hb = solve_periodic(scene, "harmonic-balance", model=model)
     assert hb.status == "converged" and hb.stats["harmonics"] == 10
     assert np.max(np.abs(hb.fairlead_tension - tf)) < 0.01 * rng
-    newton = solve_periodic(scene, solver="newton", model=model)
+    newton = solve_periodic(scene, "collocation", solver="newton", model=model)
     assert np.max(np.abs(newton.fairlead_tension - tf)) < 1e-6 * rng
     np.testing.assert_allclose(newton.states, colloc.states, atol=1e-6 * np.max(model.y_scale))
-    gauss = solve_periodic(scene, scheme="legendre", solver="newton", model=model)
+    gauss = solve_periodic(scene, "collocation", scheme="legendre", solver="newton", model=model)
     assert np.max(np.abs(gauss.fairlead_tension - tf)) < 1e-3 * rng
     # stats the report needs
     for s in (colloc, hb, newton):
@@ -128,7 +129,8 @@ def test_collocation_converges_at_order_three(scene, model, reference):
     3, so the measured order is ~3 (2.4 and 3.6 pairwise, 3.0 fitted)."""
     errors = []
     for K in (10, 20, 40):
-        s = solve_periodic(scene, intervals=K, solver="newton", model=model, resolution=160)
+        s = solve_periodic(scene, "collocation", intervals=K, solver="newton", model=model,
+                           resolution=160)
         errors.append(np.max(np.abs(s.states[::16] - reference.states[::16]) / model.y_scale))
     order = -np.polyfit(np.log([10, 20, 40]), np.log(errors), 1)[0]
     assert errors[0] > errors[1] > errors[2]
@@ -219,7 +221,7 @@ def test_ipopt_failure_raises_convergence_error(scene, model):
     """IPOPT stopped after one iteration: ConvergenceError with the last iterate as a
     PeriodicSolution (status "failed") and IPOPT's return status in the diagnostics."""
     with pytest.raises(ConvergenceError) as info:
-        solve_periodic(scene, model=model, ipopt_options={"max_iter": 1})
+        solve_periodic(scene, "collocation", model=model, ipopt_options={"max_iter": 1})
     err = info.value
     assert isinstance(err.partial, PeriodicSolution) and err.partial.status == "failed"
     assert err.diagnostics["return_status"] == "Maximum_Iterations_Exceeded"
@@ -233,7 +235,7 @@ def test_bad_choices_get_one_line_errors(scene, model):
     with pytest.raises(SymcableError, match="scheme = 'lobatto'"):
         solve_periodic(scene, scheme="lobatto", model=model)
     with pytest.raises(SymcableError, match="No such IPOPT option: no_such_option"):
-        solve_periodic(scene, model=model, ipopt_options={"no_such_option": 1})
+        solve_periodic(scene, "collocation", model=model, ipopt_options={"no_such_option": 1})
     with pytest.raises(SymcableError, match="samples = 5"):
         solve_periodic(scene, "harmonic-balance", harmonics=4, samples=5, model=model)
 
@@ -251,7 +253,7 @@ def test_exact_invariants_are_gauged_like_the_stabilised_model(scene, model, col
     p = periodic_params(model, beta=0.0)
     assert hbm.linear_invariants(model, p).r == 2
     assert hbm.linear_invariants(model, colloc.params).r == 0
-    free = solve_periodic(scene, params=p, solver="newton", model=model)
+    free = solve_periodic(scene, "collocation", params=p, solver="newton", model=model)
     rng = _range(colloc.fairlead_tension)
     assert np.max(np.abs(free.fairlead_tension - colloc.fairlead_tension)) < 1e-5 * rng
     hb_free = solve_periodic(scene, "harmonic-balance", harmonics=4, params=p, model=model)
@@ -268,7 +270,7 @@ def test_restart_from_another_methods_solution(scene, model, colloc):
     assert hb.stats["guess"]["start"] == "given"
     assert hb.stats["iterations"] <= fresh.stats["iterations"]
     np.testing.assert_allclose(hb.fairlead_tension, fresh.fairlead_tension, rtol=1e-9)
-    col = solve_periodic(scene, solver="newton", model=model, initial=fresh)
+    col = solve_periodic(scene, "collocation", solver="newton", model=model, initial=fresh)
     assert col.stats["guess"]["start"] == "given solution (re-sampled)"
     np.testing.assert_allclose(col.fairlead_tension, colloc.fairlead_tension, rtol=1e-9)
 

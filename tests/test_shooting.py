@@ -36,7 +36,7 @@ def model(scene):
 def colloc(scene, model):
     """Collocation (40 Radau intervals): ~1e-5 of the tension range from exact, 100 times
     below the generalized-α errors measured against it here."""
-    return solve_periodic(scene, model=model, resolution=100)
+    return solve_periodic(scene, "collocation", model=model, resolution=100)
 
 
 @pytest.fixture(scope="module")
@@ -159,7 +159,7 @@ def test_anderson_beats_marching_on_a_lightly_damped_line():
     model = sc.build_dynamic_model(scene)
     sol = solve_periodic(scene, "shooting", model=model)
     assert sol.stats["iterations"] < 100
-    col = solve_periodic(scene, model=model)
+    col = solve_periodic(scene, "collocation", model=model)
     e100, e200 = _err(sol, col), _err(solve_periodic(scene, "shooting", model=model, steps=200), col)
     assert e100 < 0.2 and e100 / e200 > 3.0, (e100, e200)
     p = periodic_params(model)

@@ -175,15 +175,15 @@ def periodic(repeats: int, md_run: dict, sym_run) -> dict:
     (and symcable's own time run) needs to march to 1 % of its steady state."""
     scene = sc.load_scene(sc.demo_scene_path("seed001"))
     model = sc.build_dynamic_model(scene)
-    sols = {cg: sc.solve_periodic(scene, model=model, codegen=cg) for cg in (True, False)}
+    sols = {cg: sc.solve_periodic(scene, "collocation", model=model, codegen=cg) for cg in (True, False)}
     shots = {cg: sc.solve_periodic(scene, "shooting", model=model, codegen=cg) for cg in (True, False)}
     for cg in (True, False):
         sc.modal_analysis(scene, 6, model=model, codegen=cg)
     out = interleaved({
         "modal_c": lambda: sc.modal_analysis(scene, 6, model=model, codegen=True),
         "modal_vm": lambda: sc.modal_analysis(scene, 6, model=model, codegen=False),
-        "symcable_c": lambda: sc.solve_periodic(scene, model=model, codegen=True),
-        "symcable_vm": lambda: sc.solve_periodic(scene, model=model, codegen=False),
+        "symcable_c": lambda: sc.solve_periodic(scene, "collocation", model=model, codegen=True),
+        "symcable_vm": lambda: sc.solve_periodic(scene, "collocation", model=model, codegen=False),
         "shooting_c": lambda: sc.solve_periodic(scene, "shooting", model=model, codegen=True),
         "shooting_vm": lambda: sc.solve_periodic(scene, "shooting", model=model, codegen=False),
     }, repeats)
@@ -219,9 +219,9 @@ def resonance(quick: bool) -> dict:
     d["end_b"]["motion"]["period"] = period
     scene = sc.load_scene(d)
     model = sc.build_dynamic_model(scene)
-    col = sc.solve_periodic(scene, model=model, codegen=True)
+    col = sc.solve_periodic(scene, "collocation", model=model, codegen=True)
     shot = sc.solve_periodic(scene, "shooting", model=model, codegen=True)
-    out = interleaved({"collocation_c": lambda: sc.solve_periodic(scene, model=model, codegen=True),
+    out = interleaved({"collocation_c": lambda: sc.solve_periodic(scene, "collocation", model=model, codegen=True),
                        "shooting_c": lambda: sc.solve_periodic(scene, "shooting", model=model,
                                                                codegen=True)},
                       1 if quick else 3)

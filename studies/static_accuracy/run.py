@@ -186,7 +186,7 @@ COLUMNS = [  # (csv key, markdown header, format)
 def summary_markdown(res: dict) -> str:
     k_seabed = scene_dict("seabed", LINES["seabed"], 10)["seabed"]["stiffness"]
     lines = [f"Lines: taut, slack (suspended) and seabed (the OC3 line on a {k_seabed:.0e} Pa/m "
-             "seabed; the OC3 headline below uses design.md's "
+             "seabed; the OC3 headline below uses the built-in OC3 scene's "
              f"{OC3['seabed']['stiffness']:.0e} Pa/m).".replace("e+0", "e"), "",
              "| " + " | ".join(h for _, h, _ in COLUMNS) + " |",
              "|" + "|".join("---" for _ in COLUMNS) + "|"]
@@ -214,7 +214,7 @@ def plot(res: dict, path: Path) -> None:
     rows = res["rows"]
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4.5), constrained_layout=True)
     colors = dict(zip(LINES, ("C0", "C1", "C2")))
-    # the seabed line's stiffness as its scene has it (the OC3 headline uses design.md's 1e5)
+    # the seabed line's stiffness as its scene has it (the OC3 headline uses the built-in OC3 scene's 1e5)
     k_seabed = scene_dict("seabed", LINES["seabed"], 10)["seabed"]["stiffness"]
     labels = {"taut": "taut (0.8 % strain)", "slack": "slack (deep sag)",
               "seabed": f"seabed: OC3 line on a {k_seabed:.0e} Pa/m seabed".replace("e+0", "e")}

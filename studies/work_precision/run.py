@@ -4,10 +4,12 @@ Question
 --------
 The periodic steady state of the seed-001 line (``symcable/data/seed001.toml``: OC3 geometry,
 suspended, 0.5 m/s current, elliptic fairlead motion of period T = 10 s, 50 segments) can be
-had four ways: run RK4 or generalized-alpha from rest until the start-up transient has gone and
-read the last period, or solve for the periodic state directly by harmonic balance or by
-collocation (IPOPT or Newton). To get the fairlead tension's max, min and first-harmonic
-amplitude to 1 %, 0.1 % or 0.01 % of its range, which is cheapest, and by how much?
+had five ways: run RK4 or generalized-alpha from rest until the start-up transient has gone and
+read the last period, or solve for the periodic state directly by harmonic balance, by
+collocation (IPOPT or Newton) or by shooting (the fixed point of generalized-alpha's period
+map). To get the fairlead tension's max, min and first-harmonic amplitude to 1 %, 0.1 % or
+0.01 % of its range, which is cheapest, and by how much? And which periodic method reaches
+0.1 % first, to be ``solve_periodic``'s default?
 
 Grids (full run; ``--quick`` takes a few cheap points of each and a coarse reference):
 
@@ -18,7 +20,11 @@ Grids (full run; ``--quick`` takes a few cheap points of each and a coarse refer
   have decayed to a tenth of that run's error;
 * harmonic balance over H (1, 2, 3, 5, 8, 12, 16 harmonics), Newton;
 * collocation (Radau) over K (10, 20, 40, 80 intervals) and d (2, 3, 4), with Newton and with
-  IPOPT.
+  IPOPT;
+* shooting over its steps per period N (dt = T/25 ... T/400), in generated C and in the VM,
+  interleaved;
+* then (full run) the periodic methods side by side, interleaved: each one's cheapest run to
+  0.1 % and its defaults.
 
 Reference: collocation K = 160, d = 4 (Newton), checked against the largest-H harmonic balance
 and the K = 80, d = 4 collocation. Error of a run: the largest of |T_max - T_max,ref|,
@@ -33,16 +39,20 @@ limit) built beforehand; each repeat uses a freshly built model, so the time inc
 the solver of that discretisation (collocation or harmonic-balance system, IPOPT or rootfinder,
 integrator step and batch), which a user waits for too. Median of 3 repeats when the first
 takes under 2 s, else that single run. The one-time model build is measured once, apart.
+Code: each analysis' default (generated C when a compiler is found, as for a user), shooting
+also in the VM. A call that compiles something new into the build cache (cold cache) is not
+timed but made again, warm; point ``SYMCABLE_CACHE_DIR`` at a cache of its own to keep it.
 
 Run
 ---
-    python studies/work_precision/run.py            # full: about 5 minutes on 2 cores
+    python studies/work_precision/run.py            # full: about 10 minutes on 2 shared cores
     python studies/work_precision/run.py --quick    # cheap points, coarse reference: < 1 minute
     options: --out DIR (default studies/work_precision/out/), --figure PATH (extra copy)
 
 Writes to the out dir: ``results.csv`` (one row per run, units in the column names),
-``summary.md`` (tables: reference, transient, runs, time to each error level) and
-``work_precision.png`` (error against wall time, log-log).
+``summary.md`` (tables: reference, transient, runs, time to each error level, measured and
+interpolated in log-log, the periodic methods side by side) and ``work_precision.png`` (error
+against wall time, log-log).
 """
 from __future__ import annotations
 
@@ -63,6 +73,7 @@ import numpy as np  # noqa: E402
 
 import symcable as sc  # noqa: E402
 from symcable.api import solve_periodic  # noqa: E402
+from symcable.codegen import cache_info  # noqa: E402
 from symcable.errors import ConvergenceError  # noqa: E402
 from symcable.solvers.stepping import rk4_stability_limit  # noqa: E402
 
@@ -74,10 +85,15 @@ RESOLUTION = 1000                    # output samples per period of the periodic
 FINE = 4096                          # trigonometric interpolation for the max and min
 TRANSIENT_FRACTION = 0.1             # GA transient must fall below this part of its error
 METHODS = ("rk4", "generalized-alpha", "harmonic-balance", "collocation-newton",
-           "collocation-ipopt")
+           "collocation-ipopt", "shooting")
+#: the methods of ``solve_periodic`` (the others march ``simulate`` from rest)
+PERIODIC = ("harmonic-balance", "collocation-newton", "collocation-ipopt", "shooting")
 LABELS = {"rk4": "RK4 (from rest)", "generalized-alpha": "generalized-α (from rest)",
           "harmonic-balance": "harmonic balance (Newton)",
-          "collocation-newton": "collocation, Newton", "collocation-ipopt": "collocation, IPOPT"}
+          "collocation-newton": "collocation, Newton", "collocation-ipopt": "collocation, IPOPT",
+          "shooting": "shooting (generalized-α period map)"}
+#: the level the default periodic method is chosen at (the issue: 1e-3 of the tension range)
+DEFAULT_LEVEL = 1e-3
 
 
 class Grid(NamedTuple):
@@ -91,7 +107,10 @@ class Grid(NamedTuple):
     hb_harmonics: tuple
     col_newton: tuple         # (K, d) solved by Newton
     col_ipopt: tuple          # (K, d) solved by IPOPT
+    shoot_steps: tuple        # shooting: generalized-alpha steps per period N (dt = T/N)
+    shoot_codegen: tuple      # shooting: codegen values, each a line (None: the default)
     reference: tuple          # (K, d) of the reference collocation (Newton)
+    head_to_head: bool        # re-time the periodic methods side by side at DEFAULT_LEVEL
 
 
 FULL = Grid(rk4_periods=(2, 3, 4, 6, 8, 16), rk4_factors=(0.8, 0.4, 0.2),
@@ -99,10 +118,13 @@ FULL = Grid(rk4_periods=(2, 3, 4, 6, 8, 16), rk4_factors=(0.8, 0.4, 0.2),
             hb_harmonics=(1, 2, 3, 5, 8, 12, 16),
             col_newton=tuple((K, d) for d in (2, 3, 4) for K in (10, 20, 40, 80)),
             col_ipopt=tuple((K, d) for d in (2, 3, 4) for K in (10, 20, 40, 80)),
-            reference=(160, 4))
+            shoot_steps=(25, 50, 100, 200, 400), shoot_codegen=(True, False),
+            reference=(160, 4), head_to_head=True)
 QUICK = Grid(rk4_periods=(1, 2, 3), rk4_factors=(0.8,), ga_steps=(25, 50),
              ga_transient_periods=6, hb_harmonics=(1, 3, 5),
-             col_newton=((5, 3), (10, 3)), col_ipopt=((5, 3), (10, 3)), reference=(20, 4))
+             col_newton=((5, 3), (10, 3)), col_ipopt=((5, 3), (10, 3)),
+             shoot_steps=(25, 50, 100), shoot_codegen=(None,), reference=(20, 4),
+             head_to_head=False)
 
 
 # --------------------------------------------------------------------------- measuring
@@ -118,20 +140,28 @@ def trig_interp(x: np.ndarray, m: int) -> np.ndarray:
     return np.fft.irfft(cf, m) * (m / n)
 
 
+QUANTITIES = ("t_max_N", "t_min_N", "a1_N")
+
+
 def metrics(series) -> dict:
     """Max, min (of the interpolant on FINE points) and first-harmonic amplitude, N, of one
-    period of fairlead tension sampled uniformly."""
+    period of fairlead tension sampled uniformly from t = 0 (mod T); ``fine`` is that
+    interpolant (for the waveform error, not written out)."""
     x = np.asarray(series, dtype=float)
-    fine = trig_interp(x, FINE) if x.size < FINE else x
+    fine = trig_interp(x, FINE) if x.size != FINE else x
     return {"t_max_N": float(fine.max()), "t_min_N": float(fine.min()),
-            "a1_N": float(2.0 * abs(np.fft.rfft(x)[1]) / x.size)}
+            "a1_N": float(2.0 * abs(np.fft.rfft(x)[1]) / x.size), "fine": fine}
 
 
 def errors(m: dict, ref: dict) -> dict:
-    """Signed errors over the reference range, and their largest magnitude."""
+    """Signed errors over the reference range, and their largest magnitude (``error``, the
+    study's metric); ``err_wave``, for context, is the largest difference of the whole
+    waveform over the period, max_t |T(t) - T_ref(t)|, which also counts phase errors."""
     rng = ref["t_max_N"] - ref["t_min_N"]
     e = {f"err_{k}": (m[f"{k}_N"] - ref[f"{k}_N"]) / rng for k in ("t_max", "t_min", "a1")}
     e["error"] = max(abs(v) for v in e.values())
+    e["err_wave"] = (float(np.max(np.abs(m["fine"] - ref["fine"]))) / rng
+                     if m.get("fine") is not None else math.nan)
     return e
 
 
@@ -144,19 +174,52 @@ def fresh_model(scene):
     return model
 
 
+def _cache_entries() -> int:
+    return cache_info()["entries"]
+
+
+def _once(scene, run) -> tuple:
+    """``run`` on a fresh model, timed: (wall_s, (metrics, info)). A call that compiled
+    something new into the build cache (a cold cache: 2-10 s of C compiler) is not timed:
+    it is discarded and the call made again, now warm, as every later solve of that model
+    structure is."""
+    while True:
+        model = fresh_model(scene)
+        before = _cache_entries()
+        t0 = time.perf_counter()
+        out = run(model)
+        wall = time.perf_counter() - t0
+        if _cache_entries() == before:
+            return wall, out
+
+
+def _median_run(runs: list) -> tuple:
+    """(metrics, info, median wall_s, repeats) of a list of (wall_s, (metrics, info))."""
+    wall, (m, info) = sorted(runs, key=lambda w: w[0])[(len(runs) - 1) // 2]  # the median run
+    return m, info, statistics.median(w for w, _ in runs), len(runs)
+
+
 def timed(scene, run, repeats: int) -> tuple:
     """``run(model) -> (metrics, info)`` on a fresh model, timed; repeated (median) when cheap.
     Returns (metrics, info, wall_s, n_repeats)."""
     runs = []
     while True:
-        model = fresh_model(scene)
-        t0 = time.perf_counter()
-        out = run(model)
-        runs.append((time.perf_counter() - t0, out))
+        runs.append(_once(scene, run))
         if len(runs) >= repeats or runs[0][0] >= CHEAP_S:
             break
-    wall, (m, info) = sorted(runs, key=lambda w: w[0])[(len(runs) - 1) // 2]  # the median run
-    return m, info, statistics.median(w for w, _ in runs), len(runs)
+    return _median_run(runs)
+
+
+def timed_interleaved(scene, runs: dict, repeats: int) -> dict:
+    """``timed`` for several runs at once, interleaved: round r makes the r-th call of every
+    run still cheap (first call under CHEAP_S), so a slow spell of the shared machine falls
+    on all of them alike. Returns {key: (metrics, info, wall_s, n_repeats)}."""
+    done = {k: [] for k in runs}
+    for r in range(repeats):
+        for k, run in runs.items():
+            if r == 0 or done[k][0][0] < CHEAP_S:
+                done[k].append(_once(scene, run))
+    return {k: _median_run(v) for k, v in done.items()}
 
 
 # --------------------------------------------------------------------------- the runs
@@ -180,7 +243,8 @@ def time_run(scene, method: str, periods: int, n: int, T: float):
         its = s.get("newton_iterations")
         return metrics(tr.fairlead_tension[last][:n]), {
             "status": tr.status, "steps": s["steps"], "iterations": its,
-            "iter_per_step": None if its is None else its / s["steps"], "core_s": s["step_time"]}
+            "iter_per_step": None if its is None else its / s["steps"], "core_s": s["step_time"],
+            "code": "C" if s.get("compiled") else "VM"}
     return run
 
 
@@ -189,13 +253,16 @@ def periodic_run(scene, method: str, **kw):
         try:
             sol = solve_periodic(scene, method, model=model, resolution=RESOLUTION, **kw)
         except ConvergenceError as exc:
-            nan = {"t_max_N": math.nan, "t_min_N": math.nan, "a1_N": math.nan}
+            nan = {"t_max_N": math.nan, "t_min_N": math.nan, "a1_N": math.nan, "fine": None}
             return nan, {"status": "failed: " + str(exc)[:80]}
         s = sol.stats
         guess = s.get("guess", {})
         info = {"status": sol.status, "iterations": s["iterations"],
                 "guess_iterations": guess.get("iterations"), "core_s": s["solve_time"],
-                "unknowns": s.get("unknowns")}
+                "unknowns": s.get("unknowns"), "code": "C" if s.get("compiled") else "VM"}
+        if method == "shooting":  # iterations are periods marched, each of `steps` steps
+            info.update(steps=s["steps"] * s["iterations"],
+                        iter_per_step=s["newton_iterations"] / (s["steps"] * s["iterations"]))
         m = metrics(sol.fairlead_tension)
         # the solution's own FFT must give the same first harmonic (one period, uniform)
         if abs(sol.fairlead_tension_harmonics_amplitude[1] - m["a1_N"]) > 1e-9 * m["a1_N"]:
@@ -211,7 +278,7 @@ def row(method, family, resolution, label, m, info, wall, reps, **cfg) -> dict:
          "wall_s": wall, "repeats": reps, "core_s": info.get("core_s"),
          "iterations": info.get("iterations"), "iter_per_step": info.get("iter_per_step"),
          "guess_iterations": info.get("guess_iterations"), "steps": info.get("steps"),
-         "unknowns": info.get("unknowns"), "status": info["status"], **m}
+         "unknowns": info.get("unknowns"), "code": info.get("code"), "status": info["status"], **m}
     return r
 
 
@@ -224,7 +291,7 @@ def ga_transient(scene, model, n: int, periods: int, T: float, ref: dict) -> dic
     ft = tr.fairlead_tension
     per = [metrics(ft[p * n:(p + 1) * n]) for p in range(periods)]
     rng = ref["t_max_N"] - ref["t_min_N"]
-    dev = [max(abs(q[k] - per[-1][k]) for k in per[-1]) / rng for q in per]
+    dev = [max(abs(q[k] - per[-1][k]) for k in QUANTITIES) / rng for q in per]
     final_error = errors(per[-1], ref)["error"]
     need = TRANSIENT_FRACTION * final_error
     P = next(p + 1 for p, v in enumerate(dev) if v <= need or p + 1 == periods - 1)
@@ -257,6 +324,55 @@ def time_to_levels(rows: list) -> dict:
     return out
 
 
+def interpolate_line(rs: list, lev: float) -> float | None:
+    """Wall time at which one line (rows of one family, in order of resolution) first reaches
+    error ``lev``: linear in log(time) against log(error) between the last point above the
+    level and the first at or below it, and never more than the time of a point that reaches
+    it (the times of a line need not grow with its resolution: a noisy or slow first call);
+    the first point's own time when it is already below (an upper bound); None when no point
+    reaches it."""
+    reached = [r["wall_s"] for r in rs if r["error"] <= lev]
+    for k, r in enumerate(rs):
+        if r["error"] <= lev:
+            if k == 0:
+                return min(reached)
+            a = rs[k - 1]
+            f = math.log(lev / a["error"]) / math.log(r["error"] / a["error"])
+            t = math.exp(math.log(a["wall_s"]) + f * math.log(r["wall_s"] / a["wall_s"]))
+            return min([t] + reached)
+    return None
+
+
+def interpolated_times(rows: list) -> dict:
+    """{method: {level: (wall_s, family) or None}}: the fastest of that method's lines at each
+    level, interpolated in log-log (:func:`interpolate_line`)."""
+    out = {}
+    for meth in METHODS:
+        out[meth] = {}
+        fams = dict.fromkeys(r["family"] for r in rows if r["method"] == meth)
+        for lev in LEVELS:
+            best = None
+            for fam in fams:
+                rs = sorted((r for r in rows if r["family"] == fam and np.isfinite(r["error"])),
+                            key=lambda r: r["resolution"])
+                t = interpolate_line(rs, lev)
+                if t is not None and (best is None or t < best[0]):
+                    best = (t, fam)
+            out[meth][lev] = best
+    return out
+
+
+def periodic_winner(interp: dict, level: float = DEFAULT_LEVEL) -> dict:
+    """The periodic method fastest to ``level`` (interpolated), and every periodic method's
+    time over the winner's."""
+    cands = {m: interp[m][level][0] for m in PERIODIC if interp.get(m, {}).get(level)}
+    if not cands:
+        return {"level": level, "method": None, "ratios": {}}
+    win = min(cands, key=cands.get)
+    return {"level": level, "method": win, "wall_s": cands[win],
+            "ratios": {m: t / cands[win] for m, t in cands.items()}}
+
+
 def winners(ttl: dict) -> dict:
     win = {}
     for lev in LEVELS:
@@ -284,9 +400,10 @@ def run_study(grid: Grid, repeats: int, log=print) -> dict:
 
     def add(r):
         r.update(errors(r, ref))
+        r.pop("fine")
         rows.append(r)
         log(f"  {r['method']:19s} {r['config']:24s} err {r['error']:.3e}  wall {r['wall_s']:8.3f} s"
-            f"  x{r['repeats']}  {r['status']}")
+            f"  x{r['repeats']}  {r['code']}  {r['status']}")
 
     # RK4: over periods and dt
     dt_stable = rk4_stability_limit(fresh_model(scene))
@@ -320,12 +437,71 @@ def run_study(grid: Grid, repeats: int, log=print) -> dict:
             add(row(f"collocation-{solver}", f"collocation d={d}, {solver_name}", K,
                     f"K={K}, d={d}", m, info, wall, reps, K=K, d=d))
 
+    # shooting over its steps per period, in generated C and in the VM, interleaved
+    shots = {(cg, n): periodic_run(scene, "shooting", steps=n, codegen=cg)
+             for cg in grid.shoot_codegen for n in grid.shoot_steps}
+    for (cg, n), (m, info, wall, reps) in timed_interleaved(scene, shots, repeats).items():
+        add(row("shooting", f"shooting, {CODE_NAMES[info['code']]}", n, f"dt=T/{n}", m, info,
+                wall, reps, dt_s=T / n, periods=info.get("iterations")))
+
     hb_top = max((r for r in rows if r["method"] == "harmonic-balance"), key=lambda r: r["H"])
     ttl = time_to_levels(rows)
+    interp = interpolated_times(rows)
+    h2h = head_to_head(scene, rows, ttl, ref, repeats, log) if grid.head_to_head else None
     return {"scene": scene.name, "period_s": T, "build": build, "reference": ref,
             "reference_check": hb_top, "dt_stable_s": dt_stable, "ga_transient": trans,
             "ga_periods": P, "rows": rows, "time_to_level": ttl, "winners": winners(ttl),
+            "interpolated": interp, "periodic_winner": periodic_winner(interp), "head_to_head": h2h,
             "repeats": repeats, "study_wall_s": time.perf_counter() - t_start}
+
+
+#: each periodic method with its defaults (``solve_periodic(scene, method)``, output
+#: resolution aside), by the study's name for it (collocation's default solver is IPOPT)
+DEFAULTS = {"harmonic-balance": "harmonic-balance", "collocation-ipopt": "collocation",
+            "shooting": "shooting"}
+
+
+def _kwargs(r: dict) -> tuple:
+    """(solve_periodic method, keyword arguments) that reproduce a periodic row."""
+    if r["method"] == "harmonic-balance":
+        return "harmonic-balance", {"harmonics": r["H"]}
+    if r["method"] == "shooting":
+        return "shooting", {"steps": r["resolution"], "codegen": r["code"] == "C"}
+    return "collocation", {"intervals": r["K"], "degree": r["d"],
+                           "solver": r["method"].split("-")[1]}
+
+
+def head_to_head(scene, rows, ttl, ref, repeats: int, log=print) -> list:
+    """The periodic methods side by side, interleaved, ``repeats`` rounds for every entry
+    (slow ones too): each method's cheapest run to DEFAULT_LEVEL in the sweep, and each
+    method's defaults (``solve_periodic(scene, method)``). The sweep above runs the methods
+    one after another, minutes apart on a shared machine; this puts their times to the
+    level on the same footing."""
+    entries = {}
+    for meth in PERIODIC:
+        r = ttl[meth][DEFAULT_LEVEL]
+        if r is not None:
+            m, kw = _kwargs(r)
+            entries[(meth, "cheapest to level", r["config"] + ("" if m != "shooting" else
+                                                               f", {r['code']}"))] = (m, kw)
+    for meth, m in DEFAULTS.items():
+        entries[(meth, "defaults", f"solve_periodic(scene, {m!r})")] = (m, {})
+    runs = {k: periodic_run(scene, m, **kw) for k, (m, kw) in entries.items()}
+    done = {k: [] for k in runs}
+    for _ in range(repeats):
+        for k, run in runs.items():
+            done[k].append(_once(scene, run))
+    out = []
+    for (meth, kind, label), v in done.items():
+        m, info, wall, reps = _median_run(v)
+        e = errors(m, ref)
+        out.append({"method": meth, "kind": kind, "config": label, "wall_s": wall,
+                    "repeats": reps, "error": e["error"], "err_wave": e["err_wave"],
+                    "code": info.get("code"), "iterations": info.get("iterations"),
+                    "status": info["status"]})
+        log(f"  head-to-head {meth:19s} {kind:18s} {label:40s} err {e['error']:.3e}  "
+            f"wall {wall:8.3f} s")
+    return out
 
 
 # --------------------------------------------------------------------------- outputs
@@ -379,21 +555,23 @@ def summary_markdown(res: dict) -> str:
           "## Runs", "",
           "Errors in % of the reference tension range (signed: run minus reference; \"error\" is "
           "the largest magnitude).", "",
-          "| method | config | error (%) | err T_max (%) | err T_min (%) | err A_1 (%) | wall (s) | repeats | "
-          "solver core (s) | iterations | status |",
-          "|---|---|---|---|---|---|---|---|---|---|---|"]
+          "| method | config | code | error (%) | err T_max (%) | err T_min (%) | err A_1 (%) | "
+          "waveform (%) | wall (s) | repeats | solver core (s) | iterations | status |",
+          "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in res["rows"]:
         its = r["iterations"]
         if r["method"] == "rk4":
             its = f"{r['steps']} steps"
         elif r["method"] == "generalized-alpha":
             its = f"{its} ({r['iter_per_step']:.2f}/step)"
+        elif r["method"] == "shooting":
+            its = f"{its} periods ({r['iter_per_step']:.2f} Newton/step)"
         elif r["guess_iterations"] is not None:
             its = f"{its} (+{r['guess_iterations']} guess)"
-        L.append(f"| {r['method']} | {r['config']} | {_pct(r['error'], '{:.3g}')} | "
+        L.append(f"| {r['method']} | {r['config']} | {r['code']} | {_pct(r['error'], '{:.3g}')} | "
                  f"{_pct(r['err_t_max'], '{:+.2g}')} | {_pct(r['err_t_min'], '{:+.2g}')} | "
-                 f"{_pct(r['err_a1'], '{:+.2g}')} | {r['wall_s']:.3g} | {r['repeats']} | "
-                 f"{_fmt(r['core_s'])} | {its} | {r['status']} |")
+                 f"{_pct(r['err_a1'], '{:+.2g}')} | {_pct(r['err_wave'], '{:.2g}')} | "
+                 f"{r['wall_s']:.3g} | {r['repeats']} | {_fmt(r['core_s'])} | {its} | {r['status']} |")
     L += ["", "## Time to reach each error level", "",
           "Cheapest run (wall time, s) whose error is at most the level (in % of the reference "
           "tension range); its configuration.", "",
@@ -405,16 +583,46 @@ def summary_markdown(res: dict) -> str:
         L.append(f"| {meth} | " + " | ".join(cells) + " |")
     L.append("| **winner** | " + " | ".join(res["winners"][lev] or "no method reached it"
                                              for lev in LEVELS) + " |")
+    L += ["", "## Time to each level, interpolated", "",
+          "Wall time (s) at which each method's fastest line reaches the level, linear in "
+          "log(time) against log(error) between its two points either side of the level (a "
+          "line whose coarsest point is already below it: that point's time, an upper bound).",
+          "", "| method | " + " | ".join(f"{100 * lev:g} %" for lev in LEVELS) + " |",
+          "|---|" + "---|" * len(LEVELS)]
+    for meth, v in res["interpolated"].items():
+        cells = [f"{v[lev][0]:.3g} ({v[lev][1]})" if v[lev] else "not reached" for lev in LEVELS]
+        L.append(f"| {meth} | " + " | ".join(cells) + " |")
+    h2h = res.get("head_to_head")
+    if h2h:
+        L += ["", "## Periodic methods side by side", "",
+              f"Interleaved, median of {res['repeats']} for every entry: each periodic method's "
+              f"cheapest run to {100 * DEFAULT_LEVEL:g} % of the range in the sweep above, and its "
+              "defaults (resolution 1000 as everywhere here).", "",
+              "| method | which | config | code | error (%) | waveform (%) | wall (s) | "
+              "time over shooting's |", "|---|---|---|---|---|---|---|---|"]
+        base = next((h["wall_s"] for h in h2h if h["method"] == "shooting"
+                     and h["kind"] == "cheapest to level"), None)
+        for h in h2h:
+            L.append(f"| {h['method']} | {h['kind']} | {h['config']} | {h['code']} | "
+                     f"{_pct(h['error'], '{:.3g}')} | {_pct(h['err_wave'], '{:.2g}')} | "
+                     f"{h['wall_s']:.3g} | {_fmt(None if base is None else h['wall_s'] / base, '{:.1f}')} |")
+    pw = res["periodic_winner"]
+    if pw["method"] is not None:
+        L += ["", f"**Fastest periodic method to {100 * pw['level']:g} % of the range: "
+              f"{pw['method']}** ({pw['wall_s']:.3g} s); time over the winner's: "
+              + ", ".join(f"{m} {v:.1f}" for m, v in sorted(pw["ratios"].items(), key=lambda kv: kv[1]))
+              + "."]
     return "\n".join(L) + "\n"
 
 
+CODE_NAMES = {"C": "generated C", "VM": "CasADi VM"}
 RESOLUTION_NAMES = {"rk4": "P", "harmonic-balance": "H", "collocation-newton": "K",
-                    "collocation-ipopt": "K"}  # generalized-alpha: its dt, T/N
+                    "collocation-ipopt": "K"}  # generalized-alpha and shooting: dt, T/N
 
 
 def _resolutions(meth: str, values: list) -> str:
     """The resolutions of one line, for its legend entry: "P = 2, 3, 4", "dt = T/25, T/50"."""
-    if meth == "generalized-alpha":
+    if meth in ("generalized-alpha", "shooting"):
         return "dt = " + ", ".join(f"T/{v}" for v in values)
     return f"{RESOLUTION_NAMES[meth]} = " + ", ".join(str(v) for v in values)
 
@@ -425,10 +633,10 @@ def plot(res: dict, path: Path) -> None:
     labels on the points: they overlapped where the lines cross). Every line's error falls
     (or levels off) as its resolution grows, so its points read from top to bottom."""
     markers = {"rk4": "o", "generalized-alpha": "s", "harmonic-balance": "^",
-               "collocation-newton": "D", "collocation-ipopt": "v"}
+               "collocation-newton": "D", "collocation-ipopt": "v", "shooting": "P"}
     cmaps = {"rk4": plt.cm.Blues, "generalized-alpha": plt.cm.Greens,
              "harmonic-balance": plt.cm.Purples, "collocation-newton": plt.cm.Reds,
-             "collocation-ipopt": plt.cm.Oranges}
+             "collocation-ipopt": plt.cm.Oranges, "shooting": plt.cm.Greys}
     fig, ax = plt.subplots(figsize=(13, 7), constrained_layout=True)
     for meth in METHODS:
         fams = list(dict.fromkeys(r["family"] for r in res["rows"] if r["method"] == meth))
@@ -438,10 +646,15 @@ def plot(res: dict, path: Path) -> None:
             if not rs:
                 continue
             col = cmaps[meth](0.55 + 0.4 * i / max(len(fams) - 1, 1))
-            name = (f"{fam} (from rest)" if meth == "rk4" else fam if len(fams) > 1 else LABELS[meth])
+            if meth == "shooting":  # black (generated C) to grey (VM, dashed)
+                col = cmaps[meth](0.95 - 0.35 * i / max(len(fams) - 1, 1))
+            if meth == "rk4":
+                name = f"{fam} (from rest)"
+            else:
+                name = fam if len(fams) > 1 or meth == "shooting" else LABELS[meth]
             ax.loglog([r["wall_s"] for r in rs], [100 * r["error"] for r in rs],
                       marker=markers[meth], color=col, ms=5, lw=1.2,
-                      ls="--" if meth == "collocation-ipopt" else "-",
+                      ls="--" if meth == "collocation-ipopt" or fam.endswith("VM") else "-",
                       label=f"{name}: {_resolutions(meth, [r['resolution'] for r in rs])}")
     for k, lev in enumerate(LEVELS):
         ax.axhline(100 * lev, color="0.4", lw=0.8, ls=":",

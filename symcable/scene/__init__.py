@@ -1,4 +1,4 @@
-"""Scenes: what is modelled (``design.md``, "Scene file (TOML)").
+"""Scenes: what is modelled (the README's "A scene file").
 
 :mod:`.model` holds the frozen, validated dataclasses (and :func:`scene_to_dict`, their
 plain-dict form); :mod:`.load` reads TOML files and dicts into them, checking every key, and

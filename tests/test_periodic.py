@@ -238,6 +238,12 @@ def test_bad_choices_get_one_line_errors(scene, model):
         solve_periodic(scene, "collocation", model=model, ipopt_options={"no_such_option": 1})
     with pytest.raises(SymcableError, match="samples = 5"):
         solve_periodic(scene, "harmonic-balance", harmonics=4, samples=5, model=model)
+    # an option of another method is refused, not ignored (the default method is shooting)
+    with pytest.raises(SymcableError, match="intervals = 20: an option of method = 'collocation', "
+                                            "not of 'shooting'"):
+        solve_periodic(scene, intervals=20, model=model)
+    with pytest.raises(SymcableError, match="steps = 50: an option of method = 'shooting'"):
+        solve_periodic(scene, "collocation", steps=50, model=model)
 
 
 def test_exact_invariants_are_gauged_like_the_stabilised_model(scene, model, colloc):

@@ -251,6 +251,18 @@ class _Config:
 def _config(method, intervals, degree, scheme, solver, harmonics, samples, ipopt_options,
             resolution, tol, codegen=None, steps=None, rho_inf=0.5) -> _Config:
     method = choice(PeriodicMethod, method, "method")
+    # an option of another method is a mistake, not something to ignore silently (the
+    # default method is shooting, so intervals=... alone would otherwise do nothing)
+    colloc, hb, shoot = (PeriodicMethod.COLLOCATION, PeriodicMethod.HARMONIC_BALANCE,
+                         PeriodicMethod.SHOOTING)
+    owners = {"intervals": (intervals, (colloc,)), "ipopt_options": (ipopt_options, (colloc, hb)),
+              "harmonics": (harmonics, (hb,)), "samples": (samples, (hb,)),
+              "steps": (steps, (shoot,))}
+    for key, (value, allowed) in owners.items():
+        if value is not None and method not in allowed:
+            names = " or ".join(f"'{m.value}'" for m in allowed)
+            raise SymcableError(f"{key} = {value!r}: an option of method = {names}, not of "
+                                f"'{method.value}'; pass method={names.split(' or ')[0]}")
     default_solver = SquareSolver.IPOPT if method is PeriodicMethod.COLLOCATION else SquareSolver.NEWTON
     if method is PeriodicMethod.SHOOTING and solver is not None:
         raise SymcableError(f"solver = {solver!r}: shooting has its own solver (Anderson-accelerated "

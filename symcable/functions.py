@@ -18,6 +18,14 @@ SOLVE_MAX_ITER = 12
 #: CasADi's sparse QR: it generates C (CSparse's LU does not) and, on the planar statics,
 #: is as fast as CSparse in the virtual machine (140 against 162 us per solve on OC3)
 LINSOL = "qr"
+#: largest system (unknowns) whose Newton step is the block LU written out in SX; above
+#: it, the step is the sparse QR (its column order fill-reducing: CasADi's QR orders
+#: the columns of J by an approximate minimum degree of J^T J). The written-out LU pays
+#: only when compiled; its symbolic construction (the block order by matching, the
+#: elimination in Python) and its C grow faster than the system, while a sparse QR costs
+#: O(n) to build and about as much as the LU per solve in the virtual machine (crossover
+#: measured in studies/performance/scaling.py and its README)
+SXLU_MAX_UNKNOWNS = 400
 
 
 class FastCall:
@@ -147,10 +155,11 @@ def _vm_static(model: Model) -> StaticFunctions:
 def _newton_update(model: Model, J: ca.SX, step: ca.Function) -> ca.Function:
     """``static_newton_update(w, p, r) -> dw = -J(w)^-1 r`` (r the residual at w, already
     known), the fused solve's Newton step: the block LU of :mod:`symcable.solvers.sxlu`
-    written out in SX when the Jacobian's pattern allows a fixed elimination order, else
-    ``step``'s (sparse QR, which evaluates r itself)."""
+    written out in SX when the system has at most SXLU_MAX_UNKNOWNS unknowns and the
+    Jacobian's pattern allows a fixed elimination order, else ``step``'s (sparse QR, which
+    evaluates r itself)."""
     w, p = model.w, model.p
-    plan = block_plan(J.sparsity())
+    plan = block_plan(J.sparsity()) if model.n_w <= SXLU_MAX_UNKNOWNS else None
     if plan is not None:
         lu = block_lu(J.sparsity(), *plan, cache=model._cache)
         r = ca.SX.sym("r", model.n_w)

@@ -91,7 +91,8 @@ class DynamicModel:
         if fns is None:
             y, t, p = self.y, self.t, self.p
             rhs = ca.Function("dyn_rhs", [y, t, p], [self.rhs], ["y", "t", "p"], ["ydot"])
-            jac = ca.Function("dyn_rhs_jac", [y, t, p], [ca.jacobian(self.rhs, y)],
+            from ..solvers.linalg import jacobian  # O(n) with the dense closure rows
+            jac = ca.Function("dyn_rhs_jac", [y, t, p], [jacobian(self.rhs, y)],
                               ["y", "t", "p"], ["dfdy"])
             names = list(self.outputs)
             out = ca.Function("dyn_outputs", [y, t, p], [self.outputs[k] for k in names],

@@ -2,6 +2,7 @@
 run by the CasADi virtual machine or compiled to C (:mod:`symcable.codegen`)."""
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import casadi as ca
@@ -169,18 +170,32 @@ def _newton_update(model: Model, J: ca.SX, step: ca.Function) -> ca.Function:
     return ca.Function("static_newton_update", [W, P, R], [step(W, P)[1]], ["w", "p", "r"], ["dw"])
 
 
+def _size(model, name: str, functions) -> int:
+    """:func:`symcable.codegen.graph_size` of a model's Functions, computed once."""
+    key = ("graph_size", name)
+    if key not in model._cache:
+        model._cache[key] = _codegen.graph_size(functions)
+    return model._cache[key]
+
+
 def static_functions(model: Model, codegen: bool | None = False) -> StaticFunctions:
     """Build (once, then cached on the model) the named static functions of ``model``:
     run by the virtual machine, or compiled to C when ``codegen`` resolves to True
-    (see :func:`symcable.codegen.use_codegen`)."""
+    (see :func:`symcable.codegen.use_codegen`; the default ``None`` compiles only a model
+    of at most SXLU_MAX_UNKNOWNS unknowns, whose Newton step is the written-out block LU)."""
     vm = model._cache.get("static")
     if vm is None:
         vm = model._cache["static"] = _vm_static(model)
-    if not _codegen.use_codegen(codegen):
+    group = [vm.residual, vm.step, vm.solve, vm.outputs]
+    # by default C only where it pays: where the Newton step is the written-out block LU
+    # (with a sparse QR the time is the factorisation, compiled code in the VM as well)
+    # and the graph is small enough to compile in seconds
+    if not _codegen.use_codegen(codegen, lambda: _size(model, "static", group)
+                                if model.n_w <= SXLU_MAX_UNKNOWNS else math.inf):
         return vm
     c = model._cache.get("static_c")
     if c is None:
-        lib = _codegen.compile_functions([vm.residual, vm.step, vm.solve, vm.outputs])
+        lib = _codegen.compile_functions(group, what="the static solve")
         c = model._cache["static_c"] = StaticFunctions(
             residual=lib["static_residual"], jacobian=vm.jacobian, step=lib["static_newton_step"],
             solve=lib["static_solve"], outputs=lib["static_outputs"], compiled=True)

@@ -1,9 +1,11 @@
-"""A tiny dependency-free progress bar on stderr, for long runs only.
+"""A tiny dependency-free progress bar on stderr, for long runs only, and one-line notices
+of long one-off work (compiling generated C).
 
-Library code never prints; this bar is the one exception, and it only writes when asked
-(``progress=True``) or, with ``progress=None``, when stderr is a terminal and the run is
-expected to take longer than :data:`LONG_RUN` seconds. Tests and CI (stderr not a TTY)
-stay silent.
+Library code never prints; this bar and :func:`notice` are the exceptions. The bar only
+writes when asked (``progress=True``) or, with ``progress=None``, when stderr is a terminal
+and the run is expected to take longer than :data:`LONG_RUN` seconds; a notice only when
+stderr is a terminal, or when :func:`show_notices` turned notices on (the ``symcable``
+command does). Tests and CI (stderr not a TTY) stay silent.
 """
 from __future__ import annotations
 
@@ -11,10 +13,34 @@ import sys
 import time
 from typing import TextIO
 
-__all__ = ["LONG_RUN", "ProgressBar"]
+__all__ = ["LONG_RUN", "ProgressBar", "notice", "show_notices"]
 
 #: A run expected to take longer than this (s) shows a bar when ``progress=None`` on a TTY.
 LONG_RUN = 2.0
+
+_notices: bool | None = None
+
+
+def show_notices(enabled: bool | None) -> None:
+    """Notices on stderr: True always, False never, None (the default) on a terminal only."""
+    global _notices
+    _notices = enabled
+
+
+def notice(message: str, stream: TextIO | None = None) -> None:
+    """One line on stderr (``stream``) announcing long one-off work, e.g.
+    ``compiling the generalized-α step for this model (once, cached) …``; shown as
+    :func:`show_notices` says."""
+    stream = sys.stderr if stream is None else stream
+    enabled = _notices
+    if enabled is None:
+        try:
+            enabled = bool(stream.isatty())
+        except (AttributeError, ValueError):
+            enabled = False
+    if enabled:
+        stream.write(message + "\n")
+        stream.flush()
 
 
 class ProgressBar:

@@ -99,13 +99,17 @@ class DynamicModel:
                               ["y", "t", "p"], names)
             fns = DynamicFunctions(rhs=rhs, rhs_jacobian=jac, outputs=out)
             self._cache["functions"] = fns
-        from ..codegen import compile_functions, use_codegen
-        if not use_codegen(codegen):
+        from ..codegen import compile_functions, graph_size, use_codegen
+        def size():
+            if "graph_size" not in self._cache:
+                self._cache["graph_size"] = graph_size([fns.rhs, fns.rhs_jacobian, fns.outputs])
+            return self._cache["graph_size"]
+        if not use_codegen(codegen, size):
             return fns
         c = self._cache.get("functions_c")
         if c is None:
-            rhs = compile_functions([fns.rhs], jacobians=True)["dyn_rhs"]
-            lib = compile_functions([fns.rhs_jacobian, fns.outputs])
+            rhs = compile_functions([fns.rhs], jacobians=True, what="the dynamics")["dyn_rhs"]
+            lib = compile_functions([fns.rhs_jacobian, fns.outputs], what="the dynamics' outputs")
             c = self._cache["functions_c"] = DynamicFunctions(
                 rhs=rhs, rhs_jacobian=lib["dyn_rhs_jac"], outputs=lib["dyn_outputs"], compiled=True)
         return c

@@ -35,7 +35,7 @@ from collections import OrderedDict
 import casadi as ca
 import numpy as np
 
-from ..codegen import compile_functions, use_codegen
+from ..codegen import compile_functions, graph_size, use_codegen
 from ..errors import ConvergenceError, SymcableError
 from ..functions import FastCall
 from ..models import build_dynamic_model
@@ -322,11 +322,18 @@ def step_function(model, method, codegen: bool | None = False) -> ca.Function:
     if vm is None:
         vm = _ga_step(model, NEWTON_MAX_ITER) if meth is Method.GENERALIZED_ALPHA else _rk4_step(model)
         model._cache[key] = vm
-    if not use_codegen(codegen):
-        return vm
     key = ("compiled_step", vm.name())
+    def size():  # by default C only where the step is written out (block LU, small graph)
+        if meth is Method.GENERALIZED_ALPHA and model.n_y > SXLU_MAX_STATES:
+            return math.inf
+        if ("graph_size", vm.name()) not in model._cache:
+            model._cache[("graph_size", vm.name())] = graph_size([vm])
+        return model._cache[("graph_size", vm.name())]
+    if not use_codegen(codegen, size):
+        return vm
     if key not in model._cache:
-        model._cache[key] = compile_functions([vm])[vm.name()]
+        label = "the generalized-α step" if meth is Method.GENERALIZED_ALPHA else "the RK4 step"
+        model._cache[key] = compile_functions([vm], what=label)[vm.name()]
     return model._cache[key]
 
 

@@ -53,6 +53,7 @@ magnitudes, the segment tension ``|F + dF|``, and ``e``, ``phi``. Shapes are rec
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from types import MappingProxyType
 
 import casadi as ca
@@ -294,14 +295,18 @@ def build_planar_dynamics(scene: Scene, static) -> DynamicModel:
     y_scale = np.select([np.isin(kinds_arr, ["u", "v"]), kinds_arr == "e"], [v_scale, e_scale], 0.01)
     # the map from the state to Cartesian node velocities (x, z) at rest, for mode shapes
     theta_s = np.asarray(_node_frames(ca.DM(np.asarray(static.angle, dtype=float)))).ravel()
-    velocity_map = np.zeros((2 * (N + 1), y.numel()))
-    iu, iv = np.flatnonzero(kinds_arr == "u"), np.flatnonzero(kinds_arr == "v")
-    rows = 2 * np.asarray(dyn_nodes, dtype=int)
-    cth, sth = np.cos(theta_s[dyn_nodes]), np.sin(theta_s[dyn_nodes])
-    velocity_map[rows, iu], velocity_map[rows, iv] = cth, -sth
-    velocity_map[rows + 1, iu], velocity_map[rows + 1, iv] = sth, cth
+    # (dense, 2 (N+1) x n_y: built when first asked for, by modal analysis, since at
+    # 10,000 segments it would take 6 GB)
+    def velocity_map():
+        vmap = np.zeros((2 * (N + 1), y.numel()))
+        iu, iv = np.flatnonzero(kinds_arr == "u"), np.flatnonzero(kinds_arr == "v")
+        rows = 2 * np.asarray(dyn_nodes, dtype=int)
+        cth, sth = np.cos(theta_s[dyn_nodes]), np.sin(theta_s[dyn_nodes])
+        vmap[rows, iu], vmap[rows, iv] = cth, -sth
+        vmap[rows + 1, iu], vmap[rows + 1, iv] = sth, cth
+        return vmap
 
-    info = MappingProxyType({
+    info = _LazyInfo({
         "velocity_map": velocity_map, "node_frames": theta_s,
         "kinds": tuple(kinds), "dynamic_nodes": tuple(dyn_nodes), "segments": seg,
         "s_nodes": seg["s"], "static": static, "terms": tuple(term_names),
@@ -317,6 +322,28 @@ def build_planar_dynamics(scene: Scene, static) -> DynamicModel:
                         p_names=tuple(n for n, _ in blocks), p_slices=MappingProxyType(slices),
                         rhs=rhs, outputs=outputs, y_scale=y_scale, period=period,
                         y0=np.zeros(y.numel()), info=info)
+
+
+class _LazyInfo(Mapping):
+    """A read-only mapping whose callable values are computed on first access."""
+
+    def __init__(self, data: dict, lazy=("velocity_map",)):
+        self._data, self._lazy = dict(data), set(lazy)
+
+    def __getitem__(self, key):
+        if key in self._lazy:
+            self._data[key] = self._data[key]()
+            self._lazy.discard(key)
+        return self._data[key]
+
+    def __contains__(self, key):
+        return key in self._data
+
+    def __iter__(self):
+        return iter(self._data)
+
+    def __len__(self):
+        return len(self._data)
 
 
 def reconstruct_positions(model: DynamicModel, e: np.ndarray, phi: np.ndarray) -> np.ndarray:

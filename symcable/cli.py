@@ -241,6 +241,8 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
+    from . import progress
+    progress.show_notices(True)  # the one line while compiling generated C, on stderr
     try:
         if args.command == "check":
             return _check(args)
@@ -264,6 +266,8 @@ def main(argv: list[str] | None = None) -> int:
     except OSError as exc:
         print(f"symcable: {exc}", file=sys.stderr)
         return 2
+    finally:
+        progress.show_notices(None)
     return 1
 
 

@@ -40,15 +40,23 @@ from typing import Sequence
 import casadi as ca
 
 from .errors import SymcableError
+from .progress import notice
 
 __all__ = ["CodegenWarning", "cache_dir", "cache_info", "clear_cache", "compile_functions",
-           "compiler", "export_sources", "use_codegen", "FLAGS"]
+           "compiler", "export_sources", "graph_size", "use_codegen", "DEFAULT_MAX_SIZE", "FLAGS"]
 
 #: compiler flags of cached libraries (part of the cache key). -O2: on the generated step
 #: and Newton functions it is within a few % of -O3 and compiles faster.
 FLAGS = ("-O2", "-fPIC", "-shared")
 #: bump when the layout of generated code or of cache entries changes
 FORMAT = 1
+#: largest graph (characters of the serialised Functions, see :func:`graph_size`) that the
+#: default ``codegen=None`` compiles. The C of a Function is written out straight-line, and
+#: the C compiler's time grows faster than its length (about as its 1.7th power on the
+#: static and step functions: 13 s for the 50-segment statics, 130 s for 200), while the
+#: gain per call stays a constant factor; larger graphs run in the virtual machine unless
+#: asked (measured in studies/performance/scaling.py and its README)
+DEFAULT_MAX_SIZE = 5_000_000
 _ENV_CACHE = "SYMCABLE_CACHE_DIR"
 _ENV_DEFAULT = "SYMCABLE_CODEGEN"
 
@@ -95,21 +103,34 @@ def cache_dir() -> Path:
 _warned: set = set()
 
 
-def use_codegen(codegen: bool | None) -> bool:
+def graph_size(functions: Sequence[ca.Function]) -> int:
+    """Size of Functions' graphs, every Function they call included: the length of their
+    serialisation, characters (about proportional to the generated C)."""
+    return sum(len(f.serialize()) for f in functions)
+
+
+def use_codegen(codegen: bool | None, functions=None) -> bool:
     """Resolve an analysis' ``codegen`` argument.
 
-    ``None`` (the default of every analysis): generated C when a C compiler is found,
-    else the virtual machine, silently; ``SYMCABLE_CODEGEN=0`` in the environment makes
-    the default the virtual machine (for one-off solves, where compiling a new model
-    structure, 2-10 s once, costs more than it saves). ``True``: generated C, or one
-    :class:`CodegenWarning` and the virtual machine when there is no compiler. ``False``:
-    the virtual machine.
+    ``None`` (the default of every analysis): generated C when a C compiler is found and
+    ``functions`` (the Functions that would be compiled, or a callable returning their
+    :func:`graph_size`, when given) are small enough that compiling them pays
+    (:data:`DEFAULT_MAX_SIZE`), else the virtual machine, silently;
+    ``SYMCABLE_CODEGEN=0`` in the environment makes the default the virtual machine (for
+    one-off solves, where compiling a new model structure, 2-10 s once, costs more than it
+    saves). ``True``: generated C, or one :class:`CodegenWarning` and the virtual machine
+    when there is no compiler. ``False``: the virtual machine.
     """
     if codegen is None:
         env = os.environ.get(_ENV_DEFAULT, "").strip().lower()
         if env in ("0", "false", "off", "no"):
             return False
-        return compiler() is not None
+        if compiler() is None:
+            return False
+        if functions is None:
+            return True
+        size = functions() if callable(functions) else graph_size(functions)
+        return size <= DEFAULT_MAX_SIZE
     if not isinstance(codegen, bool):
         raise SymcableError(f"codegen = {codegen!r}: must be True, False or None (automatic)")
     if codegen and compiler() is None:
@@ -193,7 +214,8 @@ _loaded: dict = {}
 last_build: dict = {}
 
 
-def compile_functions(functions: Sequence[ca.Function], *, jacobians: bool = False) -> dict:
+def compile_functions(functions: Sequence[ca.Function], *, jacobians: bool = False,
+                      what: str = "generated C") -> dict:
     """Compile CasADi Functions to one shared library (through the cache) and load them.
 
     Parameters
@@ -204,6 +226,10 @@ def compile_functions(functions: Sequence[ca.Function], *, jacobians: bool = Fal
     jacobians : bool
         Also generate each Function's Jacobian (``jac_<name>``), so a loaded Function can
         be differentiated (as IPOPT and CasADi's rootfinder need).
+    what : str
+        What is compiled, for the one-line notice shown while compiling
+        (``compiling <what> for this model (once, cached) …``, see
+        :func:`symcable.progress.notice`); nothing is shown when the cache has it.
 
     Returns
     -------
@@ -233,6 +259,7 @@ def compile_functions(functions: Sequence[ca.Function], *, jacobians: bool = Fal
         lib = _valid_entry(folder, key)
         action = "cache"
         if lib is None:
+            notice(f"compiling {what} for this model (once, cached) …")
             lib = _build(funcs, folder, key, cc)
             action = "compiled"
         loaded = {f.name(): ca.external(f.name(), str(lib)) for f in functions}

@@ -2,6 +2,7 @@
 run by the CasADi virtual machine or compiled to C (:mod:`symcable.codegen`)."""
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import casadi as ca
@@ -18,6 +19,14 @@ SOLVE_MAX_ITER = 12
 #: CasADi's sparse QR: it generates C (CSparse's LU does not) and, on the planar statics,
 #: is as fast as CSparse in the virtual machine (140 against 162 us per solve on OC3)
 LINSOL = "qr"
+#: largest system (unknowns) whose Newton step is the block LU written out in SX; above
+#: it, the step is the sparse QR (its column order fill-reducing: CasADi's QR orders
+#: the columns of J by an approximate minimum degree of J^T J). The written-out LU pays
+#: only when compiled; its symbolic construction (the block order by matching, the
+#: elimination in Python) and its C grow faster than the system, while a sparse QR costs
+#: O(n) to build and about as much as the LU per solve in the virtual machine (crossover
+#: measured in studies/performance/scaling.py and its README)
+SXLU_MAX_UNKNOWNS = 400
 
 
 class FastCall:
@@ -147,10 +156,11 @@ def _vm_static(model: Model) -> StaticFunctions:
 def _newton_update(model: Model, J: ca.SX, step: ca.Function) -> ca.Function:
     """``static_newton_update(w, p, r) -> dw = -J(w)^-1 r`` (r the residual at w, already
     known), the fused solve's Newton step: the block LU of :mod:`symcable.linalg.sxlu`
-    written out in SX when the Jacobian's pattern allows a fixed elimination order, else
-    ``step``'s (sparse QR, which evaluates r itself)."""
+    written out in SX when the system has at most SXLU_MAX_UNKNOWNS unknowns and the
+    Jacobian's pattern allows a fixed elimination order, else ``step``'s (sparse QR, which
+    evaluates r itself)."""
     w, p = model.w, model.p
-    plan = block_plan(J.sparsity())
+    plan = block_plan(J.sparsity()) if model.n_w <= SXLU_MAX_UNKNOWNS else None
     if plan is not None:
         lu = block_lu(J.sparsity(), *plan, cache=model._cache)
         r = ca.SX.sym("r", model.n_w)
@@ -160,18 +170,32 @@ def _newton_update(model: Model, J: ca.SX, step: ca.Function) -> ca.Function:
     return ca.Function("static_newton_update", [W, P, R], [step(W, P)[1]], ["w", "p", "r"], ["dw"])
 
 
+def _size(model, name: str, functions) -> int:
+    """:func:`symcable.codegen.graph_size` of a model's Functions, computed once."""
+    key = ("graph_size", name)
+    if key not in model._cache:
+        model._cache[key] = _codegen.graph_size(functions)
+    return model._cache[key]
+
+
 def static_functions(model: Model, codegen: bool | None = False) -> StaticFunctions:
     """Build (once, then cached on the model) the named static functions of ``model``:
     run by the virtual machine, or compiled to C when ``codegen`` resolves to True
-    (see :func:`symcable.codegen.use_codegen`)."""
+    (see :func:`symcable.codegen.use_codegen`; the default ``None`` compiles only a model
+    of at most SXLU_MAX_UNKNOWNS unknowns, whose Newton step is the written-out block LU)."""
     vm = model._cache.get("static")
     if vm is None:
         vm = model._cache["static"] = _vm_static(model)
-    if not _codegen.use_codegen(codegen):
+    group = [vm.residual, vm.step, vm.solve, vm.outputs]
+    # by default C only where it pays: where the Newton step is the written-out block LU
+    # (with a sparse QR the time is the factorisation, compiled code in the VM as well)
+    # and the graph is small enough to compile in seconds
+    if not _codegen.use_codegen(codegen, lambda: _size(model, "static", group)
+                                if model.n_w <= SXLU_MAX_UNKNOWNS else math.inf):
         return vm
     c = model._cache.get("static_c")
     if c is None:
-        lib = _codegen.compile_functions([vm.residual, vm.step, vm.solve, vm.outputs])
+        lib = _codegen.compile_functions(group, what="the static solve")
         c = model._cache["static_c"] = StaticFunctions(
             residual=lib["static_residual"], jacobian=vm.jacobian, step=lib["static_newton_step"],
             solve=lib["static_solve"], outputs=lib["static_outputs"], compiled=True)

@@ -1,9 +1,11 @@
-"""Progress bars for long runs, by tqdm, on stderr.
+"""Progress bars (tqdm) on stderr for long runs, and one-line notices of long one-off work
+(compiling generated C).
 
-Library code never prints; a bar is the one exception, and it only shows when asked
-(``progress=True``) or, with ``progress=None``, when stderr is a terminal and the run has
-lasted longer than :data:`LONG_RUN` seconds (tqdm's ``delay``). Tests and CI (stderr not a
-TTY) stay silent.
+Library code never prints; the bar and :func:`notice` are the exceptions. The bar only
+shows when asked (``progress=True``) or, with ``progress=None``, when stderr is a terminal
+and the run has lasted longer than :data:`LONG_RUN` seconds (tqdm's ``delay``); a notice only when
+stderr is a terminal, or when :func:`show_notices` turned notices on (the ``symcable``
+command does). Tests and CI (stderr not a TTY) stay silent.
 """
 from __future__ import annotations
 
@@ -12,10 +14,34 @@ from typing import TextIO
 
 from tqdm import tqdm
 
-__all__ = ["LONG_RUN", "ProgressBar"]
+__all__ = ["LONG_RUN", "ProgressBar", "notice", "show_notices"]
 
 #: with ``progress=None`` on a TTY, a bar appears once a run has lasted this long (s)
 LONG_RUN = 1.0
+
+_notices: bool | None = None
+
+
+def show_notices(enabled: bool | None) -> None:
+    """Notices on stderr: True always, False never, None (the default) on a terminal only."""
+    global _notices
+    _notices = enabled
+
+
+def notice(message: str, stream: TextIO | None = None) -> None:
+    """One line on stderr (``stream``) announcing long one-off work, e.g.
+    ``compiling the generalized-α step for this model (once, cached) …``; shown as
+    :func:`show_notices` says."""
+    stream = sys.stderr if stream is None else stream
+    enabled = _notices
+    if enabled is None:
+        try:
+            enabled = bool(stream.isatty())
+        except (AttributeError, ValueError):
+            enabled = False
+    if enabled:
+        stream.write(message + "\n")
+        stream.flush()
 
 
 class ProgressBar:

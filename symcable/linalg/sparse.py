@@ -21,7 +21,7 @@ from __future__ import annotations
 import casadi as ca
 import numpy as np
 
-__all__ = ["dense_rows", "sparse_solve"]
+__all__ = ["dense_rows", "jacobian", "sparse_solve"]
 
 #: a row with more structural nonzeros than this fraction of the columns (and than
 #: DENSE_MIN) counts as dense
@@ -60,3 +60,25 @@ def sparse_solve(J: ca.MX, b: ca.MX, linsol: str = "qr") -> ca.MX:
     y, Z = X[:, 0], X[:, 1:]
     C = ca.DM.eye(k) + ca.mtimes(Wt, Z)
     return y - ca.mtimes(Z, ca.solve(C, ca.mtimes(Wt, y), linsol))
+
+
+#: smallest expression (rows) whose Jacobian takes its dense rows apart (below it the
+#: quadratic term is negligible, and the Jacobian stays the expression it always was)
+SPLIT_MIN = 400
+
+
+def jacobian(expr, x):
+    """``casadi.jacobian(expr, x)`` for SX, with the dense rows taken apart: CasADi colours
+    the columns of a Jacobian for forward sweeps, and a dense row puts every column in a
+    colour of its own, so one dense row makes the sweeps, and the cost, O(n^2). The rows
+    without dense ones are differentiated as usual (few colours on a banded pattern) and
+    the dense rows separately (reverse sweeps, one per row); the result, put back in row
+    order, has the same pattern and the same values to round-off. O(n) on the cable
+    systems, whose dynamics have two dense rows (the closure of a line held at both ends)."""
+    n = expr.numel()
+    D = dense_rows(ca.jacobian_sparsity(expr, x)) if n >= SPLIT_MIN else np.zeros(0, dtype=int)
+    if D.size == 0:
+        return ca.jacobian(expr, x)
+    keep = np.setdiff1d(np.arange(n), D)
+    J = ca.vertcat(ca.jacobian(expr[keep.tolist()], x), ca.jacobian(expr[D.tolist()], x))
+    return J[np.argsort(np.concatenate([keep, D])).tolist(), :]

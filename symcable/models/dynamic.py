@@ -91,20 +91,25 @@ class DynamicModel:
         if fns is None:
             y, t, p = self.y, self.t, self.p
             rhs = ca.Function("dyn_rhs", [y, t, p], [self.rhs], ["y", "t", "p"], ["ydot"])
-            jac = ca.Function("dyn_rhs_jac", [y, t, p], [ca.jacobian(self.rhs, y)],
+            from ..linalg.sparse import jacobian  # O(n) with the dense closure rows
+            jac = ca.Function("dyn_rhs_jac", [y, t, p], [jacobian(self.rhs, y)],
                               ["y", "t", "p"], ["dfdy"])
             names = list(self.outputs)
             out = ca.Function("dyn_outputs", [y, t, p], [self.outputs[k] for k in names],
                               ["y", "t", "p"], names)
             fns = DynamicFunctions(rhs=rhs, rhs_jacobian=jac, outputs=out)
             self._cache["functions"] = fns
-        from ..codegen import compile_functions, use_codegen
-        if not use_codegen(codegen):
+        from ..codegen import compile_functions, graph_size, use_codegen
+        def size():
+            if "graph_size" not in self._cache:
+                self._cache["graph_size"] = graph_size([fns.rhs, fns.rhs_jacobian, fns.outputs])
+            return self._cache["graph_size"]
+        if not use_codegen(codegen, size):
             return fns
         c = self._cache.get("functions_c")
         if c is None:
-            rhs = compile_functions([fns.rhs], jacobians=True)["dyn_rhs"]
-            lib = compile_functions([fns.rhs_jacobian, fns.outputs])
+            rhs = compile_functions([fns.rhs], jacobians=True, what="the dynamics")["dyn_rhs"]
+            lib = compile_functions([fns.rhs_jacobian, fns.outputs], what="the dynamics' outputs")
             c = self._cache["functions_c"] = DynamicFunctions(
                 rhs=rhs, rhs_jacobian=lib["dyn_rhs_jac"], outputs=lib["dyn_outputs"], compiled=True)
         return c

@@ -91,11 +91,10 @@ def segment_table(scene: Scene) -> dict[str, np.ndarray]:
 
 def _lumping_matrix(n_seg: int) -> ca.DM:
     """(N+1, N) matrix giving each node half of each adjacent segment's quantity."""
-    A = np.zeros((n_seg + 1, n_seg))
     idx = np.arange(n_seg)
-    A[idx, idx] = 0.5
-    A[idx + 1, idx] = 0.5
-    return ca.DM(A)
+    rows = np.stack([idx, idx + 1], axis=1).ravel().tolist()  # column-major: (j, j), (j+1, j)
+    cols = np.repeat(idx, 2).tolist()
+    return ca.DM(ca.Sparsity.triplet(n_seg + 1, n_seg, rows, cols), 0.5)  # sparse: O(N), not O(N^2)
 
 
 def _end_slope_weights(h0: float, h1: float | None) -> tuple[float, float, float]:
@@ -220,14 +219,14 @@ def build_planar(scene: Scene) -> Model:
         trib_width = np.asarray(ca.mtimes(lump, ca.DM(seg["d"] * seg["ds"]))).ravel()
         # a held end node cannot press into the seabed; the half segment beside it rests
         # where its neighbour does, so it takes the neighbour's penetration
-        probe = list(Z)
+        probe = np.arange(N + 1)
         if not free_a:
-            probe[0] = Z[1]
+            probe[0] = 1
         if not free_b:
-            probe[N] = Z[N - 1]
-        contact = ca.vertcat(*[
-            trib_width[i] * sb.stiffness * terms.smooth_ramp(-env.depth - probe[i], delta)
-            for i in range(N + 1)])
+            probe[N] = N - 1
+        # whole-vector operations: one CasADi call each, not one per node
+        contact = ca.DM(trib_width * sb.stiffness) * terms.smooth_ramp(
+            -env.depth - Zv[probe.tolist()], delta)
         Pz = Pz + contact
     line_Px, line_Pz = Px, Pz
     applied = np.zeros((N + 1, 2))
@@ -245,17 +244,19 @@ def build_planar(scene: Scene) -> Model:
     eq_x = Fx_pad[1:] - Fx_pad[:-1] + Px
     eq_z = Fz_pad[1:] - Fz_pad[:-1] + Pz
 
+    # rows interleaved like the unknowns, gathered in one indexing of the stacked vectors
+    # [comp_x; comp_z; eq_x; eq_z] (one CasADi call, not one per row)
     rows, row_kind = [], []
     if free_a:
-        rows += [eq_x[0], eq_z[0]]
+        rows += [2 * N, 3 * N + 1]
         row_kind += [-1, -1]
     for j in range(N):
-        rows += [comp_x[j], comp_z[j]]
+        rows += [j, N + j]
         row_kind += [j, j]
         if j + 1 < N or free_b:
-            rows += [eq_x[j + 1], eq_z[j + 1]]
+            rows += [2 * N + j + 1, 3 * N + 1 + j + 1]
             row_kind += [-1, -1]
-    residual = ca.vertcat(*rows)
+    residual = ca.vertcat(comp_x, comp_z, eq_x, eq_z)[rows]
     w = ca.vertcat(*w_list)
 
     # --- outputs

@@ -60,6 +60,7 @@ static place plus its prescribed displacement; end B's when end A is free).
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from types import MappingProxyType
 
 import casadi as ca
@@ -180,8 +181,6 @@ def build_planar_dynamics(scene: Scene, static) -> DynamicModel:
         y_list.extend([u, v])
         kinds.extend(["u", "v"])
         dyn_nodes.append(i)
-        V[i] = ca.vertcat(u * ca.cos(theta[i]) - v * ca.sin(theta[i]),
-                          u * ca.sin(theta[i]) + v * ca.cos(theta[i]))
 
     # prescribed end displacement d(t) = r(t) A cos(omega t + phase) about the static place,
     # with r a smooth start-up ramp over the first `ramp` seconds (r = 1 when ramp = 0), so a
@@ -218,12 +217,21 @@ def build_planar_dynamics(scene: Scene, static) -> DynamicModel:
         prescribed(N, "b")
     y = ca.vertcat(*y_list)
     e_dyn, phi_dyn = ca.vertcat(*e_sym), ca.vertcat(*ph_sym)
+    # Cartesian node velocities (N+1,), by whole-vector operations (one CasADi call each,
+    # not one per node): the free nodes' from their frame, the held ends' prescribed
+    th_d = theta[dyn_nodes]
+    c_d, s_d = ca.cos(th_d), ca.sin(th_d)
+    u_d = ca.vertcat(*[u_l[i] for i in dyn_nodes])
+    v_d = ca.vertcat(*[v_l[i] for i in dyn_nodes])
+    Vx_d, Vz_d = u_d * c_d - v_d * s_d, u_d * s_d + v_d * c_d
+    Vx = ca.vertcat(*([] if 0 in u_l else [V[0][0]]), Vx_d, *([] if N in u_l else [V[N][0]]))
+    Vz = ca.vertcat(*([] if 0 in u_l else [V[0][1]]), Vz_d, *([] if N in u_l else [V[N][1]]))
 
     # --- kinematics on segments
     cs, sn = ca.cos(phi_s), ca.sin(phi_s)
     ds = ca.DM(seg["ds"])
-    dVx = ca.vertcat(*[V[j + 1][0] - V[j][0] for j in range(N)])
-    dVz = ca.vertcat(*[V[j + 1][1] - V[j][1] for j in range(N)])
+    dVx = Vx[1:] - Vx[:-1]
+    dVz = Vz[1:] - Vz[:-1]
     e_rate = (cs * dVx + sn * dVz) / ds
     phi_rate = (-sn * dVx + cs * dVz) / (ds * (1.0 + eps_s))
     # The kinematics conserve the closure c = sum ds (e t + (1 + eps) phi n) - (d_B - d_A)
@@ -254,8 +262,8 @@ def build_planar_dynamics(scene: Scene, static) -> DynamicModel:
     if not env.in_air:
         term_names += ["drag", "added mass"]
         U = P["current"]
-        Vmx = 0.5 * ca.vertcat(*[V[j][0] + V[j + 1][0] for j in range(N)])
-        Vmz = 0.5 * ca.vertcat(*[V[j][1] + V[j + 1][1] for j in range(N)])
+        Vmx = 0.5 * (Vx[:-1] + Vx[1:])
+        Vmz = 0.5 * (Vz[:-1] + Vz[1:])
 
         def drag_xz(rx, rz, ang, strain):
             c_, s_ = ca.cos(ang), ca.sin(ang)
@@ -281,20 +289,21 @@ def build_planar_dynamics(scene: Scene, static) -> DynamicModel:
     Rx = dFx_pad[1:] - dFx_pad[:-1] + dPx
     Rz = dFz_pad[1:] - dFz_pad[:-1] + dPz
 
-    rows = []
-    for i in range(N + 1):
-        if i in u_l:
-            ct, st_ = ca.cos(theta[i]), ca.sin(theta[i])
-            rows.append((i, ((ct * Rx[i] + st_ * Rz[i]) / m_t[i], (-st_ * Rx[i] + ct * Rz[i]) / m_n[i])))
-    node_rate = dict(rows)
-    rhs_list = []
-    if 0 in node_rate:
-        rhs_list += list(node_rate[0])
+    ct, st_ = ca.cos(th_d), ca.sin(th_d)
+    Rx_d, Rz_d = Rx[dyn_nodes], Rz[dyn_nodes]
+    u_rate = (ct * Rx_d + st_ * Rz_d) / ca.DM(m_t[dyn_nodes])
+    v_rate = (-st_ * Rx_d + ct * Rz_d) / ca.DM(m_n[dyn_nodes])
+    # interleaved like the state, gathered in one indexing of [e; phi; u; v]
+    n_d = len(dyn_nodes)
+    where = {i: k for k, i in enumerate(dyn_nodes)}
+    order = []
+    if 0 in where:
+        order += [2 * N, 2 * N + n_d]
     for j in range(N):
-        rhs_list += [e_rate[j], phi_rate[j]]
-        if j + 1 in node_rate:
-            rhs_list += list(node_rate[j + 1])
-    rhs = ca.vertcat(*rhs_list)
+        order += [j, N + j]
+        if j + 1 in where:
+            order += [2 * N + where[j + 1], 2 * N + n_d + where[j + 1]]
+    rhs = ca.vertcat(e_rate, phi_rate, u_rate, v_rate)[order]
 
     # --- outputs
     F_tot_x, F_tot_z = Fx + dFx, Fz + dFz
@@ -345,14 +354,18 @@ def build_planar_dynamics(scene: Scene, static) -> DynamicModel:
     y_scale = np.select([np.isin(kinds_arr, ["u", "v"]), kinds_arr == "e"], [v_scale, e_scale], 0.01)
     # the map from the state to Cartesian node velocities (x, z) at rest, for mode shapes
     theta_s = np.asarray(_node_frames(ca.DM(np.asarray(static.angle, dtype=float)))).ravel()
-    velocity_map = np.zeros((2 * (N + 1), y.numel()))
-    iu, iv = np.flatnonzero(kinds_arr == "u"), np.flatnonzero(kinds_arr == "v")
-    rows = 2 * np.asarray(dyn_nodes, dtype=int)
-    cth, sth = np.cos(theta_s[dyn_nodes]), np.sin(theta_s[dyn_nodes])
-    velocity_map[rows, iu], velocity_map[rows, iv] = cth, -sth
-    velocity_map[rows + 1, iu], velocity_map[rows + 1, iv] = sth, cth
+    # (dense, 2 (N+1) x n_y: built when first asked for, by modal analysis, since at
+    # 10,000 segments it would take 6 GB)
+    def velocity_map():
+        vmap = np.zeros((2 * (N + 1), y.numel()))
+        iu, iv = np.flatnonzero(kinds_arr == "u"), np.flatnonzero(kinds_arr == "v")
+        rows = 2 * np.asarray(dyn_nodes, dtype=int)
+        cth, sth = np.cos(theta_s[dyn_nodes]), np.sin(theta_s[dyn_nodes])
+        vmap[rows, iu], vmap[rows, iv] = cth, -sth
+        vmap[rows + 1, iu], vmap[rows + 1, iv] = sth, cth
+        return vmap
 
-    info = MappingProxyType({
+    info = _LazyInfo({
         "velocity_map": velocity_map, "node_frames": theta_s,
         "kinds": tuple(kinds), "dynamic_nodes": tuple(dyn_nodes), "segments": seg,
         "s_nodes": seg["s"], "static": static, "terms": tuple(term_names),
@@ -372,6 +385,28 @@ def build_planar_dynamics(scene: Scene, static) -> DynamicModel:
                         p_names=tuple(n for n, _ in blocks), p_slices=MappingProxyType(slices),
                         rhs=rhs, outputs=outputs, y_scale=y_scale, period=period,
                         y0=np.zeros(y.numel()), info=info)
+
+
+class _LazyInfo(Mapping):
+    """A read-only mapping whose callable values are computed on first access."""
+
+    def __init__(self, data: dict, lazy=("velocity_map",)):
+        self._data, self._lazy = dict(data), set(lazy)
+
+    def __getitem__(self, key):
+        if key in self._lazy:
+            self._data[key] = self._data[key]()
+            self._lazy.discard(key)
+        return self._data[key]
+
+    def __contains__(self, key):
+        return key in self._data
+
+    def __iter__(self):
+        return iter(self._data)
+
+    def __len__(self):
+        return len(self._data)
 
 
 def reconstruct_positions(model: DynamicModel, e: np.ndarray, phi: np.ndarray) -> np.ndarray:

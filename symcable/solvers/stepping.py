@@ -35,12 +35,12 @@ from collections import OrderedDict
 import casadi as ca
 import numpy as np
 
-from ..codegen import compile_functions, use_codegen
+from ..codegen import compile_functions, graph_size, use_codegen
 from ..errors import ConvergenceError, SymcableError
 from ..functions import FastCall
 from ..progress import ProgressBar
 from ..results_time import Trajectory
-from ..linalg.sparse import sparse_solve
+from ..linalg.sparse import jacobian as _jacobian, sparse_solve
 from ..linalg.sxlu import block_lu, block_plan
 from ..scene import load_scene
 
@@ -180,6 +180,14 @@ _STEP_OUT = ["y_next", "ydot_next", "k_next", "newton_iterations", "failed", "me
 #: elimination order: CasADi's sparse QR, which generates C
 #: (CSparse's LU does not); in the virtual machine it is as fast as CSparse here
 LINSOL = "qr"
+#: largest state (entries) whose iteration matrix is factorised by the block LU written
+#: out in SX; above it, by the sparse QR of ``sparse_solve`` (fill-reducing column order,
+#: dense rows split off), whose construction is O(n) (see functions.SXLU_MAX_UNKNOWNS)
+SXLU_MAX_STATES = 400
+#: largest state whose SX step Functions are built with common subexpressions eliminated:
+#: CasADi's elimination grows faster than the graph (8 s for 8,000 states, 26 s for
+#: 16,000) and pays only in small generated C
+CSE_MAX_STATES = SXLU_MAX_STATES
 
 
 def _rk4_step(model) -> ca.Function:
@@ -194,7 +202,7 @@ def _rk4_step(model) -> ca.Function:
     y_next = y + dt / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4)
     return ca.Function("rk4_step", [y, yd, k, t0, dt, p, sc, st],
                        [y_next, yd, k + 1, ca.SX(0), ca.SX(0), ca.SX(0)], _STEP_IN, _STEP_OUT,
-                       {"cse": True})
+                       {"cse": model.n_y <= CSE_MAX_STATES})
 
 
 def _ga_coefficients_sym(rho):
@@ -222,7 +230,7 @@ def ga_residual_function(model, rho_inf: float) -> ca.Function:
         z = ca.SX.sym("ydot_next", model.n_y)
         y, yd, _, t, dt, p, _, _ = _symbols(model, "SX")
         r = _ga_residual(model, z, y, yd, t, dt, p, float(rho_inf))
-        fn = ca.Function("ga_residual", [z, y, yd, t, dt, p], [r, ca.jacobian(r, z)],
+        fn = ca.Function("ga_residual", [z, y, yd, t, dt, p], [r, _jacobian(r, z)],
                          ["ydot_next", "y", "ydot", "t", "dt", "p"], ["r", "dr_dydot_next"])
         model._cache[key] = fn
     return fn
@@ -232,10 +240,11 @@ def _ga_linear_solver(model, J: ca.SX, args: list):
     """``(factor, solve, n_factors)`` for the iteration matrix ``J`` (SX in ``args``):
     ``factor(*args) -> f`` and ``solve(f, b) -> J^-1 b``. The block LU of
     :mod:`symcable.linalg.sxlu` written out in SX when J's pattern allows a fixed
-    elimination order (the generalized-α matrix alpha_m I - ... has a regular diagonal),
-    else J's nonzeros and the sparse QR of ``sparse_solve``."""
+    elimination order (the generalized-α matrix alpha_m I - ... has a regular diagonal)
+    and J has at most SXLU_MAX_STATES rows, else J's nonzeros and the sparse QR of
+    ``sparse_solve``."""
     sp = J.sparsity()
-    plan = block_plan(sp)
+    plan = block_plan(sp) if sp.size1() <= SXLU_MAX_STATES else None
     if plan is not None:
         lu = block_lu(sp, *plan, cache=model._cache)
         factor = ca.Function("ga_factor", args, [lu.factor(J.nz[:])])
@@ -263,8 +272,8 @@ def _ga_step(model, max_iter: int) -> ca.Function:
     y, yd, _, t, dt, p, sc, st = _symbols(model, "SX")
     r = _ga_residual(model, zs, y, yd, t, dt, p, st[0])
     args = [zs, y, yd, t, dt, p, st]
-    R = ca.Function("ga_residual", args, [r], {"cse": True})
-    factor, solve, n_f = _ga_linear_solver(model, ca.jacobian(r, zs), args)
+    R = ca.Function("ga_residual", args, [r], {"cse": n <= CSE_MAX_STATES})
+    factor, solve, n_f = _ga_linear_solver(model, _jacobian(r, zs), args)
 
     # one iteration: (z, done, it, measure, f; y, ydot, t, dt, p, y_scale, settings) -> ...
     z, done, it, meas = ca.MX.sym("z", n), ca.MX.sym("done"), ca.MX.sym("it"), ca.MX.sym("measure")
@@ -312,11 +321,18 @@ def step_function(model, method, codegen: bool | None = False) -> ca.Function:
     if vm is None:
         vm = _ga_step(model, NEWTON_MAX_ITER) if meth is Method.GENERALIZED_ALPHA else _rk4_step(model)
         model._cache[key] = vm
-    if not use_codegen(codegen):
-        return vm
     key = ("compiled_step", vm.name())
+    def size():  # by default C only where the step is written out (block LU, small graph)
+        if meth is Method.GENERALIZED_ALPHA and model.n_y > SXLU_MAX_STATES:
+            return math.inf
+        if ("graph_size", vm.name()) not in model._cache:
+            model._cache[("graph_size", vm.name())] = graph_size([vm])
+        return model._cache[("graph_size", vm.name())]
+    if not use_codegen(codegen, size):
+        return vm
     if key not in model._cache:
-        model._cache[key] = compile_functions([vm])[vm.name()]
+        label = "the generalized-α step" if meth is Method.GENERALIZED_ALPHA else "the RK4 step"
+        model._cache[key] = compile_functions([vm], what=label)[vm.name()]
     return model._cache[key]
 
 

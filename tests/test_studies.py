@@ -85,7 +85,7 @@ def test_performance_quick_writes_its_table(tmp_path):
     assert pe["shooting_error"] < 3e-3
     scene = sc.load_scene(sc.demo_scene_path("seed001"))
     model = sc.build_dynamic_model(scene)
-    col = sc.solve_periodic(scene, model=model, codegen=False)
+    col = sc.solve_periodic(scene, "collocation", model=model, codegen=False)
     shot = sc.solve_periodic(scene, "shooting", model=model, codegen=False)
     ft = col.fairlead_tension
     again = float(np.max(np.abs(shot.fairlead_tension - ft)) / np.ptp(ft))

@@ -106,7 +106,7 @@ def rk4_step(mech: Mechanism) -> ca.Function:
         q, v = _seg(x, 0, nq), _seg(x, nq, nq + nv)
         M = tan(q, v, z0, tt, p)[2]
         r_f, _ = F.acc_residual(q, v, ca.MX.zeros(nv), z0, tt, p)  # = -f
-        return ca.vertcat(F.qdot(q, v), ca.solve(M, -r_f))
+        return ca.vertcat(F.qdot(q, v, z0, tt, p), ca.solve(M, -r_f))
 
     k1 = rhs(x0, t)
     k2 = rhs(x0 + h / 2 * k1, t + h / 2)

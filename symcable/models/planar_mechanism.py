@@ -120,8 +120,9 @@ def dynamics_mechanism(model: DynamicModel) -> Mechanism:
     def starts():
         yield Start(np.zeros(q.numel()), np.zeros(0), p_rest, "static state")
 
+    mass = ca.SX(ca.DM(ca.Sparsity.diag(masses.size), masses))
     return Mechanism(name="planar_dynamics", q=q, v=v, z=z, t=model.t, p=model.p,
-                     params=params, mass=ca.SX(ca.DM(ca.Sparsity.diag(masses.size), masses)), force=force, constraint=ca.SX.zeros(0, 1),
+                     params=params, mass=mass, force=force, constraint=ca.SX.zeros(0, 1),
                      scales=scales, starts=starts, outputs=outputs, layout=layout,
                      kinematics=kinematics, terms=tuple(info["terms"]),
                      static_params=static_params)

@@ -95,14 +95,16 @@ class MechanismFunctions:
 
     @cached_property
     def qdot(self) -> ca.Function:
-        """``qdot(q, v) -> q'`` = G(q) v."""
+        """``qdot(q, v, z, t, p) -> q'`` = G(q) v (the kinematics may depend on every
+        argument: prescribed terms in t and p)."""
         m = self.mech
-        return ca.Function(f"{m.name}_qdot", [m.q, m.v], [self._qdot()], ["q", "v"], ["qdot"])
+        return ca.Function(f"{m.name}_qdot", self._args, [self._qdot()], self._names, ["qdot"])
 
     @cached_property
     def dae_residual(self) -> ca.Function:
         """``dae_residual(yd, y, t, p) -> F`` with y = (q, v, z):
-        F = (q' - G(q) v, M(q) v' - f, g)."""
+        F = (q' - G(q) v [- w(q, z, t; p)], M(q) v' - f, g); the kinematics row is the
+        mechanism's ``kinematics`` expression as it is (t- and p-dependent terms included)."""
         m = self.mech
         qd = _sym_like(m.q, "qd", m.n_q)
         vd = _sym_like(m.v, "vd", m.n_v)
@@ -128,8 +130,9 @@ class MechanismFunctions:
             for _ in range(3):
                 if ca.depends_on(gi, ca.vertcat(m.z, a)):
                     break
-                # d/dt along the motion: q' = G v, v' = a (z is held: rows that need z' are
-                # index 1 already and left the loop)
+                # d/dt along the motion: q' = the kinematics (with its explicit t and p
+                # terms), v' = a (z is held: rows that need z' are index 1 already and left
+                # the loop; kinematics that depend on z are taken at the held z)
                 gi = (ca.jtimes(gi, m.q, qdot) + ca.jtimes(gi, m.v, a)
                       + ca.jacobian(gi, m.t))
             rows.append(gi)

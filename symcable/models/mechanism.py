@@ -2,7 +2,8 @@
 
 A Mechanism is a second-order system with constraints, written in CasADi symbols::
 
-    q' = G(q) v                          (kinematics; identity for node positions)
+    q' = G(q) v                          (kinematics; identity for node positions; in general
+                                          an expression of (q, v, z, t, p))
     M(q; p) v' = f(q, v, z, t; p)        (n_v equations, N)
     g(q, v, z, t; p) = 0                 (n_z constraints; z are their multipliers)
 
@@ -13,6 +14,12 @@ force ``f`` contains every load a formulation knows about: internal, damping, dr
 contact, constraint forces (typically ``-B(q)^T z`` with ``B = dg/dq``), and the inertia of
 prescribed motion. A formulation never calls a solver; :mod:`symcable.derive` turns a
 Mechanism into the static residual, the DAE residual and the tangent matrices, once.
+
+The kinematics is ``q' = v`` unless ``kinematics`` is given, an expression of
+``(q, v, z, t, p)``: ``G(q) v`` for rotations, and for coordinates that are increments relative
+to a prescribed motion (the planar linearised dynamics, whose segment strain and angle rates
+carry the prescribed end velocity, a function of ``t`` and ``p``) an affine ``G(q) v + w(q, t;
+p)``. The derived ``qdot`` Function takes ``(q, v, z, t, p)``.
 
 Prescribed coordinates are not unknowns: they enter ``f`` and the outputs as functions of
 ``t`` and ``p`` (see :mod:`symcable.models.assembly` for fixed and moving nodes).
@@ -204,7 +211,8 @@ class Mechanism:
     mass : expression (n_v, n_v) of ``(q, p)``, kg (kg m^2 for rotations)
     force : expression (n_v, 1) of ``(q, v, z, t, p)``, N (N m)
     constraint : expression (n_z, 1) of ``(q, v, z, t, p)``
-    kinematics : expression (n_q, 1) of ``(q, v)``: q' = G(q) v; None means q' = v
+    kinematics : expression (n_q, 1) of ``(q, v, z, t, p)``: q' = G(q) v (+ prescribed
+        terms in t and p); None means q' = v
     scales : Scales
     starts : callable () -> iterable of Start, in order of preference (built lazily)
     outputs : mapping name -> Output

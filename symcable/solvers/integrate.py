@@ -11,7 +11,17 @@ g(q, v, z, t) = 0, with a pseudo-acceleration abar:
 
 and the equations of motion and the constraints imposed at t1, unknowns (a1, z1), solved
 by Newton on the exact Jacobian. Position-level constraints are met to the Newton
-tolerance at every step (no drift). Second order for positions and velocities.
+tolerance at every step (no drift). Second order for positions and velocities. It needs
+q' = v (no ``kinematics``).
+
+First-order generalized-alpha (Jansen, Whiting & Hulbert 2000) on the DAE residual
+F(y', y, t; p) = 0 with y = (q, v), for any kinematics (:func:`galpha1_step`):
+
+    y1 = y0 + h y'0 + gamma h (y'1 - y'0)
+    F(y'0 + alpha_m (y'1 - y'0), y0 + alpha_f (y1 - y0), t0 + alpha_f h; p) = 0
+
+unknown y'1, by Newton; the scheme ``simulate`` runs on a DynamicModel. Mechanisms with
+constraints (n_z > 0) are refused for now.
 """
 from __future__ import annotations
 
@@ -24,9 +34,11 @@ from ..derive import functions
 from ..errors import ConvergenceError, SymcableError
 from ..models.mechanism import Mechanism
 from ..results_mechanism import Equilibrium, MechanismTrajectory
-from .options import RK4, GeneralizedAlpha
+from .options import RK4, GeneralizedAlpha, GeneralizedAlphaFirstOrder
 
-__all__ = ["integrate", "galpha_step", "rk4_step"]
+__all__ = ["integrate", "galpha_step", "galpha1_step", "rk4_step"]
+
+_IMPLICIT = (GeneralizedAlpha, GeneralizedAlphaFirstOrder)
 
 #: steps per mapaccum call (bounds the compiled/generated graph)
 BATCH = 256
@@ -47,8 +59,8 @@ def galpha_step(mech: Mechanism, opts: GeneralizedAlpha) -> ca.Function:
     am, af, gamma, beta = opts.coefficients
     nq, nv, nz = mech.n_q, mech.n_v, mech.n_z
     if mech.kinematics is not None:
-        raise SymcableError(f"mechanism {mech.name!r}: generalized-alpha with q' = G(q) v "
-                            "arrives with rigid bodies")
+        raise SymcableError(f"mechanism {mech.name!r}: GeneralizedAlpha needs q' = v; its "
+                            "kinematics q' = G(q) v (+ w) runs with GeneralizedAlphaFirstOrder()")
     fs, ms = mech.scales.force, mech.scales.mass
     x0 = ca.MX.sym("x", nq + 3 * nv + nz)
     q0, v0 = _seg(x0, 0, nq), _seg(x0, nq, nq + nv)
@@ -89,6 +101,84 @@ def galpha_step(mech: Mechanism, opts: GeneralizedAlpha) -> ca.Function:
                        ["x1", "err", "lte"])
 
 
+def _taylor_jet(mech: Mechanism) -> ca.Function:
+    """``jet(q, v, a, z, t, p) -> (q'', b)`` along the motion q' = kinematics, v' = a (z
+    held): q'' = d(kinematics)/dt and b = df/dt - (dM/dt) a, so that v'' = M^-1 b."""
+    m = mech
+    a = ca.SX.sym("a", m.n_v) if isinstance(m.v, ca.SX) else ca.MX.sym("a", m.n_v)
+    kin = m.v if m.kinematics is None else m.kinematics
+
+    def ddt(expr):
+        return (ca.jtimes(expr, m.q, kin) + ca.jtimes(expr, m.v, a) + ca.jacobian(expr, m.t))
+
+    b = ddt(m.force) - ca.jtimes(ca.mtimes(m.mass, a), m.q, kin)
+    return ca.Function(f"{m.name}_jet", [m.q, m.v, a, m.z, m.t, m.p], [ddt(kin), b])
+
+
+def galpha1_step(mech: Mechanism, opts: GeneralizedAlphaFirstOrder) -> ca.Function:
+    """``step(x, t, h, p) -> (x1, err, lte)`` with x = (y, y'), y = (q, v): one first-order
+    generalized-alpha step (see the module docstring) of size h (s) from t (s).
+
+    ``err`` is the max-norm of the step residual scaled to a change of y over the step
+    relative to its scales (kinematic rows h |r| / scales.q, momentum rows
+    h |r| / (scales.mass scales.v)): the Newton iteration stops at ``opts.tol``, and the step
+    failed above it.
+
+    ``lte`` estimates the local error of y over its scales (max-norm) by the difference from
+    the second-order Taylor predictor y0 + h y'(t0) + h^2/2 y''(t0), whose local error is
+    h^3/6 y^(3) (y', y'' exact, from the equations, not the carried y'): on the principal
+    root of y' = A y the step's error is C h^3 y^(3) (C = ``opts.error_constant``, 1/9 at
+    rho_inf = 1/2), so the error is C / (C + 1/6) times that difference. Where the solution
+    is driven by an explicit forcing rather than by its own dynamics (pure quadrature
+    y' = g(t)) the step's h^3 error vanishes and the estimate overstates it.
+    """
+    if mech.n_z:
+        raise SymcableError(f"mechanism {mech.name!r} has {mech.n_z} constraints: "
+                            "GeneralizedAlphaFirstOrder takes n_z = 0 only for now; use "
+                            "GeneralizedAlpha()")
+    F = functions(mech)
+    am, af, gamma = opts.coefficients
+    nq, nv = mech.n_q, mech.n_v
+    ny = nq + nv
+    x0 = ca.MX.sym("x", 2 * ny)
+    y0, yd0 = x0[:ny], x0[ny:]
+    t, h, p = ca.MX.sym("t"), ca.MX.sym("h"), ca.MX.sym("p", mech.params.n)
+    w = ca.MX.sym("w", ny)
+    z0 = ca.MX(0, 1)
+    row_scale = np.concatenate([1.0 / np.asarray(mech.scales.q, float),
+                                1.0 / (mech.scales.mass * np.asarray(mech.scales.v, float))])
+    y_scale = np.concatenate([mech.scales.q, mech.scales.v])
+
+    def y_next(w_):
+        return y0 + h * yd0 + gamma * h * (w_ - yd0)
+
+    def residual(w_):
+        r = F.dae_residual(yd0 + am * (w_ - yd0), y0 + af * (y_next(w_) - y0), t + af * h, p)
+        return h * r * ca.DM(row_scale)
+
+    G = ca.Function("ga1_res", [w, x0, t, h, p], [residual(w)])
+    rf = ca.rootfinder(f"{mech.name}_ga1_newton", "newton", G,
+                       {"abstol": opts.tol, "abstolStep": 1e-14, "max_iter": opts.max_iter,
+                        "error_on_fail": False})
+    w1 = rf(yd0, x0, t, h, p)
+    y1 = y_next(w1)
+    err = ca.norm_inf(residual(w1))
+    # the Taylor predictor from the exact derivatives at (y0, t)
+    q0, v0 = _seg(y0, 0, nq), _seg(y0, nq, ny)
+    tan = F.tangents
+    M0 = tan(q0, v0, z0, t, p)[2]
+    r_f, _ = F.acc_residual(q0, v0, ca.MX.zeros(nv), z0, t, p)  # = -f
+    a0 = ca.solve(M0, -r_f) if nv else ca.MX(0, 1)
+    qd0 = F.qdot(q0, v0, z0, t, p)
+    qdd0, b0 = _taylor_jet(mech)(q0, v0, a0, z0, t, p)
+    ad0 = ca.solve(M0, b0) if nv else ca.MX(0, 1)
+    y_pred = y0 + h * ca.vertcat(qd0, a0) + 0.5 * h ** 2 * ca.vertcat(qdd0, ad0)
+    C = opts.error_constant
+    lte = ca.norm_inf(C / (C + 1.0 / 6.0) * (y1 - y_pred) / ca.DM(y_scale))
+    return ca.Function(f"{mech.name}_ga1_step", [x0, t, h, p], [ca.vertcat(y1, w1), err, lte],
+                       ["x", "t", "h", "p"], ["x1", "err", "lte"])
+
+
 def rk4_step(mech: Mechanism) -> ca.Function:
     """``step(x, t, h, p) -> (x1, err, lte)`` with x = (q, v): one RK4 step (err = 0, and
     lte = NaN: no embedded estimate)."""
@@ -106,7 +196,7 @@ def rk4_step(mech: Mechanism) -> ca.Function:
         q, v = _seg(x, 0, nq), _seg(x, nq, nq + nv)
         M = tan(q, v, z0, tt, p)[2]
         r_f, _ = F.acc_residual(q, v, ca.MX.zeros(nv), z0, tt, p)  # = -f
-        return ca.vertcat(F.qdot(q, v), ca.solve(M, -r_f))
+        return ca.vertcat(F.qdot(q, v, z0, tt, p), ca.solve(M, -r_f))
 
     k1 = rhs(x0, t)
     k2 = rhs(x0 + h / 2 * k1, t + h / 2)
@@ -140,6 +230,14 @@ class _Stepper:
 
 
 def _initial_state(mech, F, method, q0, v0, z_guess, t0, p):
+    if isinstance(method, GeneralizedAlphaFirstOrder):
+        step = galpha1_step(mech, method)  # refuses n_z > 0 first
+        a0 = np.linalg.solve(np.atleast_2d(np.asarray(F.tangents(q0, v0, z_guess, t0, p)[2])),
+                             -np.asarray(F.acc_residual(q0, v0, np.zeros(mech.n_v), z_guess,
+                                                        t0, p)[0]).ravel()) \
+            if mech.n_v else np.zeros(0)
+        qd0 = np.asarray(F.qdot(q0, v0, z_guess, t0, p)).ravel()
+        return step, np.concatenate([q0, v0, qd0, a0]), np.zeros(0)
     a0, z0 = (np.asarray(x).ravel() for x in F.consistent_acceleration(q0, v0, z_guess, t0, p))
     if isinstance(method, GeneralizedAlpha):
         if mech.n_z and method.rho_inf >= 1.0:
@@ -166,7 +264,7 @@ def integrate(mech: Mechanism, duration: float, dt: float | None = None, *, meth
     duration : float, s
     dt : float, s
         The step (fixed), or the first step with ``tol`` (default duration/100 there).
-    method : GeneralizedAlpha | RK4, default GeneralizedAlpha()
+    method : GeneralizedAlpha | GeneralizedAlphaFirstOrder | RK4, default GeneralizedAlpha()
     q0, v0 : initial coordinates and velocities (default: ``start``'s q, or the mechanism's
         first static start, at rest)
     start : Equilibrium, optional  where to start (its q and z)
@@ -175,7 +273,8 @@ def integrate(mech: Mechanism, duration: float, dt: float | None = None, *, meth
         Keep every k-th step (fixed steps); every accepted step is kept with ``tol``.
     tol : float, optional
         Local error per step, relative to ``mech.scales.q`` (generalized-alpha only: its
-        estimate is Newmark's (beta - 1/6) h^2 |a1 - a0|). Steps run in batches of ``batch``
+        estimate is Newmark's (beta - 1/6) h^2 |a1 - a0|; first-order generalized-alpha's is
+        on q and v over their scales, see :func:`galpha1_step`). Steps run in batches of ``batch``
         at one size inside CasADi; a batch whose largest estimate exceeds ``tol`` is redone
         with a smaller step, and the next batch's step follows the estimate (order 3).
         ``stats`` reports the steps taken, rejected batches and the smallest and largest step.
@@ -186,10 +285,11 @@ def integrate(mech: Mechanism, duration: float, dt: float | None = None, *, meth
         A step's Newton iteration did not converge; ``partial`` holds the run up to there.
     """
     method = GeneralizedAlpha() if method is None else method
-    if not isinstance(method, (GeneralizedAlpha, RK4)):
-        raise SymcableError(f"method = {method!r}: must be GeneralizedAlpha(...) or RK4()")
+    if not isinstance(method, (*_IMPLICIT, RK4)):
+        raise SymcableError(f"method = {method!r}: must be GeneralizedAlpha(...), "
+                            "GeneralizedAlphaFirstOrder(...) or RK4()")
     if tol is not None:
-        if not isinstance(method, GeneralizedAlpha):
+        if not isinstance(method, _IMPLICIT):
             raise SymcableError("tol: adaptive steps need generalized-alpha (RK4 here has no "
                                 "error estimate); give dt instead")
         if not tol > 0:
@@ -224,10 +324,12 @@ def integrate(mech: Mechanism, duration: float, dt: float | None = None, *, meth
     outputs = F.unpack(np.asarray(outs))
     g = np.asarray(F.acc_residual.map(T.size)(q.T, v.T, np.zeros((nv, T.size)), z.T,
                                                T[None, :], p)[1])
-    stats = {"method": "generalized-alpha" if isinstance(method, GeneralizedAlpha) else "rk4",
+    name = {GeneralizedAlpha: "generalized-alpha",
+            GeneralizedAlphaFirstOrder: "generalized-alpha-first-order"}.get(type(method), "rk4")
+    stats = {"method": name,
              **extra, "max_constraint": float(np.max(np.abs(g))) if g.size else 0.0,
              "wall_time": time.perf_counter() - t_start}
-    if isinstance(method, GeneralizedAlpha):
+    if isinstance(method, _IMPLICIT):
         stats["rho_inf"] = method.rho_inf
     traj = MechanismTrajectory(mech.name, T, q, v, z, outputs, status, stats, tuple(warnings))
     if status == "failed":
@@ -242,7 +344,7 @@ def _first_bad(E, tol):
 
 
 def _run_fixed(stepper, x, t, dt, n_steps, p, method, save_every, batch):
-    tol_newton = method.tol if isinstance(method, GeneralizedAlpha) else np.inf
+    tol_newton = method.tol if isinstance(method, _IMPLICIT) else np.inf
     times, Xs = [t], [x.copy()]
     worst, lte_max, done = 0.0, 0.0, 0
     status, warnings = "converged", []
@@ -250,7 +352,7 @@ def _run_fixed(stepper, x, t, dt, n_steps, p, method, save_every, batch):
         k = min(batch, n_steps - done)
         X, E, LTE = (np.asarray(a) for a in stepper.batch(k)(x, t, dt, p))
         E, LTE = E.ravel(), LTE.ravel()
-        if not isinstance(method, GeneralizedAlpha):
+        if not isinstance(method, _IMPLICIT):
             E = np.where(np.all(np.isfinite(X), axis=0), 0.0, np.inf)
         bad = _first_bad(E, tol_newton)
         good = k if bad is None else bad
@@ -271,7 +373,7 @@ def _run_fixed(stepper, x, t, dt, n_steps, p, method, save_every, batch):
         t += k * dt
         done += k
     extra = {"dt": dt, "steps": done, "max_step_residual": worst,
-             "max_error_estimate": lte_max if isinstance(method, GeneralizedAlpha) else None}
+             "max_error_estimate": lte_max if isinstance(method, _IMPLICIT) else None}
     return np.array(times), np.array(Xs), status, warnings, extra
 
 

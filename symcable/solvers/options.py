@@ -7,7 +7,8 @@ from dataclasses import dataclass
 
 from ..errors import SymcableError
 
-__all__ = ["CollocationScheme", "Collocation", "GeneralizedAlpha", "HarmonicBalance", "RK4",
+__all__ = ["CollocationScheme", "Collocation", "GeneralizedAlpha", "GeneralizedAlphaFirstOrder",
+           "HarmonicBalance", "RK4",
            "Shooting", "parse_choice"]
 
 
@@ -62,6 +63,45 @@ class GeneralizedAlpha:
         gamma = 0.5 + af - am
         beta = 0.25 * (gamma + 0.5) ** 2
         return am, af, gamma, beta
+
+
+@dataclass(frozen=True)
+class GeneralizedAlphaFirstOrder:
+    """Implicit first-order generalized-alpha (Jansen, Whiting & Hulbert 2000) on the DAE
+    residual F(y', y, t; p) = 0, y = (q, v): second order, unconditionally stable on linear
+    problems; ``rho_inf`` in [0, 1] the spectral radius at infinite step; ``tol`` the Newton
+    tolerance on the residual scaled to a change of y over one step relative to its scales;
+    ``max_iter`` Newton iterations. Unlike :class:`GeneralizedAlpha` (second order in time,
+    q' = v), it takes any kinematics q' = G(q) v + w(q, t; p); it is the scheme that
+    ``simulate(..., method="generalized-alpha")`` runs on a DynamicModel. A class of its
+    own, not a field of GeneralizedAlpha: its coefficients (alpha_m, alpha_f in [1/2, 3/2]),
+    its carried state (y, y') and what it accepts all differ, and no option of one means
+    anything to the other (an ``isinstance`` tells the solvers which scheme they hold)."""
+
+    rho_inf: float = 0.5
+    tol: float = 1e-10
+    max_iter: int = 20
+
+    def __post_init__(self):
+        object.__setattr__(self, "rho_inf", _number("rho_inf", self.rho_inf, 0.0, 1.0))
+        object.__setattr__(self, "tol", _number("tol", self.tol, 0.0, lo_open=True))
+        object.__setattr__(self, "max_iter", _number("max_iter", self.max_iter, 1, integer=True))
+
+    @property
+    def coefficients(self) -> tuple[float, float, float]:
+        """(alpha_m, alpha_f, gamma) (Jansen et al. 2000, eqs. 17 and 20)."""
+        r = self.rho_inf
+        am = 0.5 * (3.0 - r) / (1.0 + r)
+        af = 1.0 / (1.0 + r)
+        return am, af, 0.5 + am - af
+
+    @property
+    def error_constant(self) -> float:
+        """C in y_1 - y(t_1) = C h^3 y^(3) + O(h^4), the local error of the principal root
+        on y' = lambda y (from the scheme's characteristic polynomial):
+        (r^2 - r + 1) / (3 (1 + r)^2), 1/12 at r = 1, 1/9 at r = 1/2, 1/3 at r = 0."""
+        r = self.rho_inf
+        return (r * r - r + 1.0) / (3.0 * (1.0 + r) ** 2)
 
 
 @dataclass(frozen=True)

@@ -244,7 +244,7 @@ def defects(mech: Mechanism, period: float, p, q, v, z, qd=None, a=None) -> dict
     qd = spectral_derivative(q, period) if qd is None else qd
     a = spectral_derivative(v, period) if a is None else a
     r_f, r_g = acc(q.T, v.T, a.T, z.T, t[None, :], p)
-    G = np.asarray(qdot(q.T, v.T))
+    G = np.asarray(qdot(q.T, v.T, z.T, t[None, :], p))
     kin = np.max(np.abs(qd.T - G)) / sc.v_ref if G.size else 0.0
     dyn = np.max(np.abs(np.asarray(r_f))) / sc.force if mech.n_v else 0.0
     con = np.max(np.abs(np.asarray(r_g)) / sc.g[:, None]) if mech.n_z else 0.0

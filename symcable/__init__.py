@@ -28,7 +28,8 @@ from .results_periodic_mech import MechanismPeriodic
 from .solvers.equilibrium import solve_equilibrium
 from .solvers.integrate import integrate
 from .solvers.linearize import linearize_mechanism, mechanism_modes, output_sensitivity
-from .solvers.options import RK4, Collocation, GeneralizedAlpha, HarmonicBalance, Shooting
+from .solvers.options import (RK4, Collocation, GeneralizedAlpha, GeneralizedAlphaFirstOrder,
+                              HarmonicBalance, Shooting)
 from .solvers.periodic_mech import solve_periodic_mech
 from . import analytic
 
@@ -79,6 +80,7 @@ __all__ = [
     "linearize_mechanism",
     "output_sensitivity",
     "GeneralizedAlpha",
+    "GeneralizedAlphaFirstOrder",
     "RK4",
     "Collocation",
     "HarmonicBalance",

@@ -38,8 +38,17 @@ def _number(key, value, lo=None, hi=None, integer=False, lo_open=False):
     return x
 
 
+class _ImplicitScheme:
+    """Validation shared by the implicit schemes' options (rho_inf, tol, max_iter)."""
+
+    def __post_init__(self):
+        object.__setattr__(self, "rho_inf", _number("rho_inf", self.rho_inf, 0.0, 1.0))
+        object.__setattr__(self, "tol", _number("tol", self.tol, 0.0, lo_open=True))
+        object.__setattr__(self, "max_iter", _number("max_iter", self.max_iter, 1, integer=True))
+
+
 @dataclass(frozen=True)
-class GeneralizedAlpha:
+class GeneralizedAlpha(_ImplicitScheme):
     """Implicit generalized-alpha (Chung & Hulbert 1993, in the form of Arnold & Bruels 2007
     for constrained systems): second order, unconditionally stable; ``rho_inf`` in [0, 1] is
     the spectral radius at infinite step (1: no numerical damping, 0: the most);
@@ -49,10 +58,6 @@ class GeneralizedAlpha:
     tol: float = 1e-10
     max_iter: int = 20
 
-    def __post_init__(self):
-        object.__setattr__(self, "rho_inf", _number("rho_inf", self.rho_inf, 0.0, 1.0))
-        object.__setattr__(self, "tol", _number("tol", self.tol, 0.0, lo_open=True))
-        object.__setattr__(self, "max_iter", _number("max_iter", self.max_iter, 1, integer=True))
 
     @property
     def coefficients(self) -> tuple[float, float, float, float]:
@@ -66,7 +71,7 @@ class GeneralizedAlpha:
 
 
 @dataclass(frozen=True)
-class GeneralizedAlphaFirstOrder:
+class GeneralizedAlphaFirstOrder(_ImplicitScheme):
     """Implicit first-order generalized-alpha (Jansen, Whiting & Hulbert 2000) on the DAE
     residual F(y', y, t; p) = 0, y = (q, v): second order, unconditionally stable on linear
     problems; ``rho_inf`` in [0, 1] the spectral radius at infinite step; ``tol`` the Newton
@@ -82,10 +87,6 @@ class GeneralizedAlphaFirstOrder:
     tol: float = 1e-10
     max_iter: int = 20
 
-    def __post_init__(self):
-        object.__setattr__(self, "rho_inf", _number("rho_inf", self.rho_inf, 0.0, 1.0))
-        object.__setattr__(self, "tol", _number("tol", self.tol, 0.0, lo_open=True))
-        object.__setattr__(self, "max_iter", _number("max_iter", self.max_iter, 1, integer=True))
 
     @property
     def coefficients(self) -> tuple[float, float, float]:

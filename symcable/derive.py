@@ -83,6 +83,19 @@ class MechanismFunctions:
         dx = -ca.solve(J, r, "qr")
         return ca.Function(f"{m.name}_static_step", [x, p], [r, dx], ["x", "p"], ["r", "dx"])
 
+    @cached_property
+    def static_ptc_step(self) -> ca.Function:
+        """``static_ptc_step(x, p, c) -> (r, dx)``: a pseudo-transient step,
+        dx = (diag(c) - J)^-1 r (sparse QR): c -> 0 gives Newton's step, large c a short
+        step along the residual (a damped relaxation of the static problem)."""
+        m = self.mech
+        n = m.n_q + m.n_z
+        x, p, c = ca.MX.sym("x", n), ca.MX.sym("p", m.params.n), ca.MX.sym("c", n)
+        r, J = self.static_jacobian(x, p)
+        dx = ca.solve(ca.diag(c) - J, r, "qr")
+        return ca.Function(f"{m.name}_static_ptc_step", [x, p, c], [r, dx], ["x", "p", "c"],
+                           ["r", "dx"])
+
     # -- dynamics -------------------------------------------------------------------------
     @cached_property
     def acc_residual(self) -> ca.Function:

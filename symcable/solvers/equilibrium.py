@@ -50,6 +50,52 @@ def _continuation(F, x0, p0, p1, tol, max_iter, x_scale, min_step=1e-4):
     return res, steps
 
 
+#: pseudo-transient continuation: most steps, the first pseudo-time step, when it counts as
+#: Newton (the regularisation then is 1e-10 of the stiffness scale)
+PTC_MAX_STEPS, PTC_DT0, PTC_DT_NEWTON = 400, 1e-2, 1e10
+
+
+def _ptc(F, mech, x0, p, tol):
+    """Pseudo-transient continuation (Kelley & Keyes 1998): steps (D/dtau - J) dx = R(x) of
+    a damped relaxation in pseudo-time, D = force scale / coordinate scale per unknown. For a
+    conservative system (R = -grad E, J = -Hessian) a short step goes down the energy, so it
+    relaxes toward a stable equilibrium where Newton from a far start stalls or lands on a
+    saddle; the robust form of the dynamic relaxation MoorDyn uses. The pseudo-time step
+    doubles after every accepted step (so the end is Newton's quadratic convergence) and is
+    cut by 4 when the residual jumps: not switched evolution relaxation, whose step shrinks
+    while the residual grows, as it does for a while along a buckling path (measured: SER
+    stalled on compressed chains under gravity at steps of 3e-5 m)."""
+    from types import SimpleNamespace
+
+    D = mech.scales.force / np.concatenate([mech.scales.q, np.ones(mech.n_z)])
+    if mech.n_z:
+        D[mech.n_q:] = 0.0  # constraint rows are not relaxed: they hold at every step
+    x = np.array(x0, dtype=float)
+    dtau = PTC_DT0
+    r = np.asarray(F.static_residual(x, p)).ravel()
+    nr = float(np.max(np.abs(r))) if r.size else 0.0
+    for it in range(1, PTC_MAX_STEPS + 1):
+        if nr <= tol:
+            return SimpleNamespace(x=x, converged=True, iterations=it - 1, residual_norm=nr,
+                                   message="converged")
+        _, dx = (np.asarray(a).ravel() for a in F.static_ptc_step(x, p, D / dtau))
+        x_new = x + dx
+        r_new = np.asarray(F.static_residual(x_new, p)).ravel() if np.all(np.isfinite(dx)) \
+            else np.full(r.shape, np.inf)
+        nr_new = float(np.max(np.abs(r_new))) if r_new.size else 0.0
+        if not np.isfinite(nr_new) or nr_new > 100.0 * nr:
+            dtau /= 4.0
+            if dtau < 1e-12:
+                break
+            continue
+        x, nr = x_new, nr_new
+        dtau = min(2.0 * dtau, PTC_DT_NEWTON)
+    return SimpleNamespace(x=x, converged=nr <= tol, iterations=PTC_MAX_STEPS, residual_norm=nr,
+                           message="converged" if nr <= tol else
+                           f"pseudo-transient continuation: residual {nr:.3g} after "
+                           f"{PTC_MAX_STEPS} steps")
+
+
 def reduced_stiffness(K: np.ndarray, B: np.ndarray) -> np.ndarray:
     """The symmetric part of K on the null space of the constraint Jacobian B."""
     Ks = 0.5 * (K + K.T)
@@ -61,19 +107,60 @@ def reduced_stiffness(K: np.ndarray, B: np.ndarray) -> np.ndarray:
     return N.T @ Ks @ N
 
 
-def _stability(F, mech, q, z, p):
-    n = mech.n_q
-    if n > STABILITY_MAX_N or mech.mass.nnz() == 0:
-        # too large for a dense check, or a static formulation without mass whose residual
-        # rows are not the gradient of an energy (its tangent says nothing about stability)
-        return None, float("nan")
+def _unstable_direction(F, mech, q, z, p):
+    """(lowest eigenvalue, its direction in q) of the reduced tangent stiffness, or
+    (None, None) where stability is not judged (too large, or a formulation without mass
+    whose residual rows are not the gradient of an energy)."""
+    if mech.n_q > STABILITY_MAX_N or mech.mass.nnz() == 0:
+        return None, None
     K, _, _, B, *_ = F.tangents(q, np.zeros(mech.n_v), z, 0.0, p)
-    Kr = reduced_stiffness(np.asarray(K), np.asarray(B))
+    K, B = np.asarray(K), np.asarray(B)
+    N = np.eye(mech.n_q)
+    if B.size and B.shape[0]:
+        _, sv, vt = np.linalg.svd(B)
+        N = vt[int(np.sum(sv > sv.max() * 1e-10)):].T
+    Kr = N.T @ (0.5 * (K + K.T)) @ N
     if Kr.size == 0:
-        return True, float("inf")
-    lam = np.linalg.eigvalsh(Kr)
-    scale = max(np.max(np.abs(lam)), 1e-300)
-    return bool(lam[0] > -1e-9 * scale), float(lam[0])
+        return float("inf"), np.zeros(mech.n_q)
+    lam, vec = np.linalg.eigh(Kr)
+    return float(lam[0]), N @ vec[:, 0]
+
+
+def _stability(F, mech, q, z, p):
+    lam, _ = _unstable_direction(F, mech, q, z, p)
+    if lam is None:
+        return None, float("nan")
+    if not np.isfinite(lam):
+        return True, lam
+    K, *_ = F.tangents(q, np.zeros(mech.n_v), z, 0.0, p)
+    scale = max(float(np.max(np.abs(np.asarray(K)))), 1e-300)
+    return bool(lam > -1e-9 * scale), lam
+
+
+#: escapes from an unstable equilibrium (a push along its unstable mode, then relaxation)
+ESCAPES = 3
+
+
+def _ptc_stable(F, mech, x0, p, tol):
+    """Pseudo-transient continuation, and from an unstable equilibrium a push along its
+    most unstable mode (both ways, 10 % of the coordinate scale) and again, up to ESCAPES
+    times: a buckled or sagging branch is reached from the straight state it bifurcates from."""
+    res = _ptc(F, mech, x0, p, tol)
+    for _ in range(ESCAPES):
+        if not res.converged:
+            return res
+        q, z = res.x[:mech.n_q], res.x[mech.n_q:]
+        lam, mode = _unstable_direction(F, mech, q, z, p)
+        if lam is None or _stability(F, mech, q, z, p)[0] is not False:
+            return res
+        push = 0.1 * float(np.median(mech.scales.q)) * mode / max(np.max(np.abs(mode)), 1e-300)
+        tries = [_ptc(F, mech, np.concatenate([q + sgn * push, z]), p, tol) for sgn in (1.0, -1.0)]
+        ok = [t for t in tries if t.converged]
+        if not ok:
+            return res
+        stable = [t for t in ok if _stability(F, mech, t.x[:mech.n_q], t.x[mech.n_q:], p)[0]]
+        res = (stable or ok)[0]
+    return res
 
 
 def solve_equilibrium(mech: Mechanism, p=None, *, tol: float | None = None,
@@ -126,9 +213,14 @@ def solve_equilibrium(mech: Mechanism, p=None, *, tol: float | None = None,
             p0 = p.copy()
             p0[mech.params.slice(continuation)] = 0.0
             paths.append((f"continuation in {continuation}", p0))
+        paths.append(("pseudo-transient continuation", "ptc"))
         for path, p_from in paths:
             if p_from is None:
                 res, steps = _newton(F, x0, p, tol, max_iter, x_scale), 0
+            elif isinstance(p_from, str):
+                if not np.allclose(start.p, p):
+                    continue
+                res, steps = _ptc_stable(F, mech, x0, p, tol), 0
             else:
                 res, steps = _continuation(F, x0, p_from, p, tol, max_iter, x_scale)
             ok, why, info = _check(F, mech, res.x, p, tol, require_stable) if res.converged \

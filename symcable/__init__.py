@@ -10,8 +10,8 @@ See the README for the scene-file contract and the CLI.
 """
 from __future__ import annotations
 
-from .api import (build_dynamic_model, end_stiffness, modal_analysis, simulate, solve_periodic,
-                  sweep_periodic)
+from .api import (build_dynamic_model, end_stiffness, linearize, modal_analysis, simulate,
+                  solve_periodic, sweep_periodic)
 from .errors import ConvergenceError, SceneError, SymcableError
 from .models import build_model
 from .results import StaticSolution
@@ -23,7 +23,8 @@ from .solvers.static import solve_static
 from .models.assembly import Prescribed, Shared, assemble
 from .models.mechanism import Mechanism, Output, ParamBlocks, PartLayout, Layout, Scales, Start
 from .models import toys
-from .results_mechanism import Equilibrium, Linearization, MechanismModes, MechanismTrajectory
+from .results_mechanism import (Equilibrium, Linearization, MechanismModes, MechanismTrajectory,
+                                SceneLinearization)
 from .results_periodic_mech import MechanismPeriodic
 from .solvers.equilibrium import solve_equilibrium
 from .solvers.integrate import integrate
@@ -56,6 +57,8 @@ __all__ = [
     "sweep_periodic",
     "demo_scene_path",
     "end_stiffness",
+    "linearize",
+    "SceneLinearization",
     # the Mechanism core: any formulation, assembled parts, generic solvers
     "Mechanism",
     "Output",

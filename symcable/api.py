@@ -28,6 +28,9 @@ from .models.mechanism import Start
 from .models.static_mechanism import static_mechanism
 from .solvers.equilibrium import solve_equilibrium
 from .solvers.linearize import output_sensitivity
+from .derive import functions as _functions
+from .models.planar_mechanism import dynamics_mechanism, state_permutation
+from .results_mechanism import SceneLinearization
 from .solvers.static import solve_static
 
 __all__ = ["build_dynamic_model", "modal_analysis", "simulate", "solve_periodic", "sweep_periodic"]
@@ -157,3 +160,41 @@ def end_stiffness(scene, end: str = "b", *, static=None) -> np.ndarray:
     p = mech.params.values
     eq = solve_equilibrium(mech, p, starts=[Start(st.unknowns, np.zeros(0), p, "static solution")])
     return -output_sensitivity(mech, eq, f"end_force_{end}", f"end_{end}.position")
+
+
+def linearize(scene, *, undamped: bool = False, static=None) -> SceneLinearization:
+    """The exact linearisation of a scene's dynamics about its static state: K, C, M and the
+    kinematics G, H of its dynamics Mechanism (see :class:`SceneLinearization`), and the
+    exact end stiffness at each pinned end. From CasADi's derivatives of the same
+    expressions the solvers integrate (no finite differences).
+
+    Parameters
+    ----------
+    scene : Scene, dict or path; it must have a moving end or none (its motion is switched off)
+    undamped : bool
+        Current, excitation and the closure stabilisation off, as ``modal_analysis`` has
+        them (its frequencies are the undamped eigenvalues of the state matrix).
+    static : StaticSolution, optional
+    """
+    scene = load_scene(scene)
+    model = build_model(scene)
+    st = solve_static(scene, model=model) if static is None else static
+    dyn = build_dynamic_model(scene, static=st)
+    mech = dynamics_mechanism(dyn)
+    # at rest: the periodic parameters (no start-up ramp) with the end motion off
+    p = np.array(dyn.p_undamped if undamped else dyn.p_periodic, dtype=float)
+    for block in ("amp_a", "amp_b"):
+        p[dyn.p_slices[block]] = 0.0
+    F = _functions(mech)
+    q0, v0, z0 = np.zeros(mech.n_q), np.zeros(mech.n_v), np.zeros(0)
+    K, C, M, *_ = (np.asarray(a) for a in F.tangents(q0, v0, z0, 0.0, p))
+    H, G = (np.asarray(a) for a in F.kinematics_jacobian(q0, v0, z0, 0.0, p))
+    kinds = dyn.info["kinds"]
+    iq, iv = state_permutation(dyn)
+    ends = {}
+    for end in ("a", "b"):
+        cond = getattr(scene, f"end_{end}").condition
+        if str(getattr(cond, "value", cond)) == "pinned":
+            ends[end] = end_stiffness(scene, end, static=st)
+    return SceneLinearization(scene.name, K, C, M, G, H, tuple(kinds[int(k)] for k in iq),
+                              tuple(kinds[int(k)] for k in iv), ends, undamped)

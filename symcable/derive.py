@@ -174,6 +174,15 @@ class MechanismFunctions:
                            ["K", "C", "M", "B", "Kz", "Gv", "Gz"])
 
     @cached_property
+    def kinematics_jacobian(self) -> ca.Function:
+        """``(q, v, z, t, p) -> (H, G)``: H = d(q')/dq, G = d(q')/dv of the kinematics
+        q' = G(q) v + w (identity G and zero H without kinematics), sparse."""
+        m = self.mech
+        qd = self._qdot()
+        return ca.Function(f"{m.name}_kinematics_jacobian", self._args,
+                           [ca.jacobian(qd, m.q), ca.jacobian(qd, m.v)], self._names, ["H", "G"])
+
+    @cached_property
     def force_parameter_jacobian(self) -> ca.Function:
         """``(q, v, z, t, p) -> (df/dp, dg/dp)``, sparse."""
         m = self.mech

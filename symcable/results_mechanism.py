@@ -10,7 +10,8 @@ import numpy as np
 from .errors import SymcableError
 from .results import Exportable
 
-__all__ = ["Equilibrium", "Linearization", "MechanismModes", "MechanismTrajectory"]
+__all__ = ["Equilibrium", "Linearization", "MechanismModes", "MechanismTrajectory",
+           "SceneLinearization"]
 
 
 class _Outputs(Exportable):
@@ -143,3 +144,49 @@ class Linearization(Exportable):
     p: np.ndarray
     stats: dict = field(default_factory=dict)
 
+
+
+@dataclass(frozen=True)
+class SceneLinearization(Exportable):
+    """The exact linearisation of a scene's dynamics about its static state, as a first-order
+    system in the coordinates q and velocities v of its dynamics Mechanism:
+
+        dq/dt = H q + G v,        M dv/dt = -K q - C v        (+ excitation)
+
+    For the planar line, q are the segment strain and angle increments (1, rad) and v the
+    node velocities in the static node frames (m/s); ``q_kinds``/``v_kinds`` name each entry.
+
+    Attributes
+    ----------
+    scene_name : str
+    K : ndarray (n_v, n_q)   N per unit of q: -df/dq
+    C : ndarray (n_v, n_v)   N s/m: -df/dv (drag linearised about the current, if any)
+    M : ndarray (n_v, n_v)   kg (with added mass)
+    G : ndarray (n_q, n_v)   d(q')/dv, 1/m or 1/s per m/s
+    H : ndarray (n_q, n_q)   d(q')/dq, 1/s (the closure stabilisation, when on)
+    q_kinds, v_kinds : tuple of str
+    end_stiffness : dict  end ("a"/"b") -> (2, 2) N/m, -dF/dx of the force the line exerts
+        on that pinned end against its position, exact (statics)
+    undamped : bool  True when current, excitation and stabilisation were off (as in
+        ``modal_analysis``)
+    """
+
+    scene_name: str
+    K: np.ndarray
+    C: np.ndarray
+    M: np.ndarray
+    G: np.ndarray
+    H: np.ndarray
+    q_kinds: tuple
+    v_kinds: tuple
+    end_stiffness: dict
+    undamped: bool = False
+
+    def state_matrix(self) -> np.ndarray:
+        """A (n_q + n_v, n_q + n_v): d(q, v)/dt = A (q, v), 1/s."""
+        Minv = np.linalg.inv(self.M)
+        return np.block([[self.H, self.G], [-Minv @ self.K, -Minv @ self.C]])
+
+    def __repr__(self) -> str:
+        return (f"SceneLinearization({self.scene_name!r}, n_q={self.K.shape[1]}, "
+                f"n_v={self.K.shape[0]}, ends={sorted(self.end_stiffness)})")

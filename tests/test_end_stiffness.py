@@ -62,3 +62,24 @@ def test_end_stiffness_errors():
     d["end_b"] = {"condition": "free", "force": [-7e5, -5e5]}
     with pytest.raises(SymcableError, match="pinned"):
         end_stiffness(d, "b")
+
+
+def test_linearize_scene_gives_modal_frequencies_and_end_stiffness():
+    """sc.linearize: the undamped state matrix's eigenvalues are +-i omega at exactly the
+    frequencies modal_analysis reports (1e-8 relative: the same linearisation reached by two
+    routes, CasADi's tangents of the Mechanism here, the DynamicModel's Jacobian there; the
+    eigensolvers differ), plus zero eigenvalues for the closure invariants; the end
+    stiffness at the fairlead is end_stiffness's; with current the drag gives C > 0."""
+    from conftest import seed001
+
+    scene = sc.load_scene(seed001())
+    lin = sc.linearize(scene, undamped=True)
+    assert lin.K.shape == (lin.M.shape[0], lin.G.shape[0]) and set(lin.end_stiffness) == {"a", "b"}
+    ev = np.linalg.eigvals(lin.state_matrix())
+    omega = np.sort(np.abs(ev.imag[ev.imag > 1e-9]))
+    modes = sc.modal_analysis(scene, 6)
+    np.testing.assert_allclose(omega[:6] / (2 * np.pi), modes.frequencies, rtol=1e-8)
+    assert np.max(np.abs(ev.real)) < 1e-8 * np.max(np.abs(ev))  # undamped: on the axis
+    np.testing.assert_allclose(lin.end_stiffness["b"], end_stiffness(scene, "b"), rtol=1e-12)
+    damped = sc.linearize(scene)
+    assert np.all(np.diag(damped.C) > 0) and np.allclose(lin.C, 0.0)

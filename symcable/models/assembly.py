@@ -21,7 +21,7 @@ body (a constraint joint) arrives with the bodies.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Callable, Iterable, Sequence
 
 import casadi as ca

@@ -29,12 +29,10 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Callable, Iterable, Mapping
 
-import casadi as ca
 import numpy as np
 
 from ..errors import SymcableError
 
-Sym = "ca.SX | ca.MX"
 
 
 @dataclass(frozen=True)

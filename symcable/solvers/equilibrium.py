@@ -13,11 +13,11 @@ import numpy as np
 
 from ..derive import functions
 from ..errors import ConvergenceError, SymcableError
-from ..models.mechanism import Mechanism, Start
+from ..models.mechanism import Mechanism
 from ..results_mechanism import Equilibrium
 from .newton import newton
 
-__all__ = ["solve_equilibrium", "reduced_stiffness"]
+__all__ = ["constraint_null_space", "solve_equilibrium"]
 
 #: largest system whose stability is checked by a dense eigenvalue solve
 STABILITY_MAX_N = 3000
@@ -96,15 +96,13 @@ def _ptc(F, mech, x0, p, tol):
                            f"{PTC_MAX_STEPS} steps")
 
 
-def reduced_stiffness(K: np.ndarray, B: np.ndarray) -> np.ndarray:
-    """The symmetric part of K on the null space of the constraint Jacobian B."""
-    Ks = 0.5 * (K + K.T)
+def constraint_null_space(B: np.ndarray, n: int) -> np.ndarray:
+    """(n, k) orthonormal basis of the coordinates that keep the constraints, the null space
+    of the constraint Jacobian B (n_z, n); the identity without constraints."""
     if B.size == 0 or B.shape[0] == 0:
-        return Ks
+        return np.eye(n)
     _, sv, vt = np.linalg.svd(B)
-    rank = int(np.sum(sv > sv.max() * 1e-10)) if sv.size else 0
-    N = vt[rank:].T
-    return N.T @ Ks @ N
+    return vt[int(np.sum(sv > sv.max() * 1e-10)):].T
 
 
 def _unstable_direction(F, mech, q, z, p):
@@ -114,11 +112,8 @@ def _unstable_direction(F, mech, q, z, p):
     if mech.n_q > STABILITY_MAX_N or mech.mass.nnz() == 0:
         return None, None
     K, _, _, B, *_ = F.tangents(q, np.zeros(mech.n_v), z, 0.0, p)
-    K, B = np.asarray(K), np.asarray(B)
-    N = np.eye(mech.n_q)
-    if B.size and B.shape[0]:
-        _, sv, vt = np.linalg.svd(B)
-        N = vt[int(np.sum(sv > sv.max() * 1e-10)):].T
+    K = np.asarray(K)
+    N = constraint_null_space(np.asarray(B), mech.n_q)
     Kr = N.T @ (0.5 * (K + K.T)) @ N
     if Kr.size == 0:
         return float("inf"), np.zeros(mech.n_q)
@@ -267,8 +262,3 @@ def _result(F, mech, x, p, status, stats, warnings) -> Equilibrium:
     q, z = x[:mech.n_q], x[mech.n_q:]
     outs = F.evaluate_outputs(q, np.zeros(mech.n_v), z, 0.0, p)
     return Equilibrium(mech.name, q, z, p, outs, status, stats, tuple(warnings))
-
-
-def default_start(mech: Mechanism) -> Start:
-    """The first of the mechanism's starts."""
-    return next(iter(mech.starts()))

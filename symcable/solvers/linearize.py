@@ -21,7 +21,7 @@ from ..derive import functions
 from ..errors import SymcableError
 from ..models.mechanism import Mechanism
 from ..results_mechanism import Equilibrium, Linearization, MechanismModes
-from .equilibrium import reduced_stiffness  # noqa: F401  (re-exported for callers)
+from .equilibrium import constraint_null_space
 
 __all__ = ["linearize_mechanism", "mechanism_modes", "output_sensitivity"]
 
@@ -37,14 +37,6 @@ def linearize_mechanism(mech: Mechanism, eq: Equilibrium) -> Linearization:
                          eq.q, eq.z, eq.p, {"n_q": mech.n_q, "n_z": mech.n_z})
 
 
-def _null_space(B: np.ndarray, n: int) -> np.ndarray:
-    if B.size == 0 or B.shape[0] == 0:
-        return np.eye(n)
-    _, sv, vt = np.linalg.svd(B)
-    rank = int(np.sum(sv > sv.max() * 1e-10)) if sv.size else 0
-    return vt[rank:].T
-
-
 def mechanism_modes(mech: Mechanism, eq: Equilibrium, n_modes: int | None = None, *,
                     damped: bool = False) -> MechanismModes:
     """Natural modes about ``eq``: frequencies (Hz, ascending) and shapes in q.
@@ -55,7 +47,7 @@ def mechanism_modes(mech: Mechanism, eq: Equilibrium, n_modes: int | None = None
     """
     lin = linearize_mechanism(mech, eq)
     n = mech.n_q
-    N = _null_space(lin.B, n)
+    N = constraint_null_space(lin.B, n)
     k = N.shape[1]
     if k > DENSE_MAX_N:
         raise SymcableError(f"modal analysis: {k} free coordinates exceed the dense limit "

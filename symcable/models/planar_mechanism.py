@@ -50,7 +50,8 @@ from .dynamic import DynamicModel
 from .mechanism import Layout, Mechanism, Output, ParamBlocks, PartLayout, Scales, Start
 from .planar_dynamics import build_planar_dynamics
 
-__all__ = ["planar_dynamics_mechanism", "dynamics_mechanism", "state_permutation", "OUTPUT_UNITS"]
+__all__ = ["planar_dynamics_mechanism", "dynamics_mechanism", "mechanism_of", "state_permutation",
+           "OUTPUT_UNITS"]
 
 #: units of the DynamicModel's outputs
 OUTPUT_UNITS = {"fairlead_tension": "N", "anchor_tension": "N", "fairlead_force": "N",
@@ -78,6 +79,15 @@ def planar_dynamics_mechanism(scene: Scene, static) -> Mechanism:
     (a :class:`~symcable.results.StaticSolution` of the same scene), as a Mechanism (see the
     module docstring)."""
     return dynamics_mechanism(build_planar_dynamics(scene, static))
+
+
+def mechanism_of(model: DynamicModel) -> Mechanism:
+    """:func:`dynamics_mechanism` of ``model``, built once per DynamicModel and kept with it,
+    so that the Functions derived from it (and their compiled code) are derived once."""
+    mech = model._cache.get("mechanism")
+    if mech is None:
+        mech = model._cache["mechanism"] = dynamics_mechanism(model)
+    return mech
 
 
 def dynamics_mechanism(model: DynamicModel) -> Mechanism:

@@ -19,7 +19,7 @@ from .results_periodic import PeriodicSolution, PeriodicSweep
 from .results_time import Trajectory
 from .scene import Scene, load_scene
 from .solvers.modal import ModalSolution
-from .solvers.static import solve_static
+from .planar_static import solve_static
 from .models.assembly import Prescribed, Shared, assemble
 from .models.mechanism import Mechanism, Output, ParamBlocks, PartLayout, Layout, Scales, Start
 from .models import toys

@@ -31,7 +31,7 @@ from .solvers.linearize import output_sensitivity
 from .derive import functions as _functions
 from .models.planar_mechanism import dynamics_mechanism, state_permutation
 from .results_mechanism import SceneLinearization
-from .solvers.static import solve_static
+from .planar_static import solve_static
 
 __all__ = ["build_dynamic_model", "modal_analysis", "simulate", "solve_periodic", "sweep_periodic"]
 

@@ -38,7 +38,7 @@ def _scene_summary(scene, model) -> str:
 
 
 def _static(scene_path, args) -> int:
-    from .solvers.static import solve_static
+    from .planar_static import solve_static
     from .scene import load_scene
 
     scene = load_scene(scene_path)
@@ -71,7 +71,7 @@ def _check(args) -> int:
     # a moving scene: its dynamics are linearised about the static state, so whether they
     # can run is only known from that state (a line resting on the seabed cannot yet)
     from .models.planar_dynamics import dynamics_refusal
-    from .solvers.static import solve_static
+    from .planar_static import solve_static
 
     static = solve_static(scene, codegen=False)
     refusal = dynamics_refusal(scene, static)

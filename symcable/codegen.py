@@ -38,11 +38,12 @@ from pathlib import Path
 from typing import Sequence
 
 import casadi as ca
+import numpy as np
 
 from .errors import SymcableError
 from .progress import notice
 
-__all__ = ["CodegenWarning", "cache_dir", "cache_info", "clear_cache", "compile_functions",
+__all__ = ["CodegenWarning", "FastCall", "cache_dir", "cache_info", "clear_cache", "compile_functions",
            "compiler", "export_sources", "graph_size", "use_codegen", "DEFAULT_MAX_SIZE", "FLAGS"]
 
 #: compiler flags of cached libraries (part of the cache key). -O2: on the generated step
@@ -142,6 +143,41 @@ def use_codegen(codegen: bool | None, functions=None) -> bool:
                           "machine instead (same results, slower)", CodegenWarning, stacklevel=3)
         return False
     return codegen
+
+
+# --------------------------------------------------------------------------- calling
+
+class FastCall:
+    """Call a Function with dense inputs and outputs through CasADi's buffer interface:
+    NumPy arrays in, NumPy arrays out, no conversion to DM (about 40 us less per call).
+
+    ``f(*args) -> tuple of ndarray (flat, in the output's column-major order)``; an input
+    given with a divisor of its length (a mapped Function's input given for one instance)
+    is repeated. Raises RuntimeError when the evaluation fails, as a Function call does.
+    Works on a virtual-machine Function and on a loaded library's alike.
+    """
+
+    def __init__(self, fn: ca.Function):
+        self.fn = fn
+        self._buf, self._eval = fn.buffer()
+        self._in = [np.zeros(fn.nnz_in(i)) for i in range(fn.n_in())]
+        self._out = [np.zeros(fn.nnz_out(i)) for i in range(fn.n_out())]
+        for i, a in enumerate(self._in):
+            self._buf.set_arg(i, memoryview(a))
+        for i, a in enumerate(self._out):
+            self._buf.set_res(i, memoryview(a))
+
+    def __call__(self, *args) -> tuple:
+        for a, v in zip(self._in, args):
+            v = np.ravel(v) if np.ndim(v) else v
+            if np.ndim(v) and v.size != a.size and v.size and a.size % v.size == 0:
+                a.reshape(-1, v.size)[...] = v  # a mapped input given once: repeated
+            else:
+                a[...] = v
+        self._eval()
+        if self._buf.ret() != 0:
+            raise RuntimeError(f"evaluation of {self.fn.name()} failed")
+        return tuple(o.copy() for o in self._out)
 
 
 # --------------------------------------------------------------------------- building

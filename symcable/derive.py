@@ -8,7 +8,9 @@ Every generic solver reads a Mechanism through these CasADi Functions only:
   the time integrators build their steps;
 - the DAE residual ``F(y', y, t; p)`` with ``y = (q, v, z)``;
 - the tangent matrices ``K = -df/dq``, ``C = -df/dv``, ``M``, ``B = dg/dq``, ``-df/dz``;
-- the named outputs, flattened into one vector (see :meth:`MechanismFunctions.unpack`).
+- the named outputs, flattened into one vector (see :meth:`MechanismFunctions.unpack`);
+- the fused static Newton solve, in the virtual machine or generated C
+  (:meth:`MechanismFunctions.static_solver`, built by :mod:`symcable.derive_static`).
 
 Functions are built lazily, once per Mechanism, and kept by :data:`FUNCTIONS`, an explicit
 cache object (a weak mapping: a Mechanism that is no longer used frees its Functions).
@@ -21,6 +23,8 @@ from functools import cached_property
 import casadi as ca
 import numpy as np
 
+from .derive_static import StaticSolver, static_solver
+from .linalg.sparse import sparse_solve
 from .models.mechanism import Mechanism
 
 __all__ = ["FUNCTIONS", "FunctionCache", "MechanismFunctions", "functions"]
@@ -75,13 +79,21 @@ class MechanismFunctions:
 
     @cached_property
     def static_step(self) -> ca.Function:
-        """``static_step(x, p) -> (r, dx)``, the full Newton step dx = -J^-1 r (sparse QR)."""
+        """``static_step(x, p) -> (r, dx)``, the full Newton step dx = -J^-1 r (sparse QR,
+        dense rows split off: :func:`symcable.linalg.sparse.sparse_solve`)."""
         m = self.mech
         x = ca.MX.sym("x", m.n_q + m.n_z)
         p = ca.MX.sym("p", m.params.n)
         r, J = self.static_jacobian(x, p)
-        dx = -ca.solve(J, r, "qr")
+        dx = -sparse_solve(J, r, "qr")
         return ca.Function(f"{m.name}_static_step", [x, p], [r, dx], ["x", "p"], ["r", "dx"])
+
+    def static_solver(self, codegen: bool | None = False) -> StaticSolver:
+        """The fused static Newton solve and its companions (residual, sparse-QR step,
+        outputs at rest), as a :class:`~symcable.derive_static.StaticSolver`: the virtual
+        machine's, or generated C when ``codegen`` resolves to True
+        (:func:`symcable.derive_static.static_solver`); each built once."""
+        return static_solver(self, codegen)
 
     @cached_property
     def static_ptc_step(self) -> ca.Function:
@@ -216,11 +228,21 @@ class MechanismFunctions:
             i += n
         return out
 
+    @cached_property
+    def _unpack_plan(self) -> list:
+        """(name, start, stop, rows, cols) of each output in the stacked vector."""
+        return [(name, sl.start, sl.stop, *self._out_shapes[name])
+                for name, sl in self.output_slices().items()]
+
     def unpack(self, y) -> dict:
         """Split a stacked output vector (n_y,) into named arrays of the outputs' shapes; an
         (n_y, k) batch (columns = samples) gives arrays with a leading sample axis. Column
         vector outputs come back 1-D (per sample)."""
         y = np.asarray(y, dtype=float)
+        if y.ndim == 1:  # one sample: views of y, column-major blocks
+            return {name: y[a:b].reshape(cols, rows).T if cols != 1 else
+                    (y[a] if rows == 1 else y[a:b])
+                    for name, a, b, rows, cols in self._unpack_plan}
         batch = y.ndim == 2
         if not batch:
             y = y.reshape(-1, 1)

@@ -9,13 +9,15 @@ from __future__ import annotations
 from pathlib import Path
 
 import casadi as ca
+import numpy as np
 
 from .api import build_dynamic_model
 from .codegen import export_sources
 from .errors import SymcableError
-from .functions import static_functions
+from .derive import functions
 from .models import build_model
-from .solvers.static import solve_static
+from .models.static_mechanism import static_mechanism
+from .planar_static import solve_static
 from .solvers.stepping import step_function
 
 __all__ = ["export_scene"]
@@ -87,6 +89,30 @@ def _c_array(name: str, values) -> str:
     return f"static const casadi_real {name}[] = {{{vals}}};\n"
 
 
+def _static_functions(mech) -> list:
+    """The static residual, Jacobian, fused solve and outputs of ``mech`` under the names of
+    the exported C (``static_residual(w, p)``, ``static_jacobian``, ``static_solve(w0, p,
+    tol)``, ``static_outputs``): each a thin wrapper of the Mechanism's Function."""
+    F = functions(mech)
+    S = F.static_solver(codegen=False)
+    out = []
+    for name, fn, ins, outs in (
+            ("static_residual", S.residual, ["w", "p"], ["r"]),
+            ("static_jacobian", F.static_jacobian, ["w", "p"], ["r", "J"]),
+            ("static_solve", S.solve, ["w0", "p", "tol"],
+             ["w", "iterations", "residual_norm", "outputs"]),
+):
+        args = [ca.MX.sym(k, fn.sparsity_in(i)) for i, k in enumerate(ins)]
+        out.append(ca.Function(name, args, fn.call(args), ins, outs))
+    # every output by its name, at rest (v = 0, t = 0)
+    names = list(mech.outputs)
+    exprs = ca.substitute([mech.outputs[k].expr for k in names], [mech.v, mech.t],
+                          [ca.DM.zeros(mech.n_v), ca.DM(0.0)])
+    out.append(ca.Function("static_outputs", [ca.vertcat(mech.q, mech.z), mech.p], exprs,
+                           ["w", "p"], names))
+    return out
+
+
 def export_scene(scene, folder, stem: str = "symcable_scene") -> list:
     """Standalone C for ``scene`` (``symcable codegen``): ``<stem>.c``/``.h`` with the static
     residual, Jacobian and solve, and (when the scene moves and hangs free of the seabed) the
@@ -94,10 +120,10 @@ def export_scene(scene, folder, stem: str = "symcable_scene") -> list:
     values, start and scales; ``main.c`` calling them; ``README.md``. Returns the paths."""
     folder = Path(folder)
     model = build_model(scene)
-    st = static_functions(model, codegen=False)
     sol = solve_static(scene, model=model, codegen=False)
-    start = model._cache["first_guess"].w
-    funcs = [st.residual, st.jacobian, st.solve, st.outputs]
+    mech = static_mechanism(model)
+    start = np.asarray(next(iter(mech.starts())).q, dtype=float)
+    funcs = _static_functions(mech)
     dyn, why_not = None, ""
     if any(e.motion is not None for e in (scene.end_a, scene.end_b)):
         try:
@@ -108,7 +134,7 @@ def export_scene(scene, folder, stem: str = "symcable_scene") -> list:
         why_not = "the scene prescribes no end motion"
     data = [f"/* {scene.name}: parameter values for {stem}.c (SI units) */\n",
             "#ifndef casadi_real\n#define casadi_real double\n#endif\n",
-            f"#define N_W {model.n_w}\n#define N_OUT {st.solve.nnz_out(3)}\n",
+            f"#define N_W {model.n_w}\n#define N_OUT {funcs[2].nnz_out(3)}\n",
             f"#define STATIC_TOL {sol.stats['tolerance']!r}\n",
             _c_array("W_START", start), _c_array("P_STATIC", model.p_target)]
     if dyn is not None:
@@ -135,7 +161,7 @@ def export_scene(scene, folder, stem: str = "symcable_scene") -> list:
     lines += ["", "- `static_*`: w holds node positions (m), segment angles (rad) and strains; "
               "p the scene parameters (`P_STATIC`); residual rows in N. `static_solve` runs up to "
               "12 Newton steps and packs every output (see symcable's "
-              "`StaticFunctions.unpack`).",
+              "`MechanismFunctions.unpack`).",
               "- `static_jacobian`: J is sparse (column-compressed; its pattern is given by "
               "`static_jacobian_sparsity_out(1)`)."]
     if dyn is not None:

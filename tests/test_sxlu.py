@@ -10,7 +10,8 @@ import numpy as np
 import pytest
 
 import symcable as sc
-from symcable.functions import static_functions
+from symcable.derive import functions
+from symcable.models.static_mechanism import static_mechanism
 from symcable.linalg.sxlu import BlockLU, block_lu_check, block_matching, block_plan
 from symcable.solvers.stepping import ga_residual_function
 
@@ -55,7 +56,8 @@ def test_static_jacobian_needs_and_gets_a_matched_block_order():
     d = copy.deepcopy(OC3)
     d["sections"][0]["segments"] = 12
     model = sc.build_model(sc.load_scene(d))
-    J = static_functions(model).jacobian(next(iter(model.initial_guess())).w, model.p_target)[1]
+    J = functions(static_mechanism(model)).static_jacobian(
+        next(iter(model.initial_guess())).w, model.p_target)[1]
     plan = block_plan(J.sparsity())
     # node balances do not involve node positions: the natural diagonal blocks are singular,
     # and the order pairs each balance with a segment, each compatibility with a node
@@ -76,7 +78,8 @@ def test_order_depends_on_the_pattern_alone():
     plans = []
     for d in (a, b):
         model = sc.build_model(sc.load_scene(d))
-        J = static_functions(model).jacobian(next(iter(model.initial_guess())).w, model.p_target)[1]
+        J = functions(static_mechanism(model)).static_jacobian(
+            next(iter(model.initial_guess())).w, model.p_target)[1]
         plans.append(block_plan(J.sparsity()))
     assert plans[0][0] == plans[1][0] and np.array_equal(plans[0][1], plans[1][1])
 

@@ -33,7 +33,8 @@ from pathlib import Path
 import numpy as np
 
 import symcable as sc
-from symcable.functions import static_functions
+from symcable.derive import functions
+from symcable.models.static_mechanism import static_mechanism
 
 HERE = Path(__file__).resolve().parent
 
@@ -77,7 +78,8 @@ def statics(repeats: int) -> dict:
     t0 = time.perf_counter()
     g = next(iter(model.initial_guess()))
     start = time.perf_counter() - t0
-    vm, c = static_functions(model, False), static_functions(model, True)
+    F = functions(static_mechanism(model))  # the statics Mechanism's fused Newton solve
+    vm, c = F.static_solver(False), F.static_solver(True)
     sc.solve_static(scene, model=model, codegen=True)
     tol = sc.solve_static(scene, model=model, codegen=False).stats["tolerance"]
     a, b = scene.end_a.position, scene.end_b.position

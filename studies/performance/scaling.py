@@ -8,7 +8,8 @@ Every N runs in a fresh process (so peak memory is that run's alone, ``ru_maxrss
 fresh build cache, in two parts:
 
 * ``static``: the OC3 line (seabed contact) with N segments: ``build_model`` (symbolic
-  build), ``static_functions`` (the Functions: Jacobian, Newton step, fused solve),
+  build), the statics Mechanism's static solver (``static_mechanism`` and
+  ``functions(mech).static_solver``: the Functions: Jacobian, Newton step, fused solve),
   generated C when the default (``codegen=None``) compiles it (compile time), the first
   ``solve_static`` on the built model and a second one (solve time), and the fairlead
   tension;
@@ -61,8 +62,8 @@ def _peak_mb() -> float:
 def run_static(n: int) -> dict:
     """One process: the static stages of the OC3 line with n segments."""
     import symcable as sc
-    from symcable import codegen
-    from symcable.functions import static_functions
+    from symcable.derive import functions as derived
+    from symcable.models.static_mechanism import static_mechanism
 
     clock = time.perf_counter
     scene = _scene("oc3", n)
@@ -70,11 +71,12 @@ def run_static(n: int) -> dict:
     model = sc.build_model(scene)
     build = clock() - t
     t = clock()
-    vm = static_functions(model, False)
+    F = derived(static_mechanism(model))
+    F.static_solver(False)
     functions = clock() - t
-    compiled = codegen.use_codegen(None, [vm.residual, vm.step, vm.solve, vm.outputs])
     t = clock()
-    fns = static_functions(model, None)
+    fns = F.static_solver(None)
+    compiled = fns.compiled
     compile_s = clock() - t if compiled else 0.0
     t = clock()
     sol = sc.solve_static(scene, model=model)
@@ -91,7 +93,7 @@ def run_static(n: int) -> dict:
 
 
 def _uses_sxlu(model) -> bool:
-    from symcable.functions import SXLU_MAX_UNKNOWNS
+    from symcable.derive_static import SXLU_MAX_UNKNOWNS
     return model.n_w <= SXLU_MAX_UNKNOWNS
 
 

@@ -27,6 +27,7 @@ Prescribed coordinates are not unknowns: they enter ``f`` and the outputs as fun
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import cached_property
 from typing import Callable, Iterable, Mapping
 
 import numpy as np
@@ -127,6 +128,10 @@ class Scales:
     g : ndarray (n_z,) or None
         Typical magnitude of each constraint row, in its own unit: a time step is converged
         when |g_i| <= tol g_i (default: the median coordinate scale).
+    merit : ndarray (n_q + n_z,) or None
+        Row weights D of the static line search's merit 0.5 |D R|^2 (default ones): for
+        residual rows whose units differ in meaning (the planar statics' geometric rows
+        against its force balances). Any weighting keeps the Newton step a descent direction.
     """
 
     q: np.ndarray
@@ -136,6 +141,7 @@ class Scales:
     mass: float = 1.0
     residual_floor: float = 0.0
     g: np.ndarray | None = None
+    merit: np.ndarray | None = None
 
     def g_scale(self) -> np.ndarray:
         """``g``, or the median of ``q`` for every constraint row."""
@@ -258,16 +264,19 @@ class Mechanism:
             if np.asarray(arr).shape != (n,):
                 raise SymcableError(f"mechanism {self.name!r}: scales.{what} has shape "
                                     f"{np.asarray(arr).shape}, expected ({n},)")
+        if self.scales.merit is not None and np.shape(self.scales.merit) != (n_q + n_z,):
+            raise SymcableError(f"mechanism {self.name!r}: scales.merit has shape "
+                                f"{np.shape(self.scales.merit)}, expected ({n_q + n_z},)")
 
-    @property
+    @cached_property
     def n_q(self) -> int:
         return int(self.q.numel())
 
-    @property
+    @cached_property
     def n_v(self) -> int:
         return int(self.v.numel())
 
-    @property
+    @cached_property
     def n_z(self) -> int:
         return int(self.z.numel())
 

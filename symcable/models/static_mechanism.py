@@ -23,11 +23,24 @@ PLANAR_BLOCKS = (("load", 1), ("bending", 1), ("end_a.position", 2), ("end_b.pos
 
 
 def static_mechanism(model: Model) -> Mechanism:
-    """The static Model ``model`` as a massless Mechanism (see the module docstring).
+    """The static Model ``model`` as a massless Mechanism (see the module docstring), built
+    once per model (kept in the model's cache, so its derived Functions are too).
 
-    Outputs keep the model's names (``end_force_b``: (1, 2) N, the force the line exerts on
-    its end B, ...), with units where the planar model documents them.
+    ``q`` is the model's ``w`` in its own order (node and segment unknowns interleaved: the
+    banded order the block LU of the fused static solve was tuned on). Outputs keep the
+    model's names (``end_force_b``: (1, 2) N, the force the line exerts on its end B, ...),
+    with units where the planar model documents them. ``starts()`` gives the model's initial
+    guesses as Starts, each computed once (the closed-form catenary first), with the model's
+    homotopy (``"bending"``, ``"load"``: the parameter block its ``p`` sets to zero); the
+    line-search merit weights are the model's.
     """
+    mech = model._cache.get("static_mechanism")
+    if mech is None:
+        mech = model._cache["static_mechanism"] = _build(model)
+    return mech
+
+
+def _build(model: Model) -> Mechanism:
     n = model.n_w
     names = tuple(b for b, _ in PLANAR_BLOCKS)
     sizes = tuple(s for _, s in PLANAR_BLOCKS)
@@ -44,10 +57,11 @@ def static_mechanism(model: Model) -> Mechanism:
              "end_force_b": "N", "contact_force": "N"}
     outputs = {k: Output(e, units.get(k, ""), "line") for k, e in model.outputs.items()}
 
-    def starts():
-        for g in model.initial_guess():
-            yield Start(np.asarray(g.w, float), np.zeros(0), np.asarray(g.p, float), g.source,
-                        _BLOCK_OF.get(g.homotopy, g.homotopy))
+    def convert(g):
+        return Start(np.asarray(g.w, float), np.zeros(0), np.asarray(g.p, float), g.source,
+                     _BLOCK_OF.get(g.homotopy, g.homotopy))
+
+    starts = _Memo(model.initial_guess, convert)
 
     s_nodes = np.asarray(model.info.get("s_nodes", np.zeros(0)), dtype=float)
     layout = Layout(2, {"line": PartLayout("line", s_nodes,
@@ -58,8 +72,39 @@ def static_mechanism(model: Model) -> Mechanism:
                      constraint=ca.SX.zeros(0, 1),
                      scales=Scales(q=np.asarray(model.w_scale, float), v=np.ones(n),
                                    z=np.zeros(0), force=model.force_scale,
-                                   residual_floor=model.residual_floor),
+                                   residual_floor=model.residual_floor,
+                                   merit=np.asarray(model.merit_weights, float)),
                      starts=starts, outputs=outputs, layout=layout, terms=model.terms)
 
 
 _BLOCK_OF = {"load": "load", "bending": "bending"}
+
+
+class _Memo:
+    """``starts()``: the starts of a lazy generator, each built once and then replayed (the
+    first, a closed-form catenary, is asked for at every solve; the others only when it
+    fails)."""
+
+    def __init__(self, make, convert):
+        self._make, self._convert = make, convert
+        self._done: list = []
+        self._source = None
+        self._exhausted = False
+
+    def __call__(self):
+        i = 0
+        while True:
+            if i < len(self._done):
+                yield self._done[i]
+                i += 1
+                continue
+            if self._exhausted:
+                return
+            if self._source is None:
+                self._source = iter(self._make())
+            try:
+                g = next(self._source)
+            except StopIteration:
+                self._exhausted = True
+                return
+            self._done.append(self._convert(g))

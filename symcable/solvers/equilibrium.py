@@ -1,21 +1,25 @@
 """Static equilibrium of any Mechanism: Newton on R(q, z; p) = (f(q, 0, z, 0), g) with its
-exact sparse Jacobian, a backtracking line search, and continuation in a named parameter
-block. Every answer is checked afterwards, in floating point and independently of how it was
-found: the residual of the equations, finiteness, and the stability of the equilibrium (the
-tangent stiffness reduced to the constraints' null space). A failed check is never called
-converged.
+exact sparse Jacobian. From each start, in order of cost: plain Newton fused into one call
+(:mod:`symcable.derive_static`, generated C where it pays), then Newton with a backtracking
+line search; then, from the starts tried, continuation from a start's own parameters to the
+target, continuation in a named parameter block, and pseudo-transient continuation. Every
+answer is checked afterwards, in floating point and independently of how it was found: the
+residual of the equations, finiteness, and the stability of the equilibrium (the tangent
+stiffness reduced to the constraints' null space). A failed check is never called converged.
 """
 from __future__ import annotations
 
 import time
+from types import SimpleNamespace
 
 import numpy as np
 
 from ..derive import functions
+from ..derive_static import SOLVE_MAX_ITER
 from ..errors import ConvergenceError, SymcableError
 from ..models.mechanism import Mechanism
 from ..results_mechanism import Equilibrium
-from .newton import newton
+from .newton import NewtonResult, newton
 
 __all__ = ["constraint_null_space", "solve_equilibrium"]
 
@@ -23,31 +27,52 @@ __all__ = ["constraint_null_space", "solve_equilibrium"]
 STABILITY_MAX_N = 3000
 
 
-def _newton(F, x0, p, tol, max_iter, x_scale):
-    def step(x, pp):
-        r, dx = F.static_step(x, pp)
-        return np.asarray(r).ravel(), np.asarray(dx).ravel()
-    return newton(step, x0, p, tol=tol, max_iter=max_iter, x_scale=x_scale)
+def _fused(S, x0, p, tol, max_iter):
+    """Plain Newton (at most SOLVE_MAX_ITER steps) in one call of the fused solve: the result
+    and the packed outputs at its last iterate (None when the call failed)."""
+    try:
+        x, its, nr, packed = S.fast("solve")(x0, p, tol)
+    except RuntimeError as exc:  # the VM's QR refuses a singular Jacobian
+        return NewtonResult(np.array(x0, dtype=float), False, 0, float("nan"),
+                            f"plain Newton failed ({exc})"), None
+    its, nr = int(its[0]), float(nr[0])
+    if not np.isfinite(x).all():  # (a max-norm of NaNs can come out as 0)
+        return NewtonResult(x, False, its, float("nan"),
+                            f"plain Newton failed (iterate not finite after {its} steps)"), None
+    ok = bool(np.isfinite(nr) and nr <= tol and its <= min(max_iter, SOLVE_MAX_ITER))
+    msg = "converged" if ok else f"plain Newton failed (residual {nr:.3g} N after {its} steps)"
+    return NewtonResult(x, ok, its, nr, msg), packed
 
 
-def _continuation(F, x0, p0, p1, tol, max_iter, x_scale, min_step=1e-4):
-    """Newton along p(s) = p0 + s (p1 - p0), s from 0 to 1, adaptive steps."""
-    s, ds, x, iters, steps = 0.0, 1.0, np.array(x0, float), 0, 0
-    while s < 1.0:
-        s_try = min(1.0, s + ds)
-        res = _newton(F, x, p0 + s_try * (p1 - p0), tol, max_iter, x_scale)
+def _continuation(step, x0, p0, p1, opts, polish: bool, dt0: float, dt_max: float,
+                  min_step: float = 1e-4):
+    """Damped Newton along p(t) = p0 + t (p1 - p0), t from 0 to 1, in adaptive steps (doubled
+    after a success up to ``dt_max``, halved after a failure) with a secant predictor. With
+    ``polish`` the start is first solved at p0 (it is only close to an equilibrium there).
+    Returns (result, accepted steps, Newton iterations)."""
+    t, dt, x, prev, iters, steps = 0.0, dt0, np.array(x0, dtype=float), None, 0, 0
+    res = None
+    if polish:
+        res = newton(step, x, p0, **opts)
+        iters += res.iterations
+        if not res.converged:
+            return res, 0, iters
+        x = res.x
+    while t < 1.0:
+        t_new = min(1.0, t + dt)
+        pred = x if prev is None else x + (x - prev[1]) * (t_new - t) / (t - prev[0])
+        res = newton(step, pred, p0 + t_new * (p1 - p0), **opts)
         iters += res.iterations
         if res.converged:
-            s, x, steps = s_try, res.x, steps + 1
-            ds = min(2 * ds, 1.0)
+            prev, x, t = (t, x), res.x, t_new
+            steps += 1
+            dt = min(2.0 * dt, dt_max)
         else:
-            ds /= 2
-            if ds < min_step:
-                res.message = f"continuation stalled at s = {s:.4g} ({res.message})"
-                res.iterations = iters
-                return res, steps
-    res.iterations = iters
-    return res, steps
+            dt *= 0.5
+            if dt < min_step:
+                res.message = f"continuation stalled at {t:.4g} of the way ({res.message})"
+                return res, steps, iters
+    return res, steps, iters
 
 
 #: pseudo-transient continuation: most steps, the first pseudo-time step, when it counts as
@@ -65,8 +90,6 @@ def _ptc(F, mech, x0, p, tol):
     cut by 4 when the residual jumps: not switched evolution relaxation, whose step shrinks
     while the residual grows, as it does for a while along a buckling path (measured: SER
     stalled on compressed chains under gravity at steps of 3e-5 m)."""
-    from types import SimpleNamespace
-
     D = mech.scales.force / np.concatenate([mech.scales.q, np.ones(mech.n_z)])
     if mech.n_z:
         D[mech.n_q:] = 0.0  # constraint rows are not relaxed: they hold at every step
@@ -159,9 +182,16 @@ def _ptc_stable(F, mech, x0, p, tol):
 
 
 def solve_equilibrium(mech: Mechanism, p=None, *, tol: float | None = None,
-                      max_iter: int = 50, starts=None, continuation: str | None = None,
-                      require_stable: bool = True) -> Equilibrium:
+                      max_iter: int = 50, starts=None, continuation: str | bool | None = None,
+                      require_stable: bool = True, codegen: bool | None = None) -> Equilibrium:
     """The static equilibrium of ``mech``.
+
+    Attempts, until one passes the checks: from each start in turn, plain Newton fused into
+    one call (``"newton"``) and Newton with a line search (``"damped newton"``), both at
+    ``p``; then from the starts tried, continuation from a start's own parameters when they
+    differ from ``p`` (``"continuation in <its homotopy>"``), in the block ``continuation``
+    when one is named, and pseudo-transient continuation (``"pseudo-transient
+    continuation"``, from starts at ``p``).
 
     Parameters
     ----------
@@ -172,80 +202,149 @@ def solve_equilibrium(mech: Mechanism, p=None, *, tol: float | None = None,
         N, converged when max |R| <= tol (constraint rows are scaled to forces by
         ``scales.force / q_ref``); default max(1e-9 force scale, 10 x the residual floor).
     max_iter : int
-        Newton iterations per attempt (per continuation step).
+        Newton iterations per attempt (per continuation step); the fused plain Newton takes
+        at most min(max_iter, SOLVE_MAX_ITER).
     starts : iterable of Start, optional
-        Default ``mech.starts()``.
-    continuation : str, optional
-        A parameter block to continue in when a start fails directly: from the block at
-        zero (e.g. ``"load"``) to its target value.
+        Default ``mech.starts()`` (consumed lazily: a start is built only when the ones
+        before it have failed their Newton attempts).
+    continuation : str, bool or None
+        None or True: the continuations above; a parameter block name (e.g. ``"load"``): also
+        continuation from that block at zero to its value in ``p``; False: none, Newton from
+        each start only.
     require_stable : bool
         An unstable equilibrium (negative reduced stiffness) is a failed attempt; with False
         it is returned with ``stats["stable"] = False`` and a warning.
+    codegen : bool or None
+        Run the fused Newton, the residual check and the line-search steps in generated C
+        (see :func:`symcable.derive_static.static_solver`; None: where it pays, when a
+        compiler is found). The answer agrees with the virtual machine's to round-off.
+
+    Returns
+    -------
+    Equilibrium
+        ``stats``: ``iterations`` (Newton iterations of every attempt, failed ones included),
+        ``residual_norm`` (N, recomputed by the check), ``tolerance`` (N), ``path``,
+        ``start`` (its source), ``continuation_steps``, ``attempts``, ``stable``,
+        ``min_stiffness``, ``compiled``, ``wall_time`` (s).
 
     Raises
     ------
     ConvergenceError
         No start led to an equilibrium that passes the checks; ``diagnostics["attempts"]``
-        has one line per attempt and ``partial`` the best iterate.
+        has one line per attempt, ``diagnostics["best"]`` the path, start, message and
+        residual of the attempt with the lowest residual, and ``partial`` its iterate.
+    SymcableError
+        ``p`` of the wrong size, an unknown ``continuation`` block, a bad ``codegen``.
     """
+    t0 = time.perf_counter()
     F = functions(mech)
     p = mech.static_p if p is None else np.asarray(p, dtype=float).ravel()
     if p.size != mech.params.n:
         raise SymcableError(f"p has {p.size} entries, the mechanism {mech.name!r} {mech.params.n}")
+    if continuation is True:
+        continuation = None
+    if isinstance(continuation, str):
+        mech.params.slice(continuation)  # an unknown block is refused before any work
+    elif continuation not in (None, False):
+        raise SymcableError(f"continuation = {continuation!r}: must be a parameter block name "
+                            f"({', '.join(mech.params.names) or 'none'}), True, False or None")
+    S = F.static_solver(codegen)
     if tol is None:
         tol = max(1e-9 * mech.scales.force, 10 * mech.scales.residual_floor)
     x_scale = np.concatenate([mech.scales.q, mech.scales.z * 1e3]) if mech.n_z else mech.scales.q
-    t0 = time.perf_counter()
-    attempts, best = [], None
-    for start in (mech.starts() if starts is None else starts):
-        x0 = np.concatenate([np.asarray(start.q, float), np.asarray(start.z, float)])
-        paths = []
-        if np.allclose(start.p, p):
-            paths.append(("newton", None))
-        else:
-            paths.append((f"continuation in {start.homotopy or 'parameters'}", np.asarray(start.p, float)))
-        if continuation:
-            p0 = p.copy()
-            p0[mech.params.slice(continuation)] = 0.0
-            paths.append((f"continuation in {continuation}", p0))
-        paths.append(("pseudo-transient continuation", "ptc"))
-        for path, p_from in paths:
-            if p_from is None:
-                res, steps = _newton(F, x0, p, tol, max_iter, x_scale), 0
-            elif isinstance(p_from, str):
-                if not np.allclose(start.p, p):
-                    continue
-                res, steps = _ptc_stable(F, mech, x0, p, tol), 0
-            else:
-                res, steps = _continuation(F, x0, p_from, p, tol, max_iter, x_scale)
-            ok, why, info = _check(F, mech, res.x, p, tol, require_stable) if res.converged \
-                else (False, res.message, {})
-            attempts.append(f"{start.source} / {path}: {'ok' if ok else why}")
-            if best is None or (np.isfinite(res.residual_norm)
-                                and res.residual_norm < best[0].residual_norm):
-                best = (res, start, path, info)
-            if ok:
-                return _result(F, mech, res.x, p, "converged", {
-                    "iterations": res.iterations, "residual_norm": info["residual_norm"],
-                    "tolerance": tol, "path": path, "start": start.source,
-                    "continuation_steps": steps, "attempts": attempts,
-                    "stable": info["stable"], "min_stiffness": info["min_stiffness"],
-                    "wall_time": time.perf_counter() - t0}, info.get("warnings", ()))
-    partial = None
-    if best is not None and np.all(np.isfinite(best[0].x)):
-        partial = _result(F, mech, best[0].x, p, "failed", {"attempts": attempts}, ())
+    opts = dict(tol=tol, max_iter=max_iter, x_scale=x_scale, merit_weights=mech.scales.merit)
+    step = S.fast("step")
+    run = SimpleNamespace(attempts=[], best=None, iterations=0)
+    for start, path, attempt in _attempts(F, S, mech, p, tol, max_iter, opts, step,
+                                          mech.starts() if starts is None else starts,
+                                          continuation):
+        res, steps, packed = attempt()
+        run.iterations += res.iterations
+        ok, why, info = _check(S, F, mech, res.x, p, tol, require_stable) if res.converged \
+            else (False, res.message, {})
+        run.attempts.append(f"{start.source} / {path}: {'ok' if ok else why}")
+        if run.best is None or (np.isfinite(res.residual_norm) and np.isfinite(res.x).all()
+                                and not res.residual_norm >= run.best[0].residual_norm):
+            run.best = (res, start, path, why)
+        if ok:
+            return _result(F, S, mech, res.x, p, "converged", {
+                "iterations": run.iterations, "residual_norm": info["residual_norm"],
+                "tolerance": tol, "path": path, "start": start.source,
+                "continuation_steps": steps, "attempts": run.attempts,
+                "stable": info["stable"], "min_stiffness": info["min_stiffness"],
+                "compiled": S.compiled, "wall_time": time.perf_counter() - t0},
+                info.get("warnings", ()), packed)
+    partial, best = None, {}
+    if run.best is not None:
+        res, start, path, why = run.best
+        best = {"path": path, "start": start.source, "message": why,
+                "residual_norm": res.residual_norm}
+        if np.all(np.isfinite(res.x)):
+            partial = _result(F, S, mech, res.x, p, "failed", {
+                "iterations": run.iterations, "residual_norm": res.residual_norm,
+                "tolerance": tol, "path": path, "start": start.source,
+                "attempts": run.attempts, "compiled": S.compiled,
+                "wall_time": time.perf_counter() - t0}, ())
     raise ConvergenceError(
         f"no static equilibrium of {mech.name!r} passed the checks; attempts: "
-        + "; ".join(attempts), partial=partial, diagnostics={"attempts": attempts})
+        + "; ".join(run.attempts), partial=partial,
+        diagnostics={"attempts": run.attempts, "best": best, "iterations": run.iterations})
 
 
-def _check(F, mech, x, p, tol, require_stable):
+def _attempts(F, S, mech, p, tol, max_iter, opts, step, starts, continuation):
+    """``(start, path, attempt)`` in the order :func:`solve_equilibrium` documents, lazily;
+    ``attempt() -> (result, continuation steps, packed outputs or None)``."""
+    seen = []
+
+    def x0_of(start):
+        return np.concatenate([np.asarray(start.q, float), np.asarray(start.z, float)])
+
+    for start in starts:
+        x0 = x0_of(start)
+        seen.append((start, x0))
+        yield start, "newton", lambda x0=x0: _fused_attempt(S, x0, p, tol, max_iter)
+        yield start, "damped newton", lambda x0=x0: (newton(step, x0, p, **opts), 0, None)
+    if continuation is False:
+        return
+    same = [np.array_equal(np.asarray(s.p, float), p) for s, _ in seen]
+    for (start, x0), at_p in zip(seen, same):
+        if not at_p:
+            p0 = np.asarray(start.p, float)
+            yield (start, f"continuation in {start.homotopy or 'parameters'}",
+                   lambda x0=x0, p0=p0: _cont(step, x0, p0, p, opts, True, 0.25, 0.5))
+    if continuation:
+        p0 = p.copy()
+        p0[mech.params.slice(continuation)] = 0.0
+        for start, x0 in seen:
+            yield (start, f"continuation in {continuation}",
+                   lambda x0=x0: _cont(step, x0, p0, p, opts, False, 1.0, 1.0))
+    for (start, x0), at_p in zip(seen, same):
+        if at_p:
+            yield (start, "pseudo-transient continuation",
+                   lambda x0=x0: (_ptc_stable(F, mech, x0, p, tol), 0, None))
+
+
+def _fused_attempt(S, x0, p, tol, max_iter):
+    res, packed = _fused(S, x0, p, tol, max_iter)
+    return res, 0, packed
+
+
+def _cont(step, x0, p0, p1, opts, polish, dt0, dt_max):
+    res, steps, iters = _continuation(step, x0, p0, p1, opts, polish, dt0, dt_max)
+    res.iterations = iters
+    return res, steps, None
+
+
+def _check(S, F, mech, x, p, tol, require_stable):
     """Independent checks of a claimed solution: (ok, reason, info)."""
     x = np.asarray(x, float)
-    if not np.all(np.isfinite(x)):
+    if not np.isfinite(x).all():
         return False, "iterate not finite", {}
-    r = np.asarray(F.static_residual(x, p)).ravel()
-    nr = float(np.max(np.abs(r))) if r.size else 0.0
+    try:
+        r = S.fast("residual")(x, p)[0]
+    except RuntimeError as exc:
+        return False, f"residual not evaluated ({exc})", {}
+    nr = float(np.abs(r).max()) if r.size else 0.0
     if not np.isfinite(nr) or nr > tol:
         return False, f"residual {nr:.3g} N > tolerance {tol:.3g} N", {}
     q, z = x[:mech.n_q], x[mech.n_q:]
@@ -258,7 +357,11 @@ def _check(F, mech, x, p, tol, require_stable):
     return True, "", info
 
 
-def _result(F, mech, x, p, status, stats, warnings) -> Equilibrium:
-    q, z = x[:mech.n_q], x[mech.n_q:]
-    outs = F.evaluate_outputs(q, np.zeros(mech.n_v), z, 0.0, p)
-    return Equilibrium(mech.name, q, z, p, outs, status, stats, tuple(warnings))
+def _result(F, S, mech, x, p, status, stats, warnings, packed=None) -> Equilibrium:
+    """The Equilibrium at x; ``packed`` the stacked outputs at x when already evaluated."""
+    x = np.asarray(x, float)
+    if packed is None:
+        packed = S.fast("outputs")(x, p)[0]
+    q, z = x[:mech.n_q].copy(), x[mech.n_q:].copy()
+    return Equilibrium(mech.name, q, z, np.array(p), F.unpack(packed), status, stats,
+                       tuple(warnings))

@@ -1,0 +1,160 @@
+"""The static configuration of a planar scene, on the generic equilibrium solver: the planar
+Model (:mod:`symcable.models.planar`) seen as a Mechanism
+(:func:`~symcable.models.static_mechanism.static_mechanism`), solved by
+:func:`~symcable.solvers.equilibrium.solve_equilibrium`, and its outputs turned into the
+planar :class:`~symcable.results.StaticSolution`. The planar glue sits here, above the
+solvers, which know nothing planar.
+"""
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from .derive import functions
+from .errors import ConvergenceError
+from .models import build_model
+from .models.base import Model
+from .models.static_mechanism import static_mechanism
+from .results import StaticSolution
+from .scene import Scene, load_scene
+from .solvers.equilibrium import solve_equilibrium
+
+__all__ = ["RTOL", "solve_static"]
+
+#: default residual tolerance, relative to the model's force scale
+RTOL = 1e-9
+
+
+def solve_static(scene, *, tol: float | None = None, max_iter: int = 50,
+                 continuation: bool = True, model: Model | None = None,
+                 codegen: bool | None = None) -> StaticSolution:
+    """Static configuration of a scene.
+
+    Parameters
+    ----------
+    scene : Scene, dict or path
+        Anything :func:`symcable.load_scene` takes.
+    tol : float, optional
+        Residual tolerance, N (max-norm over all equations, each a force). Default
+        ``1e-9`` times the scene's force scale (total submerged weight, applied forces),
+        or the model's round-off floor when that is larger.
+    max_iter : int
+        Newton iterations allowed per solve (per continuation step).
+    continuation : bool
+        When Newton from the starts fails, continue from a start's own parameters (no
+        bending, or no load) to the scene's, in adaptive steps (and relax by
+        pseudo-transient continuation as a last resort).
+    model : Model, optional
+        A model already built for this scene (:func:`symcable.build_model`).
+    codegen : bool, optional
+        Run the solve in generated C (compiled once per model structure, then loaded from
+        the build cache) rather than the CasADi virtual machine. Default None: generated C
+        when a C compiler is found and the model is small enough for it to pay (see
+        :mod:`symcable.codegen`); True without a compiler warns once and uses the virtual
+        machine. The results agree to round-off.
+
+    Returns
+    -------
+    StaticSolution
+        ``stats`` gives ``iterations``, ``residual_norm`` (N), ``tolerance`` (N),
+        ``wall_time`` (s), ``compiled`` (generated C or not), ``path`` (``"newton"``:
+        plain Newton in one CasADi call;
+        ``"damped newton"``: with a line search; ``"continuation in <what>"``) and
+        ``start`` (where the initial guess came from).
+
+    Raises
+    ------
+    ConvergenceError
+        With ``partial`` (a StaticSolution of the best iterate, status "failed") and the
+        diagnostics of every attempt.
+    """
+    if not isinstance(scene, Scene):
+        scene = load_scene(scene)
+    t0 = time.perf_counter()
+    model = model or build_model(scene)
+    mech = static_mechanism(model)
+    if tol is None:
+        tol = max(RTOL * model.force_scale, model.residual_floor)
+    tol = float(tol)
+    try:
+        eq = solve_equilibrium(mech, model.p_target, tol=tol, max_iter=max_iter,
+                               continuation=None if continuation else False, codegen=codegen)
+    except ConvergenceError as exc:
+        raise _failure(scene, model, mech, exc, tol, t0) from None
+    st = eq.stats
+    stats = {
+        "iterations": st["iterations"],
+        "residual_norm": st["residual_norm"],
+        "tolerance": tol,
+        "wall_time": time.perf_counter() - t0,
+        "compiled": st["compiled"],
+        "path": st["path"],
+        "continuation_steps": st["continuation_steps"],
+        "start": st["start"],
+        "unknowns": model.n_w,
+        "terms": list(model.terms),
+    }
+    return _solution(model, eq.q, eq.outputs, "converged", stats)
+
+
+def _failure(scene, model, mech, exc: ConvergenceError, tol: float, t0: float):
+    """The ConvergenceError of solve_static: the best attempt's message and a partial
+    StaticSolution (of the first start when no attempt left a finite iterate)."""
+    best = exc.diagnostics.get("best") or {}
+    nr = float(best.get("residual_norm", float("nan")))
+    path = best.get("path", "no attempt")
+    eq = exc.partial
+    stats = {"iterations": exc.diagnostics.get("iterations", 0), "residual_norm": nr,
+             "tolerance": tol, "wall_time": time.perf_counter() - t0,
+             "compiled": bool(eq is not None and eq.stats.get("compiled")), "path": path,
+             "continuation_steps": 0, "start": best.get("start"), "unknowns": model.n_w,
+             "terms": list(model.terms)}
+    if eq is not None:
+        partial = _solution(model, eq.q, eq.outputs, "failed", stats)
+    else:
+        F = functions(mech)
+        q = np.asarray(next(iter(mech.starts())).q, float)
+        out = F.unpack(F.static_solver().fast("outputs")(q, model.p_target)[0])
+        partial = _solution(model, q, out, "failed", stats)
+    return ConvergenceError(
+        f"static solve of '{scene.name}' did not converge: {best.get('message', 'no start')} "
+        f"(residual {nr:.3g} N > tolerance {tol:.3g} N after {path})",
+        partial=partial, diagnostics=exc.diagnostics)
+
+
+def _solution(model: Model, w, out: dict, status: str, stats: dict) -> StaticSolution:
+    derived = model.postprocess(out)
+    s_nodes = np.asarray(model.info["s_nodes"])
+    warnings = []
+    sb = model.scene.seabed
+    if sb is not None and sb.friction > 0:
+        warnings.append("seabed friction is not applied in statics (frictionless contact)")
+    if np.any(np.asarray(out["axial_force"]) < 0):
+        warnings.append("the line is in compression somewhere (axial force < 0)")
+
+    def col(name):
+        return np.asarray(out[name], dtype=float).ravel()
+
+    return StaticSolution(
+        scene_name=model.scene.name,
+        s=s_nodes,
+        positions=np.asarray(out["positions"], dtype=float),
+        angle=col("angle"),
+        strain=col("strain"),
+        axial_force=col("axial_force"),
+        shear=col("shear"),
+        moment=col("moment"),
+        tension=col("tension"),
+        contact_force=col("contact_force"),
+        fairlead_force=derived["fairlead_force"],
+        anchor_force=derived["anchor_force"],
+        fairlead_tension=derived["fairlead_tension"],
+        anchor_tension=derived["anchor_tension"],
+        grounded_length=derived["grounded_length"],
+        touchdown=derived["touchdown"],
+        status=status,
+        stats=stats,
+        warnings=tuple(warnings),
+        unknowns=np.array(w, dtype=float),
+    )

@@ -169,6 +169,9 @@ class FastCall:
 
     def __call__(self, *args) -> tuple:
         for a, v in zip(self._in, args):
+            if v.__class__ is float or (v.__class__ is np.ndarray and v.shape == a.shape):
+                a[...] = v  # the usual cases, without the checks below
+                continue
             v = np.ravel(v) if np.ndim(v) else v
             if np.ndim(v) and v.size != a.size and v.size and a.size % v.size == 0:
                 a.reshape(-1, v.size)[...] = v  # a mapped input given once: repeated
@@ -177,7 +180,7 @@ class FastCall:
         self._eval()
         if self._buf.ret() != 0:
             raise RuntimeError(f"evaluation of {self.fn.name()} failed")
-        return tuple(o.copy() for o in self._out)
+        return tuple([o.copy() for o in self._out])
 
 
 # --------------------------------------------------------------------------- building

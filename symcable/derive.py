@@ -51,6 +51,12 @@ class MechanismFunctions:
         self._out_sizes = [int(e.numel()) for e in out_exprs]
         self._out_exprs = out_exprs
 
+    @cached_property
+    def massless(self) -> bool:
+        """True when the mass matrix is structurally zero (a purely static formulation, whose
+        residual rows need not be the gradient of an energy)."""
+        return self.mech.mass.nnz() == 0
+
     # -- expressions ---------------------------------------------------------------------
     def _qdot(self):
         m = self.mech

@@ -33,6 +33,7 @@ import math
 from dataclasses import dataclass
 
 import casadi as ca
+import numpy as np
 
 from . import codegen as _codegen
 from .codegen import FastCall
@@ -56,20 +57,28 @@ SXLU_MAX_UNKNOWNS = 400
 class StaticSolver:
     """The Functions of a Mechanism's static solve (every one of ``(x, p)``, x = (q, z)).
 
+    Their names are the same for every Mechanism (one library per Mechanism, so they never
+    meet), and the graphs are those of the planar statics solve before it was made generic,
+    operation for operation, so its generated C is too.
+
     Attributes
     ----------
-    residual : casadi.Function  ``<name>_static_residual(x, p) -> r``, N
-    step : casadi.Function      ``<name>_static_step(x, p) -> (r, dx)``, dx = -J^-1 r by
+    residual : casadi.Function  ``static_residual(x, p) -> r``, N
+    jacobian : casadi.Function  ``static_jacobian(x, p) -> (r, J)``, J sparse (always the
+        virtual machine's: for checks, analysis and the exported C, not for the solve)
+    step : casadi.Function      ``static_newton_step(x, p) -> (r, dx)``, dx = -J^-1 r by
         sparse QR: one call per iteration of a damped Newton
-    solve : casadi.Function     ``<name>_static_solve(x0, p, tol) -> (x, iterations,
-        residual_norm, outputs)``, the fused plain Newton of the module docstring
-        (``tol`` and ``residual_norm`` max-norms of R, N)
-    outputs : casadi.Function   ``<name>_static_outputs(x, p) -> y``, the named outputs at
-        rest, packed as ``solve``'s
-    compiled : bool             True when the four are generated C
+    solve : casadi.Function     ``static_solve(x0, p, tol) -> (x, iterations, residual_norm,
+        outputs)``, the fused plain Newton of the module docstring (``tol`` and
+        ``residual_norm`` max-norms of R, N; ``outputs`` every output packed, see
+        :meth:`~symcable.derive.MechanismFunctions.unpack`)
+    outputs : casadi.Function   ``static_outputs(x, p) -> (one output per named output of
+        the Mechanism)`` at rest (v = 0, t = 0)
+    compiled : bool             True when residual, step, solve and outputs are generated C
     """
 
     residual: ca.Function
+    jacobian: ca.Function
     step: ca.Function
     solve: ca.Function
     outputs: ca.Function
@@ -82,71 +91,76 @@ class StaticSolver:
             cache[name] = FastCall(getattr(self, name))
         return cache[name]
 
-
-def _sym(like, name: str, n: int):
-    return (ca.MX if isinstance(like, ca.MX) else ca.SX).sym(name, n)
-
-
-def _newton_update(F, n: int, n_p: int) -> ca.Function:
-    """``<name>_static_newton_update(x, p, r) -> dx = -J(x)^-1 r`` (r the residual at x,
-    already known): the written-out block LU when it applies (module docstring), else the
-    sparse-QR step (which evaluates r itself)."""
-    m = F.mech
-    name = f"{m.name}_static_newton_update"
-    if isinstance(m.q, ca.SX) and n <= SXLU_MAX_UNKNOWNS:
-        x, p = ca.SX.sym("x", n), ca.SX.sym("p", n_p)
-        r_expr = F.static_residual(x, p)
-        J = ca.jacobian(r_expr, x)
-        plan = block_plan(J.sparsity())
-        if plan is not None:
-            lu = block_lu(J.sparsity(), *plan)
-            r = ca.SX.sym("r", n)
-            return ca.Function(name, [x, p, r], [-lu.solve(J, r)], ["x", "p", "r"], ["dx"],
-                               {"cse": True})
-    X, P, R = ca.MX.sym("x", n), ca.MX.sym("p", n_p), ca.MX.sym("r", n)
-    return ca.Function(name, [X, P, R], [F.static_step(X, P)[1]], ["x", "p", "r"], ["dx"])
+    def packed_outputs(self, x, p) -> np.ndarray:
+        """Every output at ``x`` packed as ``solve`` packs them, (n_y,)."""
+        out = self.fast("outputs")(x, p)
+        return np.concatenate(out) if out else np.zeros(0)
 
 
-def _outputs(F) -> ca.Function:
-    """``<name>_static_outputs(x, p) -> y``: the stacked outputs at v = 0, t = 0."""
-    m = F.mech
-    y = F.outputs(m.q, ca.DM.zeros(m.n_v), m.z, 0.0, m.p)
-    x = ca.vertcat(m.q, m.z)
-    return ca.Function(f"{m.name}_static_outputs", [x, m.p], [y], ["x", "p"], ["y"])
+def _newton_update(m, x, p, r_expr, J, step: ca.Function) -> ca.Function:
+    """``static_newton_update(x, p, r) -> dx = -J(x)^-1 r`` (r the residual at x, already
+    known): the written-out block LU when it applies (module docstring), else ``step``'s
+    sparse QR (which evaluates r itself)."""
+    n = m.n_q + m.n_z
+    plan = block_plan(J.sparsity()) if isinstance(J, ca.SX) and n <= SXLU_MAX_UNKNOWNS else None
+    if plan is not None:
+        lu = block_lu(J.sparsity(), *plan)
+        r = ca.SX.sym("r", n)
+        return ca.Function("static_newton_update", [x, p, r], [-lu.solve(J, r)],
+                           ["x", "p", "r"], ["dx"], {"cse": True})
+    X, P, R = ca.MX.sym("x", n), ca.MX.sym("p", m.params.n), ca.MX.sym("r", n)
+    return ca.Function("static_newton_update", [X, P, R], [step(X, P)[1]], ["x", "p", "r"],
+                       ["dx"])
 
 
 def _vm(F) -> StaticSolver:
     m = F.mech
     n, n_p = m.n_q + m.n_z, m.params.n
-    residual, step = F.static_residual, F.static_step
-    outputs = _outputs(F)
-    update = _newton_update(F, n, n_p)
+    # the static residual as an expression of fresh symbols (v = 0 and t = 0 substituted)
+    x = ca.vertcat(m.q, m.z)
+    r = ca.substitute([ca.vertcat(m.force, F.g_weight * m.constraint)], [m.v, m.t],
+                      [ca.DM.zeros(m.n_v), ca.DM(0.0)])[0]
+    residual = ca.Function("static_residual", [x, m.p], [r], ["x", "p"], ["r"])
+    J = ca.jacobian(r, x)
+    jacobian = ca.Function("static_jacobian", [x, m.p], [r, J], ["x", "p"], ["r", "J"])
+    names = list(m.outputs)
+    exprs = ca.substitute([m.outputs[k].expr for k in names], [m.v, m.t],
+                          [ca.DM.zeros(m.n_v), ca.DM(0.0)]) if names else []
+    outputs = ca.Function("static_outputs", [x, m.p], exprs, ["x", "p"], names)
+    W, P = ca.MX.sym("x", n), ca.MX.sym("p", n_p)
+    rm, Jm = jacobian(W, P)
+    step = ca.Function("static_newton_step", [W, P], [rm, -sparse_solve(Jm, rm, LINSOL)],
+                       ["x", "p"], ["r", "dx"])
+    update = _newton_update(m, x, m.p, r, J, step)
 
-    # one plain Newton iteration, skipped once converged, unrolled SOLVE_MAX_ITER times
-    P, tol = ca.MX.sym("p", n_p), ca.MX.sym("tol")
-    x, rx, done, it = ca.MX.sym("x", n), ca.MX.sym("r", n), ca.MX.sym("done"), ca.MX.sym("it")
-    conv = ca.norm_inf(rx) <= tol
-    x_new = x + update(x, P, rx)
-    args, names_in = [x, rx, done, it, P, tol], ["x", "r", "done", "it", "p", "tol"]
+    # one plain Newton iteration, skipped once converged (CasADi evaluates only the branch
+    # an if_else of Functions takes), unrolled SOLVE_MAX_ITER times; the residual is carried
+    # from one iteration to the next, so each costs one residual and one factorisation
+    tol = ca.MX.sym("tol")
+    z, rz, done, it = ca.MX.sym("x", n), ca.MX.sym("r", n), ca.MX.sym("done"), ca.MX.sym("it")
+    conv = ca.norm_inf(rz) <= tol
+    z_new = z + update(z, P, rz)
+    args, names_in = [z, rz, done, it, P, tol], ["x", "r", "done", "it", "p", "tol"]
     names_out = ["x_out", "r_out", "done_out", "it_out"]
     iterate = ca.Function.if_else(
-        f"{m.name}_static_newton_step_or_stop",
-        ca.Function(f"{m.name}_static_newton_stop", args, [x, rx, conv, it], names_in, names_out),
-        ca.Function(f"{m.name}_static_newton_iteration", args,
-                    [x_new, residual(x_new, P), conv, it + 1], names_in, names_out))
-    iterate = ca.Function(f"{m.name}_static_newton_checked", args, iterate(conv, *args),
-                          names_in, names_out)
-    skip = ca.Function(f"{m.name}_static_newton_skip", args, [x, rx, done, it], names_in,
-                       names_out)
-    body = ca.Function.if_else(f"{m.name}_static_newton_body", skip, iterate)
+        "static_newton_step_or_stop",
+        ca.Function("static_newton_stop", args, [z, rz, conv, it], names_in, names_out),
+        ca.Function("static_newton_iteration", args, [z_new, residual(z_new, P), conv, it + 1],
+                    names_in, names_out))
+    iterate = ca.Function("static_newton_checked", args, iterate(conv, *args), names_in,
+                          names_out)
+    skip = ca.Function("static_newton_skip", args, [z, rz, done, it], names_in, names_out)
+    body = ca.Function.if_else("static_newton_body", skip, iterate)
     X0 = ca.MX.sym("x0", n)
-    z, r, d, k = X0, residual(X0, P), ca.MX(0), ca.MX(0)
+    z, rz, d, k = X0, residual(X0, P), ca.MX(0), ca.MX(0)
     for _ in range(SOLVE_MAX_ITER):
-        z, r, d, k = body(d, z, r, d, k, P, tol)
-    solve = ca.Function(f"{m.name}_static_solve", [X0, P, tol],
-                        [z, k, ca.norm_inf(r), outputs(z, P)],
+        z, rz, d, k = body(d, z, rz, d, k, P, tol)
+    outs = outputs.call([z, P])
+    packed = ca.vertcat(*[ca.vec(o) for o in outs]) if outs else ca.MX(0, 1)
+    solve = ca.Function("static_solve", [X0, P, tol], [z, k, ca.norm_inf(rz), packed],
                         ["x0", "p", "tol"], ["x", "iterations", "residual_norm", "outputs"])
-    return StaticSolver(residual=residual, step=step, solve=solve, outputs=outputs)
+    return StaticSolver(residual=residual, jacobian=jacobian, step=step, solve=solve,
+                        outputs=outputs)
 
 
 def static_solver(F, codegen: bool | None = False) -> StaticSolver:
@@ -169,7 +183,9 @@ def static_solver(F, codegen: bool | None = False) -> StaticSolver:
     if c is None:
         group = [vm.residual, vm.step, vm.solve, vm.outputs]
         lib = _codegen.compile_functions(group, what="the static solve")
-        c = store["c"] = StaticSolver(*(lib[f.name()] for f in group), compiled=True)
+        c = store["c"] = StaticSolver(
+            residual=lib["static_residual"], jacobian=vm.jacobian, step=lib["static_newton_step"],
+            solve=lib["static_solve"], outputs=lib["static_outputs"], compiled=True)
     return c
 
 

@@ -89,30 +89,6 @@ def _c_array(name: str, values) -> str:
     return f"static const casadi_real {name}[] = {{{vals}}};\n"
 
 
-def _static_functions(mech) -> list:
-    """The static residual, Jacobian, fused solve and outputs of ``mech`` under the names of
-    the exported C (``static_residual(w, p)``, ``static_jacobian``, ``static_solve(w0, p,
-    tol)``, ``static_outputs``): each a thin wrapper of the Mechanism's Function."""
-    F = functions(mech)
-    S = F.static_solver(codegen=False)
-    out = []
-    for name, fn, ins, outs in (
-            ("static_residual", S.residual, ["w", "p"], ["r"]),
-            ("static_jacobian", F.static_jacobian, ["w", "p"], ["r", "J"]),
-            ("static_solve", S.solve, ["w0", "p", "tol"],
-             ["w", "iterations", "residual_norm", "outputs"]),
-):
-        args = [ca.MX.sym(k, fn.sparsity_in(i)) for i, k in enumerate(ins)]
-        out.append(ca.Function(name, args, fn.call(args), ins, outs))
-    # every output by its name, at rest (v = 0, t = 0)
-    names = list(mech.outputs)
-    exprs = ca.substitute([mech.outputs[k].expr for k in names], [mech.v, mech.t],
-                          [ca.DM.zeros(mech.n_v), ca.DM(0.0)])
-    out.append(ca.Function("static_outputs", [ca.vertcat(mech.q, mech.z), mech.p], exprs,
-                           ["w", "p"], names))
-    return out
-
-
 def export_scene(scene, folder, stem: str = "symcable_scene") -> list:
     """Standalone C for ``scene`` (``symcable codegen``): ``<stem>.c``/``.h`` with the static
     residual, Jacobian and solve, and (when the scene moves and hangs free of the seabed) the
@@ -123,7 +99,8 @@ def export_scene(scene, folder, stem: str = "symcable_scene") -> list:
     sol = solve_static(scene, model=model, codegen=False)
     mech = static_mechanism(model)
     start = np.asarray(next(iter(mech.starts())).q, dtype=float)
-    funcs = _static_functions(mech)
+    st = functions(mech).static_solver(codegen=False)
+    funcs = [st.residual, st.jacobian, st.solve, st.outputs]
     dyn, why_not = None, ""
     if any(e.motion is not None for e in (scene.end_a, scene.end_b)):
         try:
@@ -134,7 +111,7 @@ def export_scene(scene, folder, stem: str = "symcable_scene") -> list:
         why_not = "the scene prescribes no end motion"
     data = [f"/* {scene.name}: parameter values for {stem}.c (SI units) */\n",
             "#ifndef casadi_real\n#define casadi_real double\n#endif\n",
-            f"#define N_W {model.n_w}\n#define N_OUT {funcs[2].nnz_out(3)}\n",
+            f"#define N_W {model.n_w}\n#define N_OUT {st.solve.nnz_out(3)}\n",
             f"#define STATIC_TOL {sol.stats['tolerance']!r}\n",
             _c_array("W_START", start), _c_array("P_STATIC", model.p_target)]
     if dyn is not None:
@@ -158,10 +135,10 @@ def export_scene(scene, folder, stem: str = "symcable_scene") -> list:
         ins = ", ".join(f"{f.name_in(i)}[{f.nnz_in(i)}]" for i in range(f.n_in()))
         outs = ", ".join(f"{f.name_out(i)}[{f.nnz_out(i)}]" for i in range(f.n_out()))
         lines.append(f"- `{f.name()}({ins}) -> ({outs})`")
-    lines += ["", "- `static_*`: w holds node positions (m), segment angles (rad) and strains; "
-              "p the scene parameters (`P_STATIC`); residual rows in N. `static_solve` runs up to "
-              "12 Newton steps and packs every output (see symcable's "
-              "`MechanismFunctions.unpack`).",
+    lines += ["", "- `static_*`: x (the start x0, `W_START`) holds node positions (m), segment angles "
+              "(rad) and strains; p the scene parameters (`P_STATIC`); residual rows in N. "
+              "`static_solve` runs up to 12 Newton steps and packs every output of "
+              "`static_outputs`, each in column-major order, one after the other.",
               "- `static_jacobian`: J is sparse (column-compressed; its pattern is given by "
               "`static_jacobian_sparsity_out(1)`)."]
     if dyn is not None:

@@ -115,7 +115,7 @@ def _failure(scene, model, mech, exc: ConvergenceError, tol: float, t0: float):
     else:
         F = functions(mech)
         q = np.asarray(next(iter(mech.starts())).q, float)
-        out = F.unpack(F.static_solver().fast("outputs")(q, model.p_target)[0])
+        out = F.unpack(F.static_solver().packed_outputs(q, model.p_target))
         partial = _solution(model, q, out, "failed", stats)
     return ConvergenceError(
         f"static solve of '{scene.name}' did not converge: {best.get('message', 'no start')} "
@@ -134,7 +134,8 @@ def _solution(model: Model, w, out: dict, status: str, stats: dict) -> StaticSol
         warnings.append("the line is in compression somewhere (axial force < 0)")
 
     def col(name):
-        return np.asarray(out[name], dtype=float).ravel()
+        v = out[name]
+        return v if v.__class__ is np.ndarray and v.ndim == 1 else np.asarray(v, float).ravel()
 
     return StaticSolution(
         scene_name=model.scene.name,

@@ -317,8 +317,10 @@ def build_planar(scene: Scene) -> Model:
     def initial_guess():
         return _initial_guess(scene, seg, layout, p_target, bending)
 
+    nodal = _nodal_weights(seg)
+
     def postprocess(out: dict) -> dict:
-        return _postprocess(scene, seg, out)
+        return _postprocess(scene, seg, nodal, out)
 
     return Model(name="planar", scene=scene, terms=tuple(term_names), w=w, p=p,
                  p_names=P_NAMES, p_target=p_target, residual=residual, outputs=outputs,
@@ -478,29 +480,39 @@ def _initial_guess(scene, seg, layout: _Layout, p_target, bending):
 
 # --------------------------------------------------------------------------- results
 
-def _postprocess(scene: Scene, seg: dict, out: dict) -> dict:
-    """Fairlead/anchor tension, grounded length (m, unstretched) and touchdown point."""
+def _nodal_weights(seg: dict) -> tuple:
+    """(tributary length (N+1,), m; submerged weight per length on each node (N+1,), N/m),
+    the lumping of the residual's loads: half of each adjacent segment."""
+    s = seg["s"]
+    trib = np.zeros_like(s)
+    trib[:-1] += 0.5 * seg["ds"]
+    trib[1:] += 0.5 * seg["ds"]
+    w_node = np.zeros_like(s)
+    w_node[:-1] += 0.5 * seg["ds"] * seg["w"]
+    w_node[1:] += 0.5 * seg["ds"] * seg["w"]
+    w_node /= trib
+    return trib, w_node, np.where(w_node > 0, w_node, np.inf), 0.1 * np.abs(w_node)
+
+
+def _postprocess(scene: Scene, seg: dict, nodal: tuple, out: dict) -> dict:
+    """Fairlead/anchor tension, grounded length (m, unstretched) and touchdown point
+    (``nodal``: :func:`_nodal_weights` of ``seg``)."""
     fa = np.ravel(out["end_force_a"])
     fb = np.ravel(out["end_force_b"])
     res = {"anchor_force": fa, "fairlead_force": fb,
-           "anchor_tension": float(np.hypot(*fa)), "fairlead_tension": float(np.hypot(*fb))}
+           "anchor_tension": float(np.hypot(fa[0], fa[1])),
+           "fairlead_tension": float(np.hypot(fb[0], fb[1]))}
     contact = np.ravel(out["contact_force"])
     s = seg["s"]
     grounded, touchdown, s_td = 0.0, None, None
-    if scene.seabed is not None and np.any(contact > 0):
-        trib = np.zeros_like(s)
-        trib[:-1] += 0.5 * seg["ds"]
-        trib[1:] += 0.5 * seg["ds"]
-        w_node = np.zeros_like(s)
-        w_node[:-1] += 0.5 * seg["ds"] * seg["w"]
-        w_node[1:] += 0.5 * seg["ds"] * seg["w"]
-        w_node /= trib
+    if scene.seabed is not None and contact.max() > 0:
+        trib, w_node, w_div, w_tenth = nodal
         # the grounded length is the length whose weight the seabed carries: the contact
         # forces, plus what a held end lying on the seabed props up of the grounded line
         # next to it (on a penalty seabed the end sits above the sunken line beside it)
-        grounded = float(np.sum(contact / np.where(w_node > 0, w_node, np.inf)))
+        grounded = float(np.sum(contact / w_div))
         # in contact: the seabed carries more than a tenth of the local weight per length
-        in_contact = contact / trib > 0.1 * np.abs(w_node)
+        in_contact = contact / trib > w_tenth
         for node, force, end in ((0, fa, scene.end_a), (len(s) - 1, fb, scene.end_b)):
             if end.is_fixed and w_node[node] > 0 and in_contact[node]:
                 grounded += max(0.0, -float(force[1])) / w_node[node]

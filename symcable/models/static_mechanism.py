@@ -1,5 +1,10 @@
 """A static formulation (a :class:`~symcable.models.base.Model`: unknowns w, residual R(w; p))
-seen as a Mechanism without mass: q = w, f = -R, no velocities that matter, no constraints.
+seen as a Mechanism without mass: q = w, f = R, no velocities that matter, no constraints.
+The sign: the planar residual's balance rows are the net force on each node (the force of the
+part beyond minus that of the part before, plus the load), which is f; its compatibility rows
+(a length mismatch times EA/ds) are forces of either sign. The static residual the solvers
+derive is then the model's own expression, operation for operation (no negation in the graph
+that the fused Newton solve and its generated C are built from).
 
 The planar model of seed 001 is written in angles and strains, whose residual rows mix force
 balances and geometric compatibility; as a Mechanism it gives the generic static solver,
@@ -68,7 +73,7 @@ def _build(model: Model) -> Mechanism:
                                            np.full((s_nodes.size, 2), -1, dtype=int),
                                            np.full((s_nodes.size, 2), -1, dtype=int))})
     return Mechanism(name=f"{model.name}_static", q=q, v=v, z=z, t=t, p=model.p,
-                     params=params, mass=ca.SX(n, n), force=-model.residual,
+                     params=params, mass=ca.SX(n, n), force=model.residual,
                      constraint=ca.SX.zeros(0, 1),
                      scales=Scales(q=np.asarray(model.w_scale, float), v=np.ones(n),
                                    z=np.zeros(0), force=model.force_scale,

@@ -9,6 +9,7 @@ stiffness reduced to the constraints' null space). A failed check is never calle
 """
 from __future__ import annotations
 
+import math
 import time
 from types import SimpleNamespace
 
@@ -36,12 +37,14 @@ def _fused(S, x0, p, tol, max_iter):
         return NewtonResult(np.array(x0, dtype=float), False, 0, float("nan"),
                             f"plain Newton failed ({exc})"), None
     its, nr = int(its[0]), float(nr[0])
-    if not np.isfinite(x).all():  # (a max-norm of NaNs can come out as 0)
+    if nr <= tol and its <= min(max_iter, SOLVE_MAX_ITER):
+        # claimed: the check that follows tests it (a max-norm of NaNs can come out as 0)
+        return NewtonResult(x, True, its, nr, "converged"), packed
+    if not np.isfinite(x).all():
         return NewtonResult(x, False, its, float("nan"),
                             f"plain Newton failed (iterate not finite after {its} steps)"), None
-    ok = bool(np.isfinite(nr) and nr <= tol and its <= min(max_iter, SOLVE_MAX_ITER))
-    msg = "converged" if ok else f"plain Newton failed (residual {nr:.3g} N after {its} steps)"
-    return NewtonResult(x, ok, its, nr, msg), packed
+    return NewtonResult(x, False, its, nr,
+                        f"plain Newton failed (residual {nr:.3g} N after {its} steps)"), packed
 
 
 def _continuation(step, x0, p0, p1, opts, polish: bool, dt0: float, dt_max: float,
@@ -132,7 +135,7 @@ def _unstable_direction(F, mech, q, z, p):
     """(lowest eigenvalue, its direction in q) of the reduced tangent stiffness, or
     (None, None) where stability is not judged (too large, or a formulation without mass
     whose residual rows are not the gradient of an energy)."""
-    if mech.n_q > STABILITY_MAX_N or mech.mass.nnz() == 0:
+    if mech.n_q > STABILITY_MAX_N or F.massless:
         return None, None
     K, _, _, B, *_ = F.tangents(q, np.zeros(mech.n_v), z, 0.0, p)
     K = np.asarray(K)
@@ -261,12 +264,13 @@ def solve_equilibrium(mech: Mechanism, p=None, *, tol: float | None = None,
         res, steps, packed = attempt()
         run.iterations += res.iterations
         ok, why, info = _check(S, F, mech, res.x, p, tol, require_stable) if res.converged \
-            else (False, res.message, {})
+            else (False, res.message, None)
         run.attempts.append(f"{start.source} / {path}: {'ok' if ok else why}")
-        if run.best is None or (np.isfinite(res.residual_norm) and np.isfinite(res.x).all()
-                                and not res.residual_norm >= run.best[0].residual_norm):
-            run.best = (res, start, path, why)
-        if ok:
+        if not ok:
+            if run.best is None or (np.isfinite(res.residual_norm) and np.isfinite(res.x).all()
+                                    and not res.residual_norm >= run.best[0].residual_norm):
+                run.best = (res, start, path, why)
+        else:
             return _result(F, S, mech, res.x, p, "converged", {
                 "iterations": run.iterations, "residual_norm": info["residual_norm"],
                 "tolerance": tol, "path": path, "start": start.source,
@@ -297,6 +301,8 @@ def _attempts(F, S, mech, p, tol, max_iter, opts, step, starts, continuation):
     seen = []
 
     def x0_of(start):
+        if not mech.n_z:
+            return np.asarray(start.q, float)
         return np.concatenate([np.asarray(start.q, float), np.asarray(start.z, float)])
 
     for start in starts:
@@ -338,7 +344,7 @@ def _cont(step, x0, p0, p1, opts, polish, dt0, dt_max):
 def _check(S, F, mech, x, p, tol, require_stable):
     """Independent checks of a claimed solution: (ok, reason, info)."""
     x = np.asarray(x, float)
-    if not np.isfinite(x).all():
+    if not math.isfinite(x.sum()):  # finite iff every entry is (a sum past 1e308 counts as not)
         return False, "iterate not finite", {}
     try:
         r = S.fast("residual")(x, p)[0]
@@ -359,9 +365,9 @@ def _check(S, F, mech, x, p, tol, require_stable):
 
 def _result(F, S, mech, x, p, status, stats, warnings, packed=None) -> Equilibrium:
     """The Equilibrium at x; ``packed`` the stacked outputs at x when already evaluated."""
-    x = np.asarray(x, float)
+    x = np.array(x, float)  # its own copy: q and z are views of it
     if packed is None:
-        packed = S.fast("outputs")(x, p)[0]
-    q, z = x[:mech.n_q].copy(), x[mech.n_q:].copy()
-    return Equilibrium(mech.name, q, z, np.array(p), F.unpack(packed), status, stats,
-                       tuple(warnings))
+        packed = S.packed_outputs(x, p)
+    n_q = mech.n_q
+    return Equilibrium(mech.name, x[:n_q], x[n_q:], np.array(p), F.unpack(packed), status,
+                       stats, tuple(warnings))

@@ -74,7 +74,12 @@ class StaticSolver:
         :meth:`~symcable.derive.MechanismFunctions.unpack`)
     outputs : casadi.Function   ``static_outputs(x, p) -> (one output per named output of
         the Mechanism)`` at rest (v = 0, t = 0)
-    compiled : bool             True when residual, step, solve and outputs are generated C
+    check : casadi.Function     ``static_check(x, p) -> (residual_norm, probe)``: max |R(x)|
+        (N) evaluated afresh, and ``probe = sum(x) + sum(R)``, finite exactly when x and R
+        are (CasADi's max-norm passes over a NaN; a sum does not), for a solver's
+        independent check of a claimed solution in one call
+    compiled : bool             True when residual, step, solve, outputs and check are
+        generated C
     """
 
     residual: ca.Function
@@ -82,7 +87,12 @@ class StaticSolver:
     step: ca.Function
     solve: ca.Function
     outputs: ca.Function
+    check: ca.Function
     compiled: bool = False
+
+    def group(self) -> list:
+        """The Functions compiled together (one library)."""
+        return [self.residual, self.step, self.solve, self.outputs, self.check]
 
     def fast(self, name: str) -> FastCall:
         """A buffered caller of one of the Functions (built once)."""
@@ -159,8 +169,10 @@ def _vm(F) -> StaticSolver:
     packed = ca.vertcat(*[ca.vec(o) for o in outs]) if outs else ca.MX(0, 1)
     solve = ca.Function("static_solve", [X0, P, tol], [z, k, ca.norm_inf(rz), packed],
                         ["x0", "p", "tol"], ["x", "iterations", "residual_norm", "outputs"])
+    check = ca.Function("static_check", [x, m.p], [ca.norm_inf(r), ca.sum1(x) + ca.sum1(r)],
+                        ["x", "p"], ["residual_norm", "probe"])
     return StaticSolver(residual=residual, jacobian=jacobian, step=step, solve=solve,
-                        outputs=outputs)
+                        outputs=outputs, check=check)
 
 
 def static_solver(F, codegen: bool | None = False) -> StaticSolver:
@@ -171,6 +183,8 @@ def static_solver(F, codegen: bool | None = False) -> StaticSolver:
     :data:`SXLU_MAX_UNKNOWNS` unknowns, whose Newton step is the written-out block LU, and
     whose graph is small enough). Raises SymcableError for a ``codegen`` that is not a bool
     or None."""
+    if not (codegen is None or isinstance(codegen, bool)):
+        _codegen.use_codegen(codegen)  # refuses it, naming the value, before any build
     store = F.__dict__.get("_static_solver")
     if store is None:
         store = F.__dict__["_static_solver"] = {"vm": _vm(F)}
@@ -181,20 +195,20 @@ def static_solver(F, codegen: bool | None = False) -> StaticSolver:
         return vm
     c = store.get("c")
     if c is None:
-        group = [vm.residual, vm.step, vm.solve, vm.outputs]
-        lib = _codegen.compile_functions(group, what="the static solve")
+        lib = _codegen.compile_functions(vm.group(), what="the static solve")
         c = store["c"] = StaticSolver(
             residual=lib["static_residual"], jacobian=vm.jacobian, step=lib["static_newton_step"],
-            solve=lib["static_solve"], outputs=lib["static_outputs"], compiled=True)
+            solve=lib["static_solve"], outputs=lib["static_outputs"], check=lib["static_check"],
+            compiled=True)
     return c
 
 
 def _size(F, store) -> float:
-    """What the default ``codegen=None`` weighs: the graph size of the four Functions, or
+    """What the default ``codegen=None`` weighs: the graph size of the compiled group, or
     infinity above SXLU_MAX_UNKNOWNS (with a sparse QR the time is the factorisation,
     compiled code in the virtual machine as well); computed once."""
     if "size" not in store:
         vm = store["vm"]
         store["size"] = (math.inf if F.mech.n_q + F.mech.n_z > SXLU_MAX_UNKNOWNS else
-                         _codegen.graph_size([vm.residual, vm.step, vm.solve, vm.outputs]))
+                         _codegen.graph_size(vm.group()))
     return store["size"]

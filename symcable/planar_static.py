@@ -92,7 +92,7 @@ def solve_static(scene, *, tol: float | None = None, max_iter: int = 50,
         "path": st["path"],
         "continuation_steps": st["continuation_steps"],
         "start": st["start"],
-        "unknowns": model.n_w,
+        "unknowns": mech.n_q,
         "terms": list(model.terms),
     }
     return _solution(model, eq.q, eq.outputs, "converged", stats)
@@ -130,7 +130,7 @@ def _solution(model: Model, w, out: dict, status: str, stats: dict) -> StaticSol
     sb = model.scene.seabed
     if sb is not None and sb.friction > 0:
         warnings.append("seabed friction is not applied in statics (frictionless contact)")
-    if np.any(np.asarray(out["axial_force"]) < 0):
+    if np.asarray(out["axial_force"]).min() < 0:
         warnings.append("the line is in compression somewhere (axial force < 0)")
 
     def col(name):

@@ -189,6 +189,7 @@ def main(argv=None) -> dict:
                     help="checkout of the code before issue 10 (or $SYMCABLE_BASELINE)")
     ap.add_argument("--quick", action="store_true")
     ap.add_argument("--rounds", type=int, default=None)
+    ap.add_argument("--cases", default=None, help=f"comma-separated, of {', '.join(CASES)}")
     ap.add_argument("--out", type=Path, default=None)
     ap.add_argument("--worker", action="store_true", help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
@@ -198,7 +199,9 @@ def main(argv=None) -> dict:
     if args.baseline is None or not (Path(args.baseline) / "symcable").is_dir():
         ap.error(f"--baseline = {args.baseline}: must be a checkout of symcable before issue 10 "
                  "(a folder holding symcable/), e.g. `git worktree add ../baseline a958ce7`")
-    cases = ["oc3"] if args.quick else list(CASES)
+    cases = args.cases.split(",") if args.cases else ["oc3"] if args.quick else list(CASES)
+    if any(c not in CASES for c in cases):
+        ap.error(f"--cases = {args.cases}: each must be one of {', '.join(CASES)}")
     rounds = args.rounds or (5 if args.quick else 30)
     res = compare(Path(args.baseline).resolve(), cases, rounds)
     text = table(res)

@@ -86,7 +86,7 @@ class ParamBlocks:
                                 f"for {sum(self.sizes)} entries")
         object.__setattr__(self, "values", values)
 
-    @property
+    @cached_property
     def n(self) -> int:
         return int(sum(self.sizes))
 

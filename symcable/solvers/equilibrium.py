@@ -236,6 +236,7 @@ def solve_equilibrium(mech: Mechanism, p=None, *, tol: float | None = None,
         No start led to an equilibrium that passes the checks; ``diagnostics["attempts"]``
         has one line per attempt, ``diagnostics["best"]`` the path, start, message and
         residual of the attempt with the lowest residual, and ``partial`` its iterate.
+        Also when the static system is not square (n_q != n_v).
     SymcableError
         ``p`` of the wrong size, an unknown ``continuation`` block, a bad ``codegen``.
     """
@@ -251,67 +252,93 @@ def solve_equilibrium(mech: Mechanism, p=None, *, tol: float | None = None,
     elif continuation not in (None, False):
         raise SymcableError(f"continuation = {continuation!r}: must be a parameter block name "
                             f"({', '.join(mech.params.names) or 'none'}), True, False or None")
+    if mech.n_v != mech.n_q:
+        raise ConvergenceError(
+            f"no static equilibrium of {mech.name!r} can be solved for: its static residual has "
+            f"n_v + n_z = {mech.n_v + mech.n_z} rows for n_q + n_z = {mech.n_q + mech.n_z} "
+            "unknowns (kinematics q' = G(q) v with G not square); statics need n_q = n_v",
+            diagnostics={"attempts": [], "best": {}, "iterations": 0})
     S = F.static_solver(codegen)
     if tol is None:
         tol = max(1e-9 * mech.scales.force, 10 * mech.scales.residual_floor)
-    x_scale = np.concatenate([mech.scales.q, mech.scales.z * 1e3]) if mech.n_z else mech.scales.q
-    opts = dict(tol=tol, max_iter=max_iter, x_scale=x_scale, merit_weights=mech.scales.merit)
+    opts = dict(tol=tol, max_iter=max_iter, x_scale=_x_scale(F), merit_weights=mech.scales.merit)
     step = S.fast("step")
-    run = SimpleNamespace(attempts=[], best=None, iterations=0)
-    for start, path, attempt in _attempts(F, S, mech, p, tol, max_iter, opts, step,
-                                          mech.starts() if starts is None else starts,
-                                          continuation):
-        res, steps, packed = attempt()
-        run.iterations += res.iterations
+    attempts, best, iterations = [], None, 0
+
+    def judge(start, path, res, steps=0, packed=None):
+        """Check an attempt's claim and log it: the Equilibrium when it passes, else None."""
+        nonlocal best, iterations
+        iterations += res.iterations
         ok, why, info = _check(S, F, mech, res.x, p, tol, require_stable) if res.converged \
             else (False, res.message, None)
-        run.attempts.append(f"{start.source} / {path}: {'ok' if ok else why}")
-        if not ok:
-            if run.best is None or (np.isfinite(res.residual_norm) and np.isfinite(res.x).all()
-                                    and not res.residual_norm >= run.best[0].residual_norm):
-                run.best = (res, start, path, why)
-        else:
+        attempts.append(f"{start.source} / {path}: {'ok' if ok else why}")
+        if ok:
             return _result(F, S, mech, res.x, p, "converged", {
-                "iterations": run.iterations, "residual_norm": info["residual_norm"],
+                "iterations": iterations, "residual_norm": info["residual_norm"],
                 "tolerance": tol, "path": path, "start": start.source,
-                "continuation_steps": steps, "attempts": run.attempts,
+                "continuation_steps": steps, "attempts": attempts,
                 "stable": info["stable"], "min_stiffness": info["min_stiffness"],
                 "compiled": S.compiled, "wall_time": time.perf_counter() - t0},
-                info.get("warnings", ()), packed)
-    partial, best = None, {}
-    if run.best is not None:
-        res, start, path, why = run.best
-        best = {"path": path, "start": start.source, "message": why,
+                info["warnings"], packed)
+        if best is None or (np.isfinite(res.residual_norm) and np.isfinite(res.x).all()
+                            and not res.residual_norm >= best[0].residual_norm):
+            best = (res, start, path, why)
+        return None
+
+    seen = []
+    for start in (mech.starts() if starts is None else starts):
+        x0 = _x0(mech, start)
+        seen.append((start, x0))
+        res, packed = _fused(S, x0, p, tol, max_iter)
+        eq = judge(start, "newton", res, 0, packed)
+        if eq is None:
+            eq = judge(start, "damped newton", newton(step, x0, p, **opts))
+        if eq is not None:
+            return eq
+    if continuation is not False:
+        for start, path, attempt in _continuations(F, mech, p, tol, opts, step, seen,
+                                                   continuation):
+            eq = judge(start, path, *attempt())
+            if eq is not None:
+                return eq
+    partial, info = None, {}
+    if best is not None:
+        res, start, path, why = best
+        info = {"path": path, "start": start.source, "message": why,
                 "residual_norm": res.residual_norm}
         if np.all(np.isfinite(res.x)):
             partial = _result(F, S, mech, res.x, p, "failed", {
-                "iterations": run.iterations, "residual_norm": res.residual_norm,
+                "iterations": iterations, "residual_norm": res.residual_norm,
                 "tolerance": tol, "path": path, "start": start.source,
-                "attempts": run.attempts, "compiled": S.compiled,
+                "attempts": attempts, "compiled": S.compiled,
                 "wall_time": time.perf_counter() - t0}, ())
     raise ConvergenceError(
         f"no static equilibrium of {mech.name!r} passed the checks; attempts: "
-        + "; ".join(run.attempts), partial=partial,
-        diagnostics={"attempts": run.attempts, "best": best, "iterations": run.iterations})
+        + "; ".join(attempts), partial=partial,
+        diagnostics={"attempts": attempts, "best": info, "iterations": iterations})
 
 
-def _attempts(F, S, mech, p, tol, max_iter, opts, step, starts, continuation):
-    """``(start, path, attempt)`` in the order :func:`solve_equilibrium` documents, lazily;
-    ``attempt() -> (result, continuation steps, packed outputs or None)``."""
-    seen = []
+def _x_scale(F) -> np.ndarray:
+    """The largest move of each unknown per Newton step (coordinates: their scale;
+    constraint forces: 1000 times theirs), built once per Mechanism."""
+    xs = F.__dict__.get("_eq_x_scale")
+    if xs is None:
+        m = F.mech
+        xs = F.__dict__["_eq_x_scale"] = (np.concatenate([m.scales.q, m.scales.z * 1e3])
+                                          if m.n_z else np.asarray(m.scales.q, float))
+    return xs
 
-    def x0_of(start):
-        if not mech.n_z:
-            return np.asarray(start.q, float)
-        return np.concatenate([np.asarray(start.q, float), np.asarray(start.z, float)])
 
-    for start in starts:
-        x0 = x0_of(start)
-        seen.append((start, x0))
-        yield start, "newton", lambda x0=x0: _fused_attempt(S, x0, p, tol, max_iter)
-        yield start, "damped newton", lambda x0=x0: (newton(step, x0, p, **opts), 0, None)
-    if continuation is False:
-        return
+def _x0(mech, start) -> np.ndarray:
+    """A start's unknowns x = (q, z)."""
+    if not mech.n_z:
+        return np.asarray(start.q, float)
+    return np.concatenate([np.asarray(start.q, float), np.asarray(start.z, float)])
+
+
+def _continuations(F, mech, p, tol, opts, step, seen, continuation):
+    """``(start, path, attempt)`` of the continuations, in the order :func:`solve_equilibrium`
+    documents, from the starts ``seen`` (start, x0); ``attempt() -> (result, steps)``."""
     same = [np.array_equal(np.asarray(s.p, float), p) for s, _ in seen]
     for (start, x0), at_p in zip(seen, same):
         if not at_p:
@@ -327,34 +354,28 @@ def _attempts(F, S, mech, p, tol, max_iter, opts, step, starts, continuation):
     for (start, x0), at_p in zip(seen, same):
         if at_p:
             yield (start, "pseudo-transient continuation",
-                   lambda x0=x0: (_ptc_stable(F, mech, x0, p, tol), 0, None))
-
-
-def _fused_attempt(S, x0, p, tol, max_iter):
-    res, packed = _fused(S, x0, p, tol, max_iter)
-    return res, 0, packed
+                   lambda x0=x0: (_ptc_stable(F, mech, x0, p, tol), 0))
 
 
 def _cont(step, x0, p0, p1, opts, polish, dt0, dt_max):
     res, steps, iters = _continuation(step, x0, p0, p1, opts, polish, dt0, dt_max)
     res.iterations = iters
-    return res, steps, None
+    return res, steps
 
 
 def _check(S, F, mech, x, p, tol, require_stable):
     """Independent checks of a claimed solution: (ok, reason, info)."""
-    x = np.asarray(x, float)
-    if not math.isfinite(x.sum()):  # finite iff every entry is (a sum past 1e308 counts as not)
-        return False, "iterate not finite", {}
-    try:
-        r = S.fast("residual")(x, p)[0]
+    try:  # R(x) afresh, its max-norm, and whether x and R(x) are finite, in one call
+        nr, probe = S.fast("check")(x, p)
     except RuntimeError as exc:
         return False, f"residual not evaluated ({exc})", {}
-    nr = float(np.abs(r).max()) if r.size else 0.0
-    if not np.isfinite(nr) or nr > tol:
+    nr = float(nr[0])
+    if not math.isfinite(probe[0]):  # (a sum past 1e308 counts as not finite too)
+        return False, "iterate or residual not finite", {}
+    if nr > tol:
         return False, f"residual {nr:.3g} N > tolerance {tol:.3g} N", {}
-    q, z = x[:mech.n_q], x[mech.n_q:]
-    stable, lam = _stability(F, mech, q, z, p)
+    stable, lam = (None, float("nan")) if F.massless else \
+        _stability(F, mech, x[:mech.n_q], x[mech.n_q:], p)
     info = {"residual_norm": nr, "stable": stable, "min_stiffness": lam, "warnings": ()}
     if stable is False:
         if require_stable:
@@ -365,7 +386,7 @@ def _check(S, F, mech, x, p, tol, require_stable):
 
 def _result(F, S, mech, x, p, status, stats, warnings, packed=None) -> Equilibrium:
     """The Equilibrium at x; ``packed`` the stacked outputs at x when already evaluated."""
-    x = np.array(x, float)  # its own copy: q and z are views of it
+    x = np.asarray(x, float)  # every path returns an array of its own: q and z are views
     if packed is None:
         packed = S.packed_outputs(x, p)
     n_q = mech.n_q

@@ -130,13 +130,17 @@ def _vm(F) -> StaticSolver:
     x = ca.vertcat(m.q, m.z)
     r = ca.substitute([ca.vertcat(m.force, F.g_weight * m.constraint)], [m.v, m.t],
                       [ca.DM.zeros(m.n_v), ca.DM(0.0)])[0]
-    residual = ca.Function("static_residual", [x, m.p], [r], ["x", "p"], ["r"])
+    # common subexpressions (a segment's cos and sin, built by two terms) merged where the
+    # system is small: same values, fewer operations; above SXLU_MAX_UNKNOWNS the merge
+    # itself costs more than it saves (seconds at 2000 segments)
+    opts = {"cse": True} if n <= SXLU_MAX_UNKNOWNS else {}
+    residual = ca.Function("static_residual", [x, m.p], [r], ["x", "p"], ["r"], opts)
     J = ca.jacobian(r, x)
-    jacobian = ca.Function("static_jacobian", [x, m.p], [r, J], ["x", "p"], ["r", "J"])
+    jacobian = ca.Function("static_jacobian", [x, m.p], [r, J], ["x", "p"], ["r", "J"], opts)
     names = list(m.outputs)
     exprs = ca.substitute([m.outputs[k].expr for k in names], [m.v, m.t],
                           [ca.DM.zeros(m.n_v), ca.DM(0.0)]) if names else []
-    outputs = ca.Function("static_outputs", [x, m.p], exprs, ["x", "p"], names)
+    outputs = ca.Function("static_outputs", [x, m.p], exprs, ["x", "p"], names, opts)
     W, P = ca.MX.sym("x", n), ca.MX.sym("p", n_p)
     rm, Jm = jacobian(W, P)
     step = ca.Function("static_newton_step", [W, P], [rm, -sparse_solve(Jm, rm, LINSOL)],
@@ -170,7 +174,7 @@ def _vm(F) -> StaticSolver:
     solve = ca.Function("static_solve", [X0, P, tol], [z, k, ca.norm_inf(rz), packed],
                         ["x0", "p", "tol"], ["x", "iterations", "residual_norm", "outputs"])
     check = ca.Function("static_check", [x, m.p], [ca.norm_inf(r), ca.sum1(x) + ca.sum1(r)],
-                        ["x", "p"], ["residual_norm", "probe"])
+                        ["x", "p"], ["residual_norm", "probe"], opts)
     return StaticSolver(residual=residual, jacobian=jacobian, step=step, solve=solve,
                         outputs=outputs, check=check)
 

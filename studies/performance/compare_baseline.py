@@ -8,7 +8,9 @@ Two long-lived worker processes, one importing this tree and one a checkout of t
 before issue 10 (``--baseline DIR``, e.g. ``git worktree add ../baseline a958ce7``), time the
 same calls in interleaved rounds (which side goes first alternates), each round a block of
 back-to-back calls (warm, as a sweep runs them; see ``run.py``'s ``interleaved``). Reported:
-the median time per call over the rounds, and the ratio new / old. Cases: the OC3 line
+the median wall time per call over the rounds, and the ratio new / old; and the same for the
+process's CPU time (``time.process_time``), which leaves out the time the process waited for
+a core (the machine is shared: under load the wall times swell, Python's more than C's). Cases: the OC3 line
 (``demo_scene_path("oc3")``, 50 segments, on its seabed) and the seed-001 line at 50 and 200
 segments (suspended, with current). Calls:
 
@@ -109,10 +111,11 @@ def worker() -> None:
         elif cmd["op"] == "time":
             f = prepared[cmd["case"]][cmd["call"]]
             n = int(cmd["number"])
-            t0 = time.perf_counter()
+            t0, c0 = time.perf_counter(), time.process_time()
             for _ in range(n):
                 f()
-            out = {"seconds": (time.perf_counter() - t0) / n}
+            out = {"seconds": (time.perf_counter() - t0) / n,
+                   "cpu": (time.process_time() - c0) / n}
         else:
             out = {"error": f"unknown op {cmd['op']!r}"}
         print(json.dumps(out), flush=True)
@@ -148,19 +151,25 @@ def compare(baseline: Path, cases, rounds: int) -> dict:
             info = {k: w.ask(op="prepare", case=case) for k, w in sides.items()}
             number = {c: max(info["old"]["number"][c], info["new"]["number"][c]) for c in CALLS}
             times = {k: {c: [] for c in CALLS} for k in sides}
+            cpu = {k: {c: [] for c in CALLS} for k in sides}
             for r in range(rounds):
                 order = ("old", "new") if r % 2 == 0 else ("new", "old")
                 for c in CALLS:
                     for k in order:
-                        times[k][c].append(sides[k].ask(op="time", case=case, call=c,
-                                                        number=number[c])["seconds"])
+                        got = sides[k].ask(op="time", case=case, call=c, number=number[c])
+                        times[k][c].append(got["seconds"])
+                        cpu[k][c].append(got["cpu"])
             med = {k: {c: statistics.median(v) for c, v in t.items()} for k, t in times.items()}
+            med_cpu = {k: {c: statistics.median(v) for c, v in t.items()} for k, t in cpu.items()}
             same = all(info["old"][t]["path"] == info["new"][t]["path"]
                        and info["old"][t]["iterations"] == info["new"][t]["iterations"]
                        and abs(info["old"][t]["fairlead_tension"] - info["new"][t]["fairlead_tension"])
                        <= 1e-9 * info["old"][t]["fairlead_tension"] for t in ("c", "vm"))
             res[case] = {"median_s": med, "ratio_new_old": {c: med["new"][c] / med["old"][c]
                                                             for c in CALLS},
+                         "median_cpu_s": med_cpu,
+                         "cpu_ratio_new_old": {c: med_cpu["new"][c] / med_cpu["old"][c]
+                                               for c in CALLS},
                          "number": number, "rounds": rounds, "same_answer": same, "info": info}
     finally:
         for w in sides.values():
@@ -169,13 +178,16 @@ def compare(baseline: Path, cases, rounds: int) -> dict:
 
 
 def table(res: dict) -> str:
-    lines = ["| case | call | old | new | new / old |", "|---|---|---|---|---|"]
+    lines = ["| case | call | old | new | new / old | CPU time: old | new | new / old |",
+             "|---|---|---|---|---|---|---|---|"]
     for case, r in res.items():
         for c in CALLS:
             unit, f = ("us", 1e6) if c.startswith("fused") else ("ms", 1e3)
             o, n = r["median_s"]["old"][c] * f, r["median_s"]["new"][c] * f
+            co, cn = r["median_cpu_s"]["old"][c] * f, r["median_cpu_s"]["new"][c] * f
             lines.append(f"| {case} ({r['info']['new']['unknowns']} unknowns) | {c} | "
-                         f"{o:.3g} {unit} | {n:.3g} {unit} | {n / o:.2f} |")
+                         f"{o:.3g} {unit} | {n:.3g} {unit} | {n / o:.2f} | "
+                         f"{co:.3g} {unit} | {cn:.3g} {unit} | {cn / co:.2f} |")
     for case, r in res.items():
         if not r["same_answer"]:
             lines.append(f"\n**{case}: the two sides differ** (path, iterations or tension): "

@@ -502,10 +502,10 @@ def _postprocess(scene: Scene, seg: dict, nodal: tuple, out: dict) -> dict:
     res = {"anchor_force": fa, "fairlead_force": fb,
            "anchor_tension": float(np.hypot(fa[0], fa[1])),
            "fairlead_tension": float(np.hypot(fb[0], fb[1]))}
-    contact = np.ravel(out["contact_force"])
     s = seg["s"]
     grounded, touchdown, s_td = 0.0, None, None
-    if scene.seabed is not None and contact.max() > 0:
+    contact = np.ravel(out["contact_force"]) if scene.seabed is not None else None
+    if contact is not None and contact.max() > 0:
         trib, w_node, w_div, w_tenth = nodal
         # the grounded length is the length whose weight the seabed carries: the contact
         # forces, plus what a held end lying on the seabed props up of the grounded line

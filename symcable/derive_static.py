@@ -140,7 +140,9 @@ def _vm(F) -> StaticSolver:
     names = list(m.outputs)
     exprs = ca.substitute([m.outputs[k].expr for k in names], [m.v, m.t],
                           [ca.DM.zeros(m.n_v), ca.DM(0.0)]) if names else []
-    outputs = ca.Function("static_outputs", [x, m.p], exprs, ["x", "p"], names, opts)
+    # the outputs keep their names (an output may be called "x" or "p" too)
+    outputs = ca.Function("static_outputs", [x, m.p], exprs, ["x", "p"], names,
+                          {**opts, "allow_duplicate_io_names": True})
     W, P = ca.MX.sym("x", n), ca.MX.sym("p", n_p)
     rm, Jm = jacobian(W, P)
     step = ca.Function("static_newton_step", [W, P], [rm, -sparse_solve(Jm, rm, LINSOL)],

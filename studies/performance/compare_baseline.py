@@ -103,10 +103,14 @@ def worker() -> None:
         if cmd["op"] == "prepare":
             calls, info = _prepare(sc, cmd["case"])
             prepared[cmd["case"]] = calls
-            for k, f in calls.items():  # block size: about BLOCK_S of calls
-                t0 = time.perf_counter()
-                f()
-                info.setdefault("number", {})[k] = max(1, int(BLOCK_S / max(time.perf_counter() - t0, 1e-7)))
+            for k, f in calls.items():  # block size: about BLOCK_S of calls (warm)
+                n, t = 1, 0.0
+                while t < 0.2 * BLOCK_S:
+                    t0 = time.perf_counter()
+                    for _ in range(n):
+                        f()
+                    t, n = time.perf_counter() - t0, 2 * n
+                info.setdefault("number", {})[k] = max(1, int(BLOCK_S * n / 2 / t))
             out = info
         elif cmd["op"] == "time":
             f = prepared[cmd["case"]][cmd["call"]]

@@ -151,8 +151,9 @@ def modal_analysis(scene, n_modes: int = 10, *, model: DynamicModel | None = Non
         problem is of size n_v ~ n_y / 2: about 0.2 s at n_y = 3000, the default).
     codegen : bool, optional
         Accepted for uniformity with the other analyses and checked; the tangents are
-        evaluated once, in CasADi's virtual machine (0.5 ms at 200 segments against ~10 ms
-        for the eigen-solve), so generated C would not pay for its compilation.
+        evaluated once, in CasADi's virtual machine (about a tenth of the time at 200
+        segments, the rest is LAPACK's eigen-solve), so generated C would not pay for its
+        compilation.
 
     Returns
     -------

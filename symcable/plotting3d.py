@@ -218,10 +218,17 @@ def plot_mechanism(result, layout, path: str | Path | None = None, *, times=None
                 ax.plot(xyz[:, a], xyz[:, b], **style)
                 if last and pres.any():
                     ax.scatter(xyz[pres, a], xyz[pres, b], **PRESCRIBED_STYLE)
-    if envelope:
+    if envelope:                      # each distinct node once (parts share nodes)
+        seen = set()
         for name, p in pos.items():
             colour, _ = colours[name]
+            part = lay.parts[name]
             for node in range(p.shape[1]):
+                key = (tuple(part.node_q[node]) if np.all(part.node_q[node] >= 0)
+                       else part.prescribed.get(node, (name, node)))
+                if key in seen:
+                    continue
+                seen.add(key)
                 path_ = p[:, node]
                 if ax3 is not None:
                     ax3.plot(*path_.T, color=colour, lw=0.6, alpha=0.35)

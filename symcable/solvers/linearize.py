@@ -16,17 +16,17 @@ kinematics and output expressions: no finite differences.
   velocity coordinates: ``M u'' + (K G) u = 0``. When ``K G`` is symmetric (a conservative
   system: the stiffness in any coordinates that move the nodes, as for q' = v), this is the
   symmetric generalized problem ``K G phi = omega^2 M phi`` on the velocities that keep the
-  constraints (``B G u = 0``), solved by Cholesky of M and a symmetric eigensolver. That is
-  the choice wherever it exists: half the size of the state matrix and symmetric, so about
-  20 times faster than the nonsymmetric eigenproblem (10 ms against 0.5 s on a
-  200-segment planar line), with real frequencies and shapes by construction, and none of
-  the state matrix's zero eigenvalues (the invariants: directions of q that no velocity
-  reaches) to sort out. Its price is the relative accuracy of the lowest frequency,
-  ~eps (omega_max / omega_min)^2 instead of ~eps omega_max / omega_min (1e-12 measured on
-  the planar line at 200 segments). Otherwise (H != 0, or K G not symmetric) the dense
-  nonsymmetric eigenproblem of the state matrix ``[[H, G N], [-M_r^-1 N^T K, 0]]`` (N: the
-  velocities that keep the constraints) is solved, and its eigenvalues with a real part
-  are reported.
+  constraints (``B G u = 0``). That is the choice wherever it exists: half the size of the
+  state matrix and symmetric, so about 10 times faster than the nonsymmetric eigenproblem
+  it replaced (``modal_analysis`` of a 200-segment planar line: 0.12 against 1.19 s), with
+  real frequencies and shapes by construction, and none of the state matrix's zero
+  eigenvalues (the invariants: directions of q that no velocity reaches) to sort out. A
+  symmetric eigensolver on K G itself would lose the lowest frequencies' digits (error
+  ~eps (omega_max / omega_min)^2, against ~eps omega_max / omega_min for the state
+  matrix); solving its inverse keeps them (see :func:`_symmetric_modes`). Otherwise
+  (H != 0, or K G not symmetric) the dense nonsymmetric eigenproblem of the state matrix
+  ``[[H, G N], [-M_r^-1 N^T K, 0]]`` (N: the velocities that keep the constraints) is
+  solved, and its eigenvalues' real parts are reported.
 - With ``damped=True``, the damping ratios from the same system with C.
 - Sensitivity (implicit function theorem): with R(x; p) = 0 the static residual,
   dx/dp = -R_x^-1 R_p and dy/dp = y_x dx/dp + y_p for an output y.

@@ -148,7 +148,7 @@ def modal_analysis(scene, n_modes: int = 10, *, model: DynamicModel | None = Non
         A dynamic model already built (:func:`build_dynamic_model`).
     max_dense : int
         Largest state size n_y = n_q + n_v solved (dense eigenproblem, O(n^3); the symmetric
-        problem is of size n_v ~ n_y / 2: about 0.2 s at n_y = 3000, the default).
+        problem is of size n_v ~ n_y / 2: a few seconds at n_y = 3000, the default).
     codegen : bool, optional
         Accepted for uniformity with the other analyses and checked; the tangents are
         evaluated once, in CasADi's virtual machine (about a tenth of the time at 200

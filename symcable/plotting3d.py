@@ -236,7 +236,6 @@ def plot_mechanism(result, layout, path: str | Path | None = None, *, times=None
                     axes2[key].plot(path_[:, a], path_[:, b], color=colour, lw=0.6, alpha=0.35)
 
     # seabed and free surface
-    zi = dim - 1
     lo, hi = every.min(axis=0), every.max(axis=0)
     levels = [(z, c, lab) for z, c, lab in ((seabed, SEABED_COLOR, f"seabed, z = {seabed:g} m"
                                              if seabed is not None else ""),

@@ -227,7 +227,8 @@ def mechanism_modes(mech: Mechanism, eq: Equilibrium, n_modes: int | None = None
     stiffness eigenvalue) is refused. With ``damped=True`` the damping ratios of the complex
     modes of the system with C are returned too, matched to the undamped modes by order.
     ``max_dense`` is the largest state size n_q + n_v solved (dense: O(n^3) time, O(n^2)
-    memory; the symmetric problem takes ~0.5 s at the default 3000, the state matrix ~20 s).
+    memory; at the default 3000 the symmetric problem takes a few seconds (4.6 s measured
+    on one loaded core), the state matrix ~20 s).
     """
     n_state = mech.n_q + mech.n_v
     if isinstance(n_modes, bool) or (n_modes is not None and (int(n_modes) != n_modes
@@ -236,7 +237,7 @@ def mechanism_modes(mech: Mechanism, eq: Equilibrium, n_modes: int | None = None
     if n_state > max_dense:
         raise SymcableError(
             f"state size n_q + n_v = {n_state} > max_dense = {max_dense}: the dense eigenvalue "
-            f"problem grows as n^3 (~{0.5 * (n_state / 3000) ** 3:.2g} s as a symmetric "
+            f"problem grows as n^3 (~{4 * (n_state / 3000) ** 3:.2g} s as a symmetric "
             f"problem, ~{20 * (n_state / 3000) ** 3:.2g} s as the state matrix); use a coarser "
             "discretisation or pass a larger max_dense")
     t0 = time.perf_counter()

@@ -14,11 +14,10 @@ from .api import (build_dynamic_model, end_stiffness, linearize, modal_analysis,
                   solve_periodic, sweep_periodic)
 from .errors import ConvergenceError, SceneError, SymcableError
 from .models import build_model
-from .results import StaticSolution
+from .results import ModalSolution, StaticSolution
 from .results_periodic import PeriodicSolution, PeriodicSweep
 from .results_time import Trajectory
 from .scene import Scene, load_scene
-from .solvers.modal import ModalSolution
 from .planar_static import solve_static
 from .models.assembly import Prescribed, Shared, assemble
 from .models.mechanism import Mechanism, Output, ParamBlocks, PartLayout, Layout, Scales, Start

@@ -9,7 +9,9 @@ functions (``sc.simulate(scene, ...)``); their options are those of the solvers 
 """
 from __future__ import annotations
 
+import math
 import time
+import warnings as _warnings
 from typing import Mapping, Sequence
 
 import numpy as np
@@ -18,19 +20,18 @@ from .models import DynamicModel, cache_dynamic_model, cached_dynamic_model, lin
 from .results_periodic import PeriodicSolution, PeriodicSweep
 from .results_time import Trajectory
 from .scene import Scene, load_scene
-from .solvers import modal as _modal
 from .solvers import periodic as _periodic
 from .solvers import stepping as _stepping
-from .solvers.modal import MAX_DENSE, ModalSolution
+from .results import ModalSolution
 from .errors import SymcableError
 from .models import build_model
 from .models.mechanism import Start
 from .models.static_mechanism import static_mechanism
 from .solvers.equilibrium import solve_equilibrium
-from .solvers.linearize import output_sensitivity
+from .solvers.linearize import MAX_DENSE, mechanism_modes, output_sensitivity
 from .derive import functions as _functions
-from .models.planar_mechanism import dynamics_mechanism, state_permutation
-from .results_mechanism import SceneLinearization
+from .models.planar_mechanism import dynamics_mechanism, mechanism_of, state_permutation
+from .results_mechanism import Equilibrium, SceneLinearization
 from .planar_static import solve_static
 
 __all__ = ["build_dynamic_model", "modal_analysis", "simulate", "solve_periodic", "sweep_periodic"]
@@ -119,18 +120,99 @@ def sweep_periodic(scene, periods: Sequence[float], method: str = "collocation",
 
 def modal_analysis(scene, n_modes: int = 10, *, model: DynamicModel | None = None,
                    max_dense: int = MAX_DENSE, codegen: bool | None = None) -> ModalSolution:
-    """The lowest undamped natural frequencies and mode shapes of a line.
+    """The lowest undamped natural frequencies and mode shapes of a line about its static
+    state.
 
-    ``scene`` is anything :func:`symcable.load_scene` takes; its static state is solved and
-    its dynamic model built here unless ``model`` is given (then ``scene`` may be None).
-    The other parameters, the result and the errors are those of
-    :func:`symcable.solvers.modal.modal_analysis`.
+    The line's dynamics Mechanism (:func:`symcable.models.planar_mechanism.mechanism_of`) is
+    linearised at rest with its undamped parameters (``model.p_undamped``: the static state
+    kept, current included; excitation, current and the closure stabilisation off) and its
+    modes solved by :func:`symcable.solvers.linearize.mechanism_modes`: with no
+    stabilisation the kinematics are ``q' = G v``, ``K G`` is symmetric, and the modes are
+    the symmetric problem ``K G phi = omega^2 M phi`` in the node velocities (the node
+    frames' tangential and normal displacements), one mode per frequency; the state
+    matrix's zero eigenvalues (the closure of a line held at both ends) never enter.
+
+    Why the drag is out: Morison drag ``|u| u`` has zero derivative at zero relative
+    velocity, and with no current the water's velocity relative to the line at rest is zero,
+    so C = 0 exactly (CasADi's derivative of ``|u|`` at 0 is ``sign(0) = 0``).
+
+    Parameters
+    ----------
+    scene : Scene, dict, path or None
+        Anything :func:`symcable.load_scene` takes; its static state is solved and its
+        dynamic model built here unless ``model`` is given (then ``scene`` may be None).
+    n_modes : int
+        Number of modes (>= 1): the lowest, zero modes skipped. Fewer are returned, with a
+        warning, when the model has fewer.
+    model : DynamicModel, optional
+        A dynamic model already built (:func:`build_dynamic_model`).
+    max_dense : int
+        Largest state size n_y = n_q + n_v solved (dense eigenproblem, O(n^3); the symmetric
+        problem is of size n_v ~ n_y / 2: a few seconds at n_y = 3000, the default).
+    codegen : bool, optional
+        Accepted for uniformity with the other analyses and checked; the tangents are
+        evaluated once, in CasADi's virtual machine (about a tenth of the time at 200
+        segments, the rest is LAPACK's eigen-solve), so generated C would not pay for its
+        compilation.
+
+    Returns
+    -------
+    ModalSolution
+
+    Raises
+    ------
+    SymcableError
+        On ``n_modes < 1``, a bad ``codegen``, a model larger than ``max_dense``, or an
+        unstable static state.
     """
     started = time.perf_counter()
+    if isinstance(n_modes, bool) or int(n_modes) != n_modes or n_modes < 1:
+        raise SymcableError(f"n_modes = {n_modes!r}: must be an integer >= 1")
+    if codegen is not None and not isinstance(codegen, bool):
+        raise SymcableError(f"codegen = {codegen!r}: must be True, False or None (automatic)")
     if model is None:
         model = build_dynamic_model(load_scene(scene))
-    return _modal.modal_analysis(scene, n_modes, model=model, max_dense=max_dense, codegen=codegen,
-                                 started=started)
+    t_model = time.perf_counter()
+    mech = mechanism_of(model)
+    p = np.array(model.p_undamped, dtype=float)
+    rest = Equilibrium(mech.name, np.zeros(mech.n_q), np.zeros(0), p, {}, "converged",
+                       {"start": "the static state (rest of the linearised dynamics)"})
+    modes = mechanism_modes(mech, rest, int(n_modes), max_dense=max_dense)
+    for w in modes.warnings:
+        _warnings.warn(w, RuntimeWarning, stacklevel=2)
+
+    # node displacements (x, z) from the displacements in the node frames
+    _, iv = state_permutation(model)
+    D = np.asarray(model.info["velocity_map"], dtype=float)[:, iv]
+    n_nodes = D.shape[0] // 2
+    disp = (modes.velocity_shapes @ D.T).reshape(-1, n_nodes, 2)
+    shapes = np.array([_node_shape(d) for d in disp]).reshape(-1, n_nodes, 2)
+    info, st = model.info, modes.stats
+    static, sc = info.get("static"), info.get("scene")
+    freq = np.asarray(modes.frequencies, dtype=float)
+    return ModalSolution(
+        scene_name=getattr(sc, "name", model.name),
+        s=np.asarray(info.get("s_nodes", np.arange(n_nodes)), dtype=float),
+        positions=(np.asarray(static.positions, dtype=float) if static is not None
+                   else np.full((n_nodes, 2), np.nan)),
+        frequencies=freq, periods=1.0 / freq, real_parts=np.asarray(modes.real_parts, float),
+        shapes=shapes, status="converged",
+        stats={"n_y": st["state_size"], "method": f"dense {st['method']}",
+               "zero_modes": st["zero_eigenvalues"], "zero_tolerance": st["zero_tolerance"],
+               "max_relative_real_part": st["max_relative_real_part"],
+               "model_time": t_model - started, "jacobian_time": st["linearize_time"],
+               "eig_time": st["eig_time"], "wall_time": time.perf_counter() - started},
+        warnings=modes.warnings)
+
+
+def _node_shape(disp: np.ndarray) -> np.ndarray:
+    """A mode shape (n, 2) scaled to a largest node displacement ``hypot(x, z)`` of 1, its
+    largest entry positive (zeros stay zeros)."""
+    peak = disp.flat[int(np.argmax(np.abs(disp)))]
+    if peak == 0:
+        return np.zeros(disp.shape)
+    out = disp * math.copysign(1.0, peak)
+    return out / np.max(np.hypot(out[:, 0], out[:, 1]))
 
 
 def end_stiffness(scene, end: str = "b", *, static=None) -> np.ndarray:

@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import json
+import math
 from dataclasses import dataclass, field, fields
 from pathlib import Path
 
@@ -9,7 +10,7 @@ import numpy as np
 
 from .errors import SymcableError
 
-__all__ = ["Exportable", "OneLine", "StaticSolution"]
+__all__ = ["Exportable", "ModalSolution", "OneLine", "StaticSolution"]
 
 
 def _jsonable(v):
@@ -223,3 +224,70 @@ class StaticSolution(OneLine, Exportable):
         matplotlib Figure."""
         from .plotting import plot_static
         return plot_static(self, path, scene=scene)
+
+
+@dataclass(frozen=True)
+class ModalSolution(Exportable):
+    """Undamped natural modes of a line about its static state
+    (:func:`symcable.modal_analysis`).
+
+    ``n_modes`` is the number of modes returned, ``n`` the number of nodes.
+
+    Attributes
+    ----------
+    scene_name : str
+    s : ndarray (n,)
+        Unstretched arc length of the nodes from end A, m.
+    positions : ndarray (n, 2)
+        Static node positions (x, z), m (the shape the modes oscillate about).
+    frequencies : ndarray (n_modes,)
+        Natural frequencies, Hz, ascending.
+    periods : ndarray (n_modes,)
+        Natural periods ``1 / frequencies``, s.
+    real_parts : ndarray (n_modes,)
+        Real part of each mode's eigenvalue, 1/s: zero for the conservative linear model
+        (exactly, when it is solved as a symmetric problem; see ``stats["method"]``).
+    shapes : ndarray (n_modes, n, 2)
+        Mode shapes as node displacement amplitudes (x, z), m, each scaled so its largest
+        node displacement ``hypot(x, z)`` is 1 and that entry's largest component is
+        positive. Nodes with prescribed motion (pinned ends) have zero displacement.
+    status : str
+        ``"converged"``.
+    stats : dict
+        ``n_y`` (state size), ``method`` (the eigenproblem solved), ``zero_modes``
+        (eigenvalues of the state matrix that are zero: invariants such as the closure of a
+        line held at both ends, and rigid modes), ``zero_tolerance`` (1/s: smaller
+        frequencies count as zero), ``max_relative_real_part`` (max |Re lambda| / |lambda|
+        over the returned modes, -), ``model_time`` (building the dynamic model, static
+        solve included, when not given), ``jacobian_time`` (the exact tangents K, M and
+        kinematics G), ``eig_time`` (the eigen-solve), ``wall_time`` (s).
+    warnings : tuple of str
+    """
+
+    scene_name: str
+    s: np.ndarray
+    positions: np.ndarray
+    frequencies: np.ndarray
+    periods: np.ndarray
+    real_parts: np.ndarray
+    shapes: np.ndarray
+    status: str = "converged"
+    stats: dict = field(default_factory=dict)
+    warnings: tuple = ()
+
+    @property
+    def n_modes(self) -> int:
+        return int(len(self.frequencies))
+
+    def summary(self) -> str:
+        """One line per mode: frequency (Hz), period (s), angular frequency (rad/s)."""
+        st = self.stats
+        lines = [f"scene             {self.scene_name}",
+                 f"modes             {self.n_modes} lowest of a {st.get('n_y', '?')}-state model "
+                 f"({st.get('method', '?')}, {1e3 * st.get('wall_time', float('nan')):.1f} ms)",
+                 " mode   frequency (Hz)    period (s)   omega (rad/s)"]
+        for k, (f, T) in enumerate(zip(self.frequencies, self.periods), start=1):
+            lines.append(f"{k:5d}   {f:14.6g}   {T:11.6g}   {2 * math.pi * f:13.6g}")
+        lines.append(f"max |Re|/|lambda| {st.get('max_relative_real_part', float('nan')):.2g}")
+        lines += [f"warning           {w}" for w in self.warnings]
+        return "\n".join(lines)

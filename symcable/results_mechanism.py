@@ -61,6 +61,19 @@ class Equilibrium(_Outputs):
     stats: dict = field(default_factory=dict)
     warnings: tuple = ()
 
+    def plot(self, path: str | Path | None = None, *, mechanism=None, **options):
+        """Draw the state in space: a 3D view with plan (x-y) and elevation (x-z)
+        projections (dim = 3) or the elevation (dim = 2), every part in its own colour;
+        saved to ``path`` when given. ``mechanism``: the Mechanism this result belongs to
+        (or its Layout), which says which coordinates are which node. ``options``: those of
+        :func:`symcable.plotting3d.plot_mechanism` (``seabed``, ``surface``, ``title``).
+        Returns the matplotlib Figure."""
+        from .plotting3d import plot_mechanism
+        if mechanism is None:
+            raise SymcableError("mechanism = None: give the Mechanism this result belongs to "
+                                "(or its Layout): it says which coordinates are which node")
+        return plot_mechanism(self, mechanism, path, **options)
+
     def __repr__(self) -> str:
         return (f"Equilibrium({self.mechanism!r}, status={self.status!r}, n_q={self.q.size}, "
                 f"n_z={self.z.size}, residual={self.stats.get('residual_norm', float('nan')):.3g} N)")
@@ -92,6 +105,20 @@ class MechanismTrajectory(_Outputs):
     stats: dict = field(default_factory=dict)
     warnings: tuple = ()
 
+    def plot(self, path: str | Path | None = None, *, mechanism=None, **options):
+        """Draw the state in space: a 3D view with plan (x-y) and elevation (x-z)
+        projections (dim = 3) or the elevation (dim = 2), every part in its own colour;
+        saved to ``path`` when given. ``mechanism``: the Mechanism this result belongs to
+        (or its Layout), which says which coordinates are which node. ``options``: those of
+        :func:`symcable.plotting3d.plot_mechanism` (``times``, ``snapshots``, ``envelope``:
+        snapshots fading from early to late, or every node's path; ``seabed``, ``surface``,
+        ``title``). Returns the matplotlib Figure."""
+        from .plotting3d import plot_mechanism
+        if mechanism is None:
+            raise SymcableError("mechanism = None: give the Mechanism this result belongs to "
+                                "(or its Layout): it says which coordinates are which node")
+        return plot_mechanism(self, mechanism, path, **options)
+
     def __repr__(self) -> str:
         return (f"MechanismTrajectory({self.mechanism!r}, status={self.status!r}, "
                 f"{self.time.size} samples over {self.time[-1] - self.time[0]:.4g} s)")
@@ -99,14 +126,27 @@ class MechanismTrajectory(_Outputs):
 
 @dataclass(frozen=True)
 class MechanismModes(Exportable):
-    """Natural modes about an equilibrium.
+    """Natural modes about an equilibrium (zero-frequency rigid modes left out).
 
     Attributes
     ----------
     frequencies : ndarray (k,)   Hz (undamped natural frequencies, ascending)
-    shapes : ndarray (k, n_q)    mode shapes in q, each scaled to max |entry| = 1
+    shapes : ndarray (k, n_q)    mode shapes in q, each scaled to max |entry| = 1, that entry
+                                 positive
     damping_ratios : ndarray (k,) or None (with ``damped=True``: from the complex modes)
-    stats : dict
+    stats : dict                 ``method`` (``"symmetric (K G, M)"`` or ``"state matrix"``),
+                                 ``state_size`` (n_q + n_v), ``free_velocities``,
+                                 ``constraints``, ``zero_modes`` (rigid modes left out),
+                                 ``zero_eigenvalues`` (of the undamped state matrix in q and
+                                 the free velocities: invariants and rigid modes),
+                                 ``zero_tolerance`` (1/s), ``max_relative_real_part``,
+                                 ``linearize_time``, ``eig_time`` (s)
+    velocity_shapes : ndarray (k, n_v)
+        The same modes as displacements u in the velocity coordinates (u' = v, so
+        ``shapes = u G^T``), scaled by the same factors as ``shapes``.
+    real_parts : ndarray (k,)   1/s: the eigenvalues' real parts (zero for the symmetric
+                                problem)
+    warnings : tuple of str
     """
 
     mechanism: str
@@ -114,6 +154,9 @@ class MechanismModes(Exportable):
     shapes: np.ndarray
     damping_ratios: np.ndarray | None = None
     stats: dict = field(default_factory=dict)
+    velocity_shapes: np.ndarray | None = None
+    real_parts: np.ndarray | None = None
+    warnings: tuple = ()
 
     @property
     def periods(self) -> np.ndarray:
@@ -123,7 +166,8 @@ class MechanismModes(Exportable):
 
 @dataclass(frozen=True)
 class Linearization(Exportable):
-    """The exact linearisation about an equilibrium: M dq'' + C dq' + K dq = B_p dp.
+    """The exact linearisation about an equilibrium: dq' = G dv + H dq,
+    M dv' + C dv + K dq = B_p dp.
 
     Attributes
     ----------
@@ -132,6 +176,8 @@ class Linearization(Exportable):
     M : ndarray (n_v, n_v)  kg
     B : ndarray (n_z, n_q)  dg/dq (constraint Jacobian)
     q, z, p : the equilibrium
+    G : ndarray (n_q, n_v)  d(q')/dv of the kinematics (the identity without kinematics)
+    H : ndarray (n_q, n_q)  d(q')/dq at rest, 1/s (zero without kinematics)
     """
 
     mechanism: str
@@ -143,7 +189,8 @@ class Linearization(Exportable):
     z: np.ndarray
     p: np.ndarray
     stats: dict = field(default_factory=dict)
-
+    G: np.ndarray | None = None
+    H: np.ndarray | None = None
 
 
 @dataclass(frozen=True)

@@ -13,7 +13,8 @@ Layers, lowest first; a module may import modules of its own layer or of a lower
 1. ``scene``: what is modelled
 2. ``models``: the formulations (never a solver)
 3. ``functions``: the functions derived from a model
-4. ``results``, ``results_time``, ``results_periodic``, ``plotting``: what comes out
+4. ``results``, ``results_time``, ``results_periodic``, ``plotting``, ``plotting3d``: what
+   comes out
    (results import plotting lazily; plotting imports no solver)
 5. ``solvers``: how it is solved
 6. ``api``, ``export``, ``cli`` and the package's ``__init__``: orchestration and entry
@@ -58,6 +59,7 @@ LAYERS = {
     "symcable.results_mechanism": 4,
     "symcable.results_periodic_mech": 4,
     "symcable.plotting": 4,
+    "symcable.plotting3d": 4,
     "symcable.solvers": 5,
     "symcable.api": 6,
     "symcable.planar_static": 6,

@@ -14,7 +14,7 @@ import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 
 import symcable as sc  # noqa: E402
-from symcable import plotting  # noqa: E402
+from symcable import plotting, plotting3d  # noqa: E402
 from symcable.results_periodic import PeriodicSolution  # noqa: E402
 from symcable.results_time import Trajectory  # noqa: E402
 from symcable.solvers.modal import ModalSolution  # noqa: E402
@@ -232,3 +232,126 @@ def test_modes_plot_legend_has_every_mode_drawn(n):
         _assert_units(fig)
     finally:
         plotting.close(fig)
+
+
+# ---------------------------------------------------------------------------- mechanisms in space
+A3, B3 = np.array([0.0, 0.0, -20.0]), np.array([30.0, 12.0, 0.0])
+
+
+@pytest.fixture(scope="module")
+def chain3d():
+    """A 3D chain of 5 masses hanging between two prescribed points offset laterally (y),
+    its equilibrium, and 2 s of motion with the upper end swaying in y."""
+    mech = sc.toys.hanging_chain(5, A3, B3, mass=5.0, stiffness=2e4, length=45.0, drag=5.0,
+                                 amplitude=[0.0, 3.0, 0.0], omega=2.0)
+    eq = sc.solve_equilibrium(mech)
+    tr = sc.integrate(mech, 2.0, 0.02, start=eq)
+    return mech, eq, tr
+
+
+def _drawn(ax, gid: str):
+    """The (n, 2) or (n, 3) data of the line drawn with ``gid``."""
+    (line,) = [ln for ln in ax.get_lines() if ln.get_gid() == gid]
+    data = line.get_data_3d() if hasattr(line, "get_data_3d") else line.get_data()
+    return np.column_stack([np.asarray(d, dtype=float) for d in data])
+
+
+def test_3d_equilibrium_view_and_projections_draw_the_nodes(chain3d, tmp_path):
+    """One figure, three axes (a 3D view, plan x-y, elevation x-z); every part's drawn
+    coordinates are its nodes' (free nodes from q, prescribed ones at their joints'
+    positions); the plan draws their x-y and the elevation their x-z; the prescribed ends
+    are marked at A and B; legend, units and equal scales; the file is written."""
+    mech, eq, _ = chain3d
+    fig = eq.plot(tmp_path / "eq3d.png", mechanism=mech, seabed=-25.0, surface=True)
+    try:
+        ax3, plan, elev = fig.get_axes()
+        assert ax3.name == "3d" and (plan.name, elev.name) == ("rectilinear", "rectilinear")
+        assert plan.get_title() == "plan (x-y)" and elev.get_title() == "elevation (x-z)"
+        pos = plotting3d.node_positions(eq, mech)
+        assert set(pos) == {f"m{i}" for i in range(1, 6)} | {f"k{i}" for i in range(6)}
+        q = eq.q
+        for name, p in pos.items():
+            part = mech.layout.parts[name]
+            free = part.node_q[:, 0] >= 0
+            np.testing.assert_array_equal(p[0][free], q[part.node_q[free]])
+            np.testing.assert_array_equal(_drawn(ax3, f"{name}@0"), p[0])
+            np.testing.assert_array_equal(_drawn(plan, f"{name}@0"), p[0][:, [0, 1]])
+            np.testing.assert_array_equal(_drawn(elev, f"{name}@0"), p[0][:, [0, 2]])
+        np.testing.assert_allclose(pos["k0"][0, 0], A3)
+        np.testing.assert_allclose(pos["k5"][0, 1], B3)
+        marked = np.vstack([c.get_offsets() for c in plan.collections])
+        np.testing.assert_allclose(np.sort(marked, axis=0), np.sort([A3[:2], B3[:2]], axis=0))
+        # the chain sags below the straight line between its ends
+        assert pos["m3"][0, 0, 2] < 0.5 * (A3[2] + B3[2]) - 1.0
+        labels = [t.get_text() for t in fig.legends[0].get_texts()]
+        assert labels[:2] == ["m1-m5 (5 points)", "k0-k5 (6 elements)"]
+        assert "prescribed node" in labels and "seabed, z = -25 m" in labels
+        hlines = {ln.get_ydata()[0] for ln in elev.get_lines() if ln.get_gid() is None}
+        assert {0.0, -25.0} <= hlines
+        assert plan.get_aspect() == 1.0 and elev.get_aspect() == 1.0
+        assert ax3.get_zlabel() == "z (m)"
+        _assert_units(fig)
+        assert "equilibrium" in fig._suptitle.get_text()
+        assert (tmp_path / "eq3d.png").stat().st_size > 0
+    finally:
+        plotting.close(fig)
+
+
+def test_3d_trajectory_snapshots_fade_and_envelope_draws_paths(chain3d):
+    """Snapshots: ``snapshots`` states from first to last, the earlier fainter, each drawn
+    where the trajectory has its nodes at that time (the moving end included); the envelope
+    draws every distinct node's path over the run."""
+    mech, _, tr = chain3d
+    fig = tr.plot(mechanism=mech, snapshots=3)
+    try:
+        _, plan, elev = fig.get_axes()
+        picks = [0, (tr.time.size - 1) // 2, tr.time.size - 1]
+        pos = plotting3d.node_positions(tr, mech)
+        alphas = []
+        for i in picks:
+            np.testing.assert_allclose(_drawn(elev, f"k5@{i}"), pos["k5"][i][:, [0, 2]])
+            alphas.append([ln.get_alpha() for ln in plan.get_lines() if ln.get_gid() == f"k5@{i}"][0])
+        assert alphas[0] < alphas[1] < alphas[2] == 1.0
+        y_end = [_drawn(plan, f"k5@{i}")[1, 1] for i in picks]
+        np.testing.assert_allclose(y_end, B3[1] + 3.0 * np.sin(2.0 * tr.time[picks]), atol=1e-12)
+        assert "t = 2 s" in fig._suptitle.get_text()
+    finally:
+        plotting.close(fig)
+    fig = tr.plot(mechanism=mech, envelope=True)
+    try:
+        _, plan, _ = fig.get_axes()
+        paths = [ln for ln in plan.get_lines() if ln.get_gid() is None]
+        assert len(paths) == 5 + 2          # each distinct node once: 5 masses, 2 ends
+        longest = max(paths, key=lambda ln: np.ptp(ln.get_ydata()))
+        assert len(longest.get_xdata()) == tr.time.size
+        assert "node paths" in fig._suptitle.get_text()
+    finally:
+        plotting.close(fig)
+
+
+def test_2d_mechanism_and_refusals():
+    """A planar mechanism gets the elevation alone, from its q; the planar statics (whose
+    unknowns are angles and strains) from its positions output; a result without its
+    mechanism, or an envelope of one state, is refused with a message."""
+    chain = sc.toys.spring_chain(4, gravity=9.81)
+    eq = sc.solve_equilibrium(chain)
+    fig = eq.plot(mechanism=chain)
+    try:
+        (elev,) = fig.get_axes()
+        np.testing.assert_array_equal(_drawn(elev, "m2@0"), eq.q[chain.layout.parts["m2"].node_q])
+        _assert_units(fig)
+    finally:
+        plotting.close(fig)
+    from symcable.models.static_mechanism import static_mechanism
+    scene = sc.load_scene(two_point((0.0, 0.0), (80.0, 10.0)))
+    mech = static_mechanism(sc.build_model(scene))
+    st = sc.solve_equilibrium(mech)
+    fig = st.plot(mechanism=mech.layout)
+    try:
+        np.testing.assert_allclose(_drawn(fig.get_axes()[0], "line@0"), st.outputs["positions"])
+    finally:
+        plotting.close(fig)
+    with pytest.raises(sc.SymcableError, match="mechanism = None"):
+        eq.plot()
+    with pytest.raises(sc.SymcableError, match="envelope"):
+        eq.plot(mechanism=chain, envelope=True)

@@ -251,12 +251,16 @@ def assemble(parts: Iterable[Mechanism], joints: Iterable = (), *, name: str = "
         # layout, in global indices
         for pname, lay in m.layout.parts.items():
             node_q = np.full(lay.node_q.shape, -1, dtype=int)
+            moved_by = {i: f"{m.name}.{j}" for i, j in lay.prescribed.items()}
             for ii in np.ndindex(lay.node_q.shape):
                 jloc = int(lay.node_q[ii])
                 if jloc >= 0:
                     r = dof.find((m.name, jloc))
-                    node_q[ii] = -1 if r in roots_prescribed else global_index[r]
-            part_layouts[pname] = PartLayout(lay.kind, lay.s, node_q, node_q.copy())
+                    if r in roots_prescribed:
+                        moved_by[int(ii[0])] = roots_prescribed[r][0].name
+                    else:
+                        node_q[ii] = global_index[r]
+            part_layouts[pname] = PartLayout(lay.kind, lay.s, node_q, node_q.copy(), moved_by)
     for j in presc_joints:
         x, _, _ = motion[j.name]
         outputs[f"{j.name}.force"] = Output(ca.vertcat(*joint_force[j.name]), "N", j.name,

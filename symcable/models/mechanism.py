@@ -181,12 +181,17 @@ class PartLayout:
         Index in ``q`` of each node's coordinates; -1 where the node is prescribed.
     node_v : ndarray of int (n_nodes, dim)
         The same in ``v``.
+    prescribed : mapping node index -> str
+        For a prescribed node, the name of what moves it: the mechanism's output
+        ``NAME.position`` (m) is that node's position (``assemble`` fills it from its
+        :class:`~symcable.models.assembly.Prescribed` joints).
     """
 
     kind: str
     s: np.ndarray
     node_q: np.ndarray
     node_v: np.ndarray
+    prescribed: Mapping[int, str] = field(default_factory=dict)
 
     @property
     def n_nodes(self) -> int:

@@ -11,10 +11,11 @@ import math
 import casadi as ca
 import numpy as np
 
+from ..errors import SymcableError
 from .assembly import Prescribed, Shared, assemble
 from .mechanism import Layout, Mechanism, Output, ParamBlocks, PartLayout, Scales, Start
 
-__all__ = ["duffing", "pendulum", "point_mass", "spring", "spring_chain"]
+__all__ = ["duffing", "hanging_chain", "pendulum", "point_mass", "spring", "spring_chain"]
 
 
 def _layout(name, dim, n_nodes, kind="point"):
@@ -145,6 +146,36 @@ def spring_chain(n_masses: int = 5, *, mass: float = 1.0, stiffness: float = 100
     joints.append(Prescribed("right", (f"k{N}", 1), [span, 0.0],
                              amplitude=amplitude, omega=omega))
     return assemble(parts, joints, name="chain")
+
+
+def hanging_chain(n_masses: int, a, b, *, mass: float = 1.0, stiffness: float = 1e4,
+                  length: float | None = None, gravity: float = 9.80665, drag: float = 0.0,
+                  drag_speed: float = 1e-3, amplitude=None, omega: float = 0.0,
+                  name: str = "chain") -> Mechanism:
+    """``n_masses`` point masses (kg) joined by ``n_masses + 1`` linear springs (N/m) between
+    two prescribed end nodes at ``a`` and ``b`` (m; 2 or 3 coordinates, z last and up):
+    a catenary-like chain hanging under gravity in 2D or 3D. ``length`` (m) is the total
+    unstretched length (default 1.2 times the distance between the ends), shared equally by
+    the springs. End ``b`` may move as ``b + amplitude sin(omega t)`` (m per coordinate,
+    rad/s: at ``b`` at t = 0); the end joints are ``end_a`` and ``end_b`` (outputs ``end_a.force``,
+    ``end_b.position`` ...). Parts ``m1`` ... ``mN`` and ``k0`` ... ``kN``; the static start
+    is the straight line between the ends."""
+    a, b = (np.asarray(x, dtype=float).ravel() for x in (a, b))
+    if a.size != b.size or a.size not in (2, 3):
+        raise SymcableError(f"hanging_chain: a = {a.tolist()}, b = {b.tolist()}: need two "
+                            "points of 2 or 3 coordinates each")
+    N = int(n_masses)
+    L0 = (1.2 * float(np.linalg.norm(b - a)) if length is None else float(length)) / (N + 1)
+    xs = a + np.linspace(0.0, 1.0, N + 2)[:, None] * (b - a)
+    parts = [point_mass(f"m{i}", xs[i], mass, gravity=gravity, drag=drag, drag_speed=drag_speed)
+             for i in range(1, N + 1)]
+    parts += [spring(f"k{i}", xs[i], xs[i + 1], stiffness, L0) for i in range(N + 1)]
+    joints = [Shared((f"m{i}", 0), (f"k{i}", 0)) for i in range(1, N + 1)]
+    joints += [Shared((f"m{i + 1}", 0), (f"k{i}", 1)) for i in range(N)]
+    joints += [Prescribed("end_a", ("k0", 0), a),
+               Prescribed("end_b", (f"k{N}", 1), b, amplitude=amplitude,
+                          phase=np.full(a.size, -0.5 * math.pi), omega=omega)]
+    return assemble(parts, joints, name=name)
 
 
 def duffing(*, mass: float = 1.0, damping: float = 0.2, stiffness: float = 1.0,

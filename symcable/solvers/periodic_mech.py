@@ -48,11 +48,16 @@ DEFAULT_DEFECT_TOL = 0.1
 def _static_base(mech: Mechanism, start) -> tuple:
     if isinstance(start, Equilibrium):
         return np.asarray(start.q, float), np.asarray(start.z, float), "given equilibrium"
+    st = next(iter(mech.starts()))
+    if mech.n_q != mech.n_v:
+        # kinematics with n_q != n_v (the planar cable's segment coordinates against its node
+        # velocities): solve_equilibrium's tangent stiffness is square in q and v, so the
+        # mechanism's own static start is the base (for the planar cable, its exact rest)
+        return np.asarray(st.q, float), np.asarray(st.z, float), f"static start {st.source!r}"
     try:
         eq = solve_equilibrium(mech, require_stable=False)
         return eq.q, eq.z, "static equilibrium"
     except ConvergenceError:
-        st = next(iter(mech.starts()))
         return np.asarray(st.q, float), np.asarray(st.z, float), f"static start {st.source!r}"
 
 
@@ -140,4 +145,13 @@ def solve_periodic_mech(mech: Mechanism, period: float, method=None, *, p=None, 
                                  ipopt_options=ipopt_options, **kw)
     if isinstance(method, HarmonicBalance):
         return solve_hbalance(mech, period, method, p, start_fn, info, **kw)
-    return solve_shooting(mech, period, method, p, start_fn, info, **kw)
+    state0 = None
+    if (isinstance(start, MechanismPeriodic) and start.method == "shooting"
+            and start.stats.get("state0") is not None
+            and start.stats.get("steps") == method.steps
+            and (method.rho_inf is None or start.stats.get("rho_inf") == method.rho_inf)):
+        # the integrator's own state at t = 0, rates included: a shooting solution of the same
+        # discretisation restarts exactly (one period confirms it)
+        state0 = start.stats["state0"]
+        info["start"] = "shooting solution (its integrator state at t = 0)"
+    return solve_shooting(mech, period, method, p, start_fn, info, state0=state0, **kw)

@@ -273,7 +273,7 @@ def _solve(scene_name: str, model: DynamicModel, name: str, opts, p: np.ndarray,
     if initial is not None:
         res.stats["start"] = ("given solution" if initial.method == name and
                               res.stats.get("start", "").startswith("shooting solution")
-                              else f"given solution (re-sampled from {initial.method})")
+                              else "given solution (re-sampled)")
     stats = _stats(name, res, time.perf_counter() - t0)
     return _solution(scene_name, model, name, res, resolution, stats, n_harm)
 

@@ -2,21 +2,31 @@
 
 Method
 ------
-The period map Phi takes the integrator's state at t = 0, x = (q, v, a, abar, z), through
-N = ``Shooting.steps`` steps of h = T/N of :func:`~symcable.solvers.integrate.galpha_step`
-(the very step of ``integrate``, with its Newton tolerance and constraints imposed at every
-step) to t = T, chained by ``mapaccum`` into one call. The periodic steady state of the
-discretised dynamics is the fixed point u = Phi(u) of u = (q, v, a, abar): the
-pseudo-acceleration abar carries memory between steps, so it belongs to the fixed point as
-much as q and v; z is an output of each step (its Newton guess only), not an unknown.
+The period map Phi takes the integrator's state at t = 0 through N = ``Shooting.steps``
+steps of h = T/N to t = T, chained by ``mapaccum`` into one call, with one of two
+integrators of :mod:`~symcable.solvers.integrate` (the very steps of ``integrate``, with
+their Newton tolerance):
 
-The fixed point is found by Anderson acceleration (type II, depth 10: each iterate is the
-plain march Phi(u) corrected by the least-squares combination of the last secant pairs;
-Walker & Ni, SIAM J. Numer. Anal. 49, 2011); when it has not converged within 60 periods,
-Newton's method with the exact monodromy takes over from the best iterate: CasADi
-differentiates the mapaccum'd period map (through each step's rootfinder, by the implicit
-function theorem), one call returning Phi(u) and dPhi/du, and a Newton step that does not
-reduce the residual is halved (up to 6 times).
+- second order, :func:`~symcable.solvers.integrate.galpha_step` (q' = v, constraints
+  imposed at every step), state x = (q, v, a, abar, z); the fixed point is u = (q, v, a,
+  abar): the pseudo-acceleration abar carries memory between steps, so it belongs to the
+  fixed point as much as q and v; z is an output of each step (its Newton guess only);
+- first order, :func:`~symcable.solvers.integrate.galpha1_step` (Jansen et al. on the DAE
+  residual, any kinematics q' = G v + w, n_z = 0), state and fixed point u = (y, y'), y =
+  (q, v): the carried rate y' is the scheme's memory. Used where the mechanism has
+  kinematics (the planar cable; the second-order scheme needs q' = v). Where it has none
+  both apply; the second order stays there (it takes constraints, and the toys' numbers
+  below are its).
+
+The fixed point is found by Anderson acceleration (type II, depth 10, or n_u / 3 up to 50
+on a large state: each iterate is the plain march Phi(u) corrected by the least-squares
+combination of the last secant pairs; Walker & Ni, SIAM J. Numer. Anal. 49, 2011); when it
+has not converged within 60 periods (or n_u + 1, the cost of one monodromy, where that is
+more), Newton's method with the exact monodromy takes over from the best iterate: CasADi
+differentiates the mapaccum'd period map through each step's rootfinder (the step asked for
+with ``exact_derivatives=True``: the implicit function theorem), one call returning Phi(u)
+and dPhi/du, and a Newton step that does not reduce the residual is halved (up to 6 times,
+each trial a plain period).
 
 Why this order, measured to tol 1e-9 from the same start (one run each, 2 shared cores):
 
@@ -37,15 +47,18 @@ largest multiplier is reported as ``floquet_max``).
 
 Scaling
 -------
-u is divided by (scales.q, scales.v, a_ref, a_ref), a_ref = scales.v 2 pi / T, and the
+Second order: u is divided by (scales.q, scales.v, a_ref, a_ref), a_ref = scales.v 2 pi / T;
+first order: by (y_scale, y_scale / h), the rates as a change of y over one step. The
 residual Phi(u) - u likewise: a change over one period relative to the state's magnitude.
 
 Start
 -----
 The same as every periodic method (:mod:`symcable.solvers.hbalance_mech` says why): the
 last of 6 periods of generalized-alpha from the static equilibrium, or a given periodic
-solution, at t = 0, with accelerations and constraint forces made consistent
-by the derived ``consistent_acceleration`` (abar = a).
+solution, at t = 0, with the rates made consistent (second order: accelerations and
+constraint forces by the derived ``consistent_acceleration``, abar = a; first order: y'
+from the equations); or, from a shooting solution of the same steps, its integrator state
+(``stats["state0"]``), which one period confirms.
 
 Checks
 ------
@@ -78,6 +91,17 @@ MAX_HALVINGS = 6
 #: secant pairs of Anderson acceleration, and the periods it may take before Newton takes over
 ANDERSON_DEPTH = 10
 ANDERSON_PERIODS = 60
+#: the most secant pairs on a large state (n_u / 3 up to this): on the planar cable (20
+#: segments, n_u = 156) a lightly damped line at resonance took 246 periods with 10 pairs,
+#: 97 with 20, 71 with 30 and 58 with 50; where every mode decays alike (seed 001) the depth
+#: does not matter (17-18 periods from 3 to 40)
+ANDERSON_MAX_DEPTH = 50
+
+
+def anderson_depth(n_u: int) -> int:
+    """Secant pairs kept: ANDERSON_DEPTH, or n_u / 3 on large states, at most
+    ANDERSON_MAX_DEPTH."""
+    return min(ANDERSON_MAX_DEPTH, max(ANDERSON_DEPTH, n_u // 3))
 
 
 class PeriodMap:
@@ -211,9 +235,10 @@ def _rate_note(history: list, last: int = 20) -> str:
 
 
 def anderson_budget(n_u: int) -> int:
-    """Periods Anderson may take before Newton takes over: ANDERSON_PERIODS, or the cost of
-    one Newton iteration (a monodromy costs about n_u + 1 periods) where that is more."""
-    return max(ANDERSON_PERIODS, n_u + 1)
+    """Periods Anderson may take before Newton takes over: ANDERSON_PERIODS up to
+    ANDERSON_PERIODS unknowns, and in proportion to n_u + 1 beyond, the cost of one Newton
+    iteration (a monodromy costs about n_u + 1 periods)."""
+    return int(math.ceil(ANDERSON_PERIODS * max(1.0, (n_u + 1) / 60.0)))
 
 
 def solve_shooting(mech: Mechanism, period: float, opts: Shooting, p, start: StartFn,
@@ -239,6 +264,7 @@ def solve_shooting(mech: Mechanism, period: float, opts: Shooting, p, start: Sta
         u = x0[:nu]
     step_tol = pm.method.tol
     budget = anderson_budget(nu)
+    depth = anderson_depth(nu)
 
     def evaluate(u_, z_, jac):
         out = (pm.with_jacobian if jac else pm.march)(np.concatenate([u_, z_]), period, p)
@@ -260,7 +286,7 @@ def solve_shooting(mech: Mechanism, period: float, opts: Shooting, p, start: Sta
     while res > tol and r is not None and periods < budget:
         g = X[:nu, -1] / su
         f = r
-        Fs, Gs = (Fs + [f])[-ANDERSON_DEPTH - 1:], (Gs + [g])[-ANDERSON_DEPTH - 1:]
+        Fs, Gs = (Fs + [f])[-depth - 1:], (Gs + [g])[-depth - 1:]
         u_next = g
         if len(Fs) > 1:
             dF = np.diff(np.array(Fs), axis=0).T

@@ -113,7 +113,11 @@ def solve_periodic(scene, method="shooting", *, model: DynamicModel | None = Non
         :data:`symcable.planar_periodic.DEFAULT_TOL`: 1e-10 for collocation and harmonic
         balance, 1e-7 for shooting, the change of its scaled state over one period).
     codegen : bool, optional
-        Accepted for compatibility; the generic periodic solvers run in the virtual machine.
+        Collocation and harmonic balance: the system's residual and Jacobian in generated C
+        (compiled once per model structure and discretisation, cached; the period and every
+        parameter stay inputs). Default None: generated C when a C compiler is found
+        (:mod:`symcable.codegen`). Shooting runs in the virtual machine (its
+        generalized-alpha step is a CasADi rootfinder, which CasADi cannot write C for).
     ipopt_options : dict, optional
         Collocation with IPOPT: IPOPT options by their IPOPT names, over the defaults.
 

@@ -178,7 +178,7 @@ def _stats(name: str, res: MechanismPeriodic, wall: float) -> dict:
                                  else "; ".join(res.warnings)),
           "residual_norm": g.get("residual"), "tolerance": g.get("tolerance"),
           "unknowns": g.get("unknowns"), "solve_time": g.get("wall_time"), "wall_time": wall,
-          "guess": {"start": g.get("start")}, "compiled": False,
+          "guess": {"start": g.get("start")}, "compiled": bool(g.get("compiled", False)),
           "error_estimate": g.get("error_estimate"), "defect": g.get("defect"),
           "periodicity_defect": g.get("periodicity_defect")}
     keys = {"collocation": ("intervals", "degree", "scheme"),
@@ -246,7 +246,7 @@ def _solution(scene_name: str, model: DynamicModel, name: str, res: MechanismPer
 
 def _solve(scene_name: str, model: DynamicModel, name: str, opts, p: np.ndarray, *,
            initial: PeriodicSolution | None, tol: float | None, ipopt_options, resolution: int,
-           t0: float) -> PeriodicSolution:
+           codegen: bool | None, t0: float) -> PeriodicSolution:
     """One periodic solve of the model's Mechanism, as a PeriodicSolution."""
     _check_params(model, p)
     T = _period_of(model, p)
@@ -255,7 +255,7 @@ def _solve(scene_name: str, model: DynamicModel, name: str, opts, p: np.ndarray,
     n_harm = opts.harmonics if name == "harmonic-balance" else REPORTED_HARMONICS
     try:
         res = solve_periodic_mech(mech, T, opts, p=p, start=start,
-                                  ipopt_options=ipopt_options,
+                                  ipopt_options=ipopt_options, codegen=codegen,
                                   tol=DEFAULT_TOL[name] if tol is None else tol)
     except ConvergenceError as exc:
         part = exc.partial
@@ -289,7 +289,7 @@ def solve_model(scene, model: DynamicModel | None, method, *, params=None, initi
     scene, model = _check_model(scene, model)
     p = periodic_params(model) if params is None else np.asarray(params, dtype=float).ravel()
     return _solve(scene.name, model, name, opts, p, initial=initial, tol=tol,
-                  ipopt_options=ipopt_options, resolution=resolution, t0=t0)
+                  ipopt_options=ipopt_options, resolution=resolution, codegen=codegen, t0=t0)
 
 
 def _check_common(name, resolution, tol, ipopt_options, codegen) -> None:
@@ -337,7 +337,7 @@ def sweep_model(scene, model: DynamicModel | None, periods: Sequence[float], met
                 sol = _solve(scene.name, model, name, opts, p,
                              initial=prev if start == "neighbour" else None, tol=tol,
                              ipopt_options=ipopt_options, resolution=resolution,
-                             t0=time.perf_counter())
+                             codegen=codegen, t0=time.perf_counter())
                 break
             except ConvergenceError as exc:
                 warnings.append(f"period {T:g} s from the {start}: {exc}")

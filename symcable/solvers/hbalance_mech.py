@@ -60,10 +60,10 @@ import time
 import casadi as ca
 import numpy as np
 
-from ..derive import functions
 from ..models.mechanism import Mechanism
 from .options import HarmonicBalance
-from .periodic_common import PERIODIC_CACHE, Scaling, SquareSystem, StartFn, check_and_wrap
+from .periodic_common import (PERIODIC_CACHE, Scaling, SquareSystem, StartFn, check_and_wrap,
+                              point_function)
 
 __all__ = ["solve_hbalance", "HBSystem"]
 
@@ -90,9 +90,8 @@ class HBSystem:
     """The harmonic-balance system of one mechanism for (H, M): its residual Function
     ``<name>_hb_residual(w, P) -> r`` (P = (T, p)), solvers and the packing of unknowns."""
 
-    def __init__(self, mech: Mechanism, H: int, M: int):
+    def __init__(self, mech: Mechanism, H: int, M: int, compiled: bool = False):
         self.mech, self.H, self.M = mech, H, M
-        F = functions(mech)
         sc = Scaling.of(mech)
         nq, nz, nc = mech.n_q, mech.n_z, 2 * H + 1
         self.nc = nc
@@ -120,7 +119,7 @@ class HBSystem:
             Yd = om * (C @ Dm) @ Et
             if nz:  # no derivative of z enters the residual
                 Yd = ca.vertcat(Yd[:nq + nv, :], ca.MX(nz, M))
-            Fr = F.dae_residual.map(M)(Yd, Y, t, p)
+            Fr = point_function(mech, "dae_residual", compiled).map(M)(Yd, Y, t, p)
             rows = np.concatenate([np.full(nq, 1.0 / sc.v_ref), np.full(nv, 1.0 / sc.force),
                                    1.0 / sc.g])
             R = ca.vec(((ca.diag(ca.DM(rows)) @ Fr) @ ca.DM(self.proj)).T)  # state-major rows
@@ -132,12 +131,12 @@ class HBSystem:
             v = om * (Qc @ Dm) @ Et
             a = om ** 2 * (Qc @ Dm @ Dm) @ Et
             z = Zc @ Et
-            r_f, r_g = F.acc_residual.map(M)(q, v, a, z, t, p)
+            r_f, r_g = point_function(mech, "acc_residual", compiled).map(M)(q, v, a, z, t, p)
             R = ca.vertcat(ca.vec((r_f / sc.force) @ ca.DM(self.proj)),
                            ca.vec((ca.diag(ca.DM(1.0 / sc.g)) @ r_g) @ ca.DM(self.proj)))
         self.square = SquareSystem(f"{mech.name}_hb{H}",
                                    ca.Function(f"{mech.name}_hb_residual", [w, P], [R],
-                                               ["w", "P"], ["r"]))
+                                               ["w", "P"], ["r"]), compiled)
 
     def pack(self, Qc: np.ndarray, Vc: np.ndarray, Zc: np.ndarray) -> np.ndarray:
         """Scaled unknowns from coefficients (n, 2H+1) of q, v (kinematics only) and z."""
@@ -164,8 +163,9 @@ class HBSystem:
         return self.pack(*(np.asarray(a).T @ self.proj for a in (q, v, z)))
 
 
-def hb_system(mech: Mechanism, H: int, M: int) -> HBSystem:
-    return PERIODIC_CACHE.get(mech, ("hb", H, M), lambda: HBSystem(mech, H, M))
+def hb_system(mech: Mechanism, H: int, M: int, compiled: bool = False) -> HBSystem:
+    key = ("hb", H, M) + (("C",) if compiled else ())
+    return PERIODIC_CACHE.get(mech, key, lambda: HBSystem(mech, H, M, compiled))
 
 
 def fourier_sampler(Qc, Vc, Zc, period: float) -> StartFn:
@@ -183,12 +183,14 @@ def default_samples(H: int) -> int:
 
 
 def solve_hbalance(mech: Mechanism, period: float, opts: HarmonicBalance, p, start: StartFn,
-                   start_info: dict, *, tol: float, defect_tol: float, max_iter: int = 50):
-    """Harmonic balance of ``mech`` from ``start`` (see the module docstring)."""
+                   start_info: dict, *, tol: float, defect_tol: float, max_iter: int = 50,
+                   compiled: bool = False):
+    """Harmonic balance of ``mech`` from ``start`` (see the module docstring); ``compiled``:
+    the system's residual and Jacobian in generated C."""
     t0 = time.perf_counter()
     H = opts.harmonics
     M = opts.samples or default_samples(H)
-    sys_ = hb_system(mech, H, M)
+    sys_ = hb_system(mech, H, M, compiled)
     P = np.concatenate([[period], p])
     w0 = sys_.coefficients_of(start, period)
     sol = sys_.square.solve(w0, P, solver="newton", tol=tol, max_iter=max_iter)
@@ -201,7 +203,7 @@ def solve_hbalance(mech: Mechanism, period: float, opts: HarmonicBalance, p, sta
     stats.update({"solver": "newton", "iterations": sol["iterations"],
                   "residual": sol["residual"], "return_status": sol["return_status"],
                   "periodicity_defect": 0.0, "harmonics": H, "time_samples": M,
-                  "unknowns": sys_.square.n, "tolerance": tol,
+                  "unknowns": sys_.square.n, "tolerance": tol, "compiled": sys_.square.compiled,
                   "wall_time": time.perf_counter() - t0,
                   "highest_harmonic": float(np.max(np.abs(Qc[:, -2:]) / sys_.sc.q[:, None]))})
     return check_and_wrap(mech, period, p, q, v, z, method="harmonic-balance", solved=solved,

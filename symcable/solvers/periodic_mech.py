@@ -19,6 +19,7 @@ from typing import Mapping
 
 import numpy as np
 
+from ..codegen import use_codegen
 from ..errors import ConvergenceError, SymcableError
 from ..models.mechanism import Mechanism
 from ..results_mechanism import Equilibrium
@@ -64,7 +65,8 @@ def _static_base(mech: Mechanism, start) -> tuple:
 def solve_periodic_mech(mech: Mechanism, period: float, method=None, *, p=None, start=None,
                         ipopt_options: Mapping | None = None, tol: float = DEFAULT_TOL,
                         defect_tol: float = DEFAULT_DEFECT_TOL,
-                        max_iter: int | None = None) -> MechanismPeriodic:
+                        max_iter: int | None = None,
+                        codegen: bool | None = False) -> MechanismPeriodic:
     """The periodic response of ``mech`` with period ``period``.
 
     Parameters
@@ -87,6 +89,11 @@ def solve_periodic_mech(mech: Mechanism, period: float, method=None, *, p=None, 
     max_iter : int, optional
         Newton / IPOPT iterations (defaults: collocation 100, harmonic balance 50,
         shooting 30).
+    codegen : bool or None
+        Collocation and harmonic balance: the system's residual and Jacobian in generated C
+        (:func:`symcable.codegen.use_codegen`: None is C where a compiler is found; default
+        False, the virtual machine). Shooting runs in the virtual machine: its step is a
+        CasADi rootfinder, which CasADi cannot write C for.
 
     Returns
     -------
@@ -142,9 +149,11 @@ def solve_periodic_mech(mech: Mechanism, period: float, method=None, *, p=None, 
         kw["max_iter"] = max_iter
     if isinstance(method, Collocation):
         return solve_collocation(mech, period, method, p, start_fn, info,
-                                 ipopt_options=ipopt_options, **kw)
+                                 ipopt_options=ipopt_options, compiled=use_codegen(codegen),
+                                 **kw)
     if isinstance(method, HarmonicBalance):
-        return solve_hbalance(mech, period, method, p, start_fn, info, **kw)
+        return solve_hbalance(mech, period, method, p, start_fn, info,
+                              compiled=use_codegen(codegen), **kw)
     state0 = None
     if (isinstance(start, MechanismPeriodic) and start.method == "shooting"
             and start.stats.get("state0") is not None

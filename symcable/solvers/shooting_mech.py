@@ -15,8 +15,10 @@ their Newton tolerance):
   residual, any kinematics q' = G v + w, n_z = 0), state and fixed point u = (y, y'), y =
   (q, v): the carried rate y' is the scheme's memory. Used where the mechanism has
   kinematics (the planar cable; the second-order scheme needs q' = v). Where it has none
-  both apply; the second order stays there (it takes constraints, and the toys' numbers
-  below are its).
+  both apply, and the second order stays: it takes constraints, and on the toys it is as
+  fast or faster at a smaller error (measured, default rho_inf of each, 3 runs: Duffing
+  T/100 8 periods 0.24 s, error 8.2e-4 of the amplitude, against 7 periods 0.24 s, 1.3e-3;
+  3-mass chain T/200 17 periods 1.04 s, 1.7e-5, against 15 periods 1.48 s, 2.4e-5).
 
 The fixed point is found by Anderson acceleration (type II, depth 10, or n_u / 3 up to 50
 on a large state: each iterate is the plain march Phi(u) corrected by the least-squares
@@ -131,18 +133,30 @@ class PeriodMap:
             fast = exact = galpha_step(mech, self.method)
             self.n_u = 2 * nq + 2 * nv
             n_x = self.n_u + nz
-        x0 = ca.MX.sym("x0", n_x)
-        T = ca.MX.sym("T")
-        p = ca.MX.sym("p", mech.params.n)
-        h = T / steps
-        times = h * ca.DM(np.arange(steps)).T
-        X, E, _ = fast.mapaccum(f"{mech.name}_period", steps, [0], [0])(x0, times, h, p)
-        self.march = ca.Function(f"{mech.name}_period_march", [x0, T, p], [X, E],
-                                 ["x0", "T", "p"], ["X", "err"])
-        Xe, Ee, _ = exact.mapaccum(f"{mech.name}_period_exact", steps, [0], [0])(x0, times, h, p)
-        J = ca.jacobian(Xe[:self.n_u, -1], x0)[:, :self.n_u]
-        self.with_jacobian = ca.Function(f"{mech.name}_period_map", [x0, T, p], [Xe, Ee, J],
-                                         ["x0", "T", "p"], ["X", "err", "J"])
+        self._exact, self._n_x, self._jac = exact, n_x, None
+        X, E = self._period(fast, "period")
+        self.march = ca.Function(f"{mech.name}_period_march", [self._x0, self._T, self._p],
+                                 [X, E], ["x0", "T", "p"], ["X", "err"])
+
+    def _period(self, step: ca.Function, tag: str) -> tuple:
+        self._x0, self._T = ca.MX.sym("x0", self._n_x), ca.MX.sym("T")
+        self._p = ca.MX.sym("p", self.mech.params.n)
+        h = self._T / self.steps
+        times = h * ca.DM(np.arange(self.steps)).T
+        acc = step.mapaccum(f"{self.mech.name}_{tag}", self.steps, [0], [0])
+        X, E, _ = acc(self._x0, times, h, self._p)
+        return X, E
+
+    @property
+    def with_jacobian(self) -> ca.Function:
+        """Built on first use (only Newton needs it): its graph is the period's and its
+        forward derivative in n_u directions."""
+        if self._jac is None:
+            X, E = self._period(self._exact, "period_exact")
+            J = ca.jacobian(X[:self.n_u, -1], self._x0)[:, :self.n_u]
+            self._jac = ca.Function(f"{self.mech.name}_period_map", [self._x0, self._T, self._p],
+                                    [X, E, J], ["x0", "T", "p"], ["X", "err", "J"])
+        return self._jac
 
     def initial_state(self, q, v, z, t, p) -> tuple:
         """(x, z): the integrator's state at (q, v, z) and time t, its rates made consistent
@@ -254,9 +268,9 @@ def solve_shooting(mech: Mechanism, period: float, opts: Shooting, p, start: Sta
     su = pm.u_scale(sc, period)
     if state0 is not None:
         x0 = np.asarray(state0, float).ravel()
-        if x0.size != pm.with_jacobian.size1_in(0):
+        if x0.size != pm.march.size1_in(0):
             raise SymcableError(f"state0 has {x0.size} entries, the period map's state "
-                                f"{pm.with_jacobian.size1_in(0)}")
+                                f"{pm.march.size1_in(0)}")
         u, z = x0[:nu], x0[nu:]
     else:
         q0, v0, z0 = (np.asarray(a, float)[0] for a in start(np.zeros(1)))

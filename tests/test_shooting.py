@@ -122,7 +122,7 @@ def test_closure_is_stabilised_and_the_fixed_point_unique(scene, model, shoot):
     """The planar Mechanism stabilises the end-to-end closure in its formulation (beta > 0),
     so the periodic problem is well posed as it stands: the monodromy of the period map at
     the solution has every Floquet multiplier inside the unit circle (measured largest
-    0.59 at 20 segments: a contraction, hence a unique, attracting fixed point), with no
+    0.83 at 20 segments: a contraction, hence a unique, attracting fixed point), with no
     invariant detected by any solver. With beta = 0 the closure's level would be free (a
     multiplier 1: no unique periodic solution): such parameters are refused in one line.
     (API change: the old solvers detected the invariants by an SVD and gauged them.)"""

@@ -20,7 +20,6 @@ from .models import DynamicModel, cache_dynamic_model, cached_dynamic_model, lin
 from .results_periodic import PeriodicSolution, PeriodicSweep
 from .results_time import Trajectory
 from .scene import Scene, load_scene
-from .solvers import periodic as _periodic
 from .solvers import stepping as _stepping
 from .results import ModalSolution
 from .errors import SymcableError
@@ -31,6 +30,7 @@ from .solvers.equilibrium import solve_equilibrium
 from .solvers.linearize import MAX_DENSE, mechanism_modes, output_sensitivity
 from .derive import functions as _functions
 from .models.planar_mechanism import dynamics_mechanism, mechanism_of, state_permutation
+from .planar_periodic import solve_model, sweep_model
 from .results_mechanism import Equilibrium, SceneLinearization
 from .planar_static import solve_static
 
@@ -69,53 +69,115 @@ def simulate(scene, duration: float, dt: float | None = None, method: str = "gen
                               newton_tol=newton_tol, codegen=codegen, started=started)
 
 
-def solve_periodic(scene, method: str = "shooting", *, intervals: int | None = None,
-                   degree: int = 3, scheme: str = "radau", solver: str | None = None,
-                   harmonics: int | None = None, samples: int | None = None,
-                   ipopt_options: Mapping | None = None, resolution: int = 200,
-                   model: DynamicModel | None = None, params: np.ndarray | None = None,
-                   initial: PeriodicSolution | None = None,
-                   tol: float | None = None, codegen: bool | None = None,
-                   steps: int | None = None, rho_inf: float = 0.5) -> PeriodicSolution:
+def solve_periodic(scene, method="shooting", *, model: DynamicModel | None = None,
+                   params: np.ndarray | None = None, initial: PeriodicSolution | None = None,
+                   resolution: int = 200, tol: float | None = None, codegen: bool | None = None,
+                   ipopt_options: Mapping | None = None, **options) -> PeriodicSolution:
     """Periodic steady state of a scene's dynamics over one period of its excitation.
 
-    ``scene`` is anything :func:`symcable.load_scene` takes, and must prescribe a motion;
-    its dynamic model is built here (:func:`build_dynamic_model`) unless ``model`` is given.
-    The other parameters, the result and the errors are those of
-    :func:`symcable.solvers.periodic.solve_periodic`.
+    The scene's dynamics Mechanism (:func:`~symcable.models.planar_mechanism.mechanism_of`)
+    is solved by the generic periodic solvers
+    (:func:`~symcable.solvers.periodic_mech.solve_periodic_mech`) at the periodic parameters
+    (no start-up ramp); the glue is :mod:`symcable.planar_periodic`.
+
+    Parameters
+    ----------
+    scene : Scene, dict or path
+        Anything :func:`symcable.load_scene` takes; it must prescribe a motion. Its dynamic
+        model is built here (:func:`build_dynamic_model`) unless ``model`` is given.
+    method : {"shooting", "collocation", "harmonic-balance"} or an options object
+        Shooting (default): the fixed point of the first-order generalized-alpha period map
+        (the scheme of ``simulate``), Anderson-accelerated, with Newton on the exact monodromy
+        as fallback; its answer carries the integrator's error at ``steps`` (1.4e-3 of the
+        tension range at the default 100 on seed 001). The fastest to 1e-3 of the tension
+        range on seed 001 (studies/work_precision). Collocation (Radau IIA, the most
+        accurate), harmonic balance. Or :class:`~symcable.solvers.options.Collocation`,
+        :class:`~symcable.solvers.options.HarmonicBalance`,
+        :class:`~symcable.solvers.options.Shooting` with its options.
+    **options
+        The method's own options, validated by its options class: collocation
+        ``intervals`` (40), ``degree`` (3), ``scheme`` ("radau" or "legendre"), ``solver``
+        ("ipopt" or "newton"); harmonic balance ``harmonics`` (10), ``samples``
+        (4 harmonics + 4); shooting ``steps`` per period (100, >= 8), ``rho_inf`` (0.5). An
+        option of another method is an error naming it.
+    model : DynamicModel, optional
+    params : ndarray (n_p,), optional
+        Model parameters (default ``model.p_periodic``: ``p_value`` without the ramp).
+    initial : PeriodicSolution, optional
+        Start from this solution (its states in normalised time t/T; a shooting solution of
+        the same steps, its integrator state exactly) instead of the method's own start (the
+        last of 6 periods of generalized-alpha from rest).
+    resolution : int
+        Output times per period (>= 8).
+    tol : float, optional
+        The scaled residual the method's system is solved to (default
+        :data:`symcable.planar_periodic.DEFAULT_TOL`: 1e-10 for collocation and harmonic
+        balance, 1e-7 for shooting, the change of its scaled state over one period).
+    codegen : bool, optional
+        Collocation and harmonic balance: the system's residual and Jacobian in generated C
+        (compiled once per model structure and discretisation, cached; the period and every
+        parameter stay inputs). Default None: generated C when a C compiler is found
+        (:mod:`symcable.codegen`). Shooting runs in the virtual machine (its
+        generalized-alpha step is a CasADi rootfinder, which CasADi cannot write C for).
+    ipopt_options : dict, optional
+        Collocation with IPOPT: IPOPT options by their IPOPT names, over the defaults.
+
+    Returns
+    -------
+    PeriodicSolution
+        ``status`` "converged", "slack" (a tension reached zero) or "invalid" (the strain
+        left the line type's range); ``stats`` as documented there, with ``error_estimate``
+        (the generic solvers' independent defect check).
+
+    Raises
+    ------
+    SceneError
+        The scene prescribes no motion.
+    SymcableError
+        A bad method or option (one line naming it and what is allowed).
+    ConvergenceError
+        The solver did not converge, or its answer failed the defect check; ``partial`` is
+        a PeriodicSolution with status "failed", ``diagnostics`` the solver's status.
     """
     started = time.perf_counter()
     if model is None:
         scene = load_scene(scene)
         model = build_dynamic_model(scene)
-    return _periodic.solve_periodic(
-        scene, method, intervals=intervals, degree=degree, scheme=scheme, solver=solver,
-        harmonics=harmonics, samples=samples, ipopt_options=ipopt_options, resolution=resolution,
-        model=model, params=params, initial=initial, tol=tol, codegen=codegen, steps=steps,
-        rho_inf=rho_inf, started=started)
+    return solve_model(scene, model, method, params=params, initial=initial,
+                       resolution=resolution, tol=tol, ipopt_options=ipopt_options,
+                       codegen=codegen, options=options, started=started)
 
 
-def sweep_periodic(scene, periods: Sequence[float], method: str = "collocation", *,
-                   intervals: int | None = None, degree: int = 3, scheme: str = "radau",
-                   solver: str | None = None, harmonics: int | None = None,
-                   samples: int | None = None, ipopt_options: Mapping | None = None,
-                   resolution: int = 200, model: DynamicModel | None = None,
+def sweep_periodic(scene, periods: Sequence[float], method="collocation", *,
+                   model: DynamicModel | None = None, resolution: int = 200,
                    tol: float | None = None, codegen: bool | None = None,
-                   steps: int | None = None, rho_inf: float = 0.5) -> PeriodicSweep:
+                   ipopt_options: Mapping | None = None, **options) -> PeriodicSweep:
     """Fairlead tension response over excitation periods (a tension RAO), by continuation.
 
-    ``scene`` as in :func:`solve_periodic`; the model is built once for the whole sweep.
-    The other parameters, the result and the errors are those of
-    :func:`symcable.solvers.periodic.sweep_periodic`.
+    Each period sets the ``omega`` block of the periodic parameters to 2 pi / T (one set of
+    CasADi functions serves the sweep) and starts from the previous period's solution,
+    falling back to the method's own start if that fails. ``scene``, ``method``,
+    ``**options`` and the other arguments as in :func:`solve_periodic`; the model is built
+    once for the whole sweep.
+
+    Returns
+    -------
+    PeriodicSweep
+        A failed period has NaN results and status "failed" (and a warning); ``stats``
+        ``start`` says per period "neighbour" or "own start".
+
+    Raises
+    ------
+    ConvergenceError
+        When every period fails.
     """
     started = time.perf_counter()
     if model is None:
         scene = load_scene(scene)
         model = build_dynamic_model(scene)
-    return _periodic.sweep_periodic(
-        scene, periods, method, intervals=intervals, degree=degree, scheme=scheme, solver=solver,
-        harmonics=harmonics, samples=samples, ipopt_options=ipopt_options, resolution=resolution,
-        model=model, tol=tol, codegen=codegen, steps=steps, rho_inf=rho_inf, started=started)
+    return sweep_model(scene, model, periods, method, resolution=resolution, tol=tol,
+                       ipopt_options=ipopt_options, codegen=codegen, options=options,
+                       started=started)
 
 
 def modal_analysis(scene, n_modes: int = 10, *, model: DynamicModel | None = None,

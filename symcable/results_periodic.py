@@ -35,10 +35,11 @@ class PeriodicSolution(OneLine, Exportable):
         the value at T is the value at 0).
     states : ndarray (n, n_y)
         The state at those times, in the model's units (for the planar cable: node
-        velocities m/s, dynamic strain -, dynamic angle rad). Dense output of the solver's
-        own representation: the Lagrange polynomial of each collocation interval, the
-        Fourier series of harmonic balance, or the trigonometric interpolant of the
-        shooting's states at its time steps.
+        velocities m/s, dynamic strain -, dynamic angle rad): the trigonometric
+        interpolant of the generic solver's uniform samples of its own representation (the
+        collocation polynomials, the Fourier series of harmonic balance, the shooting's
+        states at its time steps; 4 samples per collocation point, harmonic-balance time
+        sample or step).
     fairlead_tension : ndarray (n,)
         Fairlead tension (static plus dynamic), N.
     fairlead_force : ndarray (n, 2)
@@ -61,22 +62,22 @@ class PeriodicSolution(OneLine, Exportable):
         hold and the numbers are not an answer; see ``warnings``); ``"failed"`` (only on a
         ConvergenceError's partial result).
     stats : dict
-        ``solver`` (``"ipopt"``/``"newton"``; ``"anderson"`` for shooting, whose
-        ``iterations`` are the periods marched, with ``steps``, ``rho_inf`` and
-        ``newton_iterations`` of the generalized-α steps), ``iterations``, ``return_status``,
-        ``wall_time`` (s, whole solve), ``solve_time`` (s, the nonlinear solve alone),
-        ``build_time`` (s, building the solver's CasADi functions; 0 when reused),
-        ``unknowns``, ``residual_norm`` (max-norm of the discrete residual, scaled states
-        per second), the discretisation (``intervals``, ``degree``, ``scheme`` or
-        ``harmonics``, ``samples``) and ``guess`` (how the start was made, with its own
-        iterations and time).
+        ``solver`` (``"ipopt"``/``"newton"``; ``"anderson"`` for shooting, with
+        ``" + newton (exact monodromy)"`` when Newton took over; shooting's ``iterations``
+        are the periods marched, with ``steps``, ``rho_inf``, ``periods``,
+        ``newton_iterations``), ``iterations``, ``return_status``, ``wall_time`` (s, whole
+        solve), ``solve_time`` (s, the generic solver's, its start included),
+        ``unknowns``, ``residual_norm`` (max-norm of the solved system's scaled residual),
+        ``tolerance``, ``error_estimate`` and ``defect`` (the generic solvers' independent
+        check: the scaled equation residuals between the solver's points), the
+        discretisation (``intervals``, ``degree``, ``scheme`` or ``harmonics``,
+        ``samples``), ``guess`` (``start``: how the start was made) and ``compiled``.
     warnings : tuple of str
     unknowns : ndarray or None
-        The solution in the solver's own terms, flattened, to restart a neighbouring solve
-        from: scaled states ``y/y_scale`` at the collocation nodes (K, d+1, n_y) (interval,
-        node: start then collocation points, state), the scaled Fourier coefficients
-        (n_y, 2H+1) ``[a_0, a_1, b_1, ..., a_H, b_H]`` of each state, or the shooting's
-        scaled integrator state at t = 0, ``(y / y_scale, ydot dt / y_scale)`` (2 n_y,).
+        Shooting: the integrator's state at t = 0, ``(y, y')`` with ``y = (q, v)`` of the
+        dynamics Mechanism (its order, not ``states``'), from which a solve of the same
+        ``steps`` restarts exactly; None for the other methods (a restart re-samples
+        ``states``).
     params : ndarray (n_p,) or None
         The model parameters solved for (``omega`` among them), to evaluate the model's
         functions on this solution. ``param(name)`` gives one named block; in JSON
@@ -229,9 +230,9 @@ class PeriodicSweep(Exportable):
         strain range, else ``"slack"`` when one went slack), ``"partial"`` when some failed.
     stats : dict
         ``wall_time`` (s, whole sweep), and per period lists ``iterations``, ``solve_time``
-        (s), ``build_time`` (s, building solver functions: the first period only, since one
-        set of CasADi functions, with omega as a parameter, serves the sweep) and ``start``
-        (``"neighbour"`` or ``"frequency-domain guess"``).
+        (s) and ``start`` (``"neighbour"``: from the previous period's solution, or ``"own
+        start"``: the method's own, a short time run from rest). One set of CasADi functions,
+        with the period as a parameter, serves the sweep.
     warnings : tuple of str
     """
 

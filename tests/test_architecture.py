@@ -63,6 +63,7 @@ LAYERS = {
     "symcable.solvers": 5,
     "symcable.api": 6,
     "symcable.planar_static": 6,
+    "symcable.planar_periodic": 6,
     "symcable.export": 6,
     "symcable.cli": 6,
     "symcable": 6,

@@ -76,7 +76,9 @@ def test_collocation_and_harmonic_balance_agree(scene, model, colloc):
     # stats the report needs
     for s in (colloc, hb, newton):
         assert s.stats["iterations"] >= 1 and s.stats["residual_norm"] <= 1e-10
-        assert s.stats["guess"]["start"].startswith("one-harmonic balance")
+        # (API change: every generic method starts from a short time run, not from the
+        # one-harmonic balance of the old planar solvers)
+        assert s.stats["guess"]["start"].startswith("6 periods of generalized-alpha")
     assert colloc.stats["return_status"] == "Solve_Succeeded"
     assert colloc.stats["unknowns"] == 40 * 4 * model.n_y
 
@@ -153,26 +155,30 @@ def test_harmonic_balance_converges_in_the_harmonics(scene, model, reference):
 
 def test_sweep_matches_the_single_solve(scene, model, colloc):
     """A sweep over 8, 10, 12 s: each solve continues from its neighbour, one set of CasADi
-    functions (omega a parameter) serves all three, and the first-harmonic amplitude at the
-    scene's own 10 s matches the single solve to 1e-6 (same discrete system, both solved to
+    functions (the period a parameter) serves all three, and the first-harmonic amplitude at
+    the scene's own 10 s matches the single solve to 1e-6 (same discrete system, both solved to
     residual 1e-10). The sweep builds nothing: it reuses the collocation system and the IPOPT
     solver that `colloc` built (the very same objects, checked by identity, not by a build
-    time: speed belongs in studies)."""
-    cache = model._cache["periodic_collocation"]
-    built = {k: list(v) for k, v in cache.items()}
-    key = (40, 3, "radau", False)
-    system = built[key][0].system
+    time: speed belongs in studies). (API change: the systems live in the generic periodic
+    solvers' cache, per Mechanism, not in the DynamicModel's.)"""
+    from symcable.models.planar_mechanism import mechanism_of
+    from symcable.solvers.periodic_common import PERIODIC_CACHE
+
+    cache = PERIODIC_CACHE.store[mechanism_of(model)]
+    built = dict(cache)
+    key = ("collocation", 40, 3, "radau")
+    system = built[key].square
     solvers = dict(system._solvers)
     ipopt = [v for k, v in solvers.items() if isinstance(k, tuple) and k[0] == "ipopt"]
     assert len(ipopt) == 1
     sw = sweep_periodic(scene, [8.0, 10.0, 12.0], model=model)
     assert isinstance(sw, PeriodicSweep) and sw.status == "converged"
     assert sw.statuses == ("converged",) * 3
-    assert sw.stats["start"] == ["frequency-domain guess", "neighbour", "neighbour"]
+    assert sw.stats["start"] == ["own start", "neighbour", "neighbour"]
     # the solver of `colloc`, reused: no new collocation system, the same IPOPT Function
-    assert {k: [id(c) for c in v] for k, v in cache.items()} == \
-        {k: [id(c) for c in v] for k, v in built.items()}
-    assert cache[key][0].system is system
+    assert {k: id(c) for k, c in cache.items() if k[0] == "collocation"} == \
+        {k: id(c) for k, c in built.items() if k[0] == "collocation"}
+    assert cache[key].square is system
     assert system._solvers == solvers
     assert all(system._solvers[k] is v for k, v in solvers.items())
     amp = colloc.fairlead_tension_harmonics_amplitude[1]
@@ -246,25 +252,43 @@ def test_bad_choices_get_one_line_errors(scene, model):
         solve_periodic(scene, "collocation", steps=50, model=model)
 
 
-def test_exact_invariants_are_gauged_like_the_stabilised_model(scene, model, colloc):
-    """With the model's closure stabilisation off (beta = 0) the end-to-end closure of the
-    kinematics is an exact invariant, so periodicity alone leaves its level free; the solvers
-    detect such invariants (two here, x and z) and fix their period-mean at rest. That gives
-    the periodic solution of the stabilised model, on which the closure is zero: the same
-    fairlead tension to 1e-5 of its range (the two discrete systems differ by the
-    collocation error of the closure, ~1e-8 of the range measured)."""
-    from symcable.solvers import harmonic_balance as hbm
-    from symcable.solvers.periodic import periodic_params
+def test_closure_is_stabilised_and_the_problem_well_posed(scene, model, colloc):
+    """The end-to-end closure of the kinematics is stabilised by the planar Mechanism itself
+    (beta > 0), so no solver detects invariants: the periodic problem is regular as it
+    stands. Checked on the harmonic-balance system (4 harmonics, 702 unknowns): its Jacobian
+    at the solution is nonsingular (measured smallest singular value 4.5e-4 of the largest:
+    an isolated, unique solution), and collocation's answer closes (the fairlead follows its
+    prescribed motion: test_fairlead_follows_the_prescribed_motion). With beta = 0 exactly two
+    singular values fall to round-off (1e-17: the closure's x and z levels are free, no
+    unique solution), so such parameters are refused in one line.
+    (API change: the old solvers detected the two invariants by an SVD and gauged them.)"""
+    from symcable.models.planar_mechanism import mechanism_of, state_permutation
+    from symcable.planar_periodic import periodic_params
+    from symcable.solvers.hbalance_mech import hb_system
+    from symcable.solvers.periodic_common import start_from_samples
 
     p = periodic_params(model, beta=0.0)
-    assert hbm.linear_invariants(model, p).r == 2
-    assert hbm.linear_invariants(model, colloc.params).r == 0
-    free = solve_periodic(scene, "collocation", params=p, solver="newton", model=model)
-    rng = _range(colloc.fairlead_tension)
-    assert np.max(np.abs(free.fairlead_tension - colloc.fairlead_tension)) < 1e-5 * rng
-    hb_free = solve_periodic(scene, "harmonic-balance", harmonics=4, params=p, model=model)
+    for method in ("collocation", "harmonic-balance"):
+        with pytest.raises(SymcableError, match=r"beta = \[0.0\]: .*closure"):
+            solve_periodic(scene, method, params=p, model=model)
     hb = solve_periodic(scene, "harmonic-balance", harmonics=4, model=model)
-    assert np.max(np.abs(hb_free.fairlead_tension - hb.fairlead_tension)) < 1e-5 * rng
+    mech = mechanism_of(model)
+    sys_ = hb_system(mech, 4, 20)
+    iq, iv = state_permutation(model)
+    start = start_from_samples(hb.states[:, iq], hb.states[:, iv], np.zeros((hb.time.size, 0)),
+                               hb.period)
+    w = sys_.coefficients_of(start, hb.period)
+    P = np.concatenate([[hb.period], hb.params])
+    assert np.max(np.abs(np.asarray(sys_.square.residual(w, P)))) < 1e-8
+    s = np.linalg.svd(_dense_jacobian(sys_.square.residual, w, P), compute_uv=False)
+    assert mech.n_q > mech.n_v and s[-1] > 1e-5 * s[0]
+    P0 = np.concatenate([[hb.period], p])
+    s0 = np.linalg.svd(_dense_jacobian(sys_.square.residual, w, P0), compute_uv=False)
+    assert np.all(s0[-2:] < 1e-12 * s0[0]) and s0[-3] > 1e-5 * s0[0]
+
+
+def _dense_jacobian(residual, w, P):
+    return np.asarray(residual.factory("hb_jacobian", ["w", "P"], ["jac:r:w"])(w, P))
 
 
 def test_restart_from_another_methods_solution(scene, model, colloc):
@@ -273,7 +297,7 @@ def test_restart_from_another_methods_solution(scene, model, colloc):
     guess, in at most as many iterations (the start is closer)."""
     fresh = solve_periodic(scene, "harmonic-balance", harmonics=4, model=model)
     hb = solve_periodic(scene, "harmonic-balance", harmonics=4, model=model, initial=colloc)
-    assert hb.stats["guess"]["start"] == "given"
+    assert hb.stats["guess"]["start"] == "given solution (re-sampled)"  # (API change: "given")
     assert hb.stats["iterations"] <= fresh.stats["iterations"]
     np.testing.assert_allclose(hb.fairlead_tension, fresh.fairlead_tension, rtol=1e-9)
     col = solve_periodic(scene, "collocation", solver="newton", model=model, initial=fresh)

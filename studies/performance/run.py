@@ -14,9 +14,10 @@ interleaved repeats, medians (the machine is shared and noisy).
    damping, MoorDyn's own advice); see moordyn_line.py. Each with its error against its own
    converged reference (max over the last period / tension range);
 3. the periodic steady state: ``solve_periodic`` by collocation (IPOPT) and by shooting (the
-   generalized-alpha period map, Anderson-accelerated), each in C and in the VM, against the
-   wall time MoorDyn, and symcable's own time run, need to come within 1 % of their own
-   steady state.
+   first-order generalized-alpha period map, Anderson-accelerated), on the generic periodic
+   solvers (the virtual machine: their generalized-alpha step is a CasADi rootfinder, which
+   CasADi cannot generate C for), against the wall time MoorDyn, and symcable's own time
+   run, need to come within 1 % of their own steady state.
 
 Run ``python studies/performance/run.py [--quick] [--out DIR]``; needs ``symcable[bench]``.
 """
@@ -173,12 +174,12 @@ def _periods_to_1pct(run: dict) -> int:
 
 
 def periodic(repeats: int, md_run: dict, sym_run) -> dict:
-    """Collocation (IPOPT) and shooting, each in C and in the VM, against the time MoorDyn
-    (and symcable's own time run) needs to march to 1 % of its steady state."""
+    """Collocation (IPOPT) and shooting (the generic periodic solvers, in the VM) against the
+    time MoorDyn (and symcable's own time run) needs to march to 1 % of its steady state."""
     scene = sc.load_scene(sc.demo_scene_path("seed001"))
     model = sc.build_dynamic_model(scene)
-    sols = {cg: sc.solve_periodic(scene, "collocation", model=model, codegen=cg) for cg in (True, False)}
-    shots = {cg: sc.solve_periodic(scene, "shooting", model=model, codegen=cg) for cg in (True, False)}
+    col = sc.solve_periodic(scene, "collocation", model=model)
+    shot = sc.solve_periodic(scene, "shooting", model=model)
     d200 = scene.to_dict()
     d200["sections"][0]["segments"] = 200
     scene200 = sc.load_scene(d200)
@@ -188,16 +189,14 @@ def periodic(repeats: int, md_run: dict, sym_run) -> dict:
     out = interleaved({
         "modal_50": lambda: sc.modal_analysis(scene, 6, model=model),
         "modal_200": lambda: sc.modal_analysis(scene200, 6, model=model200),
-        "symcable_c": lambda: sc.solve_periodic(scene, "collocation", model=model, codegen=True),
-        "symcable_vm": lambda: sc.solve_periodic(scene, "collocation", model=model, codegen=False),
-        "shooting_c": lambda: sc.solve_periodic(scene, "shooting", model=model, codegen=True),
-        "shooting_vm": lambda: sc.solve_periodic(scene, "shooting", model=model, codegen=False),
+        "collocation": lambda: sc.solve_periodic(scene, "collocation", model=model),
+        "shooting": lambda: sc.solve_periodic(scene, "shooting", model=model),
     }, repeats)
-    out["symcable_c_solve"] = sols[True].stats["solve_time"]
-    out["iterations"] = sols[True].stats["iterations"]
-    out["shooting_periods"] = shots[True].stats["iterations"]
-    ft = sols[True].fairlead_tension
-    out["shooting_error"] = float(np.max(np.abs(shots[True].fairlead_tension - ft)) / np.ptp(ft))
+    out["collocation_solve"] = col.stats["solve_time"]
+    out["iterations"] = col.stats["iterations"]
+    out["shooting_periods"] = shot.stats["iterations"]
+    ft = col.fairlead_tension
+    out["shooting_error"] = float(np.max(np.abs(shot.fairlead_tension - ft)) / np.ptp(ft))
     n_needed = _periods_to_1pct(md_run)
     per_period = md_run["wall_time"] / (md_run["time"][-1] / T)
     out["moordyn_periods_to_1pct"] = n_needed
@@ -212,8 +211,9 @@ def periodic(repeats: int, md_run: dict, sym_run) -> dict:
 def resonance(quick: bool) -> dict:
     """The lightly damped case of studies/stability (seed 001 at 20 segments, Cd x 0.01, no
     current, fairlead amplitude x 0.05, excited at its first natural period): the periodic
-    solves (C) against the time MoorDyn (RK2 at its limit, as above) needs to come within
-    1 % of its own steady state, marching up to 300 periods (200 in --quick)."""
+    solves (the generic solvers, VM) against the time MoorDyn (RK2 at its limit, as above)
+    needs to come within 1 % of its own steady state, marching up to 300 periods (200 in
+    --quick)."""
     d = sc.load_scene(sc.demo_scene_path("seed001")).to_dict()
     d["sections"][0]["segments"] = 20
     d["environment"]["current"] = [0.0, 0.0]
@@ -225,11 +225,10 @@ def resonance(quick: bool) -> dict:
     d["end_b"]["motion"]["period"] = period
     scene = sc.load_scene(d)
     model = sc.build_dynamic_model(scene)
-    col = sc.solve_periodic(scene, "collocation", model=model, codegen=True)
-    shot = sc.solve_periodic(scene, "shooting", model=model, codegen=True)
-    out = interleaved({"collocation_c": lambda: sc.solve_periodic(scene, "collocation", model=model, codegen=True),
-                       "shooting_c": lambda: sc.solve_periodic(scene, "shooting", model=model,
-                                                               codegen=True)},
+    col = sc.solve_periodic(scene, "collocation", model=model)
+    shot = sc.solve_periodic(scene, "shooting", model=model)
+    out = interleaved({"collocation": lambda: sc.solve_periodic(scene, "collocation", model=model),
+                       "shooting": lambda: sc.solve_periodic(scene, "shooting", model=model)},
                       1 if quick else 3)
     out.update(period=period, shooting_periods=shot.stats["iterations"],
                shooting_error=float(np.max(np.abs(shot.fairlead_tension - col.fairlead_tension))
@@ -285,25 +284,25 @@ def main(argv=None) -> dict:
              f"| modal analysis (6 modes): 200 / 50 segments | {pe['modal_200'] / pe['modal_50']:.1f} | "
              f"{1e3 * pe['modal_200']:.1f} / {1e3 * pe['modal_50']:.1f} ms (the symmetric problem in the node "
              "velocities, LAPACK's eigensolver; codegen changes nothing) |",
-             f"| periodic, collocation: VM / C | {pe['symcable_vm'] / pe['symcable_c']:.2f} | "
-             f"{pe['symcable_vm']:.2f} / {pe['symcable_c']:.2f} s, {pe['iterations']} IPOPT iterations |",
-             f"| periodic, shooting: VM / C | {pe['shooting_vm'] / pe['shooting_c']:.2f} | "
-             f"{pe['shooting_vm']:.3f} / {pe['shooting_c']:.3f} s, {pe['shooting_periods']} periods; "
+             f"| periodic, collocation | - | "
+             f"{pe['collocation']:.2f} s, {pe['iterations']} IPOPT iterations |",
+             f"| periodic, shooting | - | "
+             f"{pe['shooting']:.3f} s, {pe['shooting_periods']} periods; "
              f"{pe['shooting_error']:.1e} of the range from collocation |",
-             f"| periodic: collocation C / MoorDyn to 1 % | {pe['symcable_c'] / pe['moordyn_to_1pct']:.1f} | "
+             f"| periodic: collocation / MoorDyn to 1 % | {pe['collocation'] / pe['moordyn_to_1pct']:.1f} | "
              f"MoorDyn RK2 {pe['moordyn_periods_to_1pct']} periods, {pe['moordyn_to_1pct']:.3f} s |",
-             f"| periodic: shooting C / MoorDyn to 1 % | {pe['shooting_c'] / pe['moordyn_to_1pct']:.1f} | "
-             f"shooting to its fixed point (default tol), {pe['shooting_c']:.3f} s |",
+             f"| periodic: shooting / MoorDyn to 1 % | {pe['shooting'] / pe['moordyn_to_1pct']:.1f} | "
+             f"shooting to its fixed point (default tol), {pe['shooting']:.3f} s |",
              f"| periodic: symcable C marching to 1 % / MoorDyn to 1 % | "
              f"{pe['symcable_march_to_1pct'] / pe['moordyn_to_1pct']:.2f} | symcable (T/100) "
              f"{pe['symcable_periods_to_1pct']} periods, {pe['symcable_march_to_1pct']:.3f} s |",
-             f"| light damping at resonance: shooting C / MoorDyn to 1 % | "
-             f"{rs['shooting_c'] / rs['moordyn_to_1pct']:.3f} | T = {rs['period']:.2f} s, 20 segments: MoorDyn "
+             f"| light damping at resonance: shooting / MoorDyn to 1 % | "
+             f"{rs['shooting'] / rs['moordyn_to_1pct']:.3f} | T = {rs['period']:.2f} s, 20 segments: MoorDyn "
              f"{rs['moordyn_periods_to_1pct']} periods, {rs['moordyn_to_1pct']:.2f} s; shooting "
-             f"{rs['shooting_periods']} periods, {rs['shooting_c']:.3f} s ({100 * rs['shooting_error']:.0f} % "
+             f"{rs['shooting_periods']} periods, {rs['shooting']:.3f} s ({100 * rs['shooting_error']:.0f} % "
              f"of the range from collocation at T/100) |",
-             f"| light damping at resonance: collocation C / MoorDyn to 1 % | "
-             f"{rs['collocation_c'] / rs['moordyn_to_1pct']:.3f} | collocation {rs['collocation_c']:.2f} s |"]
+             f"| light damping at resonance: collocation / MoorDyn to 1 % | "
+             f"{rs['collocation'] / rs['moordyn_to_1pct']:.3f} | collocation {rs['collocation']:.2f} s |"]
     (out / "summary.md").write_text("\n".join(lines) + "\n")
     print("\n".join(lines))
     return res

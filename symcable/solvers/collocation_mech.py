@@ -55,10 +55,10 @@ import time
 import casadi as ca
 import numpy as np
 
-from ..derive import functions
 from ..models.mechanism import Mechanism
 from .options import Collocation
-from .periodic_common import PERIODIC_CACHE, Scaling, SquareSystem, StartFn, check_and_wrap
+from .periodic_common import (PERIODIC_CACHE, Scaling, SquareSystem, StartFn, check_and_wrap,
+                              point_function)
 
 __all__ = ["CollocationSystem", "solve_collocation"]
 
@@ -86,9 +86,8 @@ class CollocationSystem:
     """The collocation system of one mechanism for (K, d, scheme): residual
     ``<name>_colloc_residual(w, P) -> r`` with P = (T, p), the grid and the packing."""
 
-    def __init__(self, mech: Mechanism, K: int, d: int, scheme: str):
+    def __init__(self, mech: Mechanism, K: int, d: int, scheme: str, compiled: bool = False):
         self.mech, self.K, self.d, self.scheme = mech, K, d, scheme
-        F = functions(mech)
         sc = self.sc = Scaling.of(mech)
         nq, nv, nz = mech.n_q, mech.n_v, mech.n_z
         nx = self.nx = nq + nv
@@ -124,7 +123,7 @@ class CollocationSystem:
         yd = ca.vertcat(Xdot, ca.MX(nz, n_pts))
         y = ca.vertcat(Xc, Z)
         t = T * ca.DM(self.t_pts).T
-        R = F.dae_residual.map(n_pts)(yd, y, t, p)
+        R = point_function(mech, "dae_residual", compiled).map(n_pts)(yd, y, t, p)
         row_scale = np.concatenate([np.full(nq, 1.0 / sc.v_ref), np.full(nv, 1.0 / sc.force),
                                     1.0 / sc.g])
         R = ca.diag(ca.DM(row_scale)) @ R
@@ -132,7 +131,7 @@ class CollocationSystem:
         r = ca.vertcat(ca.vec(R), ca.vec(cont))
         self.square = SquareSystem(
             f"{mech.name}_colloc", ca.Function(f"{mech.name}_colloc_residual", [w, P], [r],
-                                               ["w", "P"], ["r"]))
+                                               ["w", "P"], ["r"]), compiled)
         self.n_colloc_rows = (nx + nz) * n_pts
         # where the rows of g sit in r: rows nx .. nx+nz of each column of R
         self.g_rows = (np.arange(n_pts)[:, None] * (nx + nz) + nx + np.arange(nz)[None, :]).ravel()
@@ -175,18 +174,21 @@ class CollocationSystem:
         return np.vstack(xs), np.vstack(dxs), np.vstack(zs)
 
 
-def collocation_system(mech: Mechanism, opts: Collocation) -> CollocationSystem:
+def collocation_system(mech: Mechanism, opts: Collocation,
+                       compiled: bool = False) -> CollocationSystem:
     scheme = opts.scheme.value
-    return PERIODIC_CACHE.get(mech, ("collocation", opts.intervals, opts.degree, scheme),
-                              lambda: CollocationSystem(mech, opts.intervals, opts.degree, scheme))
+    key = ("collocation", opts.intervals, opts.degree, scheme) + (("C",) if compiled else ())
+    return PERIODIC_CACHE.get(mech, key, lambda: CollocationSystem(
+        mech, opts.intervals, opts.degree, scheme, compiled))
 
 
 def solve_collocation(mech: Mechanism, period: float, opts: Collocation, p, start: StartFn,
                       start_info: dict, *, tol: float, defect_tol: float, ipopt_options=None,
-                      max_iter: int = 100):
-    """Collocation of ``mech`` from ``start`` (see the module docstring)."""
+                      max_iter: int = 100, compiled: bool = False):
+    """Collocation of ``mech`` from ``start`` (see the module docstring); ``compiled``: the
+    system's residual and Jacobian in generated C."""
     t0 = time.perf_counter()
-    sys_ = collocation_system(mech, opts)
+    sys_ = collocation_system(mech, opts, compiled)
     nq, nz = mech.n_q, mech.n_z
     P = np.concatenate([[period], p])
     qn, vn, _ = start(period * sys_.t_nodes)
@@ -206,6 +208,7 @@ def solve_collocation(mech: Mechanism, period: float, opts: Collocation, p, star
                   "periodicity_defect": per_def, "constraint_at_nodes": g_nodes,
                   "intervals": opts.intervals, "degree": opts.degree,
                   "scheme": opts.scheme.value, "unknowns": sys_.square.n, "tolerance": tol,
+                  "compiled": sys_.square.compiled,
                   "wall_time": time.perf_counter() - t0})
     return check_and_wrap(mech, period, p, x[:, :nq], x[:, nq:], z, method="collocation",
                           solved=solved, tol=tol, defect_tol=defect_tol, stats=stats,

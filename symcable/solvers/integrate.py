@@ -115,9 +115,16 @@ def _taylor_jet(mech: Mechanism) -> ca.Function:
     return ca.Function(f"{m.name}_jet", [m.q, m.v, a, m.z, m.t, m.p], [ddt(kin), b])
 
 
-def galpha1_step(mech: Mechanism, opts: GeneralizedAlphaFirstOrder) -> ca.Function:
+def galpha1_step(mech: Mechanism, opts: GeneralizedAlphaFirstOrder, *,
+                 exact_derivatives: bool = False) -> ca.Function:
     """``step(x, t, h, p) -> (x1, err, lte)`` with x = (y, y'), y = (q, v): one first-order
     generalized-alpha step (see the module docstring) of size h (s) from t (s).
+
+    ``exact_derivatives=True`` asks for the step solved by CasADi's Newton rootfinder,
+    whose derivative with respect to (x, t, h, p) is the exact one of the converged step (the
+    implicit function theorem): shooting's Newton iteration differentiates the period map
+    through it (its monodromy). The default may be a faster step whose derivative need not
+    be that (today both are the rootfinder).
 
     ``err`` is the max-norm of the step residual scaled to a change of y over the step
     relative to its scales (kinematic rows h |r| / scales.q, momentum rows

@@ -35,6 +35,7 @@ from typing import Callable, Mapping
 import casadi as ca
 import numpy as np
 
+from ..codegen import compile_functions
 from ..derive import functions
 from ..errors import ConvergenceError, SymcableError
 from ..models.mechanism import Mechanism
@@ -42,7 +43,7 @@ from ..results_periodic_mech import MechanismPeriodic, trig_interp
 from .newton import newton
 
 __all__ = ["PeriodicCache", "PERIODIC_CACHE", "SquareSystem", "Scaling", "spectral_derivative",
-           "check_and_wrap", "StartFn", "IPOPT_DEFAULTS"]
+           "check_and_wrap", "StartFn", "IPOPT_DEFAULTS", "point_function"]
 
 #: IPOPT defaults for a square system with zero objective: quiet, no NLP rescaling (the
 #: residuals are already scaled, so IPOPT's constraint violation is the residual we check),
@@ -124,10 +125,12 @@ def start_from_samples(q, v, z, period) -> StartFn:
 # ---------------------------------------------------------------------------------------------
 class SquareSystem:
     """r(w; P) = 0, square, in scaled unknowns; solved by IPOPT (zero objective, equality
-    constraints) or by CasADi's Newton rootfinder (sparse LU). Solvers built once, kept."""
+    constraints) or by CasADi's Newton rootfinder (sparse LU). Solvers built once, kept.
+    ``compiled``: the residual is built on :func:`point_function`'s generated C."""
 
-    def __init__(self, name: str, residual: ca.Function):
+    def __init__(self, name: str, residual: ca.Function, compiled: bool = False):
         self.name = name
+        self.compiled = compiled  # built on the generated-C point functions
         self.residual = residual  # (w, P) -> r
         self.n = int(residual.size1_in(0))
         self.n_par = int(residual.size1_in(1))
@@ -224,6 +227,19 @@ class SquareSystem:
         res = float(np.max(np.abs(r))) if r.size else 0.0
         return {"w": w, "iterations": iters, "residual": res, "return_status": status,
                 "wall_time": time.perf_counter() - t0}
+
+
+def point_function(mech: Mechanism, name: str, compiled: bool) -> ca.Function:
+    """The derived Function ``name`` (``"dae_residual"``, ``"acc_residual"``) of ``mech``, or,
+    ``compiled``, it and its Jacobian in generated C (:mod:`symcable.codegen`, cached): the
+    periodic systems map it over their points, so the C is one point's, small, and the
+    whole system's graph, its map and its sparse Jacobian stay in CasADi (compiling the
+    mapped system itself writes out every point's Jacobian: minutes of C compiler)."""
+    fn = getattr(functions(mech), name)
+    if not compiled:
+        return fn
+    return PERIODIC_CACHE.get(mech, ("compiled", name), lambda: compile_functions(
+        [fn], jacobians=True, what=f"the {name} of {mech.name}")[fn.name()])
 
 
 # ---------------------------------------------------------------------------------------------

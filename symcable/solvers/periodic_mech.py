@@ -19,6 +19,7 @@ from typing import Mapping
 
 import numpy as np
 
+from ..codegen import use_codegen
 from ..errors import ConvergenceError, SymcableError
 from ..models.mechanism import Mechanism
 from ..results_mechanism import Equilibrium
@@ -48,18 +49,24 @@ DEFAULT_DEFECT_TOL = 0.1
 def _static_base(mech: Mechanism, start) -> tuple:
     if isinstance(start, Equilibrium):
         return np.asarray(start.q, float), np.asarray(start.z, float), "given equilibrium"
+    st = next(iter(mech.starts()))
+    if mech.n_q != mech.n_v:
+        # kinematics with n_q != n_v (the planar cable's segment coordinates against its node
+        # velocities): solve_equilibrium's tangent stiffness is square in q and v, so the
+        # mechanism's own static start is the base (for the planar cable, its exact rest)
+        return np.asarray(st.q, float), np.asarray(st.z, float), f"static start {st.source!r}"
     try:
         eq = solve_equilibrium(mech, require_stable=False)
         return eq.q, eq.z, "static equilibrium"
     except ConvergenceError:
-        st = next(iter(mech.starts()))
         return np.asarray(st.q, float), np.asarray(st.z, float), f"static start {st.source!r}"
 
 
 def solve_periodic_mech(mech: Mechanism, period: float, method=None, *, p=None, start=None,
                         ipopt_options: Mapping | None = None, tol: float = DEFAULT_TOL,
                         defect_tol: float = DEFAULT_DEFECT_TOL,
-                        max_iter: int | None = None) -> MechanismPeriodic:
+                        max_iter: int | None = None,
+                        codegen: bool | None = False) -> MechanismPeriodic:
     """The periodic response of ``mech`` with period ``period``.
 
     Parameters
@@ -82,6 +89,11 @@ def solve_periodic_mech(mech: Mechanism, period: float, method=None, *, p=None, 
     max_iter : int, optional
         Newton / IPOPT iterations (defaults: collocation 100, harmonic balance 50,
         shooting 30).
+    codegen : bool or None
+        Collocation and harmonic balance: the system's residual and Jacobian in generated C
+        (:func:`symcable.codegen.use_codegen`: None is C where a compiler is found; default
+        False, the virtual machine). Shooting runs in the virtual machine: its step is a
+        CasADi rootfinder, which CasADi cannot write C for.
 
     Returns
     -------
@@ -137,7 +149,18 @@ def solve_periodic_mech(mech: Mechanism, period: float, method=None, *, p=None, 
         kw["max_iter"] = max_iter
     if isinstance(method, Collocation):
         return solve_collocation(mech, period, method, p, start_fn, info,
-                                 ipopt_options=ipopt_options, **kw)
+                                 ipopt_options=ipopt_options, compiled=use_codegen(codegen),
+                                 **kw)
     if isinstance(method, HarmonicBalance):
-        return solve_hbalance(mech, period, method, p, start_fn, info, **kw)
-    return solve_shooting(mech, period, method, p, start_fn, info, **kw)
+        return solve_hbalance(mech, period, method, p, start_fn, info,
+                              compiled=use_codegen(codegen), **kw)
+    state0 = None
+    if (isinstance(start, MechanismPeriodic) and start.method == "shooting"
+            and start.stats.get("state0") is not None
+            and start.stats.get("steps") == method.steps
+            and (method.rho_inf is None or start.stats.get("rho_inf") == method.rho_inf)):
+        # the integrator's own state at t = 0, rates included: a shooting solution of the same
+        # discretisation restarts exactly (one period confirms it)
+        state0 = start.stats["state0"]
+        info["start"] = "shooting solution (its integrator state at t = 0)"
+    return solve_shooting(mech, period, method, p, start_fn, info, state0=state0, **kw)

@@ -59,6 +59,7 @@ LAYERS = {
     "symcable.plotting": 4,
     "symcable.solvers": 5,
     "symcable.api": 6,
+    "symcable.planar_time": 6,
     "symcable.export": 6,
     "symcable.cli": 6,
     "symcable": 6,

@@ -36,6 +36,8 @@ __all__ = ["Method", "NEWTON_MAX_ITER", "NEWTON_TOL", "ga_coefficients", "ga_res
 NEWTON_MAX_ITER = 10
 #: default Newton tolerance on the scaled residual and step (see ``simulate``)
 NEWTON_TOL = 1e-10
+#: default largest number of saved samples (``save_every=None``)
+MAX_SAMPLES = 2000
 
 
 class Method(str, enum.Enum):
@@ -144,7 +146,8 @@ def simulate(scene, duration: float, dt: float | None = None, method: str = "gen
     failure = None
     try:
         run = integrate(mech, duration, _positive("dt", dt, "s"), method=opts, p=p, q0=q0, v0=v0,
-                        save_every=save_every, save_times=save_times, progress=progress,
+                        save_every=save_every, save_times=save_times, max_samples=MAX_SAMPLES,
+                        progress=progress,
                         codegen=codegen, label=meth.value)
     except ConvergenceError as exc:
         failure, run = exc, exc.partial

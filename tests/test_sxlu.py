@@ -12,7 +12,7 @@ import pytest
 import symcable as sc
 from symcable.functions import static_functions
 from symcable.linalg.sxlu import BlockLU, block_lu_check, block_matching, block_plan
-from symcable.solvers.stepping import ga_residual_function
+from symcable.planar_time import ga_residual_function
 
 from conftest import OC3, seed001
 

@@ -16,7 +16,8 @@ alpha_m dF/dy' + alpha_f gamma h dF/dy, in one of two ways (:class:`~.options.Ne
   next iterations (chord iterations) up to CHORD_ITERATIONS, then refactorised at every
   iteration. The factorisation is the block LU of :mod:`symcable.linalg.sxlu` written out in
   SX, on the matrix permuted to a fill-reducing order (approximate minimum degree of its
-  pattern: it depends on the pattern alone), for at most SXLU_MAX_STATES unknowns; above,
+  pattern: it depends on the pattern alone), for at most SXLU_MAX_STATES unknowns (up to
+  SXLU_MAX_STATES_C when generated C is asked for explicitly, ``codegen=True``); above,
   CasADi's sparse QR (:func:`symcable.linalg.sparse.sparse_solve`). Compiled to C through
   :mod:`symcable.codegen` when asked (or, by default, when it pays). Its derivative with
   respect to the step's inputs is that of the iterations taken: near the exact one (the
@@ -39,6 +40,7 @@ import math
 import casadi as ca
 import numpy as np
 
+from ..codegen import use_codegen
 from ..derive import functions
 from ..errors import SymcableError
 from ..linalg.sparse import jacobian as _jacobian, sparse_solve
@@ -47,7 +49,7 @@ from ..models.mechanism import Mechanism
 from .options import GeneralizedAlphaFirstOrder, NewtonScheme
 from .stepcache import STEP_CACHE, maybe_compiled
 
-__all__ = ["CHORD_ITERATIONS", "SXLU_MAX_STATES", "galpha1_kernel", "galpha1_residual",
+__all__ = ["CHORD_ITERATIONS", "SXLU_MAX_STATES", "SXLU_MAX_STATES_C", "galpha1_kernel", "galpha1_residual",
            "galpha1_step", "step_scales"]
 
 #: iterations of a step that reuse the matrix factorised at its start (chord iterations)
@@ -56,6 +58,11 @@ CHORD_ITERATIONS = 4
 #: out in SX; above it, by sparse QR (fill-reducing column order, dense rows split off),
 #: whose construction is O(n)
 SXLU_MAX_STATES = 400
+#: the same with generated C asked for explicitly (``codegen=True``): the written-out LU in
+#: C is some 5 times faster per step than the sparse QR (200 segments, 798 states: 0.65
+#: against 3.5 ms) but its C takes minutes to compile there (280 s), which the default
+#: does not impose (studies/performance/README.md, scaling)
+SXLU_MAX_STATES_C = 1000
 #: largest state whose SX Functions are built with common subexpressions eliminated:
 #: CasADi's elimination grows faster than the graph and pays only in small generated C
 CSE_MAX_STATES = SXLU_MAX_STATES
@@ -142,13 +149,14 @@ def _fill_order(sp: ca.Sparsity) -> np.ndarray:
     return np.asarray((sp + sp.T).amd(), dtype=int)
 
 
-def _linear_solver(J: ca.SX, args: list, cache: dict):
+def _linear_solver(J: ca.SX, args: list, cache: dict, lu: bool):
     """``(factor, solve, n_factors)`` for the iteration matrix ``J`` (SX in ``args``):
-    ``factor(*args) -> f``, ``solve(f, b) -> J^-1 b`` (see the module docstring)."""
+    ``factor(*args) -> f``, ``solve(f, b) -> J^-1 b`` (see the module docstring); the block
+    LU when ``lu`` and the pattern allows it, else sparse QR."""
     sp = J.sparsity()
     n = sp.size1()
     opts = {"cse": n <= CSE_MAX_STATES}
-    if n <= SXLU_MAX_STATES:
+    if lu:
         perm = _fill_order(sp)
         Jp = J[perm.tolist(), perm.tolist()]
         spp = Jp.sparsity()
@@ -197,7 +205,7 @@ def _taylor_lte(mech, y0, y1, t, h, p, rho, y_scale):
     return ca.norm_inf(C / (C + 1.0 / 6.0) * (y1 - y_pred) / y_scale)
 
 
-def _unrolled(mech: Mechanism, max_iter: int, with_lte: bool) -> ca.Function:
+def _unrolled(mech: Mechanism, max_iter: int, with_lte: bool, lu: bool) -> ca.Function:
     """The kernel of the unrolled Newton loop (see :func:`galpha1_kernel`)."""
     ny = mech.n_q + mech.n_v
     name = f"{mech.name}_ga1"
@@ -207,7 +215,7 @@ def _unrolled(mech: Mechanism, max_iter: int, with_lte: bool) -> ca.Function:
     args = [w, x, t, h, p, st]
     R = ca.Function(f"{name}_res", args, [r], {"cse": ny <= CSE_MAX_STATES})
     cache = STEP_CACHE.get(mech, ("block_lu",), dict)
-    factor, solve, n_f = _linear_solver(_jacobian(r, w), args, cache)
+    factor, solve, n_f = _linear_solver(_jacobian(r, w), args, cache, lu)
 
     # one iteration: (z, done, it, measure, f; x, t, h, p, settings, scales) -> ...
     z, done, it, meas = ca.MX.sym("z", ny), ca.MX.sym("done"), ca.MX.sym("it"), ca.MX.sym("measure")
@@ -278,7 +286,8 @@ def galpha1_kernel(mech: Mechanism, opts: GeneralizedAlphaFirstOrder, *, lte: bo
     ``failed`` 1 when Newton did not converge. ``lte`` NaN unless ``lte=True``. Built once per
     Mechanism; in generated C when ``codegen`` resolves to True
     (:func:`symcable.codegen.use_codegen`: by default where the step is written out, up to
-    SXLU_MAX_STATES, and small enough to compile), with a one-line notice while compiling."""
+    SXLU_MAX_STATES, and small enough to compile; with ``codegen=True`` written out up to
+    SXLU_MAX_STATES_C), with a one-line notice while compiling."""
     if mech.n_z:
         raise SymcableError(f"mechanism {mech.name!r} has {mech.n_z} constraints: "
                             "GeneralizedAlphaFirstOrder takes n_z = 0 only for now; use "
@@ -287,10 +296,12 @@ def galpha1_kernel(mech: Mechanism, opts: GeneralizedAlphaFirstOrder, *, lte: bo
     if opts.newton is NewtonScheme.ROOTFINDER:
         return STEP_CACHE.get(mech, ("ga1_rootfinder", opts.tol, opts.max_iter, lte),
                               lambda: _rootfinder(mech, opts.tol, opts.max_iter, lte))
-    key = ("ga1_unrolled", opts.max_iter, lte)
-    vm = STEP_CACHE.get(mech, key, lambda: _unrolled(mech, opts.max_iter, lte))
-    # sparse QR above SXLU_MAX_STATES is C++ in the virtual machine already: C does not pay
-    size = (lambda: math.inf) if ny > SXLU_MAX_STATES else None
+    explicit_c = codegen is True and ny <= SXLU_MAX_STATES_C and use_codegen(True)
+    lu = ny <= SXLU_MAX_STATES or explicit_c
+    key = ("ga1_unrolled", opts.max_iter, lte, lu)
+    vm = STEP_CACHE.get(mech, key, lambda: _unrolled(mech, opts.max_iter, lte, lu))
+    # sparse QR is C++ in the virtual machine already: C does not pay by default
+    size = (lambda: math.inf) if not lu else None
     return maybe_compiled(mech, key, vm, codegen, "the generalized-α step", size)
 
 

@@ -9,19 +9,18 @@ import numpy as np
 
 from ..errors import SymcableError
 
-__all__ = ["MAX_GAP", "MAX_SAMPLES", "runs", "save_indices", "with_checkpoints"]
+__all__ = ["MAX_GAP", "runs", "save_indices", "with_checkpoints"]
 
-#: default largest number of saved samples (``save_every=None``)
-MAX_SAMPLES = 2000
 #: longest run of steps one batched call advances between two checkpoints: a mapaccum over
 #: many thousands of steps is slow to build, so long gaps between saves are cut into pieces
 MAX_GAP = 256
 
 
-def save_indices(n_steps: int, dt: float, duration: float, save_every, save_times) -> np.ndarray:
+def save_indices(n_steps: int, dt: float, duration: float, save_every, save_times,
+                 max_samples: int | None = None) -> np.ndarray:
     """Sorted unique step indices to save (0 is the start): every ``save_every`` steps and
-    the last (None: every step when there are fewer than MAX_SAMPLES steps, else about
-    MAX_SAMPLES evenly spaced), or the steps nearest ``save_times`` (s, from the start)."""
+    the last (None: every step, or about ``max_samples`` evenly spaced when there are more
+    steps than that), or the steps nearest ``save_times`` (s, from the start)."""
     if save_every is not None and save_times is not None:
         raise SymcableError("save_every and save_times: give at most one of them")
     if save_times is not None:
@@ -33,7 +32,8 @@ def save_indices(n_steps: int, dt: float, duration: float, save_every, save_time
                                 f"[0, duration = {duration:.6g}] s")
         return np.unique(np.clip(np.rint(st / dt).astype(np.int64), 0, n_steps))
     if save_every is None:
-        save_every = 1 if n_steps < MAX_SAMPLES else math.ceil(n_steps / MAX_SAMPLES)
+        save_every = 1 if max_samples is None or n_steps < max_samples else \
+            math.ceil(n_steps / max_samples)
     elif isinstance(save_every, bool) or not isinstance(save_every, (int, np.integer)) or save_every < 1:
         raise SymcableError(f"save_every = {save_every!r}: must be a whole number of steps >= 1")
     idx = np.arange(0, n_steps + 1, int(save_every), dtype=np.int64)

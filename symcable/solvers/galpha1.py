@@ -86,6 +86,10 @@ def step_scales(mech: Mechanism) -> np.ndarray:
     factor that turns h |F| into a change of y relative to its scale (1 / scales.q on the
     kinematic rows, 1 / (m_i scales.v) on the momentum rows, m_i the diagonal of a constant
     mass matrix where it is positive, else ``scales.mass``)."""
+    return STEP_CACHE.get(mech, ("step_scales",), lambda: _step_scales(mech)).copy()
+
+
+def _step_scales(mech: Mechanism) -> np.ndarray:
     sq, sv = np.asarray(mech.scales.q, float), np.asarray(mech.scales.v, float)
     mass = np.full(mech.n_v, float(mech.scales.mass))
     try:

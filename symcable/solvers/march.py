@@ -101,11 +101,13 @@ def get_stepper(mech, method, codegen, lte) -> _Stepper:
 
 
 def _bad_state(X: np.ndarray, inv_scale: np.ndarray) -> np.ndarray:
-    """Per column: an entry not finite, or a state entry beyond BLOWUP times its scale."""
+    """Per column: a state entry beyond BLOWUP times its scale or not finite, or another
+    entry (rates, multipliers) not finite."""
     n = inv_scale.size
     with np.errstate(invalid="ignore", over="ignore"):
-        big = np.abs(X[:n]) * inv_scale[:, None]
-        return ~(np.all(np.isfinite(X), axis=0) & np.all(big <= BLOWUP, axis=0))
+        big = np.max(np.abs(X[:n]) * inv_scale[:, None], axis=0) if n else np.zeros(X.shape[1])
+        rest = np.sum(X[n:], axis=0) if X.shape[0] > n else np.zeros(X.shape[1])
+    return ~(big <= BLOWUP) | ~np.isfinite(rest)  # NaN fails every comparison
 
 
 def run_fixed(stepper, x, t0, h, p, idx, scale, progress, label):

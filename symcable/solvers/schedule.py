@@ -43,7 +43,8 @@ def save_indices(n_steps: int, dt: float, duration: float, save_every, save_time
 def with_checkpoints(idx: np.ndarray, max_gap: int = MAX_GAP) -> np.ndarray:
     """The save indices plus unsaved checkpoints, so no gap exceeds ``max_gap`` steps."""
     points = np.concatenate([[0], idx])
-    extra = [np.arange(a + max_gap, b, max_gap) for a, b in zip(points[:-1], points[1:]) if b - a > max_gap]
+    long = np.flatnonzero(np.diff(points) > max_gap)
+    extra = [np.arange(points[i] + max_gap, points[i + 1], max_gap) for i in long]
     return np.unique(np.concatenate([idx] + extra)).astype(int) if extra else idx
 
 

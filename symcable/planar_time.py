@@ -20,6 +20,7 @@ import casadi as ca
 import numpy as np
 
 from .errors import ConvergenceError, SymcableError
+from .linalg.sparse import jacobian
 from .models.dynamic import DynamicModel
 from .models.planar_mechanism import mechanism_of, state_permutation
 from .results_time import Trajectory
@@ -95,7 +96,7 @@ def ga_residual_function(model: DynamicModel, rho_inf: float) -> ca.Function:
         F = galpha1_residual(mech)(z[order], ca.vertcat(y[order], yd[order]), t, dt, p,
                                    ca.DM([rho_inf, 0.0]))[0]
         r = (F / ca.DM(np.concatenate([np.ones(mech.n_q), mass])))[back]
-        fn = ca.Function("ga_residual", [z, y, yd, t, dt, p], [r, ca.jacobian(r, z)],
+        fn = ca.Function("ga_residual", [z, y, yd, t, dt, p], [r, jacobian(r, z)],
                          ["ydot_next", "y", "ydot", "t", "dt", "p"], ["r", "dr_dydot_next"])
         model._cache[key] = fn
     return fn

@@ -49,8 +49,8 @@ from ..models.mechanism import Mechanism
 from .options import GeneralizedAlphaFirstOrder, NewtonScheme
 from .stepcache import STEP_CACHE, maybe_compiled
 
-__all__ = ["CHORD_ITERATIONS", "SXLU_MAX_STATES", "SXLU_MAX_STATES_C", "galpha1_kernel", "galpha1_residual",
-           "galpha1_step", "step_scales"]
+__all__ = ["CHORD_ITERATIONS", "SXLU_MAX_STATES", "SXLU_MAX_STATES_C", "coefficients",
+           "galpha1_kernel", "galpha1_residual", "galpha1_step", "step_scales"]
 
 #: iterations of a step that reuse the matrix factorised at its start (chord iterations)
 CHORD_ITERATIONS = 4
@@ -59,9 +59,10 @@ CHORD_ITERATIONS = 4
 #: whose construction is O(n)
 SXLU_MAX_STATES = 400
 #: the same with generated C asked for explicitly (``codegen=True``): the written-out LU in
-#: C is some 5 times faster per step than the sparse QR (200 segments, 798 states: 0.65
-#: against 3.5 ms) but its C takes minutes to compile there (280 s), which the default
-#: does not impose (studies/performance/README.md, scaling)
+#: C is some 3.5 times faster per step than the sparse QR (200 segments, 798 states: 1.4
+#: against 5.1 ms on a loaded machine, studies/performance/compare_baseline_time.py) but its
+#: C takes minutes to compile there (280 s), which the default does not impose
+#: (studies/performance/README.md, scaling)
 SXLU_MAX_STATES_C = 1000
 #: largest state whose SX Functions are built with common subexpressions eliminated:
 #: CasADi's elimination grows faster than the graph and pays only in small generated C

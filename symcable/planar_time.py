@@ -163,8 +163,7 @@ def simulate(scene, duration: float, dt: float | None = None, method: str = "gen
     stats.update({k: st[k] for k in ("compiled", "steps", "newton_iterations",
                                       "newton_iterations_max", "step_time", "us_per_step",
                                       "samples")})
-    states = np.empty((run.time.size, model.n_y))
-    states[:, iq], states[:, iv] = run.q, run.v
+    states = np.hstack([run.q, run.v])[:, np.argsort(np.concatenate([iq, iv]))]
     stats["wall_time"] = _time.perf_counter() - wall0
     traj = Trajectory.from_outputs(model, scene_name=scene_name, time=run.time, states=states,
                                    outputs=run.outputs, method=meth.value, dt=st["dt"],

@@ -23,7 +23,8 @@ bases are compared too (max difference over the range). Compiled libraries are k
 ``--cache`` (default: a folder in the system's temporary directory) across runs.
 
 Run ``python studies/performance/compare_baseline_time.py [--quick] [--baseline DIR]``;
-the machine is shared and noisy, so only medians of interleaved rounds mean anything.
+the machine is shared and noisy, so only medians of interleaved rounds mean anything (the
+two workers are pinned to one core, ``--cpu``; the ratio of the fastest rounds is given too).
 """
 from __future__ import annotations
 
@@ -51,6 +52,9 @@ def worker() -> None:
     import symcable as sc
 
     models = {}
+    cpu = os.environ.get("COMPARE_CPU")
+    if cpu:  # both workers on one core: the same cache and the same neighbours
+        os.sched_setaffinity(0, {int(cpu)})
     for line in sys.stdin:
         req = json.loads(line)
         n, periods, cg = req["segments"], req["periods"], req["codegen"]
@@ -71,8 +75,9 @@ def worker() -> None:
 
 
 class Worker:
-    def __init__(self, path: Path, cache: str):
-        env = dict(os.environ, PYTHONPATH=str(path), SYMCABLE_CACHE_DIR=cache)
+    def __init__(self, path: Path, cache: str, cpu: int | None):
+        env = dict(os.environ, PYTHONPATH=str(path), SYMCABLE_CACHE_DIR=cache,
+                   COMPARE_CPU="" if cpu is None else str(cpu))
         env.pop("SYMCABLE_CODEGEN", None)
         self.proc = subprocess.Popen([sys.executable, str(Path(__file__).resolve()), "--worker"],
                                      stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True,
@@ -111,7 +116,9 @@ def measure(workers: dict, cases: list, repeats: int) -> list:
         for key in ("wall", "us_per_step", "iterations"):
             for k in workers:
                 row[f"{key}_{k}"] = statistics.median(x[key] for x in res[k])
+                row[f"{key}_{k}_min"] = min(x[key] for x in res[k])
             row[f"{key}_ratio"] = row[f"{key}_new"] / row[f"{key}_old"]
+            row[f"{key}_ratio_min"] = row[f"{key}_new_min"] / row[f"{key}_old_min"]
         rows.append(row)
         print(json.dumps(row), flush=True)
     return rows
@@ -124,6 +131,8 @@ def main(argv=None) -> dict:
     ap.add_argument("--repeats", type=int, default=None)
     ap.add_argument("--cache", default=os.path.join(tempfile.gettempdir(), "symcable-compare-cache"))
     ap.add_argument("--no-200", action="store_true", help="seed 001 (50 segments) only")
+    ap.add_argument("--cpu", type=int, default=os.cpu_count() - 1,
+                    help="pin both workers to this core (-1: no pinning)")
     args = ap.parse_args(argv)
     repeats = args.repeats or (3 if args.quick else 9)
     p50, p200 = (6, 2) if args.quick else (30, 5)
@@ -132,19 +141,22 @@ def main(argv=None) -> dict:
         cases += [("200 segments, C", 200, p200, True), ("200 segments, VM", 200, p200, False),
                   ("200 segments, default", 200, p200, None)]
     os.makedirs(args.cache, exist_ok=True)
-    workers = {"old": Worker(Path(args.baseline), args.cache), "new": Worker(NEW, args.cache)}
+    cpu = None if args.cpu < 0 else args.cpu
+    workers = {"old": Worker(Path(args.baseline), args.cache, cpu),
+               "new": Worker(NEW, args.cache, cpu)}
     try:
         rows = measure(workers, cases, repeats)
     finally:
         for w in workers.values():
             w.close()
-    lines = ["| case | wall old / new (s) | ratio | µs/step old / new | ratio | "
+    lines = ["| case | wall old / new (s) | ratio | µs/step old / new | ratio (of minima) | "
              "iterations/step old / new | compiled old/new | tension diff |",
              "|---|---|---|---|---|---|---|---|"]
     for r in rows:
         lines.append(f"| {r['case']}, {r['periods']} periods at T/100 | {r['wall_old']:.3f} / "
                      f"{r['wall_new']:.3f} | {r['wall_ratio']:.2f} | {r['us_per_step_old']:.1f} / "
-                     f"{r['us_per_step_new']:.1f} | {r['us_per_step_ratio']:.2f} | "
+                     f"{r['us_per_step_new']:.1f} | {r['us_per_step_ratio']:.2f} "
+                     f"({r['us_per_step_ratio_min']:.2f}) | "
                      f"{r['iterations_old']:.3f} / {r['iterations_new']:.3f} | "
                      f"{r['compiled']['old']}/{r['compiled']['new']} | {r['tension_diff']:.1e} |")
     print("\n".join(lines))

@@ -21,7 +21,7 @@ from ..functions import FastCall
 from ..models.mechanism import Mechanism
 from ..progress import ProgressBar
 from .galpha1 import galpha1_kernel, galpha1_residual, step_scales
-from .options import GeneralizedAlpha, GeneralizedAlphaFirstOrder
+from .options import RK4, GeneralizedAlpha, GeneralizedAlphaFirstOrder
 from .schedule import runs, with_checkpoints
 from .stepcache import STEP_CACHE, maybe_compiled
 from .steps import galpha_step, rk4_step
@@ -61,6 +61,8 @@ class _Stepper:
         else:
             self.fn = maybe_compiled(mech, ("rk4_step",), rk4_step(mech), codegen, "the RK4 step")
         self.tol = method.tol if isinstance(method, IMPLICIT) else math.inf
+        # what a trajectory keeps of x: (q, v), and with GeneralizedAlpha also z (last)
+        self.n_keep = mech.n_q + mech.n_v if self.full or isinstance(method, RK4) else None
         self.compiled = bool(self.fn.is_a("External"))
         self._batches: OrderedDict = OrderedDict()
 
@@ -88,9 +90,10 @@ class _Stepper:
         return fn
 
     def run(self, S, m, x, t0, h, p) -> tuple:
-        """``batch(S, m)`` evaluated: numpy arrays, X (n_x, m) and the per-sample rows (m,)."""
+        """``batch(S, m)`` evaluated: numpy arrays, X (m, n_x) (a sample per row) and the
+        per-sample values (m,)."""
         X, *rest = self.batch(S, m)(x, t0, h, p)
-        return (X.reshape(m, -1).T,) + tuple(rest)
+        return (X.reshape(m, -1),) + tuple(rest)
 
 
 def get_stepper(mech, method, codegen, lte) -> _Stepper:
@@ -101,20 +104,21 @@ def get_stepper(mech, method, codegen, lte) -> _Stepper:
 
 
 def _bad_state(X: np.ndarray, inv_scale: np.ndarray) -> np.ndarray:
-    """Per column: a state entry beyond BLOWUP times its scale or not finite, or another
-    entry (rates, multipliers) not finite."""
+    """Per sample (row of X): a state entry beyond BLOWUP times its scale or not finite, or
+    another entry (rates, multipliers) not finite."""
     n = inv_scale.size
     with np.errstate(invalid="ignore", over="ignore"):
-        big = np.max(np.abs(X[:n]) * inv_scale[:, None], axis=0) if n else np.zeros(X.shape[1])
-        rest = np.sum(X[n:], axis=0) if X.shape[0] > n else np.zeros(X.shape[1])
+        big = np.max(np.abs(X[:, :n]) * inv_scale, axis=1) if n else np.zeros(X.shape[0])
+        rest = np.sum(X[:, n:], axis=1) if X.shape[1] > n else np.zeros(X.shape[0])
     return ~(big <= BLOWUP) | ~np.isfinite(rest)  # NaN fails every comparison
 
 
 def run_fixed(stepper, x, t0, h, p, idx, scale, progress, label):
-    """Fixed steps to ``idx[-1]``, saving the steps ``idx``: (saved k, saved x (n, n_x),
+    """Fixed steps to ``idx[-1]``, saving the steps ``idx``: (saved k, saved x (n, n_keep),
     failure diagnostics or None, stats)."""
     inv_scale = 1.0 / scale
-    saved_x, saved_k = ([x.copy()], [0]) if idx[0] == 0 else ([], [])
+    keep_cols = slice(0, stepper.n_keep)
+    saved_x, saved_k = ([x[None, keep_cols]], [np.zeros(1, int)]) if idx[0] == 0 else ([], [])
     k, iters, iters_max, worst, lte_max, step_time = 0, 0.0, 0.0, 0.0, -np.inf, 0.0
     sec_per_step, failure = None, None
     wanted = idx
@@ -136,9 +140,9 @@ def run_fixed(stepper, x, t0, h, p, idx, scale, progress, label):
                 elapsed = time.perf_counter() - t_call
                 step_time += elapsed
                 if n_good:
-                    saved_x.extend(X[:, :n_good].T)
-                    saved_k.extend(k + S * (i + 1) for i in range(n_good))
-                    x, k = X[:, n_good - 1].copy(), k + S * n_good
+                    saved_x.append(X[:n_good, keep_cols])
+                    saved_k.append(k + S * np.arange(1, n_good + 1))
+                    x, k = X[n_good - 1].copy(), k + S * n_good
                     iters += float(np.sum(IT[:n_good]))
                     iters_max = max(iters_max, float(np.max(ITM[:n_good])))
                     worst = max(worst, float(np.nanmax(np.r_[E[:n_good], 0.0])))
@@ -147,8 +151,8 @@ def run_fixed(stepper, x, t0, h, p, idx, scale, progress, label):
                     failure, x, k, extra, it_good = _replay(stepper, x, k, t0, h, p, (m - n_good) * S,
                                                             set(idx.tolist()), inv_scale)
                     for kk, xx in extra:
-                        saved_k.append(kk)
-                        saved_x.append(xx)
+                        saved_k.append(np.array([kk]))
+                        saved_x.append(xx[None, keep_cols])
                     iters += it_good
                     count -= m
                     if failure is not None:
@@ -161,14 +165,14 @@ def run_fixed(stepper, x, t0, h, p, idx, scale, progress, label):
                 break
     finally:
         bar.close()
-    keep = set(wanted.tolist())
-    chosen = [i for i, kk in enumerate(saved_k) if kk in keep]
-    saved_x, saved_k = [saved_x[i] for i in chosen], [saved_k[i] for i in chosen]
+    ks = np.concatenate(saved_k) if saved_k else np.zeros(0, int)
+    Xs = np.concatenate(saved_x) if saved_x else np.zeros((0, x[keep_cols].size))
+    chosen = np.isin(ks, wanted)
+    ks, Xs = ks[chosen], Xs[chosen]
     if failure is not None:
         failure["dt"] = h
-        if not saved_k or saved_k[-1] != k:  # the last good state, saved or not
-            saved_x.append(x.copy())
-            saved_k.append(k)
+        if not ks.size or ks[-1] != k:  # the last good state, saved or not
+            ks, Xs = np.append(ks, k), np.vstack([Xs, x[None, keep_cols]])
         _residual_of_failure(stepper, failure, h, p)
     full = stepper.full
     extra = {"steps": k, "newton_iterations": int(iters) if full else None,
@@ -176,8 +180,8 @@ def run_fixed(stepper, x, t0, h, p, idx, scale, progress, label):
              "max_step_residual": worst if isinstance(stepper.method, IMPLICIT) else None,
              "max_error_estimate": lte_max if np.isfinite(lte_max) else None,
              "step_time": step_time, "us_per_step": 1e6 * step_time / max(k, 1),
-             "samples": len(saved_k)}
-    return np.array(saved_k, dtype=float), np.array(saved_x), failure, extra
+             "samples": int(ks.size)}
+    return ks.astype(float), Xs, failure, extra
 
 
 def _replay(stepper, x, k, t0, h, p, n_max, save_set, inv_scale):
@@ -192,7 +196,7 @@ def _replay(stepper, x, k, t0, h, p, n_max, save_set, inv_scale):
         except RuntimeError as exc:
             diag.update(reason="error", message=str(exc).strip().splitlines()[-1], residual=float("nan"))
             return diag, x, k, saved, good_iters
-        x1 = X[:, 0]
+        x1 = X[0]
         if _bad_state(X, inv_scale)[0]:
             n = inv_scale.size
             with np.errstate(invalid="ignore", over="ignore"):
@@ -258,11 +262,11 @@ def run_adaptive(stepper, x, t0, h, duration, p, method, tol, batch):
             continue
         for i in range(k):
             times.append(t + (i + 1) * h)
-            Xs.append(X[:, i])
+            Xs.append(X[i])
         steps += k
         h_min, h_max = min(h_min, h), max(h_max, h)
         worst_lte = max(worst_lte, est)
-        x = X[:, -1]
+        x = X[-1]
         t += k * h
         h *= min(GROW, SAFETY * (tol / max(est, 1e-300)) ** (1.0 / 3.0))
     extra = {"dt": None, "steps": steps, "rejected_batches": rejected, "dt_min": h_min,

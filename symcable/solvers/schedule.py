@@ -52,10 +52,8 @@ def runs(idx: np.ndarray) -> list:
     """Consecutive equal gaps between saved indices (from step 0): [(S, count), ...]."""
     gaps = np.diff(np.concatenate([[0], idx]))
     gaps = gaps[gaps > 0]
-    out: list = []
-    for g in gaps:
-        if out and out[-1][0] == g:
-            out[-1][1] += 1
-        else:
-            out.append([int(g), 1])
-    return out
+    if not gaps.size:
+        return []
+    starts = np.concatenate([[0], np.flatnonzero(np.diff(gaps)) + 1])
+    counts = np.diff(np.concatenate([starts, [gaps.size]]))
+    return [[int(gaps[a]), int(c)] for a, c in zip(starts, counts)]

@@ -20,7 +20,6 @@ from .models import DynamicModel, cache_dynamic_model, cached_dynamic_model, lin
 from .results_periodic import PeriodicSolution, PeriodicSweep
 from .results_time import Trajectory
 from .scene import Scene, load_scene
-from .solvers import stepping as _stepping
 from .results import ModalSolution
 from .errors import SymcableError
 from .models import build_model
@@ -30,6 +29,7 @@ from .solvers.equilibrium import solve_equilibrium
 from .solvers.linearize import MAX_DENSE, mechanism_modes, output_sensitivity
 from .derive import functions as _functions
 from .models.planar_mechanism import dynamics_mechanism, mechanism_of, state_permutation
+from . import planar_time as _planar_time
 from .planar_periodic import solve_model, sweep_model
 from .results_mechanism import Equilibrium, SceneLinearization
 from .planar_static import solve_static
@@ -53,20 +53,86 @@ def simulate(scene, duration: float, dt: float | None = None, method: str = "gen
              rho_inf: float = 0.5, save_every: int | None = None, save_times=None,
              progress: bool | None = None, model: DynamicModel | None = None, params=None,
              newton_tol: float | None = None, codegen: bool | None = None) -> Trajectory:
-    """Time response of a line from rest at t = 0 (where its excitation starts).
+    """Time response of a line from rest at t = 0 (where its excitation starts): its
+    dynamics Mechanism (:func:`~symcable.models.planar_mechanism.mechanism_of`) marched by
+    :func:`symcable.integrate`.
 
-    ``scene`` is anything :func:`symcable.load_scene` takes; its dynamic model is built
-    here (:func:`build_dynamic_model`, which solves the static state) unless ``model`` is
-    given, and then ``scene`` may be None. The other parameters, the result and the errors
-    are those of :func:`symcable.solvers.stepping.simulate`.
+    Parameters
+    ----------
+    scene : Scene, dict or path
+        Anything :func:`symcable.load_scene` takes; its dynamic model is built here
+        (:func:`build_dynamic_model`, which solves the static state) unless ``model`` is
+        given, and then ``scene`` may be None (its name is then the model's scene's).
+    duration : float
+        Simulated time, s.
+    dt : float, optional
+        Time step, s, shortened when needed so that a whole number of steps fills
+        ``duration`` (``stats['dt_requested']`` keeps the value asked for). Default:
+        generalized-α ``period / 100`` (``duration / 100`` when nothing moves); RK4 0.8 times
+        its stability limit (:func:`symcable.planar_time.rk4_stability_limit`), at most that
+        same value.
+    method : {"generalized-alpha", "rk4"}
+        Implicit generalized-α (first order on the DAE residual, Jansen, Whiting & Hulbert
+        2000: second order, A-stable, numerical damping set by ``rho_inf``) or explicit
+        classical RK4 (fourth order, stable only below its limit).
+    rho_inf : float
+        Generalized-α spectral radius at infinite step, in [0, 1].
+    save_every : int, optional
+        Save every this many steps (and the last step). Default: every step when there are
+        fewer than 2000 steps, else about 2000 evenly spaced samples.
+    save_times : array_like, optional
+        Times to save, s, each rounded to the nearest step (no interpolation); the run
+        stops at the last of them.
+    progress : bool, optional
+        A progress bar on stderr: True always, False never, None only for a run that lasts
+        over a second with stderr a terminal.
+    model : DynamicModel, optional
+        The model to integrate (:func:`build_dynamic_model`).
+    params : array_like (n_p,), optional
+        Parameter vector replacing ``model.p_value``, e.g. ``model.with_params(amp_b=[0, 0])``.
+    newton_tol : float, optional
+        Generalized-α Newton tolerance on the max-norm of the step residual times
+        dt / y_scale (momentum rows over their masses), or of the last Newton correction of
+        y_{n+1} over y_scale (default 1e-10).
+    codegen : bool, optional
+        Run the step in generated C (compiled once per model structure and method, then
+        loaded from the build cache); the loop over steps runs inside CasADi's ``mapaccum``,
+        never in Python. Default None: generated C when a C compiler is found and the step
+        is small enough for compiling to pay (see :mod:`symcable.codegen`); True without a
+        compiler warns once and uses the virtual machine. Results agree with the virtual
+        machine's to round-off.
+
+    Returns
+    -------
+    Trajectory
+        States in the DynamicModel's order. ``status`` "converged"; "invalid" with a
+        warning when the total axial strain of a segment, or an end tension over its
+        segment's EA, left the line type's ``max_strain`` (the dynamics linearised about the
+        static state do not hold there: the numbers are not an answer); else "slack" with a
+        warning when the total tension fell to zero somewhere (the linearised model is then
+        invalid too).
+
+    Raises
+    ------
+    SymcableError
+        A bad argument (the message names it, its value and what is allowed).
+    ConvergenceError
+        A generalized-α step whose Newton iteration failed, or a state that blew up (RK4
+        above its stability limit); ``partial`` is the Trajectory up to the last good step
+        (status "failed"); ``diagnostics`` has ``reason`` ("newton", "blowup" or "error"),
+        ``time`` (end of the failed step, s), ``time_last_good`` (s), ``step``, ``dt``,
+        ``method``, and ``residual`` (max |R| dt / scale at the last Newton iterate) or
+        ``state_norm`` (max |state| / scale reached) and ``worst`` (its entry of the
+        Mechanism's q or v).
     """
     started = time.perf_counter()
     if model is None and scene is not None:
         scene = load_scene(scene)
         model = build_dynamic_model(scene)
-    return _stepping.simulate(scene, duration, dt, method, rho_inf=rho_inf, save_every=save_every,
-                              save_times=save_times, progress=progress, model=model, params=params,
-                              newton_tol=newton_tol, codegen=codegen, started=started)
+    return _planar_time.simulate(scene, duration, dt, method, rho_inf=rho_inf,
+                                 save_every=save_every, save_times=save_times,
+                                 progress=progress, model=model, params=params,
+                                 newton_tol=newton_tol, codegen=codegen, started=started)
 
 
 def solve_periodic(scene, method="shooting", *, model: DynamicModel | None = None,

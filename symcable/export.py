@@ -18,7 +18,12 @@ from .derive import functions
 from .models import build_model
 from .models.static_mechanism import static_mechanism
 from .planar_static import solve_static
-from .solvers.stepping import step_function
+from .derive import functions as mechanism_functions
+from .models.planar_mechanism import mechanism_of, state_permutation
+from .planar_time import NEWTON_MAX_ITER, NEWTON_TOL
+from .solvers.galpha1 import galpha1_kernel, step_scales
+from .solvers.integrate import start_rates
+from .solvers.options import GeneralizedAlphaFirstOrder
 
 __all__ = ["export_scene"]
 
@@ -67,21 +72,42 @@ int main(void) {{
 
 _MAIN_DYN = r"""  /* 100 generalized-alpha steps of dt = period / 100 from rest */
   {{
-    static casadi_real y[N_Y], ydot[N_Y], y1[N_Y], ydot1[N_Y];
-    casadi_real k = 0, k1, its, failed, measure, t0 = 0, dt = DT;
-    casadi_real settings[2] = {{0.5, 1e-10}}; /* rho_inf, Newton tolerance */
-    for (int i = 0; i < N_Y; ++i) y[i] = Y0[i];
+    static casadi_real x[N_X], x1[N_X];
+    casadi_real t, dt = DT, err, lte, its, failed;
+    for (int i = 0; i < N_X; ++i) x[i] = X0[i];
     for (int n = 0; n < 100; ++n) {{
-      const casadi_real *a[] = {{y, ydot, &k, &t0, &dt, P_DYNAMIC, Y_SCALE, settings}};
-      casadi_real *r[] = {{y1, ydot1, &k1, &its, &failed, &measure}};
+      t = n * dt;
+      const casadi_real *a[] = {{x, &t, &dt, P_DYNAMIC, SETTINGS, SCALES}};
+      casadi_real *r[] = {{x1, &err, &lte, &its, &failed}};
       CALL(ga_step, a, r);
       if (failed) {{ fprintf(stderr, "step %d: Newton failed\n", n); return 1; }}
-      for (int i = 0; i < N_Y; ++i) {{ y[i] = y1[i]; ydot[i] = ydot1[i]; }}
-      k = k1;
+      for (int i = 0; i < N_X; ++i) x[i] = x1[i];
     }}
-    printf("dynamics: 100 steps done, t = %g s\n", k * dt);
+    printf("dynamics: 100 steps done, t = %g s\n", 100 * dt);
   }}
 """
+
+
+def _dynamic_functions(dyn) -> tuple[list, list]:
+    """The exported ``ga_step`` and ``dyn_outputs`` of a DynamicModel's dynamics Mechanism,
+    and their data (start, parameters, settings, scales)."""
+    mech = mechanism_of(dyn)
+    opts = GeneralizedAlphaFirstOrder(rho_inf=0.5, tol=NEWTON_TOL, max_iter=NEWTON_MAX_ITER)
+    kern = galpha1_kernel(mech, opts, codegen=False)
+    args = [ca.MX.sym(kern.name_in(i), kern.sparsity_in(i)) for i in range(kern.n_in())]
+    step = ca.Function("ga_step", args, kern(*args), kern.name_in(), kern.name_out())
+    nq, ny = mech.n_q, mech.n_q + mech.n_v
+    y, t, p = ca.MX.sym("y", ny), ca.MX.sym("t"), ca.MX.sym("p", mech.params.n)
+    out = mechanism_functions(mech).outputs(y[:nq], y[nq:], ca.MX(0, 1), t, p)
+    outputs = ca.Function("dyn_outputs", [y, t, p], [out], ["y", "t", "p"], ["outputs"])
+    iq, iv = state_permutation(dyn)
+    y0 = np.asarray(dyn.y0, dtype=float)
+    qd, vd = start_rates(mech, y0[iq], y0[iv], 0.0, dyn.p_value)
+    data = [f"#define N_X {2 * ny}\n#define DT {dyn.period / 100.0!r}\n",
+            _c_array("X0", np.concatenate([y0[iq], y0[iv], qd, vd])),
+            _c_array("P_DYNAMIC", dyn.p_value), _c_array("SETTINGS", [opts.rho_inf, opts.tol]),
+            _c_array("SCALES", step_scales(mech))]
+    return [step, outputs], data
 
 
 def _c_array(name: str, values) -> str:
@@ -115,10 +141,9 @@ def export_scene(scene, folder, stem: str = "symcable_scene") -> list:
             f"#define STATIC_TOL {sol.stats['tolerance']!r}\n",
             _c_array("W_START", start), _c_array("P_STATIC", model.p_target)]
     if dyn is not None:
-        funcs += [step_function(dyn, "generalized-alpha", codegen=False), dyn.functions().outputs]
-        data += [f"#define N_Y {dyn.n_y}\n#define DT {dyn.period / 100.0!r}\n",
-                 _c_array("Y0", dyn.y0), _c_array("P_DYNAMIC", dyn.p_value),
-                 _c_array("Y_SCALE", dyn.y_scale)]
+        dyn_funcs, dyn_data = _dynamic_functions(dyn)
+        funcs += dyn_funcs
+        data += dyn_data
     src, hdr = export_sources(funcs, folder, stem)
     paths = [src, hdr]
     p = folder / f"{stem}_data.h"
@@ -142,8 +167,13 @@ def export_scene(scene, folder, stem: str = "symcable_scene") -> list:
               "- `static_jacobian`: J is sparse (column-compressed; its pattern is given by "
               "`static_jacobian_sparsity_out(1)`)."]
     if dyn is not None:
-        lines += ["- `ga_step`: one generalized-alpha step (settings = [rho_inf, Newton "
-                  "tolerance]); `dyn_outputs`: tensions (N) and end forces of a state."]
+        lines += ["- `ga_step`: one first-order generalized-alpha step from t of size dt: x = (y, "
+                  "y'), y = (q, v) the dynamics' state (segment dynamic strain and angle, then "
+                  "node velocities, m/s); settings = [rho_inf, Newton tolerance]; scales = the "
+                  "state's scales and the residual rows' (`SCALES`); returns the next x, the "
+                  "Newton measure, NaN, the Newton iterations and a failure flag.",
+                  "- `dyn_outputs(y, t, p)`: every output of a state (tensions and forces in N, "
+                  "strains, angles in rad, positions in m), stacked."]
     else:
         lines += ["", f"No time-step function: {why_not}."]
     p = folder / "README.md"

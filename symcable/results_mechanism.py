@@ -90,8 +90,10 @@ class MechanismTrajectory(_Outputs):
     q : ndarray (n_t, n_q);  v : ndarray (n_t, n_v);  z : ndarray (n_t, n_z)
     outputs : dict name -> ndarray (n_t, ...)
     status : str     ``"converged"`` (every step's Newton iteration converged) or ``"failed"``
-    stats : dict     ``method``, ``dt`` (s), ``steps``, ``newton_iterations`` (mean per step),
-                     ``max_constraint`` (max |g| over the saved steps), ``wall_time`` (s)
+    stats : dict     ``method``, ``dt`` (s), ``steps``, ``newton_iterations`` (total) and
+                     ``newton_iterations_max`` (per step; first-order generalized-alpha),
+                     ``max_constraint`` (max |g| over the saved steps), ``wall_time`` (s);
+                     see :func:`symcable.integrate` for the rest
     warnings : tuple of str
     """
 

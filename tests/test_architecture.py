@@ -64,6 +64,7 @@ LAYERS = {
     "symcable.api": 6,
     "symcable.planar_static": 6,
     "symcable.planar_periodic": 6,
+    "symcable.planar_time": 6,
     "symcable.export": 6,
     "symcable.cli": 6,
     "symcable": 6,

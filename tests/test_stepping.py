@@ -12,7 +12,7 @@ import symcable as sc
 from symcable.api import simulate
 from symcable.errors import ConvergenceError, SymcableError
 from symcable.results_time import Trajectory
-from symcable.solvers.stepping import ga_coefficients, ga_residual_function, rk4_stability_limit
+from symcable.planar_time import ga_coefficients, ga_residual_function, rk4_stability_limit
 
 from conftest import seed001
 

@@ -7,7 +7,9 @@ interleaved repeats, medians (the machine is shared and noisy).
 
 1. statics, OC3 line (51 nodes): ``solve_static`` with a pre-built model (C, VM) against
    MoorPy's catenary; also the fused Newton call alone (C, VM);
-2. a 30-period time run of the seed-001 line: generalized-alpha, dt = T/100 (C, VM), and in C
+2. a 30-period time run of the seed-001 line: ``simulate``, i.e. the first-order
+   generalized-alpha of ``symcable.integrate`` on the line's dynamics Mechanism (its Newton
+   loop unrolled, a block LU written out in SX), dt = T/100 (C, VM), and in C
    at the fewest steps per period whose error is no larger than MoorDyn RK4's (equal
    accuracy; about T/56, from the measured second order), against MoorDyn at its largest stable step with RK4 (no
    internal damping, as symcable; the issue's comparison) and with RK2 (critical internal
@@ -268,7 +270,7 @@ def main(argv=None) -> dict:
              f"| statics: symcable C / MoorPy | {st['symcable_c'] / st['moorpy']:.2f} | "
              f"MoorPy {1e3 * st['moorpy']:.3f} ms; start guess (once per model) {1e3 * st['start_guess']:.3f} ms |",
              f"| time run: VM / C | {tr['symcable_vm'] / tr['symcable_c']:.2f} | "
-             f"{tr['symcable_vm']:.3f} / {tr['symcable_c']:.3f} s (stepping {tr['symcable_vm_steps_s']:.3f} / "
+             f"{tr['symcable_vm']:.3f} / {tr['symcable_c']:.3f} s (step calls {tr['symcable_vm_steps_s']:.3f} / "
              f"{tr['symcable_c_steps_s']:.3f} s, {tr['symcable_c_us_per_step']:.0f} us and "
              f"{tr['symcable_newton_iterations_per_step']:.2f} iterations per step in C) |",
              f"| time run: symcable C (T/100) / MoorDyn RK4 at its limit | {tr['symcable_c'] / tr['moordyn_RK4']:.2f} | "

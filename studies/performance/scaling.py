@@ -98,11 +98,16 @@ def _uses_sxlu(model) -> bool:
 
 
 def run_step(n: int) -> dict:
-    """One process: one generalized-alpha step of the seed-001 line with n segments."""
+    """One process: one generalized-alpha step of the seed-001 line with n segments (the
+    first-order step of ``simulate`` on the dynamics Mechanism)."""
     import numpy as np
 
     import symcable as sc
-    from symcable.solvers.stepping import SXLU_MAX_STATES, step_function
+    from symcable.models.planar_mechanism import mechanism_of, state_permutation
+    from symcable.planar_time import NEWTON_MAX_ITER
+    from symcable.solvers.galpha1 import SXLU_MAX_STATES, galpha1_kernel, step_scales
+    from symcable.solvers.integrate import start_rates
+    from symcable.solvers.options import GeneralizedAlphaFirstOrder
 
     clock = time.perf_counter
     scene = _scene("seed001", n)
@@ -111,26 +116,31 @@ def run_step(n: int) -> dict:
     static_s = clock() - t
     t = clock()
     dyn = sc.build_dynamic_model(scene, static=static)
+    mech = mechanism_of(dyn)
     build = clock() - t
+    opts = GeneralizedAlphaFirstOrder(rho_inf=0.5, max_iter=NEWTON_MAX_ITER)
     t = clock()
-    vm = step_function(dyn, "generalized-alpha", False)
+    vm = galpha1_kernel(mech, opts, codegen=False)
     functions = clock() - t
     t = clock()
-    step = step_function(dyn, "generalized-alpha", None)
+    step = galpha1_kernel(mech, opts, codegen=None)
     compiled = bool(step.is_a("External"))
     compile_s = clock() - t if compiled else 0.0
-    p, y = dyn.p_value, np.array(dyn.y0, dtype=float)
-    yd = np.array(dyn.functions().rhs(y, 0.0, p).full()).ravel()
-    args = (y, yd, 0, 0.0, dyn.period / 100.0, p, dyn.y_scale, [0.5, 1e-10])
+    p = dyn.p_value
+    iq, iv = state_permutation(dyn)
+    y0 = np.asarray(dyn.y0, dtype=float)
+    x = np.concatenate([y0[iq], y0[iv], *start_rates(mech, y0[iq], y0[iv], 0.0, p)])
+    args = (x, 0.0, dyn.period / 100.0, p, [0.5, 1e-10], step_scales(mech))
     t = clock()
     out = step(*args)
     first = clock() - t
     t = clock()
     out = step(*args)
     second = clock() - t
-    return {"part": "step", "N": n, "unknowns": dyn.n_y, "static_s": static_s, "build_s": build,
+    n_y = mech.n_q + mech.n_v
+    return {"part": "step", "N": n, "unknowns": n_y, "static_s": static_s, "build_s": build,
             "functions_s": functions, "compile_s": compile_s, "compiled": compiled,
-            "linear_solver": "block LU (SX)" if dyn.n_y <= SXLU_MAX_STATES else "sparse QR",
+            "linear_solver": "block LU (SX)" if n_y <= SXLU_MAX_STATES else "sparse QR",
             "solve_first_s": first, "solve_s": second,
             "iterations": int(float(out[3])), "failed": bool(float(out[4])),
             "peak_mb": _peak_mb(), "vm_instructions": vm.n_instructions()}

@@ -75,7 +75,7 @@ import symcable as sc  # noqa: E402
 from symcable.api import solve_periodic  # noqa: E402
 from symcable.codegen import cache_info  # noqa: E402
 from symcable.errors import ConvergenceError  # noqa: E402
-from symcable.solvers.stepping import rk4_stability_limit  # noqa: E402
+from symcable.planar_time import rk4_stability_limit  # noqa: E402
 
 HERE = Path(__file__).resolve().parent
 LEVELS = (1e-2, 1e-3, 1e-4)          # error levels, fraction of the reference tension range

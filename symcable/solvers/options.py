@@ -8,8 +8,7 @@ from dataclasses import dataclass
 from ..errors import SymcableError
 
 __all__ = ["CollocationScheme", "Collocation", "GeneralizedAlpha", "GeneralizedAlphaFirstOrder",
-           "HarmonicBalance", "RK4",
-           "Shooting", "parse_choice"]
+           "HarmonicBalance", "NewtonScheme", "RK4", "Shooting", "parse_choice"]
 
 
 def parse_choice(enum_cls, value, key: str):
@@ -72,13 +71,26 @@ class GeneralizedAlpha(_ImplicitScheme):
         return am, af, gamma, beta
 
 
+class NewtonScheme(str, enum.Enum):
+    """How a first-order generalized-alpha step runs its Newton iterations:
+    ``"unrolled"``, a fixed number of iterations written out in one Function (chord
+    iterations on a matrix factorised by a block LU written out in SX; fast, compiles to C;
+    its derivative is that of the iterations taken), or ``"rootfinder"``, CasADi's Newton
+    rootfinder (the exact Jacobian at every iteration; its derivative is the exact
+    implicit-function one, for Newton on a period map; virtual machine only)."""
+
+    UNROLLED = "unrolled"
+    ROOTFINDER = "rootfinder"
+
+
 @dataclass(frozen=True)
 class GeneralizedAlphaFirstOrder(_ImplicitScheme):
     """Implicit first-order generalized-alpha (Jansen, Whiting & Hulbert 2000) on the DAE
     residual F(y', y, t; p) = 0, y = (q, v): second order, unconditionally stable on linear
     problems; ``rho_inf`` in [0, 1] the spectral radius at infinite step; ``tol`` the Newton
     tolerance on the residual scaled to a change of y over one step relative to its scales;
-    ``max_iter`` Newton iterations. Unlike :class:`GeneralizedAlpha` (second order in time,
+    ``max_iter`` Newton iterations; ``newton`` how they run (:class:`NewtonScheme`).
+    Unlike :class:`GeneralizedAlpha` (second order in time,
     q' = v), it takes any kinematics q' = G(q) v + w(q, t; p); it is the scheme that
     ``simulate(..., method="generalized-alpha")`` runs on a DynamicModel. A class of its
     own, not a field of GeneralizedAlpha: its coefficients (alpha_m, alpha_f in [1/2, 3/2]),
@@ -88,7 +100,11 @@ class GeneralizedAlphaFirstOrder(_ImplicitScheme):
     rho_inf: float = 0.5
     tol: float = 1e-10
     max_iter: int = 20
+    newton: NewtonScheme = NewtonScheme.UNROLLED
 
+    def __post_init__(self):
+        super().__post_init__()
+        object.__setattr__(self, "newton", parse_choice(NewtonScheme, self.newton, "newton"))
 
     @property
     def coefficients(self) -> tuple[float, float, float]:

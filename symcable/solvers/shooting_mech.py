@@ -26,7 +26,7 @@ combination of the last secant pairs; Walker & Ni, SIAM J. Numer. Anal. 49, 2011
 has not converged within 60 periods (or n_u + 1, the cost of one monodromy, where that is
 more), Newton's method with the exact monodromy takes over from the best iterate: CasADi
 differentiates the mapaccum'd period map through each step's rootfinder (the step asked for
-with ``exact_derivatives=True``: the implicit function theorem), one call returning Phi(u)
+with ``newton="rootfinder"``: the implicit function theorem), one call returning Phi(u)
 and dPhi/du, and a Newton step that does not reduce the residual is halved (up to 6 times,
 each trial a plain period).
 
@@ -71,6 +71,7 @@ defect is the final scaled residual of the fixed point.
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 import time
 
@@ -124,7 +125,7 @@ class PeriodMap:
             self.method = (GeneralizedAlphaFirstOrder() if rho_inf is None
                            else GeneralizedAlphaFirstOrder(rho_inf=rho_inf))
             fast = galpha1_step(mech, self.method)
-            exact = galpha1_step(mech, self.method, exact_derivatives=True)
+            exact = galpha1_step(mech, dataclasses.replace(self.method, newton="rootfinder"))
             self.n_u = 2 * (nq + nv)
             n_x = self.n_u
         else:

@@ -1,0 +1,343 @@
+"""First-order generalized-alpha (Jansen, Whiting & Hulbert 2000) on a Mechanism's DAE
+residual F(y', y, t; p) = 0, y = (q, v), any kinematics:
+
+    y1 = y0 + h y'0 + gamma h (y'1 - y'0)
+    F(y'0 + alpha_m (y'1 - y'0), y0 + alpha_f (y1 - y0), t0 + alpha_f h; p) = 0,
+
+alpha_m = (3 - rho_inf) / (2 (1 + rho_inf)), alpha_f = 1 / (1 + rho_inf),
+gamma = 1/2 + alpha_m - alpha_f: second order, A-stable, high-frequency damping set by
+rho_inf in [0, 1]. The unknown y'1 is found by Newton's method on the exact Jacobian
+alpha_m dF/dy' + alpha_f gamma h dF/dy, in one of two ways (:class:`~.options.NewtonScheme`):
+
+* ``"unrolled"`` (the default): one CasADi Function per step with the Newton loop unrolled
+  ``max_iter`` times, a converged iteration switching the rest off (CasADi evaluates only
+  the taken branch of an ``if_else``). The residual is SX (the Mechanism's expressions
+  inlined); the iteration matrix is factorised at the start of the step and reused by the
+  next iterations (chord iterations) up to CHORD_ITERATIONS, then refactorised at every
+  iteration. The factorisation is the block LU of :mod:`symcable.linalg.sxlu` written out in
+  SX, on the matrix permuted to a fill-reducing order (approximate minimum degree of its
+  pattern: it depends on the pattern alone), for at most SXLU_MAX_STATES unknowns (up to
+  SXLU_MAX_STATES_C when generated C is asked for explicitly, ``codegen=True``); above,
+  CasADi's sparse QR (:func:`symcable.linalg.sparse.sparse_solve`). Compiled to C through
+  :mod:`symcable.codegen` when asked (or, by default, when it pays). Its derivative with
+  respect to the step's inputs is that of the iterations taken: near the exact one (the
+  chord iterations contract fast) but not equal to it;
+* ``"rootfinder"``: CasADi's Newton rootfinder with the exact Jacobian at every iteration;
+  its derivative is the exact implicit-function one (for Newton on a period map), and it
+  runs in the virtual machine only.
+
+Convergence, both ways: the step residual scaled to a change of y over the step relative to
+its scales (kinematic rows h |F| / scales.q, momentum rows h |F| / (m_i scales.v) with m_i
+the diagonal of a constant mass matrix, else ``scales.mass``) at most ``tol`` in the
+max-norm; the unrolled loop also accepts a last Newton correction of y1 at most ``tol`` of
+its scales (the iterations contract fast, so the accepted iterate is far more accurate than
+that correction).
+"""
+from __future__ import annotations
+
+import math
+
+import casadi as ca
+import numpy as np
+
+from ..codegen import use_codegen
+from ..derive import functions
+from ..errors import SymcableError
+from ..linalg.sparse import jacobian as _jacobian, sparse_solve
+from ..linalg.sxlu import block_lu, block_plan
+from ..models.mechanism import Mechanism
+from .options import GeneralizedAlphaFirstOrder, NewtonScheme
+from .stepcache import STEP_CACHE, maybe_compiled
+
+__all__ = ["CHORD_ITERATIONS", "SXLU_MAX_STATES", "SXLU_MAX_STATES_C", "coefficients",
+           "galpha1_kernel", "galpha1_residual", "galpha1_step", "step_scales"]
+
+#: iterations of a step that reuse the matrix factorised at its start (chord iterations)
+CHORD_ITERATIONS = 4
+#: largest state (entries of y) whose iteration matrix is factorised by the block LU written
+#: out in SX; above it, by sparse QR (fill-reducing column order, dense rows split off),
+#: whose construction is O(n)
+SXLU_MAX_STATES = 400
+#: the same with generated C asked for explicitly (``codegen=True``): the written-out LU in
+#: C is some 3.5 times faster per step than the sparse QR (200 segments, 798 states: 1.4
+#: against 5.1 ms on a loaded machine, studies/performance/compare_baseline_time.py) but its
+#: C takes minutes to compile there (280 s), which the default does not impose
+#: (studies/performance/README.md, scaling)
+SXLU_MAX_STATES_C = 1000
+#: largest state whose SX Functions (residual, iteration matrix) are built with common
+#: subexpressions eliminated: 9 % fewer instructions, and a step 9 % faster in the virtual
+#: machine at 200 segments (798 states, 0.7 s more to build), but CasADi's elimination grows
+#: faster than the graph (8 s for 8,000 states)
+CSE_MAX_STATES = SXLU_MAX_STATES_C
+#: the sparse linear solver above SXLU_MAX_STATES (CasADi's QR generates C; CSparse's LU does not)
+LINSOL = "qr"
+
+
+def coefficients(rho):
+    """``(alpha_m, alpha_f, gamma)`` for rho_inf ``rho`` (a number or a CasADi symbol)."""
+    am = 0.5 * (3.0 - rho) / (1.0 + rho)
+    af = 1.0 / (1.0 + rho)
+    return am, af, 0.5 + am - af
+
+
+def _error_constant(rho):
+    return (rho * rho - rho + 1.0) / (3.0 * (1.0 + rho) ** 2)
+
+
+def step_scales(mech: Mechanism) -> np.ndarray:
+    """``(y_scale, row_scale)`` (2 n_y,): the scales of y = (q, v), and per row of F the
+    factor that turns h |F| into a change of y relative to its scale (1 / scales.q on the
+    kinematic rows, 1 / (m_i scales.v) on the momentum rows, m_i the diagonal of a constant
+    mass matrix where it is positive, else ``scales.mass``)."""
+    return STEP_CACHE.get(mech, ("step_scales",), lambda: _step_scales(mech)).copy()
+
+
+def _step_scales(mech: Mechanism) -> np.ndarray:
+    sq, sv = np.asarray(mech.scales.q, float), np.asarray(mech.scales.v, float)
+    mass = np.full(mech.n_v, float(mech.scales.mass))
+    try:
+        M = np.atleast_2d(np.asarray(ca.evalf(mech.mass), dtype=float))
+        d = np.abs(np.diag(M)) if M.shape == (mech.n_v, mech.n_v) else np.zeros(0)
+        mass = np.where(d > 0, d, mass) if d.size == mech.n_v else mass
+    except (RuntimeError, NotImplementedError, TypeError):
+        pass  # M depends on the state or the parameters: the mechanism's mass scale
+    return np.concatenate([sq, sv, 1.0 / sq, 1.0 / (mass * sv)])
+
+
+def _sx_residual(mech: Mechanism) -> ca.Function:
+    """The DAE residual as an SX Function (expanded from MX when the Mechanism is MX)."""
+    fn = functions(mech).dae_residual
+    if fn.is_a("SXFunction"):
+        return fn
+    try:
+        return fn.expand()
+    except RuntimeError as exc:
+        raise SymcableError(f"mechanism {mech.name!r}: its DAE residual cannot be written out "
+                            f"in SX for the unrolled Newton loop ({str(exc).splitlines()[-1]}); "
+                            "use GeneralizedAlphaFirstOrder(newton='rootfinder')") from None
+
+
+def _step_residual(dae, w, x, t, h, p, rho, ny):
+    """F at the alpha points of the step from x = (y0, y'0) with y'1 = w."""
+    am, af, gamma = coefficients(rho)
+    y0, yd0 = x[:ny], x[ny:]
+    y1 = y0 + h * yd0 + gamma * h * (w - yd0)
+    return dae(yd0 + am * (w - yd0), y0 + af * (y1 - y0), t + af * h, p)
+
+
+def _symbols(mech, S):
+    ny = mech.n_q + mech.n_v
+    return (S.sym("x", 2 * ny), S.sym("t"), S.sym("h"), S.sym("p", mech.params.n),
+            S.sym("settings", 2), S.sym("scales", 2 * ny))
+
+
+_IN = ["x", "t", "h", "p", "settings", "scales"]
+_OUT = ["x1", "err", "lte", "iterations", "failed"]
+
+
+def galpha1_residual(mech: Mechanism) -> ca.Function:
+    """``ga1_residual(w, x, t, h, p, settings) -> (F, dF/dw)``: the DAE residual of the step
+    from x = (y0, y'0) at t (s) of size h (s) with y'1 = w (the rows of F in their own units),
+    and its exact sparse Jacobian; settings = [rho_inf, tol] (tol unused). In the
+    Mechanism's order y = (q, v)."""
+    def build():
+        ny = mech.n_q + mech.n_v
+        x, t, h, p, st, _ = _symbols(mech, ca.SX)
+        w = ca.SX.sym("w", ny)
+        r = _step_residual(_sx_residual(mech), w, x, t, h, p, st[0], ny)
+        return ca.Function(f"{mech.name}_ga1_residual", [w, x, t, h, p, st], [r, _jacobian(r, w)],
+                           ["w", "x", "t", "h", "p", "settings"], ["F", "dF_dw"])
+    return STEP_CACHE.get(mech, ("ga1_residual",), build)
+
+
+def _fill_order(sp: ca.Sparsity) -> np.ndarray:
+    """A fill-reducing symmetric order of a square pattern: approximate minimum degree of
+    the pattern plus its transpose (CSparse's AMD; dense rows go last)."""
+    return np.asarray((sp + sp.T).amd(), dtype=int)
+
+
+def _linear_solver(J: ca.SX, args: list, cache: dict, lu: bool):
+    """``(factor, solve, n_factors)`` for the iteration matrix ``J`` (SX in ``args``):
+    ``factor(*args) -> f``, ``solve(f, b) -> J^-1 b`` (see the module docstring); the block
+    LU when ``lu`` and the pattern allows it, else sparse QR."""
+    sp = J.sparsity()
+    n = sp.size1()
+    opts = {"cse": n <= CSE_MAX_STATES}
+    if lu:
+        perm = _fill_order(sp)
+        Jp = J[perm.tolist(), perm.tolist()]
+        spp = Jp.sparsity()
+        plan = (1, None) if spp.nnz_diag() == n else block_plan(spp)
+        if plan is not None:
+            lu = block_lu(spp, *plan, cache=cache)
+            factor = ca.Function("ga1_factor", args, [lu.factor(Jp.nz[:])], opts)
+            f, b = ca.SX.sym("f", lu.n_factors), ca.SX.sym("b", n)
+            xp = lu.apply(f, b[perm.tolist()])
+            solve = ca.Function("ga1_solve", [f, b], [xp[np.argsort(perm).tolist()]], opts)
+            return factor, solve, lu.n_factors
+    factor = ca.Function("ga1_factor", args, [J.nz[:]], opts)
+    f, b = ca.MX.sym("f", sp.nnz()), ca.MX.sym("b", n)
+    solve = ca.Function("ga1_qr_solve", [f, b], [sparse_solve(ca.MX(sp, f), b, LINSOL)])
+    return factor, solve, sp.nnz()
+
+
+def _taylor_jet(mech: Mechanism) -> ca.Function:
+    """``jet(q, v, a, z, t, p) -> (q'', b)`` along the motion q' = kinematics, v' = a (z
+    held): q'' = d(kinematics)/dt and b = df/dt - (dM/dt) a, so that v'' = M^-1 b."""
+    m = mech
+    a = ca.SX.sym("a", m.n_v) if isinstance(m.v, ca.SX) else ca.MX.sym("a", m.n_v)
+    kin = m.v if m.kinematics is None else m.kinematics
+
+    def ddt(expr):
+        return (ca.jtimes(expr, m.q, kin) + ca.jtimes(expr, m.v, a) + ca.jacobian(expr, m.t))
+
+    b = ddt(m.force) - ca.jtimes(ca.mtimes(m.mass, a), m.q, kin)
+    return ca.Function(f"{m.name}_jet", [m.q, m.v, a, m.z, m.t, m.p], [ddt(kin), b])
+
+
+def _taylor_lte(mech, y0, y1, t, h, p, rho, y_scale):
+    """The local error estimate of y1 over its scales (see :func:`galpha1_step`), MX."""
+    F = functions(mech)
+    nq, nv, ny = mech.n_q, mech.n_v, mech.n_q + mech.n_v
+    z0 = ca.MX(0, 1)
+    q0, v0 = y0[:nq] if nq else ca.MX(0, 1), y0[nq:ny] if nv else ca.MX(0, 1)
+    M0 = F.tangents(q0, v0, z0, t, p)[2]
+    r_f, _ = F.acc_residual(q0, v0, ca.MX.zeros(nv), z0, t, p)  # = -f
+    a0 = ca.solve(M0, -r_f) if nv else ca.MX(0, 1)
+    qd0 = F.qdot(q0, v0, z0, t, p)
+    qdd0, b0 = _taylor_jet(mech)(q0, v0, a0, z0, t, p)
+    ad0 = ca.solve(M0, b0) if nv else ca.MX(0, 1)
+    y_pred = y0 + h * ca.vertcat(qd0, a0) + 0.5 * h ** 2 * ca.vertcat(qdd0, ad0)
+    C = _error_constant(rho)
+    return ca.norm_inf(C / (C + 1.0 / 6.0) * (y1 - y_pred) / y_scale)
+
+
+def _unrolled(mech: Mechanism, max_iter: int, with_lte: bool, lu: bool) -> ca.Function:
+    """The kernel of the unrolled Newton loop (see :func:`galpha1_kernel`)."""
+    ny = mech.n_q + mech.n_v
+    name = f"{mech.name}_ga1"
+    x, t, h, p, st, _ = _symbols(mech, ca.SX)
+    w = ca.SX.sym("w", ny)
+    r = _step_residual(_sx_residual(mech), w, x, t, h, p, st[0], ny)
+    args = [w, x, t, h, p, st]
+    R = ca.Function(f"{name}_res", args, [r], {"cse": ny <= CSE_MAX_STATES})
+    cache = STEP_CACHE.get(mech, ("block_lu",), dict)
+    factor, solve, n_f = _linear_solver(_jacobian(r, w), args, cache, lu)
+
+    # one iteration: (z, done, it, measure, f; x, t, h, p, settings, scales) -> ...
+    z, done, it, meas = ca.MX.sym("z", ny), ca.MX.sym("done"), ca.MX.sym("it"), ca.MX.sym("measure")
+    f = ca.MX.sym("f", n_f)
+    x, t, h, p, st, sc = _symbols(mech, ca.MX)
+    tol, gamma = st[1], coefficients(st[0])[2]
+    rv = R(z, x, t, h, p, st)
+    res = ca.norm_inf(h * rv * sc[ny:])
+    conv = res <= tol
+    names = ["z", "done", "it", "measure", "f"] + _IN
+    outs = ["z_out", "done_out", "it_out", "measure_out"]
+    fargs = [z, done, it, meas, f, x, t, h, p, st, sc]
+    rest = fargs[5:]
+    # the loop from iteration i on, nested so that a converged step returns at once:
+    # loop_i = if done: (z, done, it, measure) else loop_{i+1}(iteration_i(...))
+    loop = ca.Function(f"{name}_done{max_iter}", fargs, [z, done, it, meas], names, outs)
+    for i in range(max_iter - 1, -1, -1):
+        refactor = i == 0 or i >= CHORD_ITERATIONS
+        f_new = ca.if_else(conv, f, factor(z, x, t, h, p, st), True) if refactor else f
+        dz = ca.if_else(conv, ca.MX.zeros(ny), -solve(f_new, rv), True)
+        corr = ca.norm_inf(gamma * h * dz / sc[:ny])
+        nxt = loop(z + dz, ca.logic_or(conv, corr <= tol), it + 1 - conv,
+                   ca.if_else(conv, res, corr), f_new, *rest)
+        go_on = ca.Function(f"{name}_from{i}", fargs, nxt, names, outs)
+        stop = ca.Function(f"{name}_stop{i}", fargs, [z, done, it, meas], names, outs)
+        loop = ca.Function.if_else(f"{name}_loop{i}", stop, go_on)
+        loop = ca.Function(f"{name}_newton{i}", fargs, loop(done, *fargs), names, outs)
+
+    x, t, h, p, st, sc = _symbols(mech, ca.MX)
+    y0, yd0 = x[:ny], x[ny:]
+    z, done, it, meas = loop(yd0, 0, 0, np.inf, ca.MX.zeros(n_f), x, t, h, p, st, sc)
+    y1 = y0 + h * yd0 + coefficients(st[0])[2] * h * (z - yd0)
+    lte = _taylor_lte(mech, y0, y1, t, h, p, st[0], sc[:ny]) if with_lte else ca.MX(np.nan)
+    return ca.Function(f"{name}_kernel{max_iter}{'_lte' if with_lte else ''}",
+                       [x, t, h, p, st, sc], [ca.vertcat(y1, z), meas, lte, it, 1 - done],
+                       _IN, _OUT)
+
+
+def _rootfinder(mech: Mechanism, tol: float, max_iter: int, with_lte: bool) -> ca.Function:
+    """The kernel on CasADi's Newton rootfinder (exact derivatives; tol fixed at build)."""
+    ny = mech.n_q + mech.n_v
+    R = galpha1_residual(mech)
+    x, t, h, p, st, sc = _symbols(mech, ca.MX)
+    w = ca.MX.sym("w", ny)
+
+    def scaled(w_):
+        return h * R(w_, x, t, h, p, st)[0] * sc[ny:]
+
+    G = ca.Function("ga1_res", [w, x, t, h, p, st, sc], [scaled(w)])
+    rf = ca.rootfinder(f"{mech.name}_ga1_newton", "newton", G,
+                       {"abstol": tol, "abstolStep": 1e-14, "max_iter": max_iter,
+                        "error_on_fail": False})
+    y0, yd0 = x[:ny], x[ny:]
+    w1 = rf(yd0, x, t, h, p, st, sc)
+    y1 = y0 + h * yd0 + coefficients(st[0])[2] * h * (w1 - yd0)
+    err = ca.norm_inf(scaled(w1))
+    lte = _taylor_lte(mech, y0, y1, t, h, p, st[0], sc[:ny]) if with_lte else ca.MX(np.nan)
+    return ca.Function(f"{mech.name}_ga1_rootfinder", [x, t, h, p, st, sc],
+                       [ca.vertcat(y1, w1), err, lte, ca.MX(np.nan), 1 - (err <= tol)], _IN, _OUT)
+
+
+def galpha1_kernel(mech: Mechanism, opts: GeneralizedAlphaFirstOrder, *, lte: bool = False,
+                   codegen: bool | None = False) -> ca.Function:
+    """The step as integrators run it: ``kernel(x, t, h, p, settings, scales) ->
+    (x1, err, lte, iterations, failed)`` with settings = [rho_inf, tol] and scales =
+    :func:`step_scales` (inputs, so one compiled library serves every rho_inf, tolerance and
+    scale); ``iterations`` the linear solves of the unrolled loop (NaN with the rootfinder),
+    ``failed`` 1 when Newton did not converge. ``lte`` NaN unless ``lte=True``. Built once per
+    Mechanism; in generated C when ``codegen`` resolves to True
+    (:func:`symcable.codegen.use_codegen`: by default where the step is written out, up to
+    SXLU_MAX_STATES, and small enough to compile; with ``codegen=True`` written out up to
+    SXLU_MAX_STATES_C), with a one-line notice while compiling."""
+    if mech.n_z:
+        raise SymcableError(f"mechanism {mech.name!r} has {mech.n_z} constraints: "
+                            "GeneralizedAlphaFirstOrder takes n_z = 0 only for now; use "
+                            "GeneralizedAlpha()")
+    ny = mech.n_q + mech.n_v
+    if opts.newton is NewtonScheme.ROOTFINDER:
+        return STEP_CACHE.get(mech, ("ga1_rootfinder", opts.tol, opts.max_iter, lte),
+                              lambda: _rootfinder(mech, opts.tol, opts.max_iter, lte))
+    explicit_c = codegen is True and ny <= SXLU_MAX_STATES_C and use_codegen(True)
+    lu = ny <= SXLU_MAX_STATES or explicit_c
+    key = ("ga1_unrolled", opts.max_iter, lte, lu)
+    vm = STEP_CACHE.get(mech, key, lambda: _unrolled(mech, opts.max_iter, lte, lu))
+    # sparse QR is C++ in the virtual machine already: C does not pay by default
+    size = (lambda: math.inf) if not lu else None
+    return maybe_compiled(mech, key, vm, codegen, "the generalized-α step", size)
+
+
+def galpha1_step(mech: Mechanism, opts: GeneralizedAlphaFirstOrder,
+                 codegen: bool | None = False) -> ca.Function:
+    """``step(x, t, h, p) -> (x1, err, lte)`` with x = (y, y'), y = (q, v): one first-order
+    generalized-alpha step (see the module docstring) of size h (s) from t (s).
+
+    ``err`` is the Newton convergence measure the step accepted (the scaled residual, or
+    with the unrolled loop possibly the last correction of y1 over its scales): at most
+    ``opts.tol`` when the step converged, above it (or NaN) when it failed.
+
+    ``lte`` estimates the local error of y over its scales (max-norm) by the difference from
+    the second-order Taylor predictor y0 + h y'(t0) + h^2/2 y''(t0), whose local error is
+    h^3/6 y^(3) (y', y'' exact, from the equations, not the carried y'): on the principal
+    root of y' = A y the step's error is C h^3 y^(3) (C = ``opts.error_constant``, 1/9 at
+    rho_inf = 1/2), so the error is C / (C + 1/6) times that difference. Where the solution
+    is driven by an explicit forcing rather than by its own dynamics (pure quadrature
+    y' = g(t)) the step's h^3 error vanishes and the estimate overstates it.
+
+    ``opts.newton`` chooses the Newton loop (module docstring): "unrolled" (fast, compiled
+    with ``codegen``), or "rootfinder" (derivatives exact by the implicit function theorem).
+    """
+    kern = galpha1_kernel(mech, opts, lte=True, codegen=codegen)
+
+    def build():
+        x, t, h, p, _, _ = _symbols(mech, ca.MX)
+        consts = (ca.DM([opts.rho_inf, opts.tol]), ca.DM(step_scales(mech)))
+        x1, err, lte, _, _ = kern(x, t, h, p, *consts)
+        return ca.Function(f"{mech.name}_ga1_step", [x, t, h, p], [x1, err, lte],
+                           ["x", "t", "h", "p"], ["x1", "err", "lte"])
+    return STEP_CACHE.get(mech, ("ga1_step", kern.name(), id(kern), opts.rho_inf, opts.tol), build)

@@ -1,0 +1,53 @@
+"""The time integrators' cache: what is built once per Mechanism (step Functions, their
+compiled libraries, stability limits), kept in one explicit object, and the choice of
+generated C for a step Function.
+
+A weak mapping: a Mechanism that is no longer used frees its entries.
+"""
+from __future__ import annotations
+
+import weakref
+from typing import Callable
+
+from ..codegen import compile_functions, graph_size, use_codegen
+
+__all__ = ["STEP_CACHE", "StepCache", "maybe_compiled"]
+
+
+class StepCache:
+    """``get(mech, key, build)``: the value stored for ``(mech, key)``, built by ``build()``
+    on first use. Keys are tuples naming what the value depends on beyond the Mechanism."""
+
+    def __init__(self):
+        self._store: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
+
+    def get(self, mech, key: tuple, build: Callable):
+        entries = self._store.setdefault(mech, {})
+        if key not in entries:
+            entries[key] = build()
+        return entries[key]
+
+    def __len__(self) -> int:
+        return sum(len(v) for v in self._store.values())
+
+    def clear(self) -> None:
+        self._store.clear()
+
+
+#: the integrators' cache
+STEP_CACHE = StepCache()
+
+
+def maybe_compiled(mech, key: tuple, vm, codegen: bool | None, what: str, size=None):
+    """``vm`` (a Function built for ``mech``), or its generated C when ``codegen`` resolves
+    to True (:func:`symcable.codegen.use_codegen`; ``size()`` the graph size it judges, by
+    default the serialised length of ``vm``), compiled once per Mechanism and ``key`` with
+    the one-line notice ``compiling <what> for this model (once, cached) …``."""
+    def judged():
+        if size is not None:
+            return size()
+        return STEP_CACHE.get(mech, ("graph_size",) + key, lambda: graph_size([vm]))
+    if not use_codegen(codegen, judged):
+        return vm
+    return STEP_CACHE.get(mech, ("compiled",) + key,
+                          lambda: compile_functions([vm], what=what)[vm.name()])

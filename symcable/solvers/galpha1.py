@@ -313,7 +313,7 @@ def galpha1_kernel(mech: Mechanism, opts: GeneralizedAlphaFirstOrder, *, lte: bo
 
 
 def galpha1_step(mech: Mechanism, opts: GeneralizedAlphaFirstOrder,
-                 codegen: bool | None = False) -> ca.Function:
+                 codegen: bool | None = False, *, lte: bool = True) -> ca.Function:
     """``step(x, t, h, p) -> (x1, err, lte)`` with x = (y, y'), y = (q, v): one first-order
     generalized-alpha step (see the module docstring) of size h (s) from t (s).
 
@@ -331,8 +331,10 @@ def galpha1_step(mech: Mechanism, opts: GeneralizedAlphaFirstOrder,
 
     ``opts.newton`` chooses the Newton loop (module docstring): "unrolled" (fast, compiled
     with ``codegen``), or "rootfinder" (derivatives exact by the implicit function theorem).
+    ``lte=False`` leaves the error estimate out (NaN; it costs a Taylor predictor per step,
+    which shooting does not use).
     """
-    kern = galpha1_kernel(mech, opts, lte=True, codegen=codegen)
+    kern = galpha1_kernel(mech, opts, lte=lte, codegen=codegen)
 
     def build():
         x, t, h, p, _, _ = _symbols(mech, ca.MX)

@@ -138,7 +138,7 @@ def solve_periodic_mech(mech: Mechanism, period: float, method=None, *, p=None, 
         info = {"start": f"periodic solution by {start.method}", "start_iterations": 0}
     elif start is None or isinstance(start, Equilibrium):
         q0, z0, base = _static_base(mech, start)
-        start_fn, info = transient_start(mech, period, p, q0, z0)
+        start_fn, info = transient_start(mech, period, p, q0, z0, codegen=codegen)
         info["start"] = f"{info['start']} about the {base}"
     else:
         raise SymcableError(f"start = {type(start).__name__}: must be a MechanismPeriodic, an "
@@ -163,4 +163,5 @@ def solve_periodic_mech(mech: Mechanism, period: float, method=None, *, p=None, 
         # discretisation restarts exactly (one period confirms it)
         state0 = start.stats["state0"]
         info["start"] = "shooting solution (its integrator state at t = 0)"
-    return solve_shooting(mech, period, method, p, start_fn, info, state0=state0, **kw)
+    return solve_shooting(mech, period, method, p, start_fn, info, state0=state0,
+                          codegen=codegen, **kw)

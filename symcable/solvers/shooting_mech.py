@@ -78,10 +78,12 @@ import time
 import casadi as ca
 import numpy as np
 
+from ..codegen import FastCall, use_codegen
 from ..derive import functions
 from ..errors import SymcableError
 from ..models.mechanism import Mechanism
 from ..results_periodic_mech import trig_interp
+from .galpha1 import galpha1_kernel, step_scales
 from .integrate import galpha1_step, galpha_step
 from .options import GeneralizedAlpha, GeneralizedAlphaFirstOrder, Shooting
 from .periodic_common import (PERIODIC_CACHE, Scaling, StartFn, check_and_wrap,
@@ -118,14 +120,20 @@ class PeriodMap:
     ``with_jacobian(x0, T, p) -> (X, err, J)`` adds J = dX[:n_u, -1]/dx0[:n_u], through the
     rootfinder-based step (exact, by the implicit function theorem)."""
 
-    def __init__(self, mech: Mechanism, steps: int, rho_inf: float | None, first_order: bool):
+    def __init__(self, mech: Mechanism, steps: int, rho_inf: float | None, first_order: bool,
+                 codegen: bool = False):
         self.mech, self.steps, self.first_order = mech, steps, first_order
         nq, nv, nz = mech.n_q, mech.n_v, mech.n_z
         if first_order:
             self.method = (GeneralizedAlphaFirstOrder() if rho_inf is None
                            else GeneralizedAlphaFirstOrder(rho_inf=rho_inf))
-            fast = galpha1_step(mech, self.method)
-            exact = galpha1_step(mech, dataclasses.replace(self.method, newton="rootfinder"))
+            # the step kernel itself, mapped: a wrapper Function per step would cost a
+            # virtual-machine call per step around the compiled one
+            kern = galpha1_kernel(mech, self.method, lte=False, codegen=codegen)
+            consts = (ca.DM([self.method.rho_inf, self.method.tol]), ca.DM(step_scales(mech)))
+            fast = (kern, consts)
+            exact = galpha1_step(mech, dataclasses.replace(self.method, newton="rootfinder"),
+                                 lte=False)
             self.n_u = 2 * (nq + nv)
             n_x = self.n_u
         else:
@@ -144,8 +152,11 @@ class PeriodMap:
         self._p = ca.MX.sym("p", self.mech.params.n)
         h = self._T / self.steps
         times = h * ca.DM(np.arange(self.steps)).T
+        consts = ()
+        if isinstance(step, tuple):
+            step, consts = step
         acc = step.mapaccum(f"{self.mech.name}_{tag}", self.steps, [0], [0])
-        X, E, _ = acc(self._x0, times, h, self._p)
+        X, E = acc(self._x0, times, h, self._p, *consts)[:2]
         return X, E
 
     @property
@@ -202,10 +213,15 @@ def first_order(mech: Mechanism) -> bool:
     return mech.kinematics is not None
 
 
-def period_map(mech: Mechanism, opts: Shooting) -> PeriodMap:
+def period_map(mech: Mechanism, opts: Shooting, codegen: bool | None = False) -> PeriodMap:
+    """The period map of ``mech`` for ``opts``, built once per mechanism and options; with
+    ``codegen`` (resolved by :func:`symcable.codegen.use_codegen`) the first-order step runs
+    in generated C (compiled once, with a notice; the exact-derivative step of the Newton
+    fallback stays in the virtual machine)."""
     fo = first_order(mech)
-    return PERIODIC_CACHE.get(mech, ("shooting", opts.steps, opts.rho_inf, fo),
-                              lambda: PeriodMap(mech, opts.steps, opts.rho_inf, fo))
+    cg = bool(use_codegen(codegen)) if fo else False
+    return PERIODIC_CACHE.get(mech, ("shooting", opts.steps, opts.rho_inf, fo, cg),
+                              lambda: PeriodMap(mech, opts.steps, opts.rho_inf, fo, cg))
 
 
 #: the start's time run: periods marched from the static state, steps per period
@@ -214,12 +230,13 @@ START_STEPS = 64
 
 
 def transient_start(mech: Mechanism, period: float, p, q0, z0, *,
-                    periods: int = START_PERIODS, steps: int = START_STEPS) -> tuple:
+                    periods: int = START_PERIODS, steps: int = START_STEPS,
+                    codegen: bool | None = False) -> tuple:
     """(StartFn, info): the last of ``periods`` periods of generalized-alpha (``steps`` per
     period, rho_inf 0.8; first order where the mechanism has kinematics) marched from the
     static state ``(q0, z0)`` at rest, interpolated trigonometrically. If a step fails, the
     static state itself (constant)."""
-    pm = period_map(mech, Shooting(steps=steps, rho_inf=0.8))
+    pm = period_map(mech, Shooting(steps=steps, rho_inf=0.8), codegen)
     nv = mech.n_v
     q0, z0 = np.asarray(q0, float), np.asarray(z0, float)
     x, _ = pm.initial_state(q0, np.zeros(nv), z0, 0.0, p)
@@ -258,14 +275,15 @@ def anderson_budget(n_u: int) -> int:
 
 def solve_shooting(mech: Mechanism, period: float, opts: Shooting, p, start: StartFn,
                    start_info: dict, *, tol: float, defect_tol: float, max_iter: int = 30,
-                   state0: np.ndarray | None = None):
+                   state0: np.ndarray | None = None, codegen: bool | None = False):
     """Shooting of ``mech`` from ``start`` (see the module docstring); ``state0``: the
     integrator's state at t = 0 to start from instead (a shooting solution's
-    ``stats["state0"]`` with the same steps and rho_inf)."""
+    ``stats["state0"]`` with the same steps and rho_inf); ``codegen``: the step in generated
+    C (:func:`period_map`)."""
     t0 = time.perf_counter()
-    pm = period_map(mech, opts)
+    pm = period_map(mech, opts, codegen)
     sc = Scaling.of(mech)
-    nq, nv, nz, nu, N = mech.n_q, mech.n_v, mech.n_z, pm.n_u, opts.steps
+    nz, nu, N = mech.n_z, pm.n_u, opts.steps
     su = pm.u_scale(sc, period)
     if state0 is not None:
         x0 = np.asarray(state0, float).ravel()
@@ -281,9 +299,16 @@ def solve_shooting(mech: Mechanism, period: float, opts: Shooting, p, start: Sta
     budget = anderson_budget(nu)
     depth = anderson_depth(nu)
 
+    march = FastCall(pm.march)  # NumPy in and out: a DM of N states costs ms to convert
+    n_x = pm.march.size1_out(0)
+
     def evaluate(u_, z_, jac):
-        out = (pm.with_jacobian if jac else pm.march)(np.concatenate([u_, z_]), period, p)
-        X, E = np.asarray(out[0]), np.asarray(out[1]).ravel()
+        if jac:
+            out = pm.with_jacobian(np.concatenate([u_, z_]), period, p)
+            X, E = np.asarray(out[0]), np.asarray(out[1]).ravel()
+        else:
+            out = march(np.concatenate([u_, z_]), float(period), p)
+            X, E = out[0].reshape(-1, n_x).T.copy(), out[1].copy()
         if not (np.all(E <= step_tol) and np.all(np.isfinite(X))):
             return X, np.inf, None, None
         r = (X[:nu, -1] - u_) / su

@@ -50,7 +50,6 @@ LAYERS = {
     "symcable.data": 0,
     "symcable.scene": 1,
     "symcable.models": 2,
-    "symcable.functions": 3,
     "symcable.derive": 3,
     "symcable.derive_static": 3,
     "symcable.results": 4,

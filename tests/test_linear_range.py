@@ -4,7 +4,6 @@ meaningless excitations and stiffnesses are refused when the scene is read."""
 from __future__ import annotations
 
 import dataclasses
-import math
 
 import numpy as np
 import pytest

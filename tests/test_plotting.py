@@ -17,7 +17,7 @@ import symcable as sc  # noqa: E402
 from symcable import plotting, plotting3d  # noqa: E402
 from symcable.results_periodic import PeriodicSolution  # noqa: E402
 from symcable.results_time import Trajectory  # noqa: E402
-from symcable.solvers.modal import ModalSolution  # noqa: E402
+from symcable.results import ModalSolution  # noqa: E402
 
 from conftest import two_point  # noqa: E402
 

@@ -21,7 +21,7 @@ import numpy as np
 
 from ..derive import functions
 from ..errors import ConvergenceError, SymcableError
-from ..functions import FastCall
+from ..codegen import FastCall
 from ..models.mechanism import Mechanism
 from ..results_mechanism import Equilibrium, MechanismTrajectory
 from .galpha1 import galpha1_kernel, galpha1_step

@@ -17,7 +17,7 @@ from collections import OrderedDict
 import casadi as ca
 import numpy as np
 
-from ..functions import FastCall
+from ..codegen import FastCall
 from ..models.mechanism import Mechanism
 from ..progress import ProgressBar
 from .galpha1 import galpha1_kernel, galpha1_residual, step_scales

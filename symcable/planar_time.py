@@ -13,7 +13,6 @@ and rest state of the DynamicModel, and the result.
 from __future__ import annotations
 
 import enum
-import math
 import time as _time
 
 import casadi as ca
@@ -27,7 +26,7 @@ from .results_time import Trajectory
 from .scene import load_scene
 from .solvers import steps as _steps
 from .solvers.galpha1 import coefficients, galpha1_residual
-from .solvers.integrate import integrate
+from .solvers.integrate import check_positive, integrate
 from .solvers.options import RK4, GeneralizedAlphaFirstOrder
 
 __all__ = ["Method", "NEWTON_MAX_ITER", "NEWTON_TOL", "ga_coefficients", "ga_residual_function",
@@ -102,17 +101,6 @@ def ga_residual_function(model: DynamicModel, rho_inf: float) -> ca.Function:
     return fn
 
 
-def _positive(name, value, unit=""):
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        v = float("nan")
-    if not (math.isfinite(v) and v > 0.0):
-        raise SymcableError(f"{name} = {value!r}{' ' + unit if unit else ''}: must be a finite "
-                            "number > 0")
-    return v
-
-
 def simulate(scene, duration: float, dt: float | None = None, method: str = "generalized-alpha", *,
              rho_inf: float = 0.5, save_every: int | None = None, save_times=None,
              progress: bool | None = None, model: DynamicModel | None = None, params=None,
@@ -124,7 +112,7 @@ def simulate(scene, duration: float, dt: float | None = None, method: str = "gen
     ``time.perf_counter()`` when the caller began (``stats["wall_time"]`` counts from it)."""
     wall0 = _time.perf_counter() if started is None else started
     meth = Method.parse(method)
-    duration = _positive("duration", duration, "s")
+    duration = check_positive("duration", duration, "s")
     if scene is None and model is None:
         raise SymcableError("scene = None: give a scene, or a model to integrate")
     if model is None:
@@ -136,7 +124,7 @@ def simulate(scene, duration: float, dt: float | None = None, method: str = "gen
     if p.shape != np.shape(model.p_value):
         raise SymcableError(f"params: length {p.size}: must have the model's {np.size(model.p_value)} "
                             "parameters (use model.with_params(...))")
-    tol = NEWTON_TOL if newton_tol is None else _positive("newton_tol", newton_tol)
+    tol = NEWTON_TOL if newton_tol is None else check_positive("newton_tol", newton_tol)
     ga = meth is Method.GENERALIZED_ALPHA
     opts = GeneralizedAlphaFirstOrder(rho_inf=rho_inf, tol=tol, max_iter=NEWTON_MAX_ITER) if ga else RK4()
     mech = mechanism_of(model)
@@ -146,7 +134,7 @@ def simulate(scene, duration: float, dt: float | None = None, method: str = "gen
         dt = default_dt if ga else min(0.8 * rk4_stability_limit(model, p), default_dt)
     failure = None
     try:
-        run = integrate(mech, duration, _positive("dt", dt, "s"), method=opts, p=p, q0=q0, v0=v0,
+        run = integrate(mech, duration, check_positive("dt", dt, "s"), method=opts, p=p, q0=q0, v0=v0,
                         save_every=save_every, save_times=save_times, max_samples=MAX_SAMPLES,
                         progress=progress,
                         codegen=codegen, label=meth.value)

@@ -31,14 +31,16 @@ from .schedule import save_indices
 from .stepcache import STEP_CACHE, maybe_compiled
 from .steps import check_second_order, galpha_step, rk4_stability_limit, rk4_step
 
-__all__ = ["BLOWUP", "integrate", "galpha_step", "galpha1_step", "method_name",
+__all__ = ["BLOWUP", "check_positive", "integrate", "galpha_step", "galpha1_step", "method_name",
            "rk4_stability_limit", "rk4_step", "start_rates"]
 
 #: steps per mapaccum call of the adaptive run (bounds the compiled/generated graph)
 BATCH = 256
 
 
-def _check_positive(name, value, unit):
+def check_positive(name: str, value, unit: str = "") -> float:
+    """``value`` as a finite float > 0, or a SymcableError naming ``name``, the value and its
+    unit."""
     try:
         v = float(value)
     except (TypeError, ValueError):
@@ -160,7 +162,7 @@ def integrate(mech: Mechanism, duration: float, dt: float | None = None, *, meth
         raise SymcableError(f"method = {method!r}: must be GeneralizedAlpha(...), "
                             "GeneralizedAlphaFirstOrder(...) or RK4()")
     label = label or method_name(method)
-    duration = _check_positive("duration", duration, "s")
+    duration = check_positive("duration", duration, "s")
     if tol is not None:
         if not isinstance(method, _IMPLICIT):
             raise SymcableError("tol: adaptive steps need generalized-alpha (RK4 here has no "
@@ -185,7 +187,7 @@ def integrate(mech: Mechanism, duration: float, dt: float | None = None, *, meth
     if isinstance(method, RK4):
         stats["dt_stable"] = rk4_stability_limit(mech, p, t0, q0, v0)
         default = min(default, 0.8 * stats["dt_stable"])
-    dt_req = _check_positive("dt", default if dt is None else dt, "s")
+    dt_req = check_positive("dt", default if dt is None else dt, "s")
     stepr = get_stepper(mech, method, codegen, lte=tol is not None)
     scale = np.concatenate([mech.scales.q, mech.scales.v]).astype(float)
     if tol is None:

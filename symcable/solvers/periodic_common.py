@@ -28,7 +28,6 @@ and the largest defect is below ``defect_tol``.
 from __future__ import annotations
 
 import time
-import weakref
 from dataclasses import dataclass
 from typing import Callable, Mapping
 
@@ -41,6 +40,7 @@ from ..errors import ConvergenceError, SymcableError
 from ..models.mechanism import Mechanism
 from ..results_periodic_mech import MechanismPeriodic, trig_interp
 from .newton import newton
+from .stepcache import StepCache
 
 __all__ = ["PeriodicCache", "PERIODIC_CACHE", "SquareSystem", "Scaling", "spectral_derivative",
            "check_and_wrap", "StartFn", "IPOPT_DEFAULTS", "point_function"]
@@ -52,25 +52,9 @@ IPOPT_DEFAULTS = {"print_level": 0, "sb": "yes", "max_iter": 100, "mumps_pivot_o
                   "nlp_scaling_method": "none"}
 
 
-class PeriodicCache:
-    """Functions of the periodic solvers, per Mechanism and per key (method and the options
-    that shape the graph), built once. A weak mapping: the entries go with the Mechanism."""
-
-    def __init__(self):
-        self.store: "weakref.WeakKeyDictionary[Mechanism, dict]" = weakref.WeakKeyDictionary()
-
-    def get(self, mech: Mechanism, key, build: Callable[[], object]):
-        """The object cached for ``(mech, key)``, built by ``build()`` on first use."""
-        per = self.store.setdefault(mech, {})
-        if key not in per:
-            per[key] = build()
-        return per[key]
-
-    def __len__(self) -> int:
-        return sum(len(d) for d in self.store.values())
-
-    def clear(self) -> None:
-        self.store.clear()
+#: Functions of the periodic solvers, per Mechanism and per key (method and the options that
+#: shape the graph), built once: the same weak per-Mechanism cache as the integrators'
+PeriodicCache = StepCache
 
 
 #: the package's cache of periodic-solver Functions

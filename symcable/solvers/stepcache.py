@@ -19,19 +19,19 @@ class StepCache:
     on first use. Keys are tuples naming what the value depends on beyond the Mechanism."""
 
     def __init__(self):
-        self._store: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
+        self.store: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
 
     def get(self, mech, key: tuple, build: Callable):
-        entries = self._store.setdefault(mech, {})
+        entries = self.store.setdefault(mech, {})
         if key not in entries:
             entries[key] = build()
         return entries[key]
 
     def __len__(self) -> int:
-        return sum(len(v) for v in self._store.values())
+        return sum(len(v) for v in self.store.values())
 
     def clear(self) -> None:
-        self._store.clear()
+        self.store.clear()
 
 
 #: the integrators' cache

@@ -212,6 +212,6 @@ def solve_collocation(mech: Mechanism, period: float, opts: Collocation, p, star
                   "wall_time": time.perf_counter() - t0})
     return check_and_wrap(mech, period, p, x[:, :nq], x[:, nq:], z, method="collocation",
                           solved=solved, tol=tol, defect_tol=defect_tol, stats=stats,
-                          derivatives=(dx[:, :nq], dx[:, nq:]),
+                          derivatives=(dx[:, :nq], dx[:, nq:]), codegen=compiled,
                           why=f"{opts.solver} stopped ({sol['return_status']}) at residual "
                               f"{sol['residual']:.3g} > tol = {tol:.3g}")

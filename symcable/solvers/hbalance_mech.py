@@ -229,6 +229,6 @@ def solve_hbalance(mech: Mechanism, period: float, opts: HarmonicBalance, p, sta
                   "wall_time": time.perf_counter() - t0,
                   "highest_harmonic": float(np.max(np.abs(Qc[:, -2:]) / sys_.sc.q[:, None]))})
     return check_and_wrap(mech, period, p, q, v, z, method="harmonic-balance", solved=solved,
-                          tol=tol, defect_tol=defect_tol, stats=stats,
+                          tol=tol, defect_tol=defect_tol, stats=stats, codegen=compiled,
                           why=f"Newton stopped ({sol['return_status']}) at residual "
                               f"{sol['residual']:.3g} > tol = {tol:.3g}")

@@ -34,13 +34,13 @@ from typing import Callable, Mapping
 import casadi as ca
 import numpy as np
 
-from ..codegen import compile_functions
+from ..codegen import FastCall, compile_functions
 from ..derive import functions
 from ..errors import ConvergenceError, SymcableError
 from ..models.mechanism import Mechanism
 from ..results_periodic_mech import MechanismPeriodic, trig_interp
 from .newton import newton
-from .stepcache import StepCache
+from .stepcache import StepCache, maybe_compiled
 
 __all__ = ["PeriodicCache", "PERIODIC_CACHE", "SquareSystem", "Scaling", "spectral_derivative",
            "check_and_wrap", "StartFn", "IPOPT_DEFAULTS", "point_function"]
@@ -98,6 +98,13 @@ def spectral_derivative(x: np.ndarray, period: float) -> np.ndarray:
     if m % 2 == 0:
         k[-1] = 0.0
     return np.fft.irfft(c * (2j * np.pi / period * k)[:, None], n=m, axis=0)
+
+
+def rest_start(q0, z0, n_v: int) -> StartFn:
+    """A start function constant at the static state (q0, z0) at rest."""
+    q0, z0 = np.asarray(q0, float), np.asarray(z0, float)
+    return lambda t: (np.tile(q0, (len(t), 1)), np.zeros((len(t), n_v)),
+                      np.tile(z0, (len(t), 1)))
 
 
 def start_from_samples(q, v, z, period) -> StartFn:
@@ -227,42 +234,58 @@ def point_function(mech: Mechanism, name: str, compiled: bool) -> ca.Function:
 
 
 # ---------------------------------------------------------------------------------------------
-def _check_functions(mech: Mechanism, m: int):
+def _check_functions(mech: Mechanism, m: int, codegen: bool | None = False) -> tuple:
+    """(acc_residual, qdot, outputs), each mapped over ``m`` samples and called through
+    :class:`~symcable.codegen.FastCall` (samples as rows in, flat column-major out); each in
+    generated C where ``codegen`` resolves to True (:func:`~symcable.solvers.stepcache.
+    maybe_compiled`: compiled once per Mechanism, the outputs shared with the integrators)."""
     F = functions(mech)
-    return PERIODIC_CACHE.get(mech, ("check", m), lambda: (
-        F.acc_residual.map(m), F.qdot.map(m), F.outputs.map(m)))
+
+    def build():
+        fns = [maybe_compiled(mech, (name,), getattr(F, name), codegen, f"the {name}")
+               for name in ("acc_residual", "qdot", "outputs")]
+        return tuple(FastCall(f.map(m)) for f in fns)
+    return PERIODIC_CACHE.get(mech, ("check", m, codegen), build)
 
 
-def defects(mech: Mechanism, period: float, p, q, v, z, qd=None, a=None) -> dict:
+def _rows(a: np.ndarray) -> np.ndarray:
+    """(m, n) samples as the flat column-major (n, m) a mapped Function takes."""
+    return np.ascontiguousarray(a, dtype=float).ravel()
+
+
+def defects(mech: Mechanism, period: float, p, q, v, z, qd=None, a=None, *,
+            codegen: bool | None = False) -> dict:
     """The scaled equation residuals of uniform samples (see the module docstring);
     ``qd``, ``a``: the derivatives of q and v from the method's own interpolant (default:
-    spectral)."""
+    spectral); ``codegen``: the Functions in generated C (:func:`_check_functions`)."""
     sc = Scaling.of(mech)
     m = q.shape[0]
     t = period * np.arange(m) / m
-    acc, qdot, _ = _check_functions(mech, m)
+    acc, qdot, _ = _check_functions(mech, m, codegen)
     qd = spectral_derivative(q, period) if qd is None else qd
     a = spectral_derivative(v, period) if a is None else a
-    r_f, r_g = acc(q.T, v.T, a.T, z.T, t[None, :], p)
-    G = np.asarray(qdot(q.T, v.T, z.T, t[None, :], p))
-    kin = np.max(np.abs(qd.T - G)) / sc.v_ref if G.size else 0.0
-    dyn = np.max(np.abs(np.asarray(r_f))) / sc.force if mech.n_v else 0.0
-    con = np.max(np.abs(np.asarray(r_g)) / sc.g[:, None]) if mech.n_z else 0.0
+    r_f, r_g = acc(_rows(q), _rows(v), _rows(a), _rows(z), t, p)
+    G = qdot(_rows(q), _rows(v), _rows(z), t, p)[0]
+    kin = np.max(np.abs(_rows(qd) - G)) / sc.v_ref if G.size else 0.0
+    dyn = np.max(np.abs(r_f)) / sc.force if mech.n_v else 0.0
+    con = np.max(np.abs(r_g.reshape(m, -1)) / sc.g[None, :]) if mech.n_z else 0.0
     return {"dynamic": float(dyn), "kinematic": float(kin), "constraint": float(con)}
 
 
 def check_and_wrap(mech: Mechanism, period: float, p, q, v, z, *, method: str, solved: bool,
                    tol: float, defect_tol: float, stats: dict, why: str = "",
-                   warnings: tuple = (), derivatives: tuple | None = None) -> MechanismPeriodic:
+                   warnings: tuple = (), derivatives: tuple | None = None,
+                   codegen: bool | None = False) -> MechanismPeriodic:
     """Check a claimed solution independently and return it, or raise ConvergenceError
     carrying it (status ``"failed"``) and the diagnostics. ``derivatives`` = (q', v') from
-    the method's own interpolant where it is only piecewise smooth (collocation)."""
+    the method's own interpolant where it is only piecewise smooth (collocation);
+    ``codegen``: the check's Functions in generated C (:func:`_check_functions`)."""
     q, v, z = (np.asarray(a, float) for a in (q, v, z))
     m = q.shape[0]
     t = period * np.arange(m) / m
     finite = all(np.all(np.isfinite(a)) for a in (q, v, z))
     if finite:
-        d = defects(mech, period, p, q, v, z, *(derivatives or ()))
+        d = defects(mech, period, p, q, v, z, *(derivatives or ()), codegen=codegen)
         err = max(d.values())
     else:
         d, err = {}, float("nan")
@@ -282,8 +305,9 @@ def check_and_wrap(mech: Mechanism, period: float, p, q, v, z, *, method: str, s
         reasons.append(f"periodicity defect {pd:.3g} > 10 tol = {10 * tol:.3g}")
     outputs = {}
     if finite:
-        _, _, out = _check_functions(mech, m)
-        outputs = functions(mech).unpack(np.asarray(out(q.T, v.T, z.T, t[None, :], p)))
+        out = _check_functions(mech, m, codegen)[2]
+        outputs = functions(mech).unpack(out(_rows(q), _rows(v), _rows(z), t, p)[0]
+                                         .reshape(m, -1).T)
     status = "failed" if reasons else "converged"
     res = MechanismPeriodic(mech.name, float(period), t, q, v, z, np.asarray(p, float), outputs,
                             method, status, stats, tuple(warnings) + tuple(reasons))

@@ -7,9 +7,10 @@
 - :mod:`~symcable.solvers.shooting_mech`: Newton with the exact monodromy on the period map
   of the generalized-alpha integrator of :func:`~symcable.solvers.integrate.integrate`.
 
-Every method starts from the same short time run from the static equilibrium (see
-:mod:`~symcable.solvers.hbalance_mech` for why not the linear response), or from a given
-periodic solution, and every answer goes through the same independent check
+Collocation and harmonic balance start from a short time run from the static equilibrium
+(see :mod:`~symcable.solvers.hbalance_mech` for why not the linear response), shooting from
+the equilibrium itself (its first periods are that run), or each from a given periodic
+solution, and every answer goes through the same independent check
 (:mod:`~symcable.solvers.periodic_common`) before it is called converged.
 """
 from __future__ import annotations
@@ -28,7 +29,7 @@ from .collocation_mech import solve_collocation
 from .equilibrium import solve_equilibrium
 from .hbalance_mech import solve_hbalance
 from .options import Collocation, HarmonicBalance, Shooting
-from .periodic_common import start_from_samples
+from .periodic_common import rest_start, start_from_samples
 from .shooting_mech import solve_shooting, transient_start
 
 __all__ = ["solve_periodic_mech", "DEFAULT_TOL", "DEFAULT_DEFECT_TOL"]
@@ -90,10 +91,12 @@ def solve_periodic_mech(mech: Mechanism, period: float, method=None, *, p=None, 
         Newton / IPOPT iterations (defaults: collocation 100, harmonic balance 50,
         shooting 30).
     codegen : bool or None
-        Collocation and harmonic balance: the system's residual and Jacobian in generated C
-        (:func:`symcable.codegen.use_codegen`: None is C where a compiler is found; default
-        False, the virtual machine). Shooting runs in the virtual machine: its step is a
-        CasADi rootfinder, which CasADi cannot write C for.
+        Collocation and harmonic balance: the per-point residual and its Jacobian in
+        generated C; shooting: the first-order step kernel (:func:`symcable.codegen.
+        use_codegen`: None is C where it pays; default False, the virtual machine); all
+        three: the check's functions on its grid. Shooting's second-order step and the
+        exact-monodromy step of its Newton fallback are CasADi rootfinders and stay in the
+        virtual machine.
 
     Returns
     -------
@@ -138,8 +141,12 @@ def solve_periodic_mech(mech: Mechanism, period: float, method=None, *, p=None, 
         info = {"start": f"periodic solution by {start.method}", "start_iterations": 0}
     elif start is None or isinstance(start, Equilibrium):
         q0, z0, base = _static_base(mech, start)
-        start_fn, info = transient_start(mech, period, p, q0, z0, codegen=codegen)
-        info["start"] = f"{info['start']} about the {base}"
+        if isinstance(method, Shooting):  # its own first periods are the transient
+            start_fn = rest_start(q0, z0, mech.n_v)
+            info = {"start": f"the {base} at rest", "start_periods": 0}
+        else:
+            start_fn, info = transient_start(mech, period, p, q0, z0, codegen=codegen)
+            info["start"] = f"{info['start']} about the {base}"
     else:
         raise SymcableError(f"start = {type(start).__name__}: must be a MechanismPeriodic, an "
                             "Equilibrium or None")

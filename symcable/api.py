@@ -37,10 +37,12 @@ from .planar_static import solve_static
 __all__ = ["build_dynamic_model", "modal_analysis", "simulate", "solve_periodic", "sweep_periodic"]
 
 
-def build_dynamic_model(scene: Scene, static=None) -> DynamicModel:
+def build_dynamic_model(scene, static=None) -> DynamicModel:
     """The scene's dynamics linearised about its static solution (solved here when not
-    given), as CasADi expressions. Cached like :func:`symcable.build_model` when ``static``
-    is not given."""
+    given), as CasADi expressions; ``scene`` a Scene or anything :func:`symcable.load_scene`
+    takes. Cached like :func:`symcable.build_model` when ``static`` is not given."""
+    if not isinstance(scene, Scene):
+        scene = load_scene(scene)
     if static is not None:
         return linearised_model(scene, static)
     model = cached_dynamic_model(scene)

@@ -38,7 +38,7 @@ import numpy as np
 
 from . import codegen as _codegen
 from .codegen import FastCall
-from .linalg.sparse import sparse_solve
+from .linalg.sparse import norm_inf, sparse_solve
 from .linalg.sxlu import block_lu, block_plan
 
 __all__ = ["LINSOL", "SOLVE_MAX_ITER", "SXLU_MAX_UNKNOWNS", "StaticSolver", "static_solver"]
@@ -156,7 +156,7 @@ def _vm(F) -> StaticSolver:
     # from one iteration to the next, so each costs one residual and one factorisation
     tol = ca.MX.sym("tol")
     z, rz, done, it = ca.MX.sym("x", n), ca.MX.sym("r", n), ca.MX.sym("done"), ca.MX.sym("it")
-    conv = ca.norm_inf(rz) <= tol
+    conv = norm_inf(rz) <= tol
     z_new = z + update(z, P, rz)
     args, names_in = [z, rz, done, it, P, tol], ["x", "r", "done", "it", "p", "tol"]
     names_out = ["x_out", "r_out", "done_out", "it_out"]
@@ -175,9 +175,9 @@ def _vm(F) -> StaticSolver:
         z, rz, d, k = body(d, z, rz, d, k, P, tol)
     outs = outputs.call([z, P])
     packed = ca.vertcat(*[ca.vec(o) for o in outs]) if outs else ca.MX(0, 1)
-    solve = ca.Function("static_solve", [X0, P, tol], [z, k, ca.norm_inf(rz), packed],
+    solve = ca.Function("static_solve", [X0, P, tol], [z, k, norm_inf(rz), packed],
                         ["x0", "p", "tol"], ["x", "iterations", "residual_norm", "outputs"])
-    check = ca.Function("static_check", [x, m.p], [ca.norm_inf(r), ca.sum1(x) + ca.sum1(r)],
+    check = ca.Function("static_check", [x, m.p], [norm_inf(r), ca.sum1(x) + ca.sum1(r)],
                         ["x", "p"], ["residual_norm", "probe"], opts)
     return StaticSolver(residual=residual, jacobian=jacobian, step=step, solve=solve,
                         outputs=outputs, check=check)

@@ -55,6 +55,10 @@ DEFAULT_TOL = {"collocation": 1e-10, "harmonic-balance": 1e-10, "shooting": 1e-7
 REPORTED_HARMONICS = 10
 
 
+#: the planar dynamics' outputs with one column per segment
+PER_SEGMENT = ("tension", "axial_force", "strain", "angle")
+
+
 def _fields(cls) -> tuple:
     return tuple(f.name for f in dataclasses.fields(cls))
 
@@ -204,6 +208,9 @@ def _solution(scene_name: str, model: DynamicModel, name: str, res: MechanismPer
     Y[:, iq], Y[:, iv] = q, v
     F = functions(mech)
     outs = F.unpack(np.asarray(F.outputs.map(n)(q.T, v.T, z.T, t[None, :], p)))
+    for key in PER_SEGMENT:  # one segment: unpack cannot tell (n, 1) from a scalar series
+        if key in outs:
+            outs[key] = np.asarray(outs[key]).reshape(n, -1)
     ft = np.ravel(outs["fairlead_tension"])
     force = outs["fairlead_force"].reshape(n, -1) if "fairlead_force" in outs else np.zeros((n, 0))
     tension = outs["tension"] if "tension" in outs else np.zeros((n, 0))

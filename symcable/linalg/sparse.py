@@ -21,7 +21,7 @@ from __future__ import annotations
 import casadi as ca
 import numpy as np
 
-__all__ = ["dense_rows", "jacobian", "sparse_solve"]
+__all__ = ["dense_rows", "jacobian", "norm_inf", "sparse_solve"]
 
 #: a row with more structural nonzeros than this fraction of the columns (and than
 #: DENSE_MIN) counts as dense
@@ -82,3 +82,12 @@ def jacobian(expr, x):
     keep = np.setdiff1d(np.arange(n), D)
     J = ca.vertcat(ca.jacobian(expr[keep.tolist()], x), ca.jacobian(expr[D.tolist()], x))
     return J[np.argsort(np.concatenate([keep, D])).tolist(), :]
+
+
+def norm_inf(x):
+    """max |x_i|, and infinite (or NaN) when any entry is NaN or infinite. CasADi's
+    ``norm_inf`` is a chain of ``fmax``, which skips NaN: a residual with a NaN entry would
+    measure 0 and pass any tolerance. Here it is divided by (sum |x_i| < inf), which is 1
+    for a finite x and 0 (so the quotient inf) when an entry is NaN or infinite: one sum and
+    one comparison, which CasADi cannot fold away (0 * sum(x) it simplifies to 0)."""
+    return ca.norm_inf(x) / (ca.norm_1(ca.vec(x)) < np.inf)

@@ -3,7 +3,7 @@ from __future__ import annotations
 
 from collections import OrderedDict
 
-from ..scene import Model as ModelKind, Scene
+from ..scene import Model as ModelKind, Scene, load_scene
 from .base import Guess, Model
 from .dynamic import DynamicModel
 from .planar import build_planar
@@ -18,12 +18,15 @@ _CACHE: "OrderedDict[str, Model]" = OrderedDict()
 _CACHE_SIZE = 16
 
 
-def build_model(scene: Scene) -> Model:
-    """The scene's formulation, discretised, as CasADi expressions.
+def build_model(scene) -> Model:
+    """The scene's formulation, discretised, as CasADi expressions; ``scene`` a Scene, or
+    anything :func:`symcable.load_scene` takes (a dict, a path to TOML or a MoorDyn deck).
 
     Models are cached by the scene's content (the 16 most recent), so solving the same
     scene twice builds its symbolic graph and functions once.
     """
+    if not isinstance(scene, Scene):
+        scene = load_scene(scene)
     key = repr(scene.to_dict())
     model = _CACHE.get(key)
     if model is None:

@@ -319,6 +319,7 @@ def _check_geometry(env: Environment, sections: tuple[Section, ...], ends: dict[
         if end.motion is not None:
             _check_motion_speed(name, end.motion, lt)
     _check_stiffness(sections, ends)
+    _check_loaded(env, sections, ends)
     a, b = ends["end_a"].position, ends["end_b"].position
     if a is not None and b is not None:
         distance = math.dist(a, b)
@@ -350,7 +351,10 @@ def _check_stiffness(sections: tuple[Section, ...], ends: dict[str, End]) -> Non
     strain from the end positions alone, and is not checked."""
     load = sum(abs(s.line_type.weight) * s.length for s in sections)
     load += sum(math.hypot(*e.force) for e in ends.values() if e.force is not None)
-    if not load > 0.0:
+    # a weight below round-off of the dry weight (mass equal to the displaced water, to
+    # the last bits) is no load
+    dry = sum(s.line_type.mass * 9.81 * s.length for s in sections)
+    if not load > 1e-9 * dry:
         return
     for s in sections:
         lt = s.line_type
@@ -362,6 +366,39 @@ def _check_stiffness(sections: tuple[Section, ...], ends: dict[str, End]) -> Non
                        f"solve resolves: must be <= {MAX_STIFFNESS_RATIO * load:.4g} N "
                        f"(EA / load <= {MAX_STIFFNESS_RATIO:g}; the line is then practically "
                        "inextensible anyway)")
+
+
+def _check_loaded(env: Environment, sections: tuple[Section, ...], ends: dict[str, End]) -> None:
+    """Refuse a free end that nothing pulls on: with no submerged weight (to round-off of
+    the dry weight), no force on the free end and no current, nothing sets the direction
+    of the line below a pinned end, and its static shape is undetermined (unless bending
+    and a clamped end hold it straight)."""
+    dry = sum(s.line_type.mass * 9.81 * s.length for s in sections)
+    weight = sum(abs(s.line_type.weight) * s.length for s in sections)
+    current = not env.in_air and any(u != 0.0 for u in env.current)
+    if weight > 1e-9 * dry or current:
+        return
+    free = [n for n, e in ends.items() if e.condition is EndCondition.FREE]
+    if free:
+        name = free[0]
+        force = ends[name].force
+        held = [e for e in ends.values() if e.condition is EndCondition.CLAMPED]
+        if (force is not None and any(force)) or held:
+            return
+        raise _err(f"{name}.condition", "free", "", "the line has no submerged weight (mass "
+                   "equal to the water it displaces), no force on its free end and no current: "
+                   "nothing pulls it, so its static shape is undetermined; give the free end a "
+                   f"force ({name}.force = [F_x, F_z], N), a line weight, a current, or hold "
+                   "the end")
+    length = sum(s.length for s in sections)
+    distance = math.dist(ends["end_a"].position, ends["end_b"].position)
+    if distance < length and not any(s.line_type.EI > 0 for s in sections):
+        raise _err("end_b.position", list(ends["end_b"].position), "m",
+                   f"the ends are {_fmt(distance)} m apart, less than the line's length "
+                   f"{_fmt(length)} m, and the line has no submerged weight, no bending "
+                   "stiffness and no current: a slack cable that nothing pulls has no "
+                   "determined shape; move the ends apart (a taut line), or give it weight, "
+                   "EI or a current")
 
 
 def _check_motion_speed(name: str, motion: Motion, lt: LineType) -> None:

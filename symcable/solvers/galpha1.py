@@ -43,7 +43,7 @@ import numpy as np
 from ..codegen import use_codegen
 from ..derive import functions
 from ..errors import SymcableError
-from ..linalg.sparse import jacobian as _jacobian, sparse_solve
+from ..linalg.sparse import jacobian as _jacobian, norm_inf, sparse_solve
 from ..linalg.sxlu import block_lu, block_plan
 from ..models.mechanism import Mechanism
 from .options import GeneralizedAlphaFirstOrder, NewtonScheme
@@ -209,7 +209,7 @@ def _taylor_lte(mech, y0, y1, t, h, p, rho, y_scale):
     ad0 = ca.solve(M0, b0) if nv else ca.MX(0, 1)
     y_pred = y0 + h * ca.vertcat(qd0, a0) + 0.5 * h ** 2 * ca.vertcat(qdd0, ad0)
     C = _error_constant(rho)
-    return ca.norm_inf(C / (C + 1.0 / 6.0) * (y1 - y_pred) / y_scale)
+    return norm_inf(C / (C + 1.0 / 6.0) * (y1 - y_pred) / y_scale)
 
 
 def _unrolled(mech: Mechanism, max_iter: int, with_lte: bool, lu: bool) -> ca.Function:
@@ -230,7 +230,7 @@ def _unrolled(mech: Mechanism, max_iter: int, with_lte: bool, lu: bool) -> ca.Fu
     x, t, h, p, st, sc = _symbols(mech, ca.MX)
     tol, gamma = st[1], coefficients(st[0])[2]
     rv = R(z, x, t, h, p, st)
-    res = ca.norm_inf(h * rv * sc[ny:])
+    res = norm_inf(h * rv * sc[ny:])
     conv = res <= tol
     names = ["z", "done", "it", "measure", "f"] + _IN
     outs = ["z_out", "done_out", "it_out", "measure_out"]
@@ -238,12 +238,17 @@ def _unrolled(mech: Mechanism, max_iter: int, with_lte: bool, lu: bool) -> ca.Fu
     rest = fargs[5:]
     # the loop from iteration i on, nested so that a converged step returns at once:
     # loop_i = if done: (z, done, it, measure) else loop_{i+1}(iteration_i(...))
-    loop = ca.Function(f"{name}_done{max_iter}", fargs, [z, done, it, meas], names, outs)
+    # after the last iteration: its iterate judged by its own residual (a step whose last
+    # correction was too large may still have landed on the solution)
+    res_end = norm_inf(h * R(z, x, t, h, p, st) * sc[ny:])
+    loop = ca.Function(f"{name}_done{max_iter}", fargs,
+                       [z, ca.logic_or(done, res_end <= tol), it,
+                        ca.if_else(done, meas, res_end, True)], names, outs)
     for i in range(max_iter - 1, -1, -1):
         refactor = i == 0 or i >= CHORD_ITERATIONS
         f_new = ca.if_else(conv, f, factor(z, x, t, h, p, st), True) if refactor else f
         dz = ca.if_else(conv, ca.MX.zeros(ny), -solve(f_new, rv), True)
-        corr = ca.norm_inf(gamma * h * dz / sc[:ny])
+        corr = norm_inf(gamma * h * dz / sc[:ny])
         nxt = loop(z + dz, ca.logic_or(conv, corr <= tol), it + 1 - conv,
                    ca.if_else(conv, res, corr), f_new, *rest)
         go_on = ca.Function(f"{name}_from{i}", fargs, nxt, names, outs)
@@ -278,7 +283,7 @@ def _rootfinder(mech: Mechanism, tol: float, max_iter: int, with_lte: bool) -> c
     y0, yd0 = x[:ny], x[ny:]
     w1 = rf(yd0, x, t, h, p, st, sc)
     y1 = y0 + h * yd0 + coefficients(st[0])[2] * h * (w1 - yd0)
-    err = ca.norm_inf(scaled(w1))
+    err = norm_inf(scaled(w1))
     lte = _taylor_lte(mech, y0, y1, t, h, p, st[0], sc[:ny]) if with_lte else ca.MX(np.nan)
     return ca.Function(f"{mech.name}_ga1_rootfinder", [x, t, h, p, st, sc],
                        [ca.vertcat(y1, w1), err, lte, ca.MX(np.nan), 1 - (err <= tol)], _IN, _OUT)

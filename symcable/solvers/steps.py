@@ -24,6 +24,7 @@ import numpy as np
 
 from ..derive import functions
 from ..errors import SymcableError
+from ..linalg.sparse import norm_inf
 from ..models.mechanism import Mechanism
 from .options import GeneralizedAlpha
 from .stepcache import STEP_CACHE
@@ -90,10 +91,10 @@ def galpha_step(mech: Mechanism, opts: GeneralizedAlpha) -> ca.Function:
     # rows over their scale), not in the conditioned scaling Newton uses, whose constraint rows
     # carry a 1/h^2 that lifts their round-off floor above any fixed tolerance at small h
     r_f1, r_g1 = F.acc_residual(q1, v1, a1, z1, t + h, p)
-    err = ca.norm_inf(ca.vertcat(r_f1 / fs, r_g1 / ca.DM(mech.scales.g_scale())))
+    err = norm_inf(ca.vertcat(r_f1 / fs, r_g1 / ca.DM(mech.scales.g_scale())))
     # local error of the positions, Newmark's estimate (beta - 1/6) h^2 (a1 - a0) (the h^3
     # jerk term the update leaves out), relative to the coordinate scales
-    lte = ca.norm_inf(abs(beta - 1.0 / 6.0) * h ** 2 * (a1 - a0) / ca.DM(mech.scales.q))
+    lte = norm_inf(abs(beta - 1.0 / 6.0) * h ** 2 * (a1 - a0) / ca.DM(mech.scales.q))
     return ca.Function(f"{mech.name}_ga_step", [x0, t, h, p],
                        [ca.vertcat(q1, v1, a1, ab1, z1), err, lte], ["x", "t", "h", "p"],
                        ["x1", "err", "lte"])

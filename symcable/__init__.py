@@ -20,7 +20,8 @@ from .results_time import Trajectory
 from .scene import Scene, load_scene
 from .planar_static import solve_static
 from .models.assembly import Prescribed, Shared, assemble
-from .models.mechanism import Mechanism, Output, ParamBlocks, PartLayout, Layout, Scales, Start
+from .models.mechanism import (Bound, Mechanism, Output, ParamBlocks, PartLayout, Layout, Scales,
+                               Start)
 from .models import toys
 from .results_mechanism import (Equilibrium, Linearization, MechanismModes, MechanismTrajectory,
                                 SceneLinearization)
@@ -60,6 +61,7 @@ __all__ = [
     "SceneLinearization",
     # the Mechanism core: any formulation, assembled parts, generic solvers
     "Mechanism",
+    "Bound",
     "Output",
     "ParamBlocks",
     "PartLayout",

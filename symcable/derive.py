@@ -208,6 +208,46 @@ class MechanismFunctions:
                            [ca.jacobian(m.force, m.p), ca.jacobian(m.constraint, m.p)],
                            self._names, ["f_p", "g_p"])
 
+    # -- admissibility bounds -------------------------------------------------------------
+    @cached_property
+    def bound_margins(self) -> ca.Function:
+        """``(q, v, z, t, p) -> m``: for every entry of every :class:`Bound` of the
+        mechanism, min(expr - lower, upper - expr) / scale, stacked in the order of
+        ``mech.bounds`` (negative: violated, by that many scales; empty without bounds)."""
+        m = self.mech
+        parts = []
+        for b in m.bounds.values():
+            k = int(b.expr.numel())
+            lo, hi = (ca.DM(np.broadcast_to(np.asarray(x, float), (k,)).copy())
+                      for x in (b.lower, b.upper))
+            e = ca.vec(b.expr)
+            parts.append(ca.fmin(e - lo, hi - e) / float(b.scale))
+        y = ca.vertcat(*parts) if parts else ca.DM.zeros(0)
+        return ca.Function(f"{m.name}_bound_margins", self._args, [y], self._names, ["m"])
+
+    def bound_violations(self, q, v, z, t, p, slack: float = 0.0) -> list:
+        """One line per violated :class:`Bound` at the state (its worst entry, value, allowed
+        range and meaning); ``slack`` (in scales) tolerated below a bound."""
+        margins = np.asarray(self.bound_margins(q, v, z, t, p), float).ravel()
+        out, i = [], 0
+        for name, b in self.mech.bounds.items():
+            k = int(b.expr.numel())
+            mk = margins[i:i + k]
+            i += k
+            if not k or np.all(mk >= -slack):
+                continue
+            worst = int(np.argmin(np.where(np.isnan(mk), -np.inf, mk)))
+            val = np.asarray(ca.Function("b", self._args, [b.expr])(q, v, z, t, p),
+                             float).ravel()[worst]
+            lo = np.broadcast_to(np.asarray(b.lower, float), (k,))[worst]
+            hi = np.broadcast_to(np.asarray(b.upper, float), (k,))[worst]
+            rng = (f">= {lo:.4g}" if np.isinf(hi) else f"<= {hi:.4g}" if np.isinf(lo)
+                   else f"in [{lo:.4g}, {hi:.4g}]")
+            n_bad = int(np.sum(~(mk >= -slack)))
+            out.append(f"{name} = {val:.4g} {b.unit} at entry {worst} (must be {rng}: "
+                       f"{b.what}; {n_bad} of {k} entries violate it)")
+        return out
+
     # -- outputs --------------------------------------------------------------------------
     @cached_property
     def outputs(self) -> ca.Function:

@@ -177,8 +177,11 @@ def _vm(F) -> StaticSolver:
     packed = ca.vertcat(*[ca.vec(o) for o in outs]) if outs else ca.MX(0, 1)
     solve = ca.Function("static_solve", [X0, P, tol], [z, k, norm_inf(rz), packed],
                         ["x0", "p", "tol"], ["x", "iterations", "residual_norm", "outputs"])
-    check = ca.Function("static_check", [x, m.p], [norm_inf(r), ca.sum1(x) + ca.sum1(r)],
-                        ["x", "p"], ["residual_norm", "probe"], opts)
+    # the admissibility bounds' worst margin at the same point (inf without bounds)
+    bm = F.bound_margins(m.q, ca.DM.zeros(m.n_v), m.z, 0.0, m.p)
+    worst = ca.mmin(bm) if bm.numel() else ca.DM(np.inf)
+    check = ca.Function("static_check", [x, m.p], [norm_inf(r), ca.sum1(x) + ca.sum1(r), worst],
+                        ["x", "p"], ["residual_norm", "probe", "bound_margin"], opts)
     return StaticSolver(residual=residual, jacobian=jacobian, step=step, solve=solve,
                         outputs=outputs, check=check)
 

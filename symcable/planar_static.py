@@ -117,9 +117,12 @@ def _failure(scene, model, mech, exc: ConvergenceError, tol: float, t0: float):
         q = np.asarray(next(iter(mech.starts())).q, float)
         out = F.unpack(F.static_solver().packed_outputs(q, model.p_target))
         partial = _solution(model, q, out, "failed", stats)
+    attempts = exc.diagnostics.get("attempts", [])
     return ConvergenceError(
-        f"static solve of '{scene.name}' did not converge: {best.get('message', 'no start')} "
-        f"(residual {nr:.3g} N > tolerance {tol:.3g} N after {path})",
+        f"static solve of '{scene.name}' found no admissible equilibrium in {len(attempts)} "
+        f"attempts (diagnostics['attempts'] has one line each); the best ({path} from "
+        f"{best.get('start', 'no start')}, residual {nr:.3g} N, tolerance {tol:.3g} N): "
+        f"{best.get('message', 'no start')}",
         partial=partial, diagnostics=exc.diagnostics)
 
 

@@ -79,6 +79,9 @@ class Model:
         Derived quantities computed from evaluated outputs (e.g. grounded length).
     info : Mapping
         Anything else the formulation wants to expose (layout, node arc lengths, ...).
+    bounds : Mapping[str, Bound]
+        Admissibility conditions on ``(w, p)`` every solution is checked against
+        (:class:`~symcable.models.mechanism.Bound`).
     """
 
     name: str
@@ -97,6 +100,7 @@ class Model:
     initial_guess: Callable[[], Iterable[Guess]]
     postprocess: Callable[[dict], dict]
     info: Mapping = field(default_factory=dict)
+    bounds: Mapping = field(default_factory=dict)
     _cache: dict = field(default_factory=dict, repr=False, compare=False)
 
     @property

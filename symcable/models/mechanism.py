@@ -59,6 +59,35 @@ class Output:
 
 
 @dataclass(frozen=True)
+class Bound:
+    """A condition every admissible solution meets, ``lower <= expr <= upper`` entry by
+    entry: what the equations alone do not exclude but the physics does (a segment of
+    positive length, a cable that does not push, a seabed that carries no more than what
+    presses on it). The solvers check it on every solution they return.
+
+    Attributes
+    ----------
+    expr : casadi.SX or casadi.MX (k, 1)
+        Expression of ``(q, v, z, t, p)``.
+    lower, upper : float or array (k,)
+        Bounds in the unit of ``expr`` (-inf / inf: none).
+    unit : str
+        SI unit of ``expr``.
+    scale : float
+        A magnitude of ``expr`` (its unit): a violation is reported relative to it.
+    what : str
+        What the condition means, for messages (``"segments of positive length"``).
+    """
+
+    expr: object
+    lower: object = -np.inf
+    upper: object = np.inf
+    unit: str = ""
+    scale: float = 1.0
+    what: str = ""
+
+
+@dataclass(frozen=True)
 class ParamBlocks:
     """Parameters ``p`` as named, contiguous blocks with default values.
 
@@ -228,6 +257,8 @@ class Mechanism:
     layout : Layout
     terms : tuple of str, the physics terms built
     static_params : mapping block -> values used for statics (e.g. ``ramp = 0``)
+    bounds : mapping name -> Bound, the admissibility conditions every solution is
+        checked against
     """
 
     name: str
@@ -247,6 +278,7 @@ class Mechanism:
     kinematics: object = None
     terms: tuple[str, ...] = ()
     static_params: Mapping[str, object] = field(default_factory=dict)
+    bounds: Mapping[str, Bound] = field(default_factory=dict)
 
     def __post_init__(self):
         n_q, n_v, n_z = self.n_q, self.n_v, self.n_z
@@ -257,6 +289,12 @@ class Mechanism:
         elif n_q != n_v:
             raise SymcableError(f"mechanism {self.name!r}: n_q = {n_q} != n_v = {n_v} needs "
                                 "kinematics q' = G(q) v")
+        for name, b in self.bounds.items():
+            k = int(b.expr.numel())
+            if b.expr.shape[1] != 1 or any(np.size(x) not in (1, k) for x in (b.lower, b.upper)) \
+                    or not b.scale > 0:
+                raise SymcableError(f"mechanism {self.name!r}: bound {name!r} needs a column "
+                                    "expression, lower/upper scalars or of its length, scale > 0")
         for what, expr, shape in checks:
             if tuple(expr.shape) != shape:
                 raise SymcableError(f"mechanism {self.name!r}: {what} has shape "

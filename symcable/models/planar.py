@@ -309,6 +309,9 @@ def build_planar(scene: Scene) -> Model:
     residual_floor = 100.0 * np.finfo(float).eps * float(
         np.max(seg["EA"] / seg["ds"]) * coord + np.max(seg["EI"] / seg["ds"] ** 2) * 2.0 * math.pi)
 
+    bounds = _bounds(scene, seg, eps, T, contact, line_Px, line_Pz, Px, Pz, end_force_a,
+                     end_force_b, force_scale, residual_floor)
+
     info = MappingProxyType({"n_segments": N, "s_nodes": seg["s"], "segments": seg,
                              "unknown_kinds": tuple(kinds), "bending": bending})
 
@@ -327,7 +330,61 @@ def build_planar(scene: Scene) -> Model:
                  w_scale=w_scale, merit_weights=merit_weights, force_scale=force_scale,
                  residual_floor=residual_floor,
                  initial_guess=initial_guess,
-                 postprocess=postprocess, info=info)
+                 postprocess=postprocess, info=info, bounds=bounds)
+
+
+#: compression a cable (EI = 0) may show and still count as carrying none, relative to the
+#: scene's force scale: far above the round-off of a converged solve (1e-9 of the scale),
+#: far below any compression that changes the answer
+CABLE_COMPRESSION = 1e-6
+
+
+def _bounds(scene, seg, eps, T, contact, line_Px, line_Pz, Px, Pz, end_force_a, end_force_b,
+            force_scale, residual_floor) -> dict:
+    """The planar line's admissibility bounds (:class:`~symcable.models.mechanism.Bound`):
+
+    - ``strain`` > -1: every segment has a positive length;
+    - ``cable_axial_force`` >= -CABLE_COMPRESSION x force scale on segments without bending
+      (EI = 0): a cable does not push;
+    - ``seabed_reaction``, the sum of the contact forces, at most what can press the line
+      onto the bed: its submerged weight, the applied end forces and the largest drag of the
+      current (1 % over): a line pushed through the seabed by a compressed strut reacts far
+      more;
+    - ``force_balance``: the loads on the line (weight, drag, contact, applied forces) and
+      the forces of the held ends sum to zero (x and z, N), to 1e-6 of the force scale plus
+      the round-off floor per node: a check of the end-force outputs against the
+      equations."""
+    from .mechanism import Bound
+
+    N = len(seg["ds"])
+    out = {"strain": Bound(eps, lower=-1.0 + 1e-9, unit="1", scale=1.0,
+                           what="segments of positive length")}
+    cable = np.flatnonzero(seg["EI"] <= 0.0)
+    if cable.size:
+        out["cable_axial_force"] = Bound(T[cable.tolist()], lower=-CABLE_COMPRESSION * force_scale,
+                                         unit="N", scale=force_scale,
+                                         what="a cable (EI = 0) carries no compression")
+    env = scene.environment
+    if scene.seabed is not None:
+        press = float(np.sum(np.maximum(seg["w"], 0.0) * seg["ds"]))
+        press += sum(math.hypot(*e.force) for e in (scene.end_a, scene.end_b)
+                     if e.force is not None)
+        if not env.in_air:
+            u2 = sum(u * u for u in env.current)
+            press += float(np.sum(0.5 * env.water_density * seg["cdn"] * seg["d"] * seg["ds"])) * u2
+        out["seabed_reaction"] = Bound(ca.sum1(contact), upper=1.01 * press + 1e-6 * force_scale,
+                                       unit="N", scale=force_scale,
+                                       what="the seabed carries at most what presses the line "
+                                            "onto it")
+    bal_x, bal_z = ca.sum1(Px), ca.sum1(Pz)
+    for end, f in ((scene.end_a, end_force_a), (scene.end_b, end_force_b)):
+        if end.condition is not EndCondition.FREE:
+            bal_x, bal_z = bal_x - f[0], bal_z - f[1]
+    slack = 1e-6 * force_scale + (N + 1) * residual_floor
+    out["force_balance"] = Bound(ca.vertcat(bal_x, bal_z), lower=-slack, upper=slack, unit="N",
+                                 scale=force_scale, what="the line's loads and end forces in "
+                                                         "balance")
+    return out
 
 
 # --------------------------------------------------------------------------- start

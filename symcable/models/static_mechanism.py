@@ -79,7 +79,8 @@ def _build(model: Model) -> Mechanism:
                                    z=np.zeros(0), force=model.force_scale,
                                    residual_floor=model.residual_floor,
                                    merit=np.asarray(model.merit_weights, float)),
-                     starts=starts, outputs=outputs, layout=layout, terms=model.terms)
+                     starts=starts, outputs=outputs, layout=layout, terms=model.terms,
+                     bounds=dict(model.bounds))
 
 
 _BLOCK_OF = {"load": "load", "bending": "bending"}

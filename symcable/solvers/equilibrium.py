@@ -4,8 +4,10 @@ exact sparse Jacobian. From each start, in order of cost: plain Newton fused int
 line search; then, from the starts tried, continuation from a start's own parameters to the
 target, continuation in a named parameter block, and pseudo-transient continuation. Every
 answer is checked afterwards, in floating point and independently of how it was found: the
-residual of the equations, finiteness, and the stability of the equilibrium (the tangent
-stiffness reduced to the constraints' null space). A failed check is never called converged.
+residual of the equations, finiteness, the mechanism's admissibility bounds
+(:class:`~symcable.models.mechanism.Bound`: segments of positive length, no compression in a
+cable, ...), and the stability of the equilibrium (the tangent stiffness reduced to the
+constraints' null space). A failed check is never called converged: the next attempt runs.
 """
 from __future__ import annotations
 
@@ -366,7 +368,7 @@ def _cont(step, x0, p0, p1, opts, polish, dt0, dt_max):
 def _check(S, F, mech, x, p, tol, require_stable):
     """Independent checks of a claimed solution: (ok, reason, info)."""
     try:  # R(x) afresh, its max-norm, and whether x and R(x) are finite, in one call
-        nr, probe = S.fast("check")(x, p)
+        nr, probe, margin = S.fast("check")(x, p)
     except RuntimeError as exc:
         return False, f"residual not evaluated ({exc})", {}
     nr = float(nr[0])
@@ -374,6 +376,9 @@ def _check(S, F, mech, x, p, tol, require_stable):
         return False, "iterate or residual not finite", {}
     if nr > tol:
         return False, f"residual {nr:.3g} N > tolerance {tol:.3g} N", {}
+    if not margin[0] >= 0.0:  # an admissibility bound violated (or NaN)
+        why = F.bound_violations(x[:mech.n_q], np.zeros(mech.n_v), x[mech.n_q:], 0.0, p)
+        return False, "not admissible: " + "; ".join(why or ["a bound is NaN"]), {}
     stable, lam = (None, float("nan")) if F.massless else \
         _stability(F, mech, x[:mech.n_q], x[mech.n_q:], p)
     info = {"residual_norm": nr, "stable": stable, "min_stiffness": lam, "warnings": ()}

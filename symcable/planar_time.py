@@ -28,6 +28,7 @@ from .solvers import steps as _steps
 from .solvers.galpha1 import coefficients, galpha1_residual
 from .solvers.integrate import check_positive, integrate
 from .solvers.options import RK4, GeneralizedAlphaFirstOrder
+from .solvers.stepcache import STEP_CACHE
 
 __all__ = ["Method", "NEWTON_MAX_ITER", "NEWTON_TOL", "ga_coefficients", "ga_residual_function",
            "rk4_stability_limit", "simulate"]
@@ -80,25 +81,27 @@ def ga_residual_function(model: DynamicModel, rho_inf: float) -> ca.Function:
     order and units: ``ga_residual(ydot_next, y, ydot, t, dt, p) -> (r, dr_dydot_next)``,
     ``y, ydot`` at t_n = ``t`` (s), the unknown rate ``ydot_next`` at t_n + dt; ``r`` (n_y,)
     in units of y per second (the Mechanism's momentum rows over their masses),
-    ``dr_dydot_next`` (n_y, n_y) sparse, alpha_m I - alpha_f gamma dt df/dy."""
-    key = ("ga_residual", float(rho_inf))
-    fn = model._cache.get(key)
-    if fn is None:
-        mech = mechanism_of(model)
-        iq, iv = state_permutation(model)
-        order = np.concatenate([iq, iv]).tolist()
-        back = np.argsort(order).tolist()
-        mass = np.diag(np.atleast_2d(np.asarray(ca.evalf(mech.mass), dtype=float)))
-        n = model.n_y
-        z, y, yd = (ca.SX.sym(k, n) for k in ("ydot_next", "y", "ydot"))
-        t, dt, p = ca.SX.sym("t"), ca.SX.sym("dt"), ca.SX.sym("p", model.p.numel())
-        F = galpha1_residual(mech)(z[order], ca.vertcat(y[order], yd[order]), t, dt, p,
-                                   ca.DM([rho_inf, 0.0]))[0]
-        r = (F / ca.DM(np.concatenate([np.ones(mech.n_q), mass])))[back]
-        fn = ca.Function("ga_residual", [z, y, yd, t, dt, p], [r, jacobian(r, z)],
-                         ["ydot_next", "y", "ydot", "t", "dt", "p"], ["r", "dr_dydot_next"])
-        model._cache[key] = fn
-    return fn
+    ``dr_dydot_next`` (n_y, n_y) sparse, alpha_m I - alpha_f gamma dt df/dy. Built once per
+    model and ``rho_inf``, kept with the model's Mechanism in
+    :data:`~symcable.solvers.stepcache.STEP_CACHE`."""
+    mech = mechanism_of(model)
+    return STEP_CACHE.get(mech, ("planar_ga_residual", float(rho_inf)),
+                          lambda: _ga_residual(model, mech, float(rho_inf)))
+
+
+def _ga_residual(model: DynamicModel, mech, rho_inf: float) -> ca.Function:
+    iq, iv = state_permutation(model)
+    order = np.concatenate([iq, iv]).tolist()
+    back = np.argsort(order).tolist()
+    mass = np.diag(np.atleast_2d(np.asarray(ca.evalf(mech.mass), dtype=float)))
+    n = model.n_y
+    z, y, yd = (ca.SX.sym(k, n) for k in ("ydot_next", "y", "ydot"))
+    t, dt, p = ca.SX.sym("t"), ca.SX.sym("dt"), ca.SX.sym("p", model.p.numel())
+    F = galpha1_residual(mech)(z[order], ca.vertcat(y[order], yd[order]), t, dt, p,
+                               ca.DM([rho_inf, 0.0]))[0]
+    r = (F / ca.DM(np.concatenate([np.ones(mech.n_q), mass])))[back]
+    return ca.Function("ga_residual", [z, y, yd, t, dt, p], [r, jacobian(r, z)],
+                       ["ydot_next", "y", "ydot", "t", "dt", "p"], ["r", "dr_dydot_next"])
 
 
 def simulate(scene, duration: float, dt: float | None = None, method: str = "generalized-alpha", *,

@@ -1,4 +1,5 @@
-"""Shared scene builders for the tests (plain dicts in the scene-file layout)."""
+"""Shared scene builders for the tests (plain dicts in the scene-file layout), and the planar
+dynamics' explicit rate through its Mechanism (:func:`planar_rates`)."""
 from __future__ import annotations
 
 import copy
@@ -73,6 +74,47 @@ def taut_string(T=1e5, L=100.0, mass=10.0, EA=1e9, segments=50):
         "end_a": {"condition": "pinned", "position": [0.0, 0.0]},
         "end_b": {"condition": "pinned", "position": [L * (1 + eps), 0.0]},
     }
+
+
+def planar_rates(model):
+    """``(rate, jacobian)`` of the planar DynamicModel ``model`` in its own state order y,
+    composed from the derived Functions of its Mechanism
+    (``symcable.derive.functions(mechanism_of(model))``, permuted by ``state_permutation``):
+
+    * ``rate(y, t, p) -> y'`` (n_y,): q' = ``qdot`` (the kinematics G v + w) and v' = M^-1 f
+      with f = -``acc_residual``(q, v, a = 0).r_f;
+    * ``jacobian(y, t, p) -> dy'/dy`` (n_y, n_y), dense: the state matrix
+      [[H, G], [-M^-1 K, -M^-1 C]] of ``kinematics_jacobian`` (H, G) and ``tangents``
+      (K, C; the planar mass matrix M is constant)."""
+    import casadi as ca
+    import numpy as np
+
+    from symcable.derive import functions
+    from symcable.models.planar_mechanism import mechanism_of, state_permutation
+
+    mech = mechanism_of(model)
+    F = functions(mech)
+    iq, iv = state_permutation(model)
+    back = np.argsort(np.concatenate([iq, iv]))
+    Minv = np.linalg.inv(np.atleast_2d(np.asarray(ca.evalf(mech.mass), dtype=float)))
+    z = np.zeros(0)
+
+    def rate(y, t, p):
+        y = np.asarray(y, dtype=float).ravel()
+        q, v = y[iq], y[iv]
+        qd = np.asarray(F.qdot(q, v, z, t, p)).ravel()
+        f = -np.asarray(F.acc_residual(q, v, np.zeros(v.size), z, t, p)[0]).ravel()
+        return np.concatenate([qd, Minv @ f])[back]
+
+    def jacobian(y, t, p):
+        y = np.asarray(y, dtype=float).ravel()
+        q, v = y[iq], y[iv]
+        H, G = (np.array(a.full()) for a in F.kinematics_jacobian(q, v, z, t, p))
+        K, C = (np.array(a.full()) for a in F.tangents(q, v, z, t, p)[:2])
+        A = np.block([[H, G], [-Minv @ K, -Minv @ C]])
+        return A[np.ix_(back, back)]
+
+    return rate, jacobian
 
 
 def load_study(name: str):

@@ -12,19 +12,19 @@ Layers, lowest first; a module may import modules of its own layer or of a lower
    know no scene, model or solver
 1. ``scene``: what is modelled
 2. ``models``: the formulations (never a solver)
-3. ``functions``: the functions derived from a model
-4. ``results``, ``results_time``, ``results_periodic``, ``plotting``, ``plotting3d``: what
-   comes out
+3. ``derive``, ``derive_static``: the Functions derived from a Mechanism, and their caches
+4. ``results``, ``results_time``, ``results_periodic``, ``results_mechanism``,
+   ``results_periodic_mech``, ``plotting``, ``plotting3d``: what comes out
    (results import plotting lazily; plotting imports no solver)
 5. ``solvers``: how it is solved
-6. ``api``, ``export``, ``cli`` and the package's ``__init__``: orchestration and entry
-   points
+6. ``api``, ``planar_static``, ``planar_time``, ``planar_periodic``, ``export``, ``cli`` and
+   the package's ``__init__``: orchestration and entry points
 
-One departure from the intended order, which puts ``codegen`` with ``functions`` (layer 3,
-codegen first): :meth:`symcable.models.dynamic.DynamicModel.functions`, in layer 2, compiles
-its own functions when asked for generated C (``model.functions(codegen=True)``, which the
-solvers call). ``codegen`` imports only ``errors`` and knows nothing of models, so it is a
-leaf at layer 0; ``functions`` still imports ``codegen``, never the reverse.
+``codegen`` sits at layer 0, below the derived Functions that design.md puts it with: it
+imports only ``errors`` and ``progress`` and knows nothing of models, so the functions layer
+(``derive_static``), the solvers and ``export`` compile through it, never the reverse. No
+formulation compiles anything (the planar DynamicModel is a plain record; its Mechanism's
+Functions come from ``derive``).
 
 Beyond the layers there is no import cycle at all, not even between two modules of one
 layer (two modules that import each other).

@@ -1,54 +1,70 @@
-"""The linearised planar dynamics: rest state, Jacobian, spectrum of a taut string."""
+"""The linearised planar dynamics, through its Mechanism: rest state, Jacobian, spectrum of a
+taut string."""
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
 import symcable as sc
+from symcable.derive import functions
 from symcable.errors import SceneError
+from symcable.models.planar_mechanism import mechanism_of, state_permutation
 
-from conftest import OC3, seed001, taut_string
+from conftest import OC3, planar_rates, seed001, taut_string
 
 
 def test_static_state_is_exact_rest_state():
     """With the excitation off, the static solution gives zero rate to round-off (1e-12 of
-    the state scales per second), with current, drag and bending all present."""
+    the state scales per second), with current, drag and bending all present (the rate of
+    the model's Mechanism, q' = G v + w and v' = M^-1 f)."""
     d = seed001()
     d["line_types"]["chain"]["EI"] = 1e5
     m = sc.build_dynamic_model(sc.load_scene(d))
     assert {"drag", "added mass", "bending"} <= set(m.info["terms"])
-    f = m.functions()
-    ydot = np.array(f.rhs(m.y0, 3.7, m.with_params(amp_b=[0.0, 0.0])).full()).ravel()
+    rate, _ = planar_rates(m)
+    ydot = rate(m.y0, 3.7, m.with_params(amp_b=[0.0, 0.0]))
     assert np.max(np.abs(ydot) / m.y_scale) < 1e-12
 
 
-def test_rhs_jacobian_matches_finite_differences():
-    """dyn_rhs_jac against central differences at a random moving state: drag is smooth away
-    from zero relative velocity (a current is on), so 1e-6 relative."""
+def test_mechanism_jacobian_matches_finite_differences():
+    """The exact Jacobian of the model's Mechanism, dF/d(q, v) = [[-H, -G], [K, C]] from its
+    ``kinematics_jacobian`` (H, G) and ``tangents`` (K = -df/dq, C = -df/dv), against central
+    differences of its DAE residual F = (q' - G v - w, M v' - f) at a random moving state:
+    drag is smooth away from zero relative velocity (a current is on), so 1e-6 relative."""
     m = sc.build_dynamic_model(sc.load_scene(seed001()))
-    f = m.functions()
+    mech = mechanism_of(m)
+    F = functions(mech)
+    iq, iv = state_permutation(m)
     rng = np.random.default_rng(1)
     y = m.y_scale * rng.standard_normal(m.n_y)
-    J = np.array(f.rhs_jacobian(y, 1.0, m.p_value).full())
-    h = 1e-6 * m.y_scale
+    x, s = np.r_[y[iq], y[iv]], np.r_[m.y_scale[iq], m.y_scale[iv]]
+    nq, z, t, p = mech.n_q, np.zeros(0), 1.0, m.p_value
+    H, G = (np.array(a.full()) for a in F.kinematics_jacobian(x[:nq], x[nq:], z, t, p))
+    K, C = (np.array(a.full()) for a in F.tangents(x[:nq], x[nq:], z, t, p)[:2])
+    J = np.block([[-H, -G], [K, C]])
+    xd = np.zeros(x.size)  # the residual is affine in the rates (M is constant)
+
+    def residual(x):
+        return np.asarray(F.dae_residual(xd, x, t, p)).ravel()
+
+    h = 1e-6 * s
     Jfd = np.zeros_like(J)
-    for k in range(m.n_y):
-        e = np.zeros(m.n_y)
+    for k in range(x.size):
+        e = np.zeros(x.size)
         e[k] = h[k]
-        Jfd[:, k] = (np.array(f.rhs(y + e, 1.0, m.p_value).full()).ravel()
-                     - np.array(f.rhs(y - e, 1.0, m.p_value).full()).ravel()) / (2 * h[k])
+        Jfd[:, k] = (residual(x + e) - residual(x - e)) / (2 * h[k])
     scale = np.max(np.abs(J), axis=1, keepdims=True) + 1e-300
     assert np.max(np.abs(J - Jfd) / scale) < 1e-6
 
 
 def test_taut_string_frequencies_from_the_spectrum():
-    """Eigenvalues of the undamped linear model of a taut weightless string: the first three
-    transverse frequencies within 0.5 % of n/(2L') sqrt(T/mu) (L', mu the stretched length
-    and mass per stretched length). At 50 segments the discretisation error is
-    (n pi/N)^2/24 <= 0.15 %."""
+    """Eigenvalues of the undamped linear model of a taut weightless string (the state
+    matrix of its Mechanism, [[H, G], [-M^-1 K, -M^-1 C]]): the first three transverse
+    frequencies within 0.5 % of n/(2L') sqrt(T/mu) (L', mu the stretched length and mass per
+    stretched length). At 50 segments the discretisation error is (n pi/N)^2/24 <= 0.15 %."""
     T, L, mass, EA = 1e5, 100.0, 10.0, 1e9
     m = sc.build_dynamic_model(sc.load_scene(taut_string(T, L, mass, EA)))
-    J = np.array(m.functions().rhs_jacobian(m.y0, 0.0, m.p_value).full())
+    J = planar_rates(m)[1](m.y0, 0.0, m.p_value)
     w = np.sort(np.abs(np.linalg.eigvals(J).imag))
     f = w[w > 1e-9][::2] / (2 * np.pi)
     eps = T / EA

@@ -57,15 +57,17 @@ def test_dae_residual_equals_the_dynamic_models(planar):
     (q' - kinematics, M v' - f) equals the DynamicModel's y' - f(y, t; p) permuted to (q, v):
     the kinematic rows are the same SX nodes (exactly equal); the momentum rows are the model's
     times the lumped mass (f is the numerator of the model's row n / m), so M^-1 (M v' - f)
-    differs from v' - n / m only by the rounding of (m v') / m: 1e-15 of the row's size."""
+    differs from v' - n / m only by the rounding of (m v') / m: 1e-15 of the row's size.
+    The model's f is its record's ``rhs`` expression, made a Function here."""
     _, model, mech = planar
-    F, f = functions(mech), model.functions()
+    F = functions(mech)
+    f = ca.Function("model_rhs", [model.y, model.t, model.p], [model.rhs])
     iq, iv = state_permutation(model)
     M = np.diag(np.asarray(ca.DM(mech.mass)))
     rng = np.random.default_rng(0)
     for t, p in ((0.3, model.p_value), (4.0, model.p_value), (17.0, model.p_periodic)):
         y, yd = (model.y_scale * rng.standard_normal(model.n_y) for _ in range(2))
-        ref = yd - np.asarray(f.rhs(y, t, p)).ravel()
+        ref = yd - np.asarray(f(y, t, p)).ravel()
         R = np.asarray(F.dae_residual(np.r_[yd[iq], yd[iv]], np.r_[y[iq], y[iv]], t, p)).ravel()
         nq = mech.n_q
         assert np.array_equal(R[:nq], ref[iq])

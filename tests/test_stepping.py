@@ -14,7 +14,7 @@ from symcable.errors import ConvergenceError, SymcableError
 from symcable.results_time import Trajectory
 from symcable.planar_time import ga_coefficients, ga_residual_function, rk4_stability_limit
 
-from conftest import seed001
+from conftest import planar_rates, seed001
 
 
 def _scene():
@@ -99,10 +99,11 @@ def test_ga_residual_jacobian_matches_finite_differences(line):
         Jfd[:, k] = (rp - rm) / (2 * h[k])
     scale = np.max(np.abs(J), axis=1, keepdims=True)
     assert np.max(np.abs(J - Jfd) / scale) < 1e-6
-    # its structure: alpha_m I - alpha_f gamma dt df/dy, df/dy at y_{n+alpha_f}
+    # its structure: alpha_m I - alpha_f gamma dt df/dy, df/dy at y_{n+alpha_f} (the state
+    # matrix of the model's Mechanism, from its exact tangents)
     am, af, gamma = ga_coefficients(0.5)
     y_af = y + af * (dt * yd + gamma * dt * (z - yd))
-    dfdy = np.array(m.functions().rhs_jacobian(y_af, t + af * dt, m.p_value).full())
+    dfdy = planar_rates(m)[1](y_af, t + af * dt, m.p_value)
     np.testing.assert_allclose(J, am * np.eye(m.n_y) - af * gamma * dt * dfdy, rtol=0, atol=1e-12 * scale.max())
 
 

@@ -1,12 +1,16 @@
-"""The interface of a semi-discrete dynamic model, as every time or periodic solver sees it.
+"""The planar linearised dynamics as a plain record of its formulation.
 
-A formulation turns a scene and its static solution into an ODE in first-order form,
+:func:`~symcable.models.planar_dynamics.build_planar_dynamics` writes the planar cable's
+dynamics, linearised about its static state, as a first-order ODE
 
     dy/dt = f(y, t; p),        y(t) in R^n_y,
 
 with the boundary motion already inside f (a prescribed end velocity enters as a known
-function of t). Its DAE form, F(y', y, t; p) = y' - f(y, t; p) = 0, is
-:meth:`DynamicModel.residual`. Solvers never ask which formulation they integrate.
+function of t). This record keeps those expressions, the parameter blocks and their values,
+the scales and the formulation's details; it derives and compiles nothing. Solvers never see
+it: :func:`~symcable.models.planar_mechanism.mechanism_of` re-expresses it as a
+:class:`~symcable.models.mechanism.Mechanism` (q' = G v + w, M v' = f), and every Function a
+solver calls is derived from that Mechanism, once, by :func:`symcable.derive.functions`.
 """
 from __future__ import annotations
 
@@ -17,9 +21,11 @@ import casadi as ca
 import numpy as np
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class DynamicModel:
-    """A semi-discrete dynamic model.
+    """The planar linearised dynamics (see the module docstring). Compared and hashed by
+    identity (its arrays have no single truth value), so it can key a weak cache such as
+    :data:`~symcable.models.planar_mechanism.MECHANISMS`.
 
     Attributes
     ----------
@@ -72,62 +78,16 @@ class DynamicModel:
     period: float | None
     y0: np.ndarray
     info: Mapping = field(default_factory=dict)
-    _cache: dict = field(default_factory=dict, repr=False, compare=False)
 
     @property
     def n_y(self) -> int:
+        """Number of states."""
         return int(self.y.numel())
 
-    def residual(self, ydot: ca.SX) -> ca.SX:
-        """DAE residual F(y', y, t; p) = y' - f(y, t; p)."""
-        return ydot - self.rhs
-
-    def functions(self, codegen: bool | None = False) -> "DynamicFunctions":
-        """Named CasADi functions of this model, built once: run by the virtual machine,
-        or compiled to C when ``codegen`` resolves to True
-        (:func:`symcable.codegen.use_codegen`; ``dyn_rhs`` then carries its compiled
-        Jacobian, so graphs built on it, such as the periodic systems, differentiate it in C)."""
-        fns = self._cache.get("functions")
-        if fns is None:
-            y, t, p = self.y, self.t, self.p
-            rhs = ca.Function("dyn_rhs", [y, t, p], [self.rhs], ["y", "t", "p"], ["ydot"])
-            from ..linalg.sparse import jacobian  # O(n) with the dense closure rows
-            jac = ca.Function("dyn_rhs_jac", [y, t, p], [jacobian(self.rhs, y)],
-                              ["y", "t", "p"], ["dfdy"])
-            names = list(self.outputs)
-            out = ca.Function("dyn_outputs", [y, t, p], [self.outputs[k] for k in names],
-                              ["y", "t", "p"], names)
-            fns = DynamicFunctions(rhs=rhs, rhs_jacobian=jac, outputs=out)
-            self._cache["functions"] = fns
-        from ..codegen import compile_functions, graph_size, use_codegen
-        def size():
-            if "graph_size" not in self._cache:
-                self._cache["graph_size"] = graph_size([fns.rhs, fns.rhs_jacobian, fns.outputs])
-            return self._cache["graph_size"]
-        if not use_codegen(codegen, size):
-            return fns
-        c = self._cache.get("functions_c")
-        if c is None:
-            rhs = compile_functions([fns.rhs], jacobians=True, what="the dynamics")["dyn_rhs"]
-            lib = compile_functions([fns.rhs_jacobian, fns.outputs], what="the dynamics' outputs")
-            c = self._cache["functions_c"] = DynamicFunctions(
-                rhs=rhs, rhs_jacobian=lib["dyn_rhs_jac"], outputs=lib["dyn_outputs"], compiled=True)
-        return c
-
     def with_params(self, **blocks) -> np.ndarray:
-        """``p_value`` with named blocks replaced, e.g. ``with_params(amplitude=[1, 0])``."""
+        """``p_value`` with named blocks replaced, e.g. ``with_params(amp_b=[1, 0])``."""
         p = np.array(self.p_value, dtype=float)
         for k, v in blocks.items():
             p[self.p_slices[k]] = v
         return p
 
-
-@dataclass(frozen=True)
-class DynamicFunctions:
-    """``dyn_rhs(y, t, p) -> ydot``; ``dyn_rhs_jac(y, t, p) -> dfdy`` (sparse);
-    ``dyn_outputs(y, t, p) -> named outputs``."""
-
-    rhs: ca.Function
-    rhs_jacobian: ca.Function
-    outputs: ca.Function
-    compiled: bool = False

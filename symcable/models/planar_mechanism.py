@@ -41,6 +41,8 @@ Outputs: the DynamicModel's, with units.
 """
 from __future__ import annotations
 
+import weakref
+
 import casadi as ca
 import numpy as np
 
@@ -50,8 +52,8 @@ from .dynamic import DynamicModel
 from .mechanism import Layout, Mechanism, Output, ParamBlocks, PartLayout, Scales, Start
 from .planar_dynamics import build_planar_dynamics
 
-__all__ = ["planar_dynamics_mechanism", "dynamics_mechanism", "mechanism_of", "state_permutation",
-           "OUTPUT_UNITS"]
+__all__ = ["MECHANISMS", "OUTPUT_UNITS", "dynamics_mechanism", "mechanism_of",
+           "planar_dynamics_mechanism", "state_permutation"]
 
 #: units of the DynamicModel's outputs
 OUTPUT_UNITS = {"fairlead_tension": "N", "anchor_tension": "N", "fairlead_force": "N",
@@ -81,12 +83,18 @@ def planar_dynamics_mechanism(scene: Scene, static) -> Mechanism:
     return dynamics_mechanism(build_planar_dynamics(scene, static))
 
 
+#: DynamicModel -> its Mechanism, built once by :func:`mechanism_of`; a weak mapping, so the
+#: entry goes with the model (the Mechanism holds the model's symbols, not the model)
+MECHANISMS: "weakref.WeakKeyDictionary[DynamicModel, Mechanism]" = weakref.WeakKeyDictionary()
+
+
 def mechanism_of(model: DynamicModel) -> Mechanism:
-    """:func:`dynamics_mechanism` of ``model``, built once per DynamicModel and kept with it,
-    so that the Functions derived from it (and their compiled code) are derived once."""
-    mech = model._cache.get("mechanism")
+    """:func:`dynamics_mechanism` of ``model``, built once per DynamicModel and kept in
+    :data:`MECHANISMS`, so that the Functions derived from it (and their compiled code) are
+    derived once."""
+    mech = MECHANISMS.get(model)
     if mech is None:
-        mech = model._cache["mechanism"] = dynamics_mechanism(model)
+        mech = MECHANISMS[model] = dynamics_mechanism(model)
     return mech
 
 

@@ -40,7 +40,9 @@ class MechanismFunctions:
     on first use and kept."""
 
     def __init__(self, mech: Mechanism):
-        self.mech = mech
+        # weakly: FUNCTIONS maps the Mechanism to this object, and a strong reference back
+        # would keep every Mechanism ever derived alive (a fuzz of 1000 scenes, 1000 graphs)
+        self._mech = weakref.ref(mech)
         self.q_ref = float(np.median(mech.scales.q)) if mech.n_q else 1.0
         self.g_weight = mech.scales.force / self.q_ref
         m = mech
@@ -50,6 +52,14 @@ class MechanismFunctions:
         self._out_shapes = {k: tuple(o.expr.shape) for k, o in m.outputs.items()}
         self._out_sizes = [int(e.numel()) for e in out_exprs]
         self._out_exprs = out_exprs
+
+    @property
+    def mech(self) -> Mechanism:
+        """The Mechanism these Functions are of (alive while anyone uses it)."""
+        m = self._mech()
+        if m is None:
+            raise ReferenceError("the Mechanism of these Functions no longer exists")
+        return m
 
     @cached_property
     def massless(self) -> bool:

@@ -80,17 +80,26 @@ EXAMPLES = {
 }
 
 
+@pytest.mark.parametrize("refine", [1, 16])
 @pytest.mark.parametrize("name", sorted(EXAMPLES))
-def test_issue_examples_are_right_or_refused(name):
+def test_issue_examples_are_right_or_refused(name, refine):
     """Each was returned "converged" and wrong (compressed straight chains, a chain pushed
-    39 m through the seabed). Tolerances: 2 % of the reference (10 segments; the values
-    are quoted to 3 digits) and 10 m of grounded length (one segment is 20 m)."""
+    39 m through the seabed). At the issue's 10 segments and at 160. Tolerances: at 160
+    segments 2 % of the reference (the values are quoted to 3 digits; the slack line's
+    tension converges at first order in the segment length, its corner at the touchdown
+    being a kink: 11.6, 3.0, 0.78 % at 10, 40, 160 segments) and 2 m of grounded length; at
+    10 segments 15 % and one segment (20 m)."""
     scene, ref = EXAMPLES[name]
+    scene = dict(scene, sections=[dict(scene["sections"][0],
+                                       segments=10 * refine)])
     try:
         s = sc.solve_static(scene, codegen=False)
     except sc.ConvergenceError as exc:
         assert "not admissible" in str(exc) or "attempts" in str(exc)
         return
     for key, val in ref.items():
-        tol = 10.0 if key == "grounded_length" else 0.02 * val
+        if key == "grounded_length":
+            tol = 2.0 if refine > 1 else 20.0
+        else:
+            tol = (0.02 if refine > 1 else 0.15) * val
         assert getattr(s, key) == pytest.approx(val, abs=tol), key

@@ -51,7 +51,9 @@ force), second-order accurate; fairlead/anchor tension are their magnitudes.
 
 Parameters ``p``: ``load`` (factor on weight, drag and applied forces), ``bending`` (factor
 on EI), the fixed end positions ``xa, za, xb, zb`` (m), clamped angles ``angle_a, angle_b``
-(rad) and the current ``ux, uz`` (m/s). The first two drive continuation.
+(rad), the current ``ux, uz`` (m/s) and ``slack`` (1 for the scene; 0 widens the corner of
+the cables' tension-only law SLACK_CONTINUATION times). ``load``, ``bending`` and ``slack``
+drive continuation.
 """
 from __future__ import annotations
 
@@ -66,7 +68,7 @@ from ..scene import EndCondition, Scene
 from . import terms
 from .base import Guess, Model
 
-P_NAMES = ("load", "bending", "xa", "za", "xb", "zb", "angle_a", "angle_b", "ux", "uz")
+P_NAMES = ("load", "bending", "xa", "za", "xb", "zb", "angle_a", "angle_b", "ux", "uz", "slack")
 
 
 def segment_table(scene: Scene) -> dict[str, np.ndarray]:
@@ -108,18 +110,65 @@ def _end_slope_weights(h0: float, h1: float | None) -> tuple[float, float, float
     return -(1.0 / s1 + 1.0 / s2), s2 / (s1 * (s2 - s1)), -s1 / (s2 * (s2 - s1))
 
 
+#: the tension-only law of cables (EI = 0; :func:`~symcable.models.terms.cable_axial_force`),
+#: relative to the scene's force scale F: the residual stiffness in compression is
+#: SLACK_STIFFNESS F per unit strain; the corner is smoothed where the tension is about
+#: SLACK_SMOOTHING F (strain width 2 SLACK_SMOOTHING F / EA); the wall that keeps segments
+#: of positive length pushes with F exp(-(1 + e) / SLACK_WALL): 4.5e-5 F at e = -0.95, F at
+#: e = -1. So a slack cable pushes with less than CABLE_COMPRESSION F while no segment has
+#: bunched below 5 % of its length
+SLACK_STIFFNESS = 1e-7
+SLACK_SMOOTHING = 1e-6
+SLACK_WALL = 0.005
+#: the tension-only law's corner is SLACK_CONTINUATION times wider at the start of the
+#: continuation in ``slack`` (the parameter sigma from 0 to 1): where Newton cannot follow
+#: the sharp corner from a start (segments that go slack on the way), the solver solves
+#: with the wide corner and narrows it in steps
+SLACK_CONTINUATION = 1e4
+
+
+def force_scale_of(scene: Scene, seg: dict) -> float:
+    """A characteristic force of the scene, N: the line's total |submerged weight|, the
+    largest applied end force, or 1e-6 of the smallest EA (at least 1 N)."""
+    applied = [float(np.hypot(*e.force)) for e in (scene.end_a, scene.end_b)
+               if e.force is not None]
+    return max(float(np.sum(np.abs(seg["w"]) * seg["ds"])), *applied,
+               1e-6 * float(np.min(seg["EA"])), 1.0)
+
+
+def slack_law(seg: dict, force_scale: float) -> dict:
+    """Per segment ``delta`` (strain width of the corner) and ``EA_slack`` (N) of the
+    tension-only law, NaN where the segment has bending (EI > 0: compression allowed)."""
+    cable = seg["EI"] <= 0.0
+    delta = np.where(cable, 2.0 * SLACK_SMOOTHING * force_scale / seg["EA"], np.nan)
+    return {"delta": delta, "EA_slack": np.where(cable, SLACK_STIFFNESS * force_scale, np.nan),
+            "F_wall": force_scale, "w_wall": SLACK_WALL}
+
+
 def internal_forces(phi, eps, seg: dict, cond_a: EndCondition, cond_b: EndCondition,
-                    mu=1.0, ang_a=0.0, ang_b=0.0):
+                    mu=1.0, ang_a=0.0, ang_b=0.0, slack: dict | None = None):
     """Internal forces of the planar line from segment angles and strains (see the module
     docstring): axial force ``T`` (N,), shear ``Q`` (N,), nodal moments ``M`` (N+1,), the
     Cartesian internal force ``Fx, Fz`` (N,) and whether a bending term was built.
 
-    ``mu`` scales EI (continuation); ``ang_a``, ``ang_b`` are clamped end angles, rad.
-    Works on any CasADi expressions, so the dynamics can linearise exactly this."""
+    ``mu`` scales EI (continuation); ``ang_a``, ``ang_b`` are clamped end angles, rad;
+    ``slack`` (:func:`slack_law`): the tension-only law on the segments without bending
+    (default: linear EA e everywhere). Works on any CasADi expressions, so the dynamics can
+    linearise exactly this."""
     N = len(seg["ds"])
     ds, EA = ca.DM(seg["ds"]), ca.DM(seg["EA"])
     c, s = ca.cos(phi), ca.sin(phi)
     T = terms.axial_force(EA, eps)
+    if slack is not None and np.any(np.isfinite(slack["delta"])):
+        cab = np.isfinite(slack["delta"])
+        law = terms.cable_axial_force(EA, eps, slack.get("width_factor", 1.0)
+                                      * ca.DM(np.where(cab, slack["delta"], 1.0)),
+                                      ca.DM(np.where(cab, slack["EA_slack"], 0.0)),
+                                      slack["F_wall"], slack["w_wall"])
+        if np.all(cab):
+            T = law
+        else:  # per segment the law or the linear T, picked in one indexing
+            T = ca.vertcat(law, T)[[j if cab[j] else N + j for j in range(N)]]
     M = ca.SX.zeros(N + 1) if isinstance(phi, ca.SX) else ca.MX.zeros(N + 1)
     bending = bool(np.any(seg["EI"] > 0.0))
     if bending:
@@ -152,7 +201,7 @@ def build_planar(scene: Scene) -> Model:
     free_a, free_b = a.condition is EndCondition.FREE, b.condition is EndCondition.FREE
 
     p = ca.SX.sym("p", len(P_NAMES))
-    lam, mu, xa, za, xb, zb, ang_a, ang_b, ux, uz = (p[k] for k in range(len(P_NAMES)))
+    lam, mu, xa, za, xb, zb, ang_a, ang_b, ux, uz, sigma = (p[k] for k in range(len(P_NAMES)))
 
     # --- unknowns, interleaved: [node 0], seg 0, node 1, seg 1, ..., seg N-1, [node N]
     X: list = [None] * (N + 1)
@@ -193,7 +242,13 @@ def build_planar(scene: Scene) -> Model:
     comp_z = EA / ds * (Zv[1:] - Zv[:-1] - ds * stretch * s)
 
     # --- internal forces: axial, bending moment on nodes, shear on segments
-    T, Q, M, Fx, Fz, bending = internal_forces(phi, eps, seg, a.condition, b.condition, mu, ang_a, ang_b)
+    force_scale = force_scale_of(scene, seg)
+    law = slack_law(seg, force_scale)
+    # continuation parameter of the tension-only law's corner: its width is
+    # SLACK_CONTINUATION times wider at sigma = 0 than at the scene's sigma = 1
+    law["width_factor"] = ca.exp(math.log(SLACK_CONTINUATION) * (1.0 - sigma))
+    T, Q, M, Fx, Fz, bending = internal_forces(phi, eps, seg, a.condition, b.condition, mu,
+                                               ang_a, ang_b, law)
     if bending:
         term_names.append("bending")
 
@@ -285,15 +340,13 @@ def build_planar(scene: Scene) -> Model:
         *(a.position if a.position is not None else (0.0, 0.0)),
         *(b.position if b.position is not None else (0.0, 0.0)),
         a.angle or 0.0, b.angle or 0.0,
-        *current,
+        *current, 1.0,
     ], dtype=float)
 
     L = scene.length
     kinds_arr = np.array(kinds)
     max_strain = max(sec.line_type.max_strain for sec in scene.sections)
     w_scale = np.select([kinds_arr == "phi", kinds_arr == "eps"], [0.5, 0.5 * max_strain], 0.1 * L)
-    applied = [np.hypot(*e.force) for e in (a, b) if e.force is not None]
-    force_scale = max(float(np.sum(np.abs(seg["w"]) * seg["ds"])), *applied, 1e-6 * float(np.min(seg["EA"])), 1.0)
 
     # merit weights: a compatibility row measures a length mismatch times EA/ds; weigh it
     # as that mismatch relative to the line length times the force scale, so a rotation
@@ -334,9 +387,14 @@ def build_planar(scene: Scene) -> Model:
 
 
 #: compression a cable (EI = 0) may show and still count as carrying none, relative to the
-#: scene's force scale: far above the round-off of a converged solve (1e-9 of the scale),
-#: far below any compression that changes the answer
-CABLE_COMPRESSION = 1e-6
+#: scene's force scale: far above the round-off of a converged solve (1e-9 of the scale)
+#: and the tension-only law's residual push while segments keep 5 % of their length, far
+#: below any compression that changes the answer
+CABLE_COMPRESSION = 1e-4
+#: the most a cable segment off the seabed may be shortened (strain -BUNCHING): beyond the
+#: strain of zero tension of the tension-only law (at most 3.2e-3 sqrt(F / EA)), short of
+#: a segment folded on itself
+BUNCHING = 0.01
 
 
 def _bounds(scene, seg, eps, T, contact, line_Px, line_Pz, Px, Pz, end_force_a, end_force_b,
@@ -364,6 +422,18 @@ def _bounds(scene, seg, eps, T, contact, line_Px, line_Pz, Px, Pz, end_force_a, 
         out["cable_axial_force"] = Bound(T[cable.tolist()], lower=-CABLE_COMPRESSION * force_scale,
                                          unit="N", scale=force_scale,
                                          what="a cable (EI = 0) carries no compression")
+        # a slack cable segment may bunch up (strain < 0) only where the seabed carries it:
+        # in the water column it would hang in a loop instead, which straight segments
+        # represent only when they are short enough
+        e_c = eps[cable.tolist()]
+        if scene.seabed is not None:
+            load = np.abs(seg["w"][cable]) * seg["ds"][cable] + 1e-300
+            support = (contact[cable.tolist()] + contact[(cable + 1).tolist()]) / ca.DM(load)
+            e_c = e_c + 2.0 * ca.fmin(1.0, support)
+        out["suspended_bunching"] = Bound(e_c, lower=-BUNCHING, unit="1", scale=1.0,
+                                          what="a slack cable segment in the water column is "
+                                               "not bunched (refine the segments where the "
+                                               "line folds)")
     env = scene.environment
     if scene.seabed is not None:
         press = float(np.sum(np.maximum(seg["w"], 0.0) * seg["ds"]))
@@ -442,10 +512,48 @@ def _catenary_start(pa, pb, seg, scene):
     sx = 1.0 if dx >= 0 else -1.0
     sz = 1.0 if w_eq > 0 else -1.0
     sol = elastic_catenary(abs(dx), sz * dz, L, EA_eq, abs(w_eq), seabed=seabed)
+    source = "elastic catenary with seabed" if seabed else "elastic catenary"
+    if sol.H == 0.0:  # slack: piled on the seabed, or a vertical fold (see _march)
+        pos = _march(sol, seg, start, end, sx, sz, swapped=start is pb)
+        if seabed:  # grounded nodes sink to where the contact carries their weight
+            grounded = pos[:, 1] <= -depth + 1e-9 * L
+            pos[grounded, 1] -= abs(w_eq) / (scene.seabed.stiffness * float(np.mean(seg["d"])))
+        return pos, None, source
     pos = sol.positions(s_eval) * np.array([sx, sz]) + np.asarray(start)
     if depth is not None:
         pos[:, 1] = np.maximum(pos[:, 1], -depth)
-    return pos, sol.tension(mid_eval), ("elastic catenary with seabed" if seabed else "elastic catenary")
+    return pos, sol.tension(mid_eval), source
+
+
+def _march(sol, seg, start, end, sx, sz, swapped: bool) -> np.ndarray:
+    """Node positions of a slack closed-form catenary (H = 0) built segment by segment, so
+    that every segment is straight and keeps its length where the closed form cannot say
+    how (``sol.positions`` piles the grounded excess at one point and folds a vertical line
+    at a point, which a straight segment straddling it cannot follow): each segment takes
+    the closed form's direction and strain at its midpoint; a grounded segment lies flat,
+    shortened evenly so that the grounded length fits between the end on the seabed and
+    the touchdown (the bunched pile of a slack chain); the segment in which a vertical line
+    turns lies horizontal. The march's miss at the far end is spread along the line in
+    proportion to arc length."""
+    ds = seg["ds"][::-1] if swapped else seg["ds"]
+    s = np.concatenate([[0.0], np.cumsum(ds)])
+    mid = 0.5 * (s[:-1] + s[1:])
+    L, lb = float(s[-1]), sol.grounded_length
+    ang, eps = sol.angle(mid), sol.strain(mid)
+    V = sol.V_a + sol.weight * np.maximum(s - lb, 0.0)  # vertical force at the nodes
+    turn = (V[:-1] < 0.0) & (V[1:] > 0.0)
+    # the turn carries the small horizontal pull that tilts the two strands by one segment
+    # over their length (taut, away from the law's corner at zero strain)
+    ang[turn] = 0.0
+    eps[turn] = np.max(eps) * float(np.max(ds)) / L
+    if lb > 0.0:
+        ground = mid <= lb
+        ang[ground] = 0.0
+        eps[ground] = min(sol.span / lb, 1.0) - 1.0
+    steps = (ds * (1.0 + eps))[:, None] * np.stack([sx * np.cos(ang), sz * np.sin(ang)], axis=1)
+    pos = np.asarray(start, float) + np.concatenate([np.zeros((1, 2)), np.cumsum(steps, axis=0)])
+    pos += np.outer(s / L, np.asarray(end, float) - pos[-1])
+    return pos[::-1].copy() if swapped else pos
 
 
 def _hanging_start(scene, seg, free_a: bool):
@@ -492,6 +600,10 @@ def _initial_guess(scene, seg, layout: _Layout, p_target, bending):
     no_bending = np.array(p_target)
     no_bending[P_NAMES.index("bending")] = 0.0
     cable_p, cable_h = (no_bending, "bending") if bending else (np.array(p_target), "")
+    if np.any(seg["EI"] <= 0.0):  # cables: continuation from the tension-only law's wide corner
+        cable_p = np.array(cable_p)
+        cable_p[P_NAMES.index("slack")] = 0.0
+        cable_h = "bending and slack" if cable_h else "slack"
 
     def make(pos, phi, eps, p0, source, homotopy):
         return Guess(w=layout.pack(pos, phi, eps), p=p0, source=source, homotopy=homotopy)

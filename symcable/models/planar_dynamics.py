@@ -70,7 +70,7 @@ from ..errors import SceneError
 from ..scene import EndCondition, Scene
 from . import terms
 from .dynamic import DynamicModel
-from .planar import _lumping_matrix, internal_forces, segment_table
+from .planar import _lumping_matrix, force_scale_of, internal_forces, segment_table, slack_law
 
 
 def _node_frames(phi_s):
@@ -250,7 +250,8 @@ def build_planar_dynamics(scene: Scene, static) -> DynamicModel:
 
     # --- internal force increments: exact linearisation of the statics' internal force
     _, _, _, Fx, Fz, bending = internal_forces(phi_s, eps_s, seg, a.condition, b.condition,
-                                               1.0, a.angle or 0.0, b.angle or 0.0)
+                                               1.0, a.angle or 0.0, b.angle or 0.0,
+                                               slack_law(seg, force_scale_of(scene, seg)))
     F_s = ca.vertcat(Fx, Fz)
     dF = ca.jtimes(F_s, ca.vertcat(phi_s, eps_s), ca.vertcat(phi_dyn, e_dyn))
     dFx, dFz = dF[:N], dF[N:]

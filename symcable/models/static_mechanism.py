@@ -24,7 +24,7 @@ __all__ = ["PLANAR_BLOCKS", "static_mechanism"]
 
 #: the planar model's parameters as named blocks (contiguous entries of its p)
 PLANAR_BLOCKS = (("load", 1), ("bending", 1), ("end_a.position", 2), ("end_b.position", 2),
-                 ("end_a.angle", 1), ("end_b.angle", 1), ("current", 2))
+                 ("end_a.angle", 1), ("end_b.angle", 1), ("current", 2), ("slack", 1))
 
 
 def static_mechanism(model: Model) -> Mechanism:
@@ -83,7 +83,8 @@ def _build(model: Model) -> Mechanism:
                      bounds=dict(model.bounds))
 
 
-_BLOCK_OF = {"load": "load", "bending": "bending"}
+_BLOCK_OF = {"load": "load", "bending": "bending", "slack": "slack",
+             "bending and slack": "bending and slack"}
 
 
 class _Memo:

@@ -13,6 +13,25 @@ def axial_force(EA, strain):
     return EA * strain
 
 
+def cable_axial_force(EA, strain, delta, EA_slack, F_wall, w_wall):
+    """Axial force of a cable, which does not push, N: T = EA e in tension; in compression
+    only a residual ``EA_slack`` e (``EA_slack`` in N per unit strain, a tiny fraction of
+    EA: the resistance of a slack chain bunching up, which keeps a slack line's shape
+    determined), and a wall that keeps every segment's length positive: a compression
+    ``F_wall`` exp(-(1 + e) / w_wall) (N), negligible until the segment has bunched to a few
+    ``w_wall`` of its length, then steep (finite everywhere, so a Newton iterate that
+    crosses e = -1 meets a large restoring force rather than a pole); the corner at e = 0
+    smoothed over a strain width ``delta`` (C-infinity, so Newton keeps its quadratic
+    convergence):
+
+        T = EA_slack e + (EA - EA_slack) (e + sqrt(e^2 + delta^2)) / 2
+            - F_wall exp(-(1 + e) / w_wall)
+
+    Exact to a relative (delta / 2 e)^2 + EA_slack / EA in tension; EA delta / 2 at e = 0."""
+    return (EA_slack * strain + (EA - EA_slack) * smooth_ramp(strain, delta)
+            - F_wall * ca.exp(-(1.0 + strain) / w_wall))
+
+
 def bending_moment(EI, curvature):
     """Bending moment M = EI * kappa, N m (kappa in rad per unstretched metre)."""
     return EI * curvature

@@ -591,6 +591,29 @@ def _hanging_start(scene, seg, free_a: bool):
     return pos, phi, eps
 
 
+def _laid_on_seabed(scene, seg, pos: np.ndarray, free_a: bool) -> np.ndarray:
+    """A hanging line that reaches below the seabed, lowered onto it: the nodes above the
+    seabed stay; from the first node below it on, the line lies flat on the bed (at the
+    depth where the contact carries its weight), each segment at its unstretched length,
+    away from the held end (in the direction of the free end's horizontal force, else +x)."""
+    depth = scene.environment.depth
+    order = np.arange(len(pos))[::-1] if free_a else np.arange(len(pos))
+    ds = seg["ds"][::-1] if free_a else seg["ds"]
+    p = pos[order].copy()
+    below = np.flatnonzero(p[:, 1] < -depth)
+    k = int(below[0])
+    free = scene.end_a if free_a else scene.end_b
+    fx = (free.force or (0.0, 0.0))[0]
+    direction = 1.0 if fx >= 0.0 else -1.0
+    pen = max(float(np.mean(seg["w"])), 0.0) / (scene.seabed.stiffness * float(np.mean(seg["d"])))
+    p[k, 1] = -depth - pen
+    for i in range(k + 1, len(p)):
+        p[i] = p[i - 1] + np.array([direction * ds[i - 1], 0.0])
+    out = np.empty_like(p)
+    out[order] = p
+    return out
+
+
 def _initial_guess(scene, seg, layout: _Layout, p_target, bending):
     """Starting points in order of preference (the solver tries each), built lazily: a
     generator, so a start is only computed when the ones before it have failed."""
@@ -626,7 +649,14 @@ def _initial_guess(scene, seg, layout: _Layout, p_target, bending):
 
     def hanging():
         start = _hanging_start(scene, seg, free_a)
-        return None if start is None else make(*start, cable_p, "hanging line", cable_h)
+        if start is None:
+            return None
+        pos, phi, eps = start
+        if scene.seabed is not None and np.min(pos[:, 1]) < -scene.environment.depth:
+            pos = _laid_on_seabed(scene, seg, pos, free_a)
+            phi, eps = _from_positions(pos, seg, None)
+            return make(pos, phi, eps, cable_p, "hanging line laid on the seabed", cable_h)
+        return make(pos, phi, eps, cable_p, "hanging line", cable_h)
 
     def unloaded():
         t = np.array([math.cos(fixed.angle), math.sin(fixed.angle)])

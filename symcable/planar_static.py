@@ -126,6 +126,31 @@ def _failure(scene, model, mech, exc: ConvergenceError, tol: float, t0: float):
         partial=partial, diagnostics=exc.diagnostics)
 
 
+#: a cable segment shorter than this strain is slack (its tension-only law near zero)
+BUNCHED_STRAIN = -0.01
+
+
+def _bunching_warnings(model: Model, out: dict, seg: dict) -> list:
+    """A warning where cable segments in the water column are slack and shortened: the line
+    folds or sags within one segment there, which a straight segment represents only as a
+    shorter chord; the tension near it is uncertain by about that segment's weight."""
+    strain = np.asarray(out["strain"], float).ravel()
+    contact = np.asarray(out["contact_force"], float).ravel()
+    cable = seg["EI"] <= 0.0
+    free = (contact[:-1] <= 0.1 * np.abs(seg["w"]) * seg["ds"] / 2) & \
+        (contact[1:] <= 0.1 * np.abs(seg["w"]) * seg["ds"] / 2)
+    bunched = cable & free & (strain < BUNCHED_STRAIN)
+    if not np.any(bunched):
+        return []
+    j = int(np.argmin(np.where(bunched, strain, np.inf)))
+    s_mid = 0.5 * (seg["s"][:-1] + seg["s"][1:])
+    weight = float(np.max(np.abs(seg["w"][bunched]) * seg["ds"][bunched]))
+    return [f"{int(bunched.sum())} cable segment(s) hang slack in the water column, shortened to "
+            f"{100 * (1 + strain[j]):.0f} % of their length at s = {s_mid[j]:.4g} m: the line "
+            f"folds or sags within a segment there, and the tension near it is uncertain by "
+            f"about a segment's weight ({weight:.4g} N); more segments resolve it"]
+
+
 def _solution(model: Model, w, out: dict, status: str, stats: dict) -> StaticSolution:
     derived = model.postprocess(out)
     s_nodes = np.asarray(model.info["s_nodes"])
@@ -133,8 +158,13 @@ def _solution(model: Model, w, out: dict, status: str, stats: dict) -> StaticSol
     sb = model.scene.seabed
     if sb is not None and sb.friction > 0:
         warnings.append("seabed friction is not applied in statics (frictionless contact)")
-    if np.asarray(out["axial_force"]).min() < 0:
-        warnings.append("the line is in compression somewhere (axial force < 0)")
+    seg = model.info["segments"]
+    axial = np.asarray(out["axial_force"], float).ravel()
+    rod = seg["EI"] > 0.0
+    if np.any(rod) and axial[rod].min() < 0:
+        warnings.append(f"the line is in compression where it has bending stiffness (axial "
+                        f"force down to {axial[rod].min():.4g} N)")
+    warnings += _bunching_warnings(model, out, seg)
 
     def col(name):
         v = out[name]

@@ -391,10 +391,6 @@ def build_planar(scene: Scene) -> Model:
 #: and the tension-only law's residual push while segments keep 5 % of their length, far
 #: below any compression that changes the answer
 CABLE_COMPRESSION = 1e-4
-#: the most a cable segment off the seabed may be shortened (strain -BUNCHING): beyond the
-#: strain of zero tension of the tension-only law (at most 3.2e-3 sqrt(F / EA)), short of
-#: a segment folded on itself
-BUNCHING = 0.01
 
 
 def _bounds(scene, seg, eps, T, contact, line_Px, line_Pz, Px, Pz, end_force_a, end_force_b,
@@ -422,18 +418,6 @@ def _bounds(scene, seg, eps, T, contact, line_Px, line_Pz, Px, Pz, end_force_a, 
         out["cable_axial_force"] = Bound(T[cable.tolist()], lower=-CABLE_COMPRESSION * force_scale,
                                          unit="N", scale=force_scale,
                                          what="a cable (EI = 0) carries no compression")
-        # a slack cable segment may bunch up (strain < 0) only where the seabed carries it:
-        # in the water column it would hang in a loop instead, which straight segments
-        # represent only when they are short enough
-        e_c = eps[cable.tolist()]
-        if scene.seabed is not None:
-            load = np.abs(seg["w"][cable]) * seg["ds"][cable] + 1e-300
-            support = (contact[cable.tolist()] + contact[(cable + 1).tolist()]) / ca.DM(load)
-            e_c = e_c + 2.0 * ca.fmin(1.0, support)
-        out["suspended_bunching"] = Bound(e_c, lower=-BUNCHING, unit="1", scale=1.0,
-                                          what="a slack cable segment in the water column is "
-                                               "not bunched (refine the segments where the "
-                                               "line folds)")
     env = scene.environment
     if scene.seabed is not None:
         press = float(np.sum(np.maximum(seg["w"], 0.0) * seg["ds"]))
@@ -513,7 +497,15 @@ def _catenary_start(pa, pb, seg, scene):
     sz = 1.0 if w_eq > 0 else -1.0
     sol = elastic_catenary(abs(dx), sz * dz, L, EA_eq, abs(w_eq), seabed=seabed)
     source = "elastic catenary with seabed" if seabed else "elastic catenary"
-    if sol.H == 0.0:  # slack: piled on the seabed, or a vertical fold (see _march)
+    if sol.H == 0.0 and sol.grounded_length == 0.0 and np.hypot(dx, dz) < L:
+        # a vertical fold: the catenary one segment wide instead (a narrow U, H > 0, whose
+        # segments are straight and taut), its span then closed by a shear along z
+        width = float(np.max(ds))
+        sol = elastic_catenary(width, sz * dz, L, EA_eq, abs(w_eq))
+        pos = sol.positions(s_eval) * np.array([sx, sz]) + np.asarray(start)
+        pos[:, 0] -= (s_eval / L) * sx * width
+        return pos, sol.tension(mid_eval), source + " (a vertical fold, one segment wide)"
+    if sol.H == 0.0:  # slack: piled on the seabed (see _march)
         pos = _march(sol, seg, start, end, sx, sz, swapped=start is pb)
         if seabed:  # grounded nodes sink to where the contact carries their weight
             grounded = pos[:, 1] <= -depth + 1e-9 * L

@@ -106,3 +106,23 @@ def test_issue_examples_are_right_or_refused(name, refine):
         else:
             tol = (0.02 if refine > 1 else 0.15) * scale
         assert getattr(s, key) == pytest.approx(val, abs=tol), key
+
+
+def test_slack_rod_is_a_stable_bent_shape_not_a_compressed_strut():
+    """The issue's slack rod (45 m, EI = 1e5 N m^2, ends 7 m apart on a vertical): it was a
+    straight strut at strain -0.86 and 330 kN against its 15.9 kN of weight. Now a bent,
+    looped shape whose compression is of the order of its weight, and stable: the modal
+    analysis about it (which refuses an unstable equilibrium) finds only positive
+    frequencies."""
+    scene = {"line_types": {"rod": {"mass": 40.0, "diameter": 0.07, "EA": 4e5, "EI": 1e5}},
+             "sections": [{"type": "rod", "length": 45.0, "segments": 20}],
+             "end_a": {"condition": "pinned", "position": [0.0, 0.0]},
+             "end_b": {"condition": "pinned", "position": [0.0, -7.0]}}
+    s = sc.solve_static(scene, codegen=False)
+    weight = 45.0 * (40.0 - 1025.0 * np.pi / 4 * 0.07 ** 2) * 9.80665
+    assert np.ptp(s.positions[:, 0]) > 1.0  # bent out of the vertical, not a strut
+    assert s.strain.min() > -0.05 and -s.axial_force.min() < weight
+    # the ends carry the weight: the line pulls them down by it (no current, no seabed)
+    assert -(s.anchor_force[1] + s.fairlead_force[1]) == pytest.approx(weight, rel=1e-6)
+    modes = sc.modal_analysis(scene, n_modes=4)
+    assert np.all(modes.frequencies > 0)

@@ -186,7 +186,9 @@ def _state_matrix_modes(mech, Hd, GN, Kq, Mr):
         warnings.append(f"the linear model is not conservative: eigenvalue {nonzero[j]:.6g} 1/s "
                         f"has |Re|/|lambda| = {rel[j]:.3g} > {REAL_PART_TOL:g}; its frequencies "
                         "are the imaginary parts")
-    keep = np.flatnonzero(~is_zero & (ev.imag > 0.0))
+    # oscillating: Im > 0 beyond round-off (a real double eigenvalue, such as the planar
+    # closure's -beta pair, comes out of the eigensolver as a pair +-1e-15 i)
+    keep = np.flatnonzero(~is_zero & (ev.imag > 1e-8 * mag))
     keep = keep[np.argsort(ev.imag[keep], kind="stable")]
     # displacement in the velocity coordinates: u = v / lambda, made real by the phase of its
     # largest entry

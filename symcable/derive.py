@@ -218,6 +218,15 @@ class MechanismFunctions:
                            [ca.jacobian(m.force, m.p), ca.jacobian(m.constraint, m.p)],
                            self._names, ["f_p", "g_p"])
 
+    @cached_property
+    def stability_when(self) -> ca.Function:
+        """``(q, z, p) -> s`` (v = 0, t = 0): the mechanism's ``stability_when``; stability
+        is judged where s < 0."""
+        m = self.mech
+        e = ca.substitute([m.stability_when], [m.v, m.t], [ca.DM.zeros(m.n_v), ca.DM(0.0)])[0]
+        return ca.Function(f"{m.name}_stability_when", [m.q, m.z, m.p], [e], ["q", "z", "p"],
+                           ["s"])
+
     # -- admissibility bounds -------------------------------------------------------------
     @cached_property
     def bound_margins(self) -> ca.Function:

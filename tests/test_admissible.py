@@ -126,3 +126,37 @@ def test_slack_rod_is_a_stable_bent_shape_not_a_compressed_strut():
     assert -(s.anchor_force[1] + s.fairlead_force[1]) == pytest.approx(weight, rel=1e-6)
     modes = sc.modal_analysis(scene, n_modes=4)
     assert np.all(modes.frequencies > 0)
+
+
+def test_straight_column_beyond_euler_load_is_unstable_and_buckles():
+    """A neutrally buoyant clamped column (EI = 100 N m^2, 10 m) pushed axially at its free
+    end by 10 N, four times Euler's load pi^2 EI / (4 L^2) = 2.47 N. Newton from the
+    straight line converges to the straight compressed column, an equilibrium, but the
+    solver's stability check (the Schur complement of the tangent onto the node positions)
+    finds it unstable; pseudo-transient continuation pushed along the unstable mode reaches
+    the buckled branch, the same shape the default (hanging-line) start gives. Below Euler's
+    load (1 N) the straight column is stable and returned."""
+    from symcable.models.mechanism import Start
+    from symcable.models.static_mechanism import static_mechanism
+    from symcable.solvers.equilibrium import solve_equilibrium
+
+    neutral = 1025.0 * np.pi / 4 * 0.05 ** 2
+
+    def column(force):
+        return {"line_types": {"rod": {"mass": neutral, "diameter": 0.05, "EA": 1e6, "EI": 100.0}},
+                "sections": [{"type": "rod", "length": 10.0, "segments": 20}],
+                "end_a": {"condition": "clamped", "position": [0.0, 0.0], "angle_deg": 0.0},
+                "end_b": {"condition": "free", "force": [-force, 0.0]}}
+
+    model = sc.build_model(column(10.0))
+    mech = static_mechanism(model)
+    straight = next(s for s in mech.starts() if "straight" in s.source)
+    eq = solve_equilibrium(mech, model.p_target,
+                           starts=[Start(straight.q, straight.z, model.p_target, "straight")])
+    assert "unstable" in eq.stats["attempts"][0] and eq.stats["stable"] is True
+    assert eq.stats["path"] == "pseudo-transient continuation"
+    default = sc.solve_static(column(10.0), codegen=False)
+    np.testing.assert_allclose(eq.outputs["positions"], default.positions, atol=1e-6)
+    assert np.ptp(default.positions[:, 1]) > 1.0  # buckled, not straight
+    below = sc.solve_static(column(1.0), codegen=False)
+    assert np.ptp(below.positions[:, 1]) < 1e-9 and below.axial_force.min() < 0

@@ -259,6 +259,17 @@ class Mechanism:
     static_params : mapping block -> values used for statics (e.g. ``ramp = 0``)
     bounds : mapping name -> Bound, the admissibility conditions every solution is
         checked against
+    stability_coordinates : int array or None
+        For a massless (static) mechanism whose residual is the gradient of an energy only in
+        some coordinates (the planar line: node positions, whose rows are force balances;
+        its segment angles and strains, with their compatibility rows, are internal): those
+        entries of q (and the same rows of f). The solver judges stability on the Schur
+        complement of the tangent onto them. None: no stability is read from a massless
+        mechanism.
+    stability_when : expression (1, 1) of (q, v, z, t, p) or None
+        Stability is judged only where this is negative (the planar line: its least axial
+        force in sections with bending, since a tension-only cable under conservative loads
+        cannot lose stability); None: always.
     """
 
     name: str
@@ -279,6 +290,8 @@ class Mechanism:
     terms: tuple[str, ...] = ()
     static_params: Mapping[str, object] = field(default_factory=dict)
     bounds: Mapping[str, Bound] = field(default_factory=dict)
+    stability_coordinates: object = None
+    stability_when: object = None
 
     def __post_init__(self):
         n_q, n_v, n_z = self.n_q, self.n_v, self.n_z

@@ -80,7 +80,21 @@ def _build(model: Model) -> Mechanism:
                                    residual_floor=model.residual_floor,
                                    merit=np.asarray(model.merit_weights, float)),
                      starts=starts, outputs=outputs, layout=layout, terms=model.terms,
-                     bounds=dict(model.bounds))
+                     bounds=dict(model.bounds), **_stability(model))
+
+
+def _stability(model: Model) -> dict:
+    """Where the planar line's stability is judged: in sections with bending, when one of
+    their segments is in compression (a tension-only cable under conservative loads cannot
+    lose stability), on the Schur complement onto the node positions, whose rows are the
+    force balances (the energy's gradient); the segment angles and strains are internal."""
+    seg, kinds = model.info.get("segments"), model.info.get("unknown_kinds")
+    if seg is None or kinds is None or not np.any(seg["EI"] > 0) \
+            or "axial_force" not in model.outputs:
+        return {}
+    rod = np.flatnonzero(seg["EI"] > 0).tolist()
+    return {"stability_coordinates": np.flatnonzero(np.isin(np.asarray(kinds), ["x", "z"])),
+            "stability_when": ca.mmin(model.outputs["axial_force"][rod])}
 
 
 _BLOCK_OF = {"load": "load", "bending": "bending", "slack": "slack",

@@ -135,10 +135,15 @@ def constraint_null_space(B: np.ndarray, n: int) -> np.ndarray:
 
 def _unstable_direction(F, mech, q, z, p):
     """(lowest eigenvalue, its direction in q) of the reduced tangent stiffness, or
-    (None, None) where stability is not judged (too large, or a formulation without mass
-    whose residual rows are not the gradient of an energy)."""
-    if mech.n_q > STABILITY_MAX_N or F.massless:
+    (None, None) where stability is not judged (too large, a formulation without mass
+    whose residual rows are not the gradient of an energy, or where its
+    ``stability_when`` is not negative)."""
+    if mech.n_q > STABILITY_MAX_N:
         return None, None
+    if mech.stability_when is not None and not float(F.stability_when(q, z, p)) < 0.0:
+        return None, None
+    if F.massless:
+        return _schur_direction(F, mech, q, z, p)
     K, _, _, B, *_ = F.tangents(q, np.zeros(mech.n_v), z, 0.0, p)
     K = np.asarray(K)
     N = constraint_null_space(np.asarray(B), mech.n_q)
@@ -149,14 +154,43 @@ def _unstable_direction(F, mech, q, z, p):
     return float(lam[0]), N @ vec[:, 0]
 
 
+def _schur_direction(F, mech, q, z, p):
+    """Stability of a massless mechanism from its ``stability_coordinates`` c: the tangent
+    K = -df/dq eliminated onto c by its Schur complement, K_cc - K_ci K_ii^-1 K_ic (the
+    internal unknowns i follow c through their own rows); its symmetric part's lowest
+    eigenvalue, and the direction in q (the internal unknowns following)."""
+    c = mech.stability_coordinates
+    if c is None or mech.n_z:
+        return None, None
+    c = np.asarray(c, dtype=int)
+    i = np.setdiff1d(np.arange(mech.n_q), c)
+    K = -np.asarray(F.static_jacobian(q, p)[1])
+    Kcc, Kci, Kic, Kii = K[np.ix_(c, c)], K[np.ix_(c, i)], K[np.ix_(i, c)], K[np.ix_(i, i)]
+    try:
+        X = np.linalg.solve(Kii, Kic) if i.size else np.zeros((0, c.size))
+    except np.linalg.LinAlgError:
+        return None, None
+    S = Kcc - Kci @ X
+    if S.size == 0:
+        return float("inf"), np.zeros(mech.n_q)
+    lam, vec = np.linalg.eigh(0.5 * (S + S.T))
+    direction = np.zeros(mech.n_q)
+    direction[c] = vec[:, 0]
+    direction[i] = -X @ vec[:, 0]
+    return float(lam[0]), direction
+
+
 def _stability(F, mech, q, z, p):
     lam, _ = _unstable_direction(F, mech, q, z, p)
     if lam is None:
         return None, float("nan")
     if not np.isfinite(lam):
         return True, lam
-    K, *_ = F.tangents(q, np.zeros(mech.n_v), z, 0.0, p)
-    scale = max(float(np.max(np.abs(np.asarray(K)))), 1e-300)
+    if F.massless:
+        K = np.asarray(F.static_jacobian(q, p)[1])
+    else:
+        K = np.asarray(F.tangents(q, np.zeros(mech.n_v), z, 0.0, p)[0])
+    scale = max(float(np.max(np.abs(K))), 1e-300)
     return bool(lam > -1e-9 * scale), lam
 
 
@@ -379,8 +413,7 @@ def _check(S, F, mech, x, p, tol, require_stable):
     if not margin[0] >= 0.0:  # an admissibility bound violated (or NaN)
         why = F.bound_violations(x[:mech.n_q], np.zeros(mech.n_v), x[mech.n_q:], 0.0, p)
         return False, "not admissible: " + "; ".join(why or ["a bound is NaN"]), {}
-    stable, lam = (None, float("nan")) if F.massless else \
-        _stability(F, mech, x[:mech.n_q], x[mech.n_q:], p)
+    stable, lam = _stability(F, mech, x[:mech.n_q], x[mech.n_q:], p)
     info = {"residual_norm": nr, "stable": stable, "min_stiffness": lam, "warnings": ()}
     if stable is False:
         if require_stable:

@@ -182,7 +182,8 @@ class MechanismFunctions:
         r = ca.substitute([r], [ca.vertcat(a, m.z)], [w])[0]
         G = ca.Function("acc_res", [w, m.q, m.v, m.t, m.p], [r])
         rf = ca.rootfinder(f"{m.name}_consistent", "newton", G,
-                           {"abstol": 1e-12, "max_iter": 20, "error_on_fail": False})
+                           {"abstol": 1e-12, "max_iter": 20, "error_on_fail": False,
+                            "show_eval_warnings": False})
         q, v, z0 = ca.MX.sym("q", m.n_q), ca.MX.sym("v", m.n_v), ca.MX.sym("z0", m.n_z)
         t, p = ca.MX.sym("t"), ca.MX.sym("p", m.params.n)
         w_sol = rf(ca.vertcat(ca.MX.zeros(m.n_v), z0), q, v, t, p)

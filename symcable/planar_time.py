@@ -26,7 +26,7 @@ from .results_time import Trajectory
 from .scene import load_scene
 from .solvers import steps as _steps
 from .solvers.galpha1 import coefficients, galpha1_residual
-from .solvers.integrate import check_positive, integrate
+from .solvers.integrate import ERROR_TARGET, check_positive, error_warning, integrate
 from .solvers.options import RK4, GeneralizedAlphaFirstOrder
 from .solvers.stepcache import STEP_CACHE
 
@@ -139,8 +139,8 @@ def simulate(scene, duration: float, dt: float | None = None, method: str = "gen
     try:
         run = integrate(mech, duration, check_positive("dt", dt, "s"), method=opts, p=p, q0=q0, v0=v0,
                         save_every=save_every, save_times=save_times, max_samples=MAX_SAMPLES,
-                        progress=progress,
-                        codegen=codegen, label=meth.value)
+                        progress=progress, codegen=codegen, label=meth.value,
+                        period=model.period or None)
     except ConvergenceError as exc:
         failure, run = exc, exc.partial
     st = run.stats
@@ -154,12 +154,19 @@ def simulate(scene, duration: float, dt: float | None = None, method: str = "gen
     stats.update({k: st[k] for k in ("compiled", "steps", "newton_iterations",
                                       "newton_iterations_max", "step_time", "us_per_step",
                                       "samples")})
+    if ga:
+        stats.update({k: st.get(k) for k in ("error_estimate", "error_estimate_scaled",
+                                              "motion_range", "error_memory", "dt_accurate")})
+    warns = ()
+    if failure is None and ga and (stats["error_estimate"] or 0.0) > ERROR_TARGET:
+        warns = (error_warning(meth.value, stats, "the response (states and tensions alike)",
+                               model.period or None),)
     states = np.hstack([run.q, run.v])[:, np.argsort(np.concatenate([iq, iv]))]
     stats["wall_time"] = _time.perf_counter() - wall0
     traj = Trajectory.from_outputs(model, scene_name=scene_name, time=run.time, states=states,
                                    outputs=run.outputs, method=meth.value, dt=st["dt"],
                                    status="failed" if failure is not None else "converged",
-                                   stats=stats)
+                                   stats=stats, warnings=warns)
     if failure is not None:
         diag = dict(failure.diagnostics, method=meth.value)
         raise ConvergenceError(str(failure), partial=traj, diagnostics=diag)

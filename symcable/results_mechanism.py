@@ -92,9 +92,11 @@ class MechanismTrajectory(_Outputs):
     status : str     ``"converged"`` (every step's Newton iteration converged) or ``"failed"``
     stats : dict     ``method``, ``dt`` (s), ``steps``, ``newton_iterations`` (total) and
                      ``newton_iterations_max`` (per step; first-order generalized-alpha),
-                     ``max_constraint`` (max |g| over the saved steps), ``wall_time`` (s);
-                     see :func:`symcable.integrate` for the rest
-    warnings : tuple of str
+                     ``max_constraint`` (max |g| over the saved steps), ``wall_time`` (s),
+                     ``error_estimate`` (generalized-alpha: the estimated error of the run
+                     relative to the range of its motion); see :func:`symcable.integrate`
+                     for the rest
+    warnings : tuple of str  (with one when ``error_estimate`` exceeds 1 %)
     """
 
     mechanism: str

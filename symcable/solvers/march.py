@@ -5,14 +5,16 @@ m samples per call, so a long run pays the Python interpreter once per call (abo
 _CALL_TARGET s of stepping), never once per step. A call whose samples include a failed step
 (Newton did not converge) or a state that blew up (not finite, or beyond BLOWUP times its
 scale) is replayed one step at a time from its last good sample to find the step, its time
-and its residual or worst entry. :func:`symcable.solvers.integrate.integrate` is the user's
-entry point.
+and its residual or worst entry. Every call returns every step's state, from which
+:class:`RunningEstimate` makes the run's error estimate in NumPy (the step itself is unchanged).
+:func:`symcable.solvers.integrate.integrate` is the user's entry point.
 """
 from __future__ import annotations
 
 import math
 import time
 from collections import OrderedDict
+from dataclasses import dataclass
 
 import casadi as ca
 import numpy as np
@@ -26,7 +28,8 @@ from .schedule import runs, with_checkpoints
 from .stepcache import STEP_CACHE, maybe_compiled
 from .steps import galpha_step, rk4_step
 
-__all__ = ["BLOWUP", "IMPLICIT", "method_name", "run_adaptive", "get_stepper", "run_fixed"]
+__all__ = ["BLOWUP", "IMPLICIT", "EstimatePlan", "RunningEstimate", "method_name", "run_adaptive",
+           "get_stepper", "run_fixed"]
 
 IMPLICIT = (GeneralizedAlpha, GeneralizedAlphaFirstOrder)
 #: a state beyond this multiple of its scale (or not finite) means the run blew up
@@ -35,6 +38,10 @@ BLOWUP = 1e6
 _CALL_TARGET = 0.2
 #: adaptive steps: safety factor, largest growth and cut per batch
 SAFETY, GROW, CUT = 0.8, 2.0, 0.2
+#: steps the running error estimate takes at once (its arrays stay in the cache)
+_CHUNK = 256
+#: smallest range of the motion (relative to the scales) the error estimate is relative to
+MOTION_FLOOR = 1e-6
 
 
 def method_name(method) -> str:
@@ -43,11 +50,119 @@ def method_name(method) -> str:
             GeneralizedAlphaFirstOrder: "generalized-alpha-first-order"}.get(type(method), "rk4")
 
 
+@dataclass(frozen=True)
+class EstimatePlan:
+    """How a method's steps feed the running error estimate (:class:`RunningEstimate`).
+
+    ``kind``: ``"rates"`` (first-order generalized-alpha: the local error of y = (q, v) from
+    the second difference of the carried rates y', C h |y'_{n+1} - 2 y'_n + y'_{n-1}|, C the
+    scheme's error constant), ``"step"`` (second-order generalized-alpha: the step's own
+    Newmark estimate of the position error, its ``lte`` output) or ``"none"`` (RK4). The
+    estimate and the range of the motion cover the ``n_est`` leading entries of the state
+    (y, or q), over ``scale``."""
+
+    kind: str
+    n_est: int
+    scale: np.ndarray
+    constant: float = 0.0
+
+    @staticmethod
+    def of(mech: Mechanism, method) -> "EstimatePlan":
+        sq, sv = (np.asarray(s, dtype=float) for s in (mech.scales.q, mech.scales.v))
+        if isinstance(method, GeneralizedAlphaFirstOrder):
+            return EstimatePlan("rates", mech.n_q + mech.n_v, np.concatenate([sq, sv]),
+                                method.error_constant)
+        if isinstance(method, GeneralizedAlpha):
+            return EstimatePlan("step", mech.n_q, sq)
+        return EstimatePlan("none", 0, np.zeros(0))
+
+
+class RunningEstimate:
+    """The run's error estimate, fed with every step's state as the run goes (in NumPy, on
+    the states the batched calls return: nothing is added to the step itself).
+
+    Each step's local error d_j relative to the scales (max-norm; :class:`EstimatePlan`)
+    feeds a leaky sum E_{j+1} = exp(-h / tau) E_j + d_j. The global error of a response of
+    period P = 2 pi tau is about the local errors of its last radian: a harmonic error
+    source of d per step, d / h per unit time, integrated over time gives an error of
+    amplitude d / (h omega), local error times steps per radian; the leak forgets older
+    errors as a forced, damped response does. A step whose three carried rates do not all
+    come from steps of its size adds nothing (the first two of a run, and the two after a
+    change of step: the rates carry an offset proportional to h). Also kept: the least and
+    largest value of each covered state entry (the range of the motion)."""
+
+    def __init__(self, plan: EstimatePlan, x: np.ndarray, tau: float):
+        self.plan, self.tau = plan, tau
+        y = np.asarray(x, dtype=float)
+        n = plan.n_est
+        self.lo, self.hi = y[:n].copy(), y[:n].copy()
+        self.rates = y[n:2 * n].copy() if plan.kind == "rates" else None  # the last y'
+        self.prev_rates = None  # the y' before it
+        self.h_prev = (math.nan, math.nan)  # sizes of the steps that made them
+        self.E, self.E_max = 0.0, 0.0
+
+    def update(self, h: float, X: np.ndarray, lte: np.ndarray) -> None:
+        """Take k more steps of size h (s): their states X (k, n_x) and lte (k,)."""
+        if self.plan.kind == "none":
+            return
+        for s in range(0, X.shape[0], _CHUNK):  # pieces that stay in the cache
+            self._update(h, X[s:s + _CHUNK], lte[s:s + _CHUNK])
+
+    def _update(self, h, X, lte):
+        plan, k = self.plan, X.shape[0]
+        n = plan.n_est
+        self.lo = np.minimum(self.lo, X[:, :n].min(axis=0))
+        self.hi = np.maximum(self.hi, X[:, :n].max(axis=0))
+        if plan.kind == "step":
+            d = np.maximum(np.asarray(lte, dtype=float), 0.0)
+        else:
+            R = np.vstack([self.prev_rates if self.prev_rates is not None else self.rates,
+                           self.rates, X[:, n:2 * n]])
+            d2 = np.abs(R[2:] - 2.0 * R[1:-1] + R[:-2]) * (1.0 / plan.scale)
+            d = plan.constant * h * np.max(d2, axis=1)
+            if not (h == self.h_prev[0] and h == self.h_prev[1]):
+                d[0] = 0.0
+            if k > 1 and not h == self.h_prev[0]:
+                d[1] = 0.0
+            self.prev_rates = R[-2].copy()
+            self.rates = R[-1].copy()
+        self.h_prev = (h, h) if k > 1 else (h, self.h_prev[0])
+        E = _leaky_sum(self.E, d, h / self.tau)
+        self.E, self.E_max = float(E[-1]), max(self.E_max, float(np.max(E)))
+
+    def stats(self) -> dict:
+        """``error_estimate_scaled`` (the largest running estimate, relative to the scales),
+        ``motion_range`` (max_i (hi_i - lo_i) / scale_i over the run) and ``error_estimate``
+        (their ratio: the error relative to the range of the motion, or to MOTION_FLOOR
+        when the motion is smaller: a state at rest up to round-off is not a motion); None
+        without an estimate (RK4)."""
+        if self.plan.kind == "none":
+            return {"error_estimate": None, "error_estimate_scaled": None, "motion_range": None}
+        rng = float(np.max((self.hi - self.lo) / self.plan.scale)) if self.lo.size else 0.0
+        e = self.E_max
+        return {"error_estimate": e / max(rng, MOTION_FLOOR), "error_estimate_scaled": e,
+                "motion_range": rng}
+
+
+def _leaky_sum(E0: float, d: np.ndarray, a: float) -> np.ndarray:
+    """E_j = exp(-a) E_{j-1} + d_j from E0, for every j, in chunks short enough that
+    exp(a j) stays below e^30 (E_j = exp(-a j) (E0 + sum_i exp(a i) d_i) within a chunk)."""
+    out = np.empty(d.size)
+    c = max(1, int(30.0 / a)) if a > 0 else max(d.size, 1)
+    E = E0
+    for s in range(0, d.size, c):
+        dd = d[s:s + c]
+        j = a * np.arange(1, dd.size + 1)
+        out[s:s + dd.size] = np.exp(-j) * (E + np.cumsum(np.exp(j) * dd))
+        E = out[s + dd.size - 1]
+    return out
+
+
 class _Stepper:
     """A method's step Function with its constant inputs, and batches of it:
-    ``batch(S, m)(x, t0, h, p) -> (X (n_x, m), err, lte, iterations, iterations_max,
-    failed)``, m samples S steps apart from t0, each (1, m) per sample (the largest err and
-    lte over its S steps, the Newton iterations summed and largest, the failed steps)."""
+    ``batch(S, m)(x, t0, h, p) -> (X (n_x, S m), err, lte, iterations, failed)``, the S m
+    steps of m samples S steps apart from t0, every step's values (each (1, S m)); the
+    last column of every S is a sample (see :meth:`run`)."""
 
     def __init__(self, mech: Mechanism, method, codegen, lte: bool = False):
         self.mech, self.method = mech, method
@@ -64,6 +179,7 @@ class _Stepper:
         # what a trajectory keeps of x: (q, v), and with GeneralizedAlpha also z (last)
         self.n_keep = mech.n_q + mech.n_v if self.full or isinstance(method, RK4) else None
         self.compiled = bool(self.fn.is_a("External"))
+        self.est = EstimatePlan.of(mech, method)
         self._batches: OrderedDict = OrderedDict()
 
     def batch(self, S: int, m: int) -> FastCall:
@@ -78,12 +194,10 @@ class _Stepper:
         out = inner(x, t0 + h * ca.DM(np.arange(S)).T, h, p, *self.consts)
         X, E, L = out[:3]
         IT, FL = (out[3], out[4]) if self.full else (ca.MX.zeros(1, S), 1 - (E <= self.tol))
-        sample = ca.Function(f"{f.name()}_sample{S}", [x, t0, h, p],
-                             [X[:, S - 1], ca.mmax(E), ca.mmax(L), ca.sum2(IT), ca.mmax(IT),
-                              ca.sum2(FL)])
+        sample = ca.Function(f"{f.name()}_sample{S}", [x, t0, h, p], [X[:, S - 1], X, E, L, IT, FL])
         outer = sample.mapaccum(f"{f.name()}_sample{S}_x{m}", m, [0], [0])
         fn = FastCall(ca.Function(f"batch{S}x{m}", [x, t0, h, p],
-                                  outer(x, t0 + (S * h) * ca.DM(np.arange(m)).T, h, p)))
+                                  outer(x, t0 + (S * h) * ca.DM(np.arange(m)).T, h, p)[1:]))
         self._batches[(S, m)] = fn
         if len(self._batches) > 64:
             self._batches.popitem(last=False)
@@ -91,9 +205,15 @@ class _Stepper:
 
     def run(self, S, m, x, t0, h, p) -> tuple:
         """``batch(S, m)`` evaluated: numpy arrays, X (m, n_x) (a sample per row) and the
-        per-sample values (m,)."""
-        X, *rest = self.batch(S, m)(x, t0, h, p)
-        return (X.reshape(m, -1),) + tuple(rest)
+        per-sample values (m,): the largest err and lte over its S steps, the Newton
+        iterations summed and largest, the failed steps; then every step's states
+        (S m, n_x) and lte (S m,)."""
+        Xs, E, L, IT, FL = self.batch(S, m)(x, t0, h, p)
+        Xs = Xs.reshape(S * m, -1)
+        per = [a.reshape(m, S) for a in (E, L, IT, FL)]
+        E, Lm = (np.fmax.reduce(a, axis=1) for a in per[:2])  # NaN skipped, as CasADi's mmax
+        IT, FL = per[2], per[3]
+        return (Xs[S - 1::S], E, Lm, IT.sum(axis=1), IT.max(axis=1), FL.sum(axis=1), Xs, L)
 
 
 def get_stepper(mech, method, codegen, lte) -> _Stepper:
@@ -113,10 +233,12 @@ def _bad_state(X: np.ndarray, inv_scale: np.ndarray) -> np.ndarray:
     return ~(big <= BLOWUP) | ~np.isfinite(rest)  # NaN fails every comparison
 
 
-def run_fixed(stepper, x, t0, h, p, idx, scale, progress, label):
+def run_fixed(stepper, x, t0, h, p, idx, scale, progress, label, tau):
     """Fixed steps to ``idx[-1]``, saving the steps ``idx``: (saved k, saved x (n, n_keep),
-    failure diagnostics or None, stats)."""
+    failure diagnostics or None, stats); ``tau`` the running error estimate's memory, s
+    (its stats: :meth:`RunningEstimate.stats`)."""
     inv_scale = 1.0 / scale
+    track = RunningEstimate(stepper.est, x, tau)
     keep_cols = slice(0, stepper.n_keep)
     saved_x, saved_k = ([x[None, keep_cols]], [np.zeros(1, int)]) if idx[0] == 0 else ([], [])
     k, iters, iters_max, worst, lte_max, step_time = 0, 0.0, 0.0, 0.0, -np.inf, 0.0
@@ -132,7 +254,7 @@ def run_fixed(stepper, x, t0, h, p, idx, scale, progress, label):
                 stepper.batch(S, m)  # built outside the timed call
                 t_call = time.perf_counter()
                 try:
-                    X, E, L, IT, ITM, FL = stepper.run(S, m, x, t0 + k * h, h, p)
+                    X, E, L, IT, ITM, FL, Xs, Ls = stepper.run(S, m, x, t0 + k * h, h, p)
                     bad = (FL > 0) | _bad_state(X, inv_scale)
                     n_good = int(np.argmax(bad)) if np.any(bad) else m
                 except RuntimeError:  # e.g. a singular Newton matrix: located step by step
@@ -143,13 +265,15 @@ def run_fixed(stepper, x, t0, h, p, idx, scale, progress, label):
                     saved_x.append(X[:n_good, keep_cols])
                     saved_k.append(k + S * np.arange(1, n_good + 1))
                     x, k = X[n_good - 1].copy(), k + S * n_good
+                    track.update(h, Xs[:n_good * S], Ls[:n_good * S])
                     iters += float(np.sum(IT[:n_good]))
                     iters_max = max(iters_max, float(np.max(ITM[:n_good])))
                     worst = max(worst, float(np.nanmax(np.r_[E[:n_good], 0.0])))
                     lte_max = max(lte_max, float(np.nanmax(np.r_[L[:n_good], -np.inf])))
                 if n_good < m:
-                    failure, x, k, extra, it_good = _replay(stepper, x, k, t0, h, p, (m - n_good) * S,
-                                                            set(idx.tolist()), inv_scale)
+                    failure, x, k, extra, it_good = _replay(
+                        stepper, x, k, t0, h, p, (m - n_good) * S, set(idx.tolist()), inv_scale,
+                        track)
                     for kk, xx in extra:
                         saved_k.append(np.array([kk]))
                         saved_x.append(xx[None, keep_cols])
@@ -181,18 +305,20 @@ def run_fixed(stepper, x, t0, h, p, idx, scale, progress, label):
              "max_error_estimate": lte_max if np.isfinite(lte_max) else None,
              "step_time": step_time, "us_per_step": 1e6 * step_time / max(k, 1),
              "samples": int(ks.size)}
+    extra.update(track.stats())
     return ks.astype(float), Xs, failure, extra
 
 
-def _replay(stepper, x, k, t0, h, p, n_max, save_set, inv_scale):
+def _replay(stepper, x, k, t0, h, p, n_max, save_set, inv_scale, track):
     """Step one at a time from a good state to find the first bad step: (failure or None,
-    x, k of the last good step, the (k, x) of saved steps passed, Newton iterations)."""
+    x, k of the last good step, the (k, x) of saved steps passed, Newton iterations); the
+    good steps update ``track``."""
     saved, good_iters = [], 0.0
     for _ in range(n_max):
         diag = {"time_last_good": t0 + k * h, "time": t0 + (k + 1) * h, "step": k + 1,
                 "method": method_name(stepper.method)}
         try:
-            X, E, _, IT, _, FL = stepper.run(1, 1, x, t0 + k * h, h, p)
+            X, E, _, IT, _, FL, _, L = stepper.run(1, 1, x, t0 + k * h, h, p)
         except RuntimeError as exc:
             diag.update(reason="error", message=str(exc).strip().splitlines()[-1], residual=float("nan"))
             return diag, x, k, saved, good_iters
@@ -212,6 +338,7 @@ def _replay(stepper, x, k, t0, h, p, n_max, save_set, inv_scale):
                         newton_correction=float(E[0]), residual=float(E[0]), _x=(x, x1))
             return diag, x, k, saved, good_iters
         x, k = x1, k + 1
+        track.update(h, X, L)
         good_iters += float(IT[0])
         if k in save_set:
             saved.append((k, x.copy()))
@@ -232,8 +359,12 @@ def _residual_of_failure(stepper, failure, h, p):
         failure["residual"] = float(np.max(np.abs(h * r * step_scales(mech)[ny:])))
 
 
-def run_adaptive(stepper, x, t0, h, duration, p, method, tol, batch):
+def run_adaptive(stepper, x, t0, h, duration, p, method, tol, batch, tau):
+    """Steps adapted in batches to keep the Taylor estimate of each step's local error
+    below ``tol`` (see :func:`symcable.solvers.integrate.integrate`): (times, states, failure
+    or None, stats, with the running error estimate of :meth:`RunningEstimate.stats`)."""
     t_end = t0 + duration
+    track = RunningEstimate(stepper.est, x, tau)
     times, Xs = [t0], [x.copy()]
     t, steps, rejected = t0, 0, 0
     h_min, h_max, worst_lte = np.inf, 0.0, 0.0
@@ -245,7 +376,7 @@ def run_adaptive(stepper, x, t0, h, duration, p, method, tol, batch):
         if k * h >= remaining:
             k = max(1, int(np.ceil(remaining / h - 1e-9)))
             h = remaining / k
-        X, E, LTE, _, _, FL = stepper.run(1, k, x, t, h, p)
+        X, E, LTE, _, _, FL, _, _ = stepper.run(1, k, x, t, h, p)
         est = float(np.max(LTE)) if np.all(np.isfinite(LTE)) else np.inf
         newton_ok = not np.any(FL > 0)
         if not newton_ok or est > tol:
@@ -267,8 +398,10 @@ def run_adaptive(stepper, x, t0, h, duration, p, method, tol, batch):
         h_min, h_max = min(h_min, h), max(h_max, h)
         worst_lte = max(worst_lte, est)
         x = X[-1]
+        track.update(h, X, LTE)
         t += k * h
         h *= min(GROW, SAFETY * (tol / max(est, 1e-300)) ** (1.0 / 3.0))
     extra = {"dt": None, "steps": steps, "rejected_batches": rejected, "dt_min": h_min,
              "dt_max": h_max, "max_error_estimate": worst_lte, "tol": tol, "samples": len(times)}
+    extra.update(track.stats())
     return np.array(times), np.array(Xs), failure, extra

@@ -279,7 +279,7 @@ def _rootfinder(mech: Mechanism, tol: float, max_iter: int, with_lte: bool) -> c
     G = ca.Function("ga1_res", [w, x, t, h, p, st, sc], [scaled(w)])
     rf = ca.rootfinder(f"{mech.name}_ga1_newton", "newton", G,
                        {"abstol": tol, "abstolStep": 1e-14, "max_iter": max_iter,
-                        "error_on_fail": False})
+                        "error_on_fail": False, "show_eval_warnings": False})
     y0, yd0 = x[:ny], x[ny:]
     w1 = rf(yd0, x, t, h, p, st, sc)
     y1 = y0 + h * yd0 + coefficients(st[0])[2] * h * (w1 - yd0)

@@ -83,7 +83,7 @@ def galpha_step(mech: Mechanism, opts: GeneralizedAlpha) -> ca.Function:
     G = ca.Function("ga_res", [w, x0, t, h, p], [residual(w)])
     rf = ca.rootfinder(f"{mech.name}_ga_newton", "newton", G,
                        {"abstol": opts.tol, "abstolStep": 1e-14, "max_iter": opts.max_iter,
-                        "error_on_fail": False})
+                        "error_on_fail": False, "show_eval_warnings": False})
     w_guess = ca.vertcat(a0, _seg(x0, nq + 3 * nv, nq + 3 * nv + nz))
     w1 = rf(w_guess, x0, t, h, p)
     q1, v1, a1, ab1, z1 = state(w1)

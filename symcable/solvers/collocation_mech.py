@@ -59,17 +59,19 @@ permutes them) the system in an order of its own:
   after the pieces they separate, down to chains of at most 10 intervals (``_LEAF``), each
   in CasADi's approximate-minimum-degree order (AMD) of the symmetrised pattern.
 
-At the defaults L + U is then 3.3 million entries, 0.6-0.7 s per factorisation (0.3 s at
-K = 20, 1.4 s at K = 80: linear in K). Measured against it on the same Jacobian: AMD of the
-whole ring 9.9 million, 6-8 s (minimum degree cuts a long ring badly: its symbolic fill
-grows 7-fold from K = 20 to 40); a band (intervals folded 0, K-1, 1, K-2, ..., state by
-state inside each in the mechanism's AMD order, as harmonic balance orders its
-coefficients) 15 million, 2.1 s; chains of at most 5 or 20 intervals 0.65 or 1.75 s at
-K = 40 and 2.2 or 1.9 s at K = 80; MUMPS as CasADi's ``linear_solver`` 1.1-1.6 s on the
-system as written (and it prints a banner on stdout when the process ends); CasADi's
-``qr`` 190-240 s at K = 20. The order costs 0.15-0.4 s once per system, and the answer is
-that of the system as written to rounding (fairlead tension within 1e-15 of its range,
-the same 3 iterations).
+At the defaults L + U is then 3.3 million entries, 0.45-0.7 s per factorisation (0.2-0.3 s
+at K = 20, 1.4 s at K = 80: linear in K), and a whole ``solve_periodic`` on a fresh model
+(transient start and builds included) takes 2.1 s against 65 s as written (0.83 s against
+14 s at K = 10, 1.15 s against 34 s at K = 20; medians of 3, interleaved), IPOPT 2.6 s.
+Measured against it on the same Jacobian: AMD of the whole ring 9.9 million, 6-8 s
+(minimum degree orders a long ring badly: from K = 20 to 40 its fill grows 3.5-fold, its
+operations 9-fold); a band (intervals folded 0, K-1, 1, K-2, ..., state by state inside
+each in the mechanism's AMD order, as harmonic balance orders its coefficients) 15 million,
+2.1 s; chains of at most 5 or 20 intervals 0.65 or 1.75 s at K = 40 and 2.2 or 1.9 s at
+K = 80; MUMPS as CasADi's ``linear_solver`` 1.1-1.6 s on the system as written (and it
+prints a banner on stdout when the process ends); CasADi's ``qr`` 190-240 s at K = 20. The
+order costs 0.15-0.45 s once per system, and the answer is that of the system as written
+to rounding (fairlead tension within 1e-15 of its range, the same 3 iterations).
 
 Start
 -----

@@ -119,7 +119,10 @@ class SquareSystem:
     diagonal pivot, so the fill, and with it the time of every factorisation, is that of the
     order the system is written in; the Newton solvers (the rootfinder and the damped
     fallback) see the system permuted by ``order``, IPOPT the system as written (MUMPS
-    orders it itself)."""
+    orders it itself). Their Jacobian is that of the system as written, permuted
+    (:meth:`_jacobian`, the rootfinder's ``jacobian_function``): CasADi differentiating
+    the permuted residual itself took 0.2-0.3 s longer to build and 0.14 s against 0.10 s
+    per evaluation (collocation, seed 001, K = 40)."""
 
     def __init__(self, name: str, residual: ca.Function, compiled: bool = False,
                  order: Callable[[], tuple] | None = None):

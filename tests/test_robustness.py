@@ -90,3 +90,16 @@ def test_galpha_judges_its_last_iterate():
     x1, err, _, _, failed = kern(x0, 0.0, 0.01, mech.params.values,
                                  [opts.rho_inf, opts.tol], step_scales(mech))
     assert float(failed) == 0.0 and float(err) <= opts.tol
+
+
+def test_no_raw_casadi_warnings_from_a_nan_iterate(capfd):
+    """A square system whose Newton iterate leaves the domain (sqrt of a negative): CasADi
+    printed 'NaN detected for output ...' to stderr from inside periodic solves. The solver
+    reports the failure in its result, and nothing reaches stderr."""
+    from symcable.solvers.periodic_common import SquareSystem
+
+    w, P = ca.MX.sym("w"), ca.MX.sym("P")
+    sys_ = SquareSystem("nan_probe", ca.Function("r", [w, P], [ca.sqrt(w) - P]))
+    out = sys_.solve(np.array([-1.0]), np.array([2.0]), solver="newton", tol=1e-10, max_iter=5)
+    assert not out["residual"] <= 1e-10  # not converged (NaN or large), and said so
+    assert "NaN detected" not in capfd.readouterr().err

@@ -179,7 +179,8 @@ class SquareSystem:
         if key not in self._solvers:
             res, _, cols = self._ordered()
             opts = {"abstol": tol, "abstolStep": 1e-15, "max_iter": max_iter,
-                    "linear_solver": "csparse", "error_on_fail": False}
+                    "linear_solver": "csparse", "error_on_fail": False,
+                    "show_eval_warnings": False}
             if cols is not None:  # else CasADi differentiates the system as written itself
                 opts["jacobian_function"] = self._jacobian()
             self._solvers[key] = ca.rootfinder(f"{self.name}_newton", "newton", res, opts)
@@ -240,7 +241,7 @@ class SquareSystem:
             # derivatives of the whole system to build)
             lam_f, lam_g = ca.MX.sym("lam_f"), ca.MX.sym("lam_g", self.n)
             opts = {"ipopt": dict(options), "print_time": False, "error_on_fail": False,
-                    "calc_lam_p": False,
+                    "calc_lam_p": False, "show_eval_warnings": False,
                     "hess_lag": ca.Function("nlp_hess_l", [w, P, lam_f, lam_g],
                                             [ca.MX(self.n, self.n)],
                                             ["x", "p", "lam_f", "lam_g"], ["hess_gamma_x_x"])}

@@ -262,9 +262,9 @@ def periodic_run(scene, method: str, **kw):
         info = {"status": sol.status, "iterations": s["iterations"],
                 "guess_iterations": guess.get("iterations"), "core_s": s["solve_time"],
                 "unknowns": s.get("unknowns"), "code": "C" if s.get("compiled") else "VM"}
-        if method == "shooting":  # iterations are periods marched, each of `steps` steps
-            info.update(steps=s["steps"] * s["iterations"],
-                        iter_per_step=s["newton_iterations"] / (s["steps"] * s["iterations"]))
+        if method == "shooting":  # iterations: periods marched, each of `steps` steps
+            info.update(steps=s["steps"] * s["iterations"], iter_per_step=None,
+                        newton_iterations=s["newton_iterations"])
         m = metrics(sol.fairlead_tension)
         # the solution's own FFT must give the same first harmonic (one period, uniform)
         if abs(sol.fairlead_tension_harmonics_amplitude[1] - m["a1_N"]) > 1e-9 * m["a1_N"]:
@@ -567,7 +567,7 @@ def summary_markdown(res: dict) -> str:
         elif r["method"] == "generalized-alpha":
             its = f"{its} ({r['iter_per_step']:.2f}/step)"
         elif r["method"] == "shooting":
-            its = f"{its} periods ({r['iter_per_step']:.2f} Newton/step)"
+            its = f"{its} periods"
         elif r["guess_iterations"] is not None:
             its = f"{its} (+{r['guess_iterations']} guess)"
         L.append(f"| {r['method']} | {r['config']} | {r['code']} | {_pct(r['error'], '{:.3g}')} | "

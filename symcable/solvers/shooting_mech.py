@@ -132,6 +132,7 @@ class PeriodMap:
             # the step kernel itself, mapped: a wrapper Function per step would cost a
             # virtual-machine call per step around the compiled one
             kern = galpha1_kernel(mech, self.method, lte=False, codegen=codegen)
+            self.compiled = kern.is_a("External")
             consts = (ca.DM([self.method.rho_inf, self.method.tol]), ca.DM(step_scales(mech)))
             fast = (kern, consts)
             exact = galpha1_step(mech, dataclasses.replace(self.method, newton="rootfinder"),
@@ -142,6 +143,7 @@ class PeriodMap:
             self.method = (GeneralizedAlpha() if rho_inf is None
                            else GeneralizedAlpha(rho_inf=rho_inf))
             fast = exact = galpha_step(mech, self.method)
+            self.compiled = False
             self.n_u = 2 * nq + 2 * nv
             n_x = self.n_u + nz
         self._exact, self._n_x, self._jac = exact, n_x, None
@@ -404,6 +406,7 @@ def solve_shooting(mech: Mechanism, period: float, opts: Shooting, p, start: Sta
                   (" (first order)" if pm.first_order else ""),
                   "history": history, "steps": N, "rho_inf": pm.method.rho_inf,
                   "tolerance": tol, "unknowns": nu, "wall_time": time.perf_counter() - t0,
+                  "compiled": pm.compiled,
                   "state0": np.concatenate([X[:nu, -1], z_of(X)])})
     if J is not None:
         mult = np.linalg.eigvals(J)

@@ -47,8 +47,11 @@ def test_fuzz_classifies_every_scene(fuzz):
     assert sum(res["counts"].values()) == len(recs) == res["n"]
     for key in ("correct", "wrong", "nan", "clean error", "ugly error", "hang"):
         assert key in res["counts"]
-    # the generator keeps to the documented scene checks: nothing is refused as input
-    assert res["counts"]["rejected"] == 0
+    # a scene refused as input (SceneError) is counted, not lost; the generator keeps to the
+    # documented checks, so only the weightless free-end scenes with no load at all (their
+    # shape is undetermined) may be refused
+    assert all("weightless, no end force" in r["variant"]
+               for r in recs if r["outcome"] == "rejected")
     # the classes are all there, in the stated proportions (largest remainder of 100 scenes)
     from fuzz_scenes import CLASSES
     assert {c: sum(cc.values()) for c, cc in res["by_class"].items()} == \

@@ -10,8 +10,9 @@ Outcomes (``record["outcome"]``):
   the reference beyond the discretisation tolerance;
 * ``nan`` -- a non-finite number in the returned solution;
 * ``clean error`` -- ConvergenceError or another SymcableError, with a message;
-* ``rejected`` -- SceneError: the scene was refused as input (the generator keeps to the
-  documented checks, so this should not happen);
+* ``rejected`` -- SceneError: the scene was refused as input, with a message (the generator
+  keeps to the documented checks; a weightless free end with no load, whose shape is
+  undetermined, is the one scene a validation may rightly refuse);
 * ``ugly error`` -- any other exception (its type and the traceback's last line);
 * ``hang`` and ``crash`` are decided by the runner (time limit; worker died).
 
@@ -208,13 +209,16 @@ def run_scene(item: dict, notify=None) -> dict:
     rec["printed"] = printed.text[-500:]
     if notify:
         notify("refs", {k: v for k, v in rec.items() if k != "solution"})
+    rec.update(id=item["id"], cls=item["class"], variant=item["variant"])
+    if rec["outcome"] == "rejected":   # refused as input: nothing to compare
+        rec.pop("solution", None)
+        return dict(rec, refs={}, agreement={"names": [], "pairs": [], "ok": True})
     t0 = time.perf_counter()
     refs = fr.references(item["scene"])
     refs["refs"]["penalty"] = penalty_effect(item["scene"], refs["refs"])
     t_ref = time.perf_counter() - t0
     rec = classify(item["scene"], refs["refs"], rec)
-    rec.update(id=item["id"], cls=item["class"], variant=item["variant"], ref_time_s=t_ref,
-               refs=fr.strip(refs["refs"]), agreement=refs["agreement"])
+    rec.update(ref_time_s=t_ref, refs=fr.strip(refs["refs"]), agreement=refs["agreement"])
     return rec
 
 
@@ -247,6 +251,9 @@ class captured_output:
 
 if __name__ == "__main__":  # replay one scene from a JSON file: python fuzz_classify.py f.json id
     import json
+    from pathlib import Path
+    if not os.environ.get("PYTHONPATH"):   # this tree's symcable, as run.py measures it
+        sys.path.insert(1, str(Path(__file__).resolve().parents[2]))
     items = json.load(open(sys.argv[1]))
     items = items if isinstance(items, list) else items["scenes"]
     for it in items:

@@ -214,7 +214,7 @@ def gen_free_end(rng) -> tuple[str, dict]:
     types = {fam: line_type(rng, fam)}
     w_l = abs(weight_of(types[fam])) * L
     force = None
-    if "end force" in variant:
+    if variant in ("end force", "weightless, end force"):
         force = end_force(rng, max(w_l, 1e3))
     extra = {}
     a = origin(rng)

@@ -1,0 +1,89 @@
+"""The fuzz study's --quick mode (studies/fuzz/run.py, 100 random planar scenes): it runs,
+classifies every scene, writes its outputs, and its independent references agree with each
+other. No wall-clock assertions (speed is measured in studies, never asserted in a test)."""
+from __future__ import annotations
+
+import csv
+import json
+
+import pytest
+
+from conftest import load_study
+
+#: Issue 11 turns this on: then --quick must show no wrong answer returned as converged, no
+#: NaN, no hang, no crash and no ugly error. On the code before issue 11 the quick set has
+#: dozens of wrong answers (compressed cables and struts, folded vertical lines, lines through
+#: the seabed), so for now the test only checks that they are counted.
+EXPECT_CLEAN = False
+
+
+@pytest.fixture(scope="module")
+def fuzz(tmp_path_factory):
+    out = tmp_path_factory.mktemp("fuzz")
+    res = load_study("fuzz").main(["--quick", "--out", str(out)])
+    return out, res
+
+
+def test_fuzz_writes_outputs(fuzz):
+    out, res = fuzz
+    for name in ("results.csv", "results.json", "failures.json", "summary.md"):
+        assert (out / name).is_file() and (out / name).stat().st_size > 0, name
+    with open(out / "results.csv", newline="") as fh:
+        rows = list(csv.DictReader(fh))
+    assert len(rows) == res["n"] == 100
+    fails = json.loads((out / "failures.json").read_text())
+    assert len(fails) == res["failures"] == sum(1 for r in res["records"] if r["outcome"] != "correct")
+    # every failure carries its scene, so the solver work can replay it
+    assert all("sections" in f["scene"] and f["what"] for f in fails)
+
+
+def test_fuzz_classifies_every_scene(fuzz):
+    _, res = fuzz
+    import fuzz_report
+    recs = res["records"]
+    assert {r["outcome"] for r in recs} <= set(fuzz_report.OUTCOMES)
+    assert "harness error" not in {r["outcome"] for r in recs}, \
+        [r["error"] for r in recs if r["outcome"] == "harness error"]
+    assert sum(res["counts"].values()) == len(recs) == res["n"]
+    for key in ("correct", "wrong", "nan", "clean error", "ugly error", "hang"):
+        assert key in res["counts"]
+    # a scene refused as input (SceneError) is counted, not lost; the generator keeps to the
+    # documented checks, so only the weightless free-end scenes with no load at all (their
+    # shape is undetermined) may be refused
+    assert all("weightless, no end force" in r["variant"]
+               for r in recs if r["outcome"] == "rejected")
+    # the classes are all there, in the stated proportions (largest remainder of 100 scenes)
+    from fuzz_scenes import CLASSES
+    assert {c: sum(cc.values()) for c, cc in res["by_class"].items()} == \
+        {c: round(100 * p) for c, p in CLASSES.items()}
+    # every wrong answer says what is wrong and which path and start the solver took
+    for r in recs:
+        if r["outcome"] == "wrong":
+            assert r["problems"] and "path" in r and "start" in r, r["id"]
+
+
+def test_fuzz_references_agree(fuzz):
+    """Where two or more references apply (closed-form catenary, the study's piecewise closed
+    form, MoorPy, ODE shooting), they agree within the study's stated tolerances: tensions to
+    1e-5 of the tension scale, grounded length and shape to 1e-4 of the line length."""
+    _, res = fuzz
+    assert res["agreement"]["disagreeing"] == [], res["agreement"]["table"]
+    compared = {row["pair"]: row["n"] for row in res["agreement"]["table"]}
+    # each reference is compared with another on a good share of the quick set
+    assert compared.get("piecewise-catenary", 0) >= 30, compared
+    assert compared.get("piecewise-moorpy", 0) >= 30, compared
+    assert compared.get("piecewise-ode", 0) >= 30, compared
+    # and most scenes have a reference to compare the solver with
+    with_ref = sum(1 for r in res["records"] if r.get("reference"))
+    assert with_ref >= 80, with_ref
+
+
+def test_fuzz_no_wrong_answers(fuzz):
+    _, res = fuzz
+    c = res["counts"]
+    bad = {k: c[k] for k in ("wrong", "nan", "hang", "crash", "ugly error")}
+    if not EXPECT_CLEAN:
+        pytest.skip(f"issue 11 not done yet: {bad}")
+    assert all(v == 0 for v in bad.values()), (bad, [
+        (r["id"], r["outcome"], r.get("problems") or r.get("error"))
+        for r in res["records"] if r["outcome"] in bad])

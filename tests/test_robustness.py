@@ -33,6 +33,12 @@ def test_one_segment_line_runs_every_analysis():
                       "motion": {"amplitude": [0.05, 0.0], "period": 10.0}})
     st = sc.solve_static(scene, codegen=False)
     assert st.strain.shape == (1,)
+    # the ends carry the weight: with one segment the node tension output had 3 entries
+    # for 2 nodes (a 1 x 1 SX sliced [:-1] is 1 x 0), which shifted every output after it
+    # (the end forces came out as (-W/2, 0) instead of (0, -W/2)); found by studies/fuzz
+    weight = 33.0 * (100.0 - 1025.0 * np.pi / 4 * 0.1 ** 2) * 9.80665
+    assert -(st.anchor_force[1] + st.fairlead_force[1]) == pytest.approx(weight, rel=1e-9)
+    assert st.tension.shape == (2,)
     per = sc.solve_periodic(scene, "shooting", codegen=False)
     assert per.tension_max.shape == (2,)  # on the two nodes
     tr = sc.simulate(scene, 10.0, 0.1, codegen=False)

@@ -10,11 +10,7 @@ import pytest
 
 from conftest import load_study
 
-#: Issue 11 turns this on: then --quick must show no wrong answer returned as converged, no
-#: NaN, no hang, no crash and no ugly error. On the code before issue 11 the quick set has
-#: dozens of wrong answers (compressed cables and struts, folded vertical lines, lines through
-#: the seabed), so for now the test only checks that they are counted.
-EXPECT_CLEAN = False
+
 
 
 @pytest.fixture(scope="module")
@@ -79,11 +75,12 @@ def test_fuzz_references_agree(fuzz):
 
 
 def test_fuzz_no_wrong_answers(fuzz):
+    """Issue 11: no wrong answer returned as converged, no NaN, no hang, no crash and no ugly
+    error on the quick set (before issue 11 the quick set had dozens of wrong answers:
+    compressed cables and struts, folded vertical lines, lines through the seabed)."""
     _, res = fuzz
     c = res["counts"]
-    bad = {k: c[k] for k in ("wrong", "nan", "hang", "crash", "ugly error")}
-    if not EXPECT_CLEAN:
-        pytest.skip(f"issue 11 not done yet: {bad}")
+    bad = {k: c.get(k, 0) for k in ("wrong", "nan", "hang", "crash", "ugly error")}
     assert all(v == 0 for v in bad.values()), (bad, [
         (r["id"], r["outcome"], r.get("problems") or r.get("error"))
         for r in res["records"] if r["outcome"] in bad])

@@ -318,9 +318,10 @@ def build_planar(scene: Scene) -> Model:
     end_force_a = ca.horzcat(Fx[0] + line_Px[0], Fz[0] + line_Pz[0])
     end_force_b = ca.horzcat(line_Px[N] - Fx[N - 1], line_Pz[N] - Fz[N - 1])
     Fmag = ca.sqrt(Fx * Fx + Fz * Fz)
-    tension_nodes = ca.vertcat(ca.norm_2(end_force_a),
-                               0.5 * (Fmag[:-1] + Fmag[1:]),
-                               ca.norm_2(end_force_b))
+    # interior nodes: the mean of the two segments' (none with one segment: a 1 x 1 SX
+    # sliced [:-1] is 1 x 0, a row, which vertcat would count wrongly)
+    inner = 0.5 * (Fmag[:-1] + Fmag[1:]) if N > 1 else ca.SX(0, 1)
+    tension_nodes = ca.vertcat(ca.norm_2(end_force_a), inner, ca.norm_2(end_force_b))
     outputs = {
         "positions": ca.horzcat(Xv, Zv),
         "angle": phi,

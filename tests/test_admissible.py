@@ -160,3 +160,20 @@ def test_straight_column_beyond_euler_load_is_unstable_and_buckles():
     assert np.ptp(default.positions[:, 1]) > 1.0  # buckled, not straight
     below = sc.solve_static(column(1.0), codegen=False)
     assert np.ptp(below.positions[:, 1]) < 1e-9 and below.axial_force.min() < 0
+
+
+def test_one_segment_rod_past_euler_load_is_refused():
+    """A pinned-pinned rod of one segment, ends 1 % closer than its length: the discrete
+    equilibrium is the straight bar at 1 % compression (10 kN here, Euler's load 9.9 N), with
+    no node that could move to show it buckles; refused, naming the bound (the fuzz study
+    found six such "converged" struts). With more segments it buckles."""
+    scene = {"environment": {"water_density": 0.0},
+             "line_types": {"rod": {"mass": 1.0, "diameter": 0.05, "EA": 1e6, "EI": 10.0}},
+             "sections": [{"type": "rod", "length": 10.0, "segments": 1}],
+             "end_a": {"condition": "pinned", "position": [0.0, 0.0]},
+             "end_b": {"condition": "pinned", "position": [9.9, 0.0]}}
+    with pytest.raises(sc.ConvergenceError, match="one_segment_buckling"):
+        sc.solve_static(scene, codegen=False)
+    scene["sections"][0]["segments"] = 20
+    s = sc.solve_static(scene, codegen=False)
+    assert np.ptp(s.positions[:, 1]) > 0.5  # bent

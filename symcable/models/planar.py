@@ -419,6 +419,16 @@ def _bounds(scene, seg, eps, T, contact, line_Px, line_Pz, Px, Pz, end_force_a, 
         out["cable_axial_force"] = Bound(T[cable.tolist()], lower=-CABLE_COMPRESSION * force_scale,
                                          unit="N", scale=force_scale,
                                          what="a cable (EI = 0) carries no compression")
+    rod = np.flatnonzero(seg["EI"] > 0.0)
+    if N == 1 and rod.size and all(e.is_fixed for e in (scene.end_a, scene.end_b)):
+        # one segment held at both ends has no node that could move: its stability cannot
+        # be judged, and past Euler's load (pinned, the lowest) the straight bar it returns
+        # is not the rod's shape
+        euler = math.pi ** 2 * float(seg["EI"][0]) / float(seg["ds"][0]) ** 2
+        out["one_segment_buckling"] = Bound(T, lower=-euler, unit="N", scale=force_scale,
+                                            what="a one-segment rod compressed past Euler's "
+                                                 "load pi^2 EI / L^2 cannot bend: give it "
+                                                 "more segments")
     env = scene.environment
     if scene.seabed is not None:
         press = float(np.sum(np.maximum(seg["w"], 0.0) * seg["ds"]))

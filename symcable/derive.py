@@ -231,9 +231,10 @@ class MechanismFunctions:
     # -- admissibility bounds -------------------------------------------------------------
     @cached_property
     def bound_margins(self) -> ca.Function:
-        """``(q, v, z, t, p) -> m``: for every entry of every :class:`Bound` of the
-        mechanism, min(expr - lower, upper - expr) / scale, stacked in the order of
-        ``mech.bounds`` (negative: violated, by that many scales; empty without bounds)."""
+        """``(q, v, z, t, p) -> (m, values)``: for every entry of every :class:`Bound` of
+        the mechanism, min(expr - lower, upper - expr) / scale, stacked in the order of
+        ``mech.bounds`` (negative: violated, by that many scales; empty without bounds),
+        and the expressions' values themselves, stacked alike."""
         m = self.mech
         parts = []
         for b in m.bounds.values():
@@ -243,12 +244,16 @@ class MechanismFunctions:
             e = ca.vec(b.expr)
             parts.append(ca.fmin(e - lo, hi - e) / float(b.scale))
         y = ca.vertcat(*parts) if parts else ca.DM.zeros(0)
-        return ca.Function(f"{m.name}_bound_margins", self._args, [y], self._names, ["m"])
+        values = [ca.vec(b.expr) for b in m.bounds.values()]
+        v = ca.vertcat(*values) if values else ca.DM.zeros(0)
+        return ca.Function(f"{m.name}_bound_margins", self._args, [y, v], self._names,
+                           ["m", "values"])
 
     def bound_violations(self, q, v, z, t, p, slack: float = 0.0) -> list:
         """One line per violated :class:`Bound` at the state (its worst entry, value, allowed
         range and meaning); ``slack`` (in scales) tolerated below a bound."""
-        margins = np.asarray(self.bound_margins(q, v, z, t, p), float).ravel()
+        margins, values = (np.asarray(a, float).ravel()
+                           for a in self.bound_margins(q, v, z, t, p))
         out, i = [], 0
         for name, b in self.mech.bounds.items():
             k = int(b.expr.numel())
@@ -257,8 +262,7 @@ class MechanismFunctions:
             if not k or np.all(mk >= -slack):
                 continue
             worst = int(np.argmin(np.where(np.isnan(mk), -np.inf, mk)))
-            val = np.asarray(ca.Function("b", self._args, [b.expr])(q, v, z, t, p),
-                             float).ravel()[worst]
+            val = values[i - k + worst]
             lo = np.broadcast_to(np.asarray(b.lower, float), (k,))[worst]
             hi = np.broadcast_to(np.asarray(b.upper, float), (k,))[worst]
             rng = (f">= {lo:.4g}" if np.isinf(hi) else f"<= {hi:.4g}" if np.isinf(lo)

@@ -178,7 +178,7 @@ def _vm(F) -> StaticSolver:
     solve = ca.Function("static_solve", [X0, P, tol], [z, k, norm_inf(rz), packed],
                         ["x0", "p", "tol"], ["x", "iterations", "residual_norm", "outputs"])
     # the admissibility bounds' worst margin at the same point (inf without bounds)
-    bm = F.bound_margins(m.q, ca.DM.zeros(m.n_v), m.z, 0.0, m.p)
+    bm = F.bound_margins(m.q, ca.DM.zeros(m.n_v), m.z, 0.0, m.p)[0]
     worst = ca.mmin(bm) if bm.numel() else ca.DM(np.inf)
     check = ca.Function("static_check", [x, m.p], [norm_inf(r), ca.sum1(x) + ca.sum1(r), worst],
                         ["x", "p"], ["residual_norm", "probe", "bound_margin"], opts)

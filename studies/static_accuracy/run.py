@@ -29,11 +29,10 @@ names), ``summary.md`` (the table, the observed orders and the OC3 headline) and
 """
 from __future__ import annotations
 
-import argparse
 import copy
-import csv
 import math
 import statistics
+import sys
 import time
 from pathlib import Path
 
@@ -49,6 +48,9 @@ import symcable as sc  # noqa: E402
 from symcable.analytic import elastic_catenary  # noqa: E402
 
 HERE = Path(__file__).resolve().parent
+if str(HERE.parent) not in sys.path:
+    sys.path.append(str(HERE.parent))
+import study_io  # noqa: E402  (studies/study_io.py)
 SEGMENTS_FULL, SEGMENTS_QUICK = (10, 20, 40, 80, 160, 320), (10, 20, 40)
 REPEATS_FULL, REPEATS_QUICK = 15, 3
 NO_SEABED = -1e3  # MoorPy: CB < 0 means no seabed contact, seabed |CB| m below end A
@@ -249,33 +251,16 @@ def plot(res: dict, path: Path) -> None:
 
 
 def main(argv=None) -> dict:
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--quick", action="store_true", help="10, 20, 40 segments and 3 repeats")
-    ap.add_argument("--out", type=Path, default=HERE / "out", help="output directory")
-    ap.add_argument("--figure", type=Path, help="also write the figure to this path")
-    args = ap.parse_args(argv)
+    args = study_io.parse(__doc__, "10, 20, 40 segments and 3 repeats", HERE / "out", argv)
     segments = SEGMENTS_QUICK if args.quick else SEGMENTS_FULL
     repeats = REPEATS_QUICK if args.quick else REPEATS_FULL
-    args.out.mkdir(parents=True, exist_ok=True)
-
     rows = [run_line(name, g, n, repeats) for name, g in LINES.items() for n in segments]
     res = {"segments": list(segments), "repeats": repeats, "rows": rows,
            "orders": {name: observed_orders(rows, name) for name in LINES},
            "oc3": oc3_headline(repeats), "out": str(args.out)}
-
-    with open(args.out / "results.csv", "w", newline="") as f:
-        writer = csv.DictWriter(f, fieldnames=list(rows[0]))
-        writer.writeheader()
-        writer.writerows(rows)
-    text = summary_markdown(res)
-    (args.out / "summary.md").write_text(text)
-    plot(res, args.out / "convergence.png")
-    if args.figure is not None:
-        args.figure.parent.mkdir(parents=True, exist_ok=True)
-        plot(res, args.figure)
-    print(text)
+    study_io.write(args, rows, summary_markdown(res), lambda path: plot(res, path),
+                   "convergence.png")
     return res
-
 
 if __name__ == "__main__":
     main()

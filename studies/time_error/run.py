@@ -39,9 +39,8 @@ Writes ``results.csv`` (one row per run), ``summary.md`` (the tables) and ``time
 """
 from __future__ import annotations
 
-import argparse
-import csv
 import math
+import sys
 import time
 import tomllib
 from pathlib import Path
@@ -59,6 +58,9 @@ from symcable.solvers.integrate import integrate  # noqa: E402
 from symcable.solvers.options import RK4, GeneralizedAlpha, GeneralizedAlphaFirstOrder  # noqa: E402
 
 HERE = Path(__file__).resolve().parent
+if str(HERE.parent) not in sys.path:
+    sys.path.append(str(HERE.parent))
+import study_io  # noqa: E402  (studies/study_io.py)
 #: the issue's criterion: the estimate within this factor of the true error, T/400 .. T/4
 FACTOR = 3.0
 #: the criterion's range of steps per period
@@ -213,27 +215,12 @@ def plot(res: dict, path: Path) -> None:
 
 
 def main(argv=None) -> dict:
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--quick", action="store_true", help="the built-in scene at 4 steps")
-    ap.add_argument("--out", type=Path, default=HERE / "out", help="output directory")
-    ap.add_argument("--figure", type=Path, help="also write the figure to this path")
-    args = ap.parse_args(argv)
-    args.out.mkdir(parents=True, exist_ok=True)
+    args = study_io.parse(__doc__, "the built-in scene at 4 steps", HERE / "out", argv)
     res = run_study(QUICK if args.quick else FULL)
     res["quick"] = bool(args.quick)
-    with open(args.out / "results.csv", "w", newline="") as f:
-        writer = csv.DictWriter(f, fieldnames=list(res["rows"][0]))
-        writer.writeheader()
-        writer.writerows(res["rows"])
-    text = summary_markdown(res)
-    (args.out / "summary.md").write_text(text)
-    plot(res, args.out / "time_error.png")
-    if args.figure is not None:
-        args.figure.parent.mkdir(parents=True, exist_ok=True)
-        plot(res, args.figure)
-    print(text)
+    study_io.write(args, res["rows"], summary_markdown(res), lambda path: plot(res, path),
+                   "time_error.png")
     return res
-
 
 if __name__ == "__main__":
     main()

@@ -56,9 +56,8 @@ against wall time, log-log).
 """
 from __future__ import annotations
 
-import argparse
-import csv
 import math
+import sys
 import statistics
 import time
 from pathlib import Path
@@ -79,6 +78,9 @@ from symcable.models.planar_mechanism import mechanism_of  # noqa: E402
 from symcable.planar_time import rk4_stability_limit  # noqa: E402
 
 HERE = Path(__file__).resolve().parent
+if str(HERE.parent) not in sys.path:
+    sys.path.append(str(HERE.parent))
+import study_io  # noqa: E402  (studies/study_io.py)
 LEVELS = (1e-2, 1e-3, 1e-4)          # error levels, fraction of the reference tension range
 CHEAP_S = 2.0                        # a run faster than this is repeated, median of REPEATS
 REPEATS = 3
@@ -678,29 +680,13 @@ def plot(res: dict, path: Path) -> None:
 
 
 def main(argv=None) -> dict:
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--quick", action="store_true",
-                    help="a few cheap points per method, coarse reference (under a minute)")
-    ap.add_argument("--out", type=Path, default=HERE / "out", help="output directory")
-    ap.add_argument("--figure", type=Path, help="also write the figure to this path")
-    args = ap.parse_args(argv)
-    args.out.mkdir(parents=True, exist_ok=True)
+    args = study_io.parse(__doc__, "a few cheap points per method, coarse reference (under a minute)",
+                          HERE / "out", argv)
     res = run_study(QUICK if args.quick else FULL, REPEATS)
     res["quick"], res["out"] = bool(args.quick), str(args.out)
-
-    with open(args.out / "results.csv", "w", newline="") as f:
-        writer = csv.DictWriter(f, fieldnames=list(res["rows"][0]))
-        writer.writeheader()
-        writer.writerows(res["rows"])
-    text = summary_markdown(res)
-    (args.out / "summary.md").write_text(text)
-    plot(res, args.out / "work_precision.png")
-    if args.figure is not None:
-        args.figure.parent.mkdir(parents=True, exist_ok=True)
-        plot(res, args.figure)
-    print(text)
+    study_io.write(args, res["rows"], summary_markdown(res), lambda path: plot(res, path),
+                   "work_precision.png")
     return res
-
 
 if __name__ == "__main__":
     main()

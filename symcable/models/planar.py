@@ -272,12 +272,16 @@ def build_planar(scene: Scene) -> Model:
         term_names.append("seabed")
         delta = terms.contact_smoothing(float(np.max(seg["w"])), sb.stiffness, float(np.min(seg["d"])))
         trib_width = np.asarray(ca.mtimes(lump, ca.DM(seg["d"] * seg["ds"]))).ravel()
-        # a held end node cannot press into the seabed; the half segment beside it rests
-        # where its neighbour does, so it takes the neighbour's penetration
+        # a held end on the seabed cannot press into it; the half segment beside it rests
+        # where its neighbour does, so it takes the neighbour's penetration (a held end
+        # above the seabed carries its half segment itself, even when its segment reaches
+        # down to the bed)
+        sink = max(abs(float(np.max(seg["w"]))) / (sb.stiffness * float(np.min(seg["d"]))),
+                   1e-6 * scene.length)
         probe = np.arange(N + 1)
-        if not free_a:
+        if not free_a and a.position[1] <= -env.depth + sink:
             probe[0] = 1
-        if not free_b:
+        if not free_b and b.position[1] <= -env.depth + sink:
             probe[N] = N - 1
         # whole-vector operations: one CasADi call each, not one per node
         contact = ca.DM(trib_width * sb.stiffness) * terms.smooth_ramp(
@@ -392,6 +396,13 @@ def build_planar(scene: Scene) -> Model:
 #: and the tension-only law's residual push while segments keep 5 % of their length, far
 #: below any compression that changes the answer
 CABLE_COMPRESSION = 1e-4
+#: ... or, where more, this fraction of the segment's own weight: a vertical line that folds
+#: inside one segment (two strands side by side) bunches that segment nearly shut, and the
+#: slack law's wall holds it open with a push of about SLACK_WALL times the local tension
+#: (measured 0.5-2.3 % of the segment's weight). The discrete line is uncertain there by
+#: about a segment's weight anyway (the bunching warning says so); a compressed strut
+#: pushes with many segments' weight
+FOLD_PUSH = 0.05
 
 
 def _bounds(scene, seg, eps, T, contact, line_Px, line_Pz, Px, Pz, end_force_a, end_force_b,
@@ -399,8 +410,8 @@ def _bounds(scene, seg, eps, T, contact, line_Px, line_Pz, Px, Pz, end_force_a, 
     """The planar line's admissibility bounds (:class:`~symcable.models.mechanism.Bound`):
 
     - ``strain`` > -1: every segment has a positive length;
-    - ``cable_axial_force`` >= -CABLE_COMPRESSION x force scale on segments without bending
-      (EI = 0): a cable does not push;
+    - ``cable_axial_force`` >= -max(CABLE_COMPRESSION x force scale, FOLD_PUSH x the
+      segment's weight) on segments without bending (EI = 0): a cable does not push;
     - ``seabed_reaction``, the sum of the contact forces, at most what can press the line
       onto the bed: its submerged weight, the applied end forces and the largest drag of the
       current (1 % over): a line pushed through the seabed by a compressed strut reacts far
@@ -416,8 +427,10 @@ def _bounds(scene, seg, eps, T, contact, line_Px, line_Pz, Px, Pz, end_force_a, 
                            what="segments of positive length")}
     cable = np.flatnonzero(seg["EI"] <= 0.0)
     if cable.size:
-        out["cable_axial_force"] = Bound(T[cable.tolist()], lower=-CABLE_COMPRESSION * force_scale,
-                                         unit="N", scale=force_scale,
+        push = np.maximum(CABLE_COMPRESSION * force_scale,
+                          FOLD_PUSH * np.abs(seg["w"][cable]) * seg["ds"][cable])
+        out["cable_axial_force"] = Bound(T[cable.tolist()], lower=-push, unit="N",
+                                         scale=force_scale,
                                          what="a cable (EI = 0) carries no compression")
     rod = np.flatnonzero(seg["EI"] > 0.0)
     if N == 1 and rod.size and all(e.is_fixed for e in (scene.end_a, scene.end_b)):
@@ -520,6 +533,7 @@ def _catenary_start(pa, pb, seg, scene):
         pos = _march(sol, seg, start, end, sx, sz, swapped=start is pb)
         if seabed:  # grounded nodes sink to where the contact carries their weight
             grounded = pos[:, 1] <= -depth + 1e-9 * L
+            grounded[[0, -1]] = False  # the held ends stay where they are held
             pos[grounded, 1] -= abs(w_eq) / (scene.seabed.stiffness * float(np.mean(seg["d"])))
         return pos, None, source
     pos = sol.positions(s_eval) * np.array([sx, sz]) + np.asarray(start)
@@ -643,9 +657,12 @@ def _initial_guess(scene, seg, layout: _Layout, p_target, bending):
         if start is not None:
             pos, ten, source = start
             yield make(pos, *_from_positions(pos, seg, ten), cable_p, source, cable_h)
-        pos = pa + np.outer(s / L, pb - pa)
-        phi, eps = _from_positions(pos, seg, None)
-        yield make(pos, phi, np.maximum(eps, 0.0), cable_p, "straight line", cable_h)
+        straight = pa + np.outer(s / L, pb - pa)
+        phi, eps = _from_positions(straight, seg, None)
+        yield make(straight, phi, np.maximum(eps, 0.0), cable_p, "straight line", cable_h)
+        relaxed = _relaxed(scene, seg, straight if start is None else start[0], p_target, make)
+        if relaxed is not None:
+            yield relaxed
         return
 
     fixed, free = (b, a) if free_a else (a, b)
@@ -674,10 +691,64 @@ def _initial_guess(scene, seg, layout: _Layout, p_target, bending):
         load = float(np.hypot(*(free.force or (0.0, 0.0))) + np.sum(np.abs(seg["w"]) * seg["ds"]))
         # when bending dominates a cantilever is best reached from its unloaded state
         order = [unloaded, hanging] if np.max(seg["EI"]) > 0.1 * load * L**2 else [hanging, unloaded]
+    first = None
     for build in order:
         g = build()
         if g is not None:
+            first = g if first is None else first
             yield g
+    if first is not None:
+        pos = np.zeros((len(s), 2))
+        pos[layout.nodes, 0], pos[layout.nodes, 1] = first.w[layout.ix], first.w[layout.iz]
+        relaxed = _relaxed(scene, seg, pos, p_target, make)
+        if relaxed is not None:
+            yield relaxed
+
+
+def _relaxed(scene, seg, pos0, p_target, make):
+    """The start at the minimum of the line's potential energy
+    (:func:`~symcable.models.planar_relax.relaxed_positions`) from ``pos0``, for lines
+    without bending; its parameters without the current (drag is not conservative: the
+    solver continues in it). None for a line with bending or when the minimiser fails."""
+    from .planar_relax import relaxed_positions
+
+    if np.any(seg["EI"] > 0.0):
+        return None
+    a, b = scene.end_a, scene.end_b
+    N = len(seg["ds"])
+    free = np.ones(N + 1, dtype=bool)
+    free[0], free[N] = a.condition is EndCondition.FREE, b.condition is EndCondition.FREE
+    lumped = np.zeros(N + 1)
+    lumped[:-1] += 0.5 * seg["w"] * seg["ds"]
+    lumped[1:] += 0.5 * seg["w"] * seg["ds"]
+    forces = np.zeros((N + 1, 2))
+    for end, node in ((a, 0), (b, N)):
+        if end.condition is EndCondition.FREE and end.force is not None:
+            forces[node] = end.force
+    contact = None
+    if scene.seabed is not None:
+        width = np.zeros(N + 1)
+        width[:-1] += 0.5 * seg["d"] * seg["ds"]
+        width[1:] += 0.5 * seg["d"] * seg["ds"]
+        k = scene.seabed.stiffness
+        contact = (scene.environment.depth, k,
+                   terms.contact_smoothing(float(np.max(seg["w"])), k, float(np.min(seg["d"]))),
+                   width)
+    force_scale = force_scale_of(scene, seg)
+    pos0 = np.array(pos0, dtype=float)
+    for end, node in ((a, 0), (b, N)):
+        if not free[node]:
+            pos0[node] = end.position
+    pos = relaxed_positions(seg, pos0, free, slack_law(seg, force_scale), lumped, forces,
+                            contact, force_scale)
+    if pos is None:
+        return None
+    p0 = np.array(p_target)
+    current = [P_NAMES.index("ux"), P_NAMES.index("uz")]
+    homotopy = "current" if np.any(p0[current] != 0.0) else ""
+    p0[current] = 0.0
+    return make(pos, *_from_positions(pos, seg, None), p0, "minimum of the potential energy",
+                homotopy)
 
 
 # --------------------------------------------------------------------------- results
@@ -712,7 +783,10 @@ def _postprocess(scene: Scene, seg: dict, nodal: tuple, out: dict) -> dict:
         # the grounded length is the length whose weight the seabed carries: the contact
         # forces, plus what a held end lying on the seabed props up of the grounded line
         # next to it (on a penalty seabed the end sits above the sunken line beside it)
-        grounded = float(np.sum(contact / w_div))
+        # (each node at most its tributary length: a light section between heavier ones
+        # carries part of their weight where the line curves over the penalty bed, and
+        # would count as more line than it is)
+        grounded = float(np.sum(np.minimum(contact / w_div, trib)))
         # in contact: the seabed carries more than a tenth of the local weight per length
         in_contact = contact / trib > w_tenth
         for node, force, end in ((0, fa, scene.end_a), (len(s) - 1, fb, scene.end_b)):

@@ -1,0 +1,94 @@
+"""A start for the planar cable from the minimum of its potential energy.
+
+A line without bending, on which only its weight, the seabed's contact and the forces on its
+free ends act, is in equilibrium exactly where the potential energy of its discrete chain is
+stationary:
+
+    E(x) = sum_j ds_j U(e_j) + sum_i W_i z_i + sum_i k b_i R(-depth - z_i) - sum_free f . x,
+
+with e_j = |x_{j+1} - x_j| / ds_j - 1 the strain of segment j, U(e) the integral of the
+tension-only law T(e) (:func:`~symcable.models.terms.cable_axial_force`), W_i the weight
+lumped on node i (half of each adjacent segment, as in the residual), and R the integral of
+the smoothed contact ramp with b_i the node's tributary contact width. These are the
+residual's own terms, so the minimum, with each segment's angle and strain taken from its
+end positions, solves the planar equations to the minimiser's tolerance. The energy is
+convex up to the slack law's residual push (1e-7 of the force scale), so a minimiser with a
+line search on it (IPOPT) reaches the equilibrium from far away, through the slack piles,
+folds and touchdowns where Newton on the equations, whose slack directions are nearly
+singular, diverges. Drag is not conservative and is left out; the solver continues in the
+current from this start.
+"""
+from __future__ import annotations
+
+import casadi as ca
+import numpy as np
+
+__all__ = ["relaxed_positions"]
+
+#: IPOPT's iterations and tolerance (on the scaled energy: forces relative to the force
+#: scale) for the start; Newton on the equations polishes what is left
+RELAX_MAX_ITER, RELAX_TOL = 500, 1e-10
+#: the minimised energy's slack law is this much stiffer in compression and smoother at its
+#: corner than the equations' (1e-4 of the force scale per unit strain; the corner where
+#: the tension is 1e-3 of it): with the equations' own law the energy is nearly flat along a
+#: slack pile, and IPOPT's Newton steps along it (hundreds of line lengths) fail
+#: (measured: "Error in step computation" on a 450 m pile). A pile's shape hardly depends
+#: on how little it resists, and Newton on the equations polishes the rest
+RELAX_WIDER = 1e3
+
+
+def _ramp_integral(x, delta):
+    """The integral from 0 of max(x, 0) smoothed over ``delta``
+    (:func:`~symcable.models.terms.smooth_ramp`), up to a constant."""
+    root = ca.sqrt(x * x + delta * delta)
+    return 0.25 * (x * x + x * root + delta * delta * ca.asinh(x / delta))
+
+
+def relaxed_positions(seg: dict, pos0: np.ndarray, free: np.ndarray, law: dict,
+                      node_weight: np.ndarray, end_forces: np.ndarray,
+                      contact: tuple | None, force_scale: float) -> np.ndarray | None:
+    """Node positions (N+1, 2), m, at the minimum of the line's potential energy (module
+    docstring), from ``pos0``; None when the minimiser ends on non-finite numbers.
+
+    ``free``: (N+1,) bool, the nodes that move (held ends keep ``pos0``); ``law``: the
+    tension-only law (:func:`~symcable.models.planar.slack_law`, every segment a cable);
+    ``node_weight``: (N+1,) N, downward; ``end_forces``: (N+1, 2) N applied on free nodes;
+    ``contact``: (depth, stiffness Pa, smoothing m, tributary widths (N+1,) m) or None."""
+    pos0 = np.asarray(pos0, float)
+    idx = np.flatnonzero(free)
+    L = float(np.sum(seg["ds"]))
+    y = ca.SX.sym("y", 2 * idx.size)
+    X = [ca.SX(float(v)) for v in pos0[:, 0]]
+    Z = [ca.SX(float(v)) for v in pos0[:, 1]]
+    for k, i in enumerate(idx):  # unknowns: displacement from pos0 relative to the length
+        X[i] = pos0[i, 0] + L * y[2 * k]
+        Z[i] = pos0[i, 1] + L * y[2 * k + 1]
+    X, Z = ca.vertcat(*X), ca.vertcat(*Z)
+    ds, EA = ca.DM(seg["ds"]), ca.DM(seg["EA"])
+    dx, dz = X[1:] - X[:-1], Z[1:] - Z[:-1]
+    e = ca.sqrt(dx * dx + dz * dz) / ds - 1.0
+    EA_s = ca.DM(law["EA_slack"]) * RELAX_WIDER
+    delta = ca.DM(law["delta"]) * RELAX_WIDER
+    U = (0.5 * EA_s * e * e + (EA - EA_s) * _ramp_integral(e, delta)
+         + law["F_wall"] * law["w_wall"] * ca.exp(-(1.0 + e) / law["w_wall"]))
+    energy = ca.sum1(ds * U) + ca.dot(ca.DM(node_weight), Z)
+    energy -= ca.dot(ca.DM(end_forces[:, 0]), X) + ca.dot(ca.DM(end_forces[:, 1]), Z)
+    if contact is not None:
+        depth, k, width, trib = contact
+        on = ca.DM(np.where(free, k * np.asarray(trib, float), 0.0))
+        energy += ca.dot(on, _ramp_integral(-depth - Z, width))
+    nlp = {"x": y, "f": energy / (force_scale * L)}
+    opts = {"ipopt.print_level": 0, "print_time": False, "ipopt.sb": "yes",
+            "ipopt.max_iter": RELAX_MAX_ITER, "ipopt.tol": RELAX_TOL,
+            "show_eval_warnings": False}
+    try:
+        sol = ca.nlpsol("relax", "ipopt", nlp, opts)(x0=np.zeros(2 * idx.size))
+    except RuntimeError:
+        return None
+    yv = np.asarray(sol["x"], float).ravel()
+    if not np.all(np.isfinite(yv)):
+        return None
+    pos = pos0.copy()
+    pos[idx, 0] += L * yv[0::2]
+    pos[idx, 1] += L * yv[1::2]
+    return pos

@@ -111,6 +111,11 @@ def tolerance_terms(info: fr.Info, ref: dict, penalty: dict | None) -> dict:
     n_eff = info.L / ds
     dphi = turn_per_segment(info, ref)
     unresolved = ref["grounded"] > 0.0 or dphi > UNRESOLVED_TURN
+    # a held end on the seabed: a touchdown at it (reference grounded length 0) is resolved
+    # to a segment too (the discrete line may rest part of its first segment)
+    on_bed = info.depth is not None and any(
+        e["cond"] != "free" and e["pos"][1] <= -info.depth + 1e-9 * info.L
+        for e in info.ends.values())
     w = max(abs(x["w"]) for x in info.secs)
     pen = penalty if penalty and "dT" in penalty else {"pen": 0.0, "dT": 0.0, "dG": 0.0}
     rod = 1.0 / n_eff if info.bending and dphi > UNRESOLVED_TURN else 0.0
@@ -122,7 +127,7 @@ def tolerance_terms(info: fr.Info, ref: dict, penalty: dict | None) -> dict:
     return {"dphi": dphi, "n_eff": n_eff, "e2": n_eff ** -2, "eb": rod, "ec": clamp,
             "e1_T": w * ds / fr.tension_scale(info, ref) if unresolved else 0.0,
             "e1_L": 1.0 / n_eff if unresolved else 0.0,
-            "g1": 1.0 / n_eff if ref["grounded"] > 0.0 else 0.0,
+            "g1": 1.0 / n_eff if ref["grounded"] > 0.0 or on_bed else 0.0,
             "pen_T": pen["dT"], "pen_G": pen["dG"], "pen_L": pen["pen"] / info.L}
 
 

@@ -135,6 +135,8 @@ def _bunching_warnings(model: Model, out: dict, seg: dict) -> list:
     folds or sags within one segment there, which a straight segment represents only as a
     shorter chord; the tension near it is uncertain by about that segment's weight."""
     strain = np.asarray(out["strain"], float).ravel()
+    if not strain.min() < BUNCHED_STRAIN:  # the usual case, at the cost of one min
+        return []
     contact = np.asarray(out["contact_force"], float).ravel()
     cable = seg["EI"] <= 0.0
     free = (contact[:-1] <= 0.1 * np.abs(seg["w"]) * seg["ds"] / 2) & \

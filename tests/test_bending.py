@@ -110,3 +110,31 @@ def test_pinned_buckled_elastica():
     assert st.positions[:, 1].min() < 0  # gravity picks the sagging branch
     scale = np.max(np.abs(st.moment))
     assert abs(st.moment[0]) < 1e-9 * scale and abs(st.moment[-1]) < 1e-9 * scale
+
+
+@pytest.mark.parametrize("span_over_L", [0.9, 0.37])
+def test_weightless_pinned_elastica(span_over_L):
+    """A weightless rod pinned between ends closer than its length (in air, no load): the
+    straight strut is an unstable equilibrium (issue 11 refused it, then returned nothing);
+    the solver now starts from a bowed half sine and returns the first-mode elastica. Its
+    end force is P = 4 K(m)^2 EI / L^2 with span/L = 2 E(m)/K(m) - 1 (inextensible; EA/P
+    above 1e6 strains it by under 1e-6), mid-span deflection sqrt(m) L / K(m). 40 segments:
+    second order, 4 / 40^2 = 0.25 %; within 1 %. The 0.37 case is fuzz s11-0171's
+    shortening (63 %)."""
+    from scipy.optimize import brentq
+    from scipy.special import ellipe, ellipk
+
+    L, EI = 10.0, 1e4
+    m = brentq(lambda m: 2 * ellipe(m) / ellipk(m) - 1 - span_over_L, 1e-9, 1 - 1e-12)
+    P = 4 * ellipk(m) ** 2 * EI / L ** 2
+    d = {"environment": {"water_density": 0.0},
+         "line_types": {"rod": {"EA": 1e11, "EI": EI, "mass": 1.0, "diameter": 0.1,
+                                "weight": 0.0}},
+         "sections": [{"type": "rod", "length": L, "segments": 40}],
+         "end_a": {"condition": "pinned", "position": [0.0, 0.0]},
+         "end_b": {"condition": "pinned", "position": [span_over_L * L, 0.0]}}
+    st = sc.solve_static(d)
+    assert st.status == "converged"
+    assert st.anchor_tension == pytest.approx(P, rel=1e-2)
+    assert st.fairlead_tension == pytest.approx(P, rel=1e-2)
+    assert np.max(np.abs(st.positions[:, 1])) == pytest.approx(np.sqrt(m) * L / ellipk(m), rel=1e-2)

@@ -129,3 +129,25 @@ def test_grounded_length_of_a_light_section_between_heavy_ones():
     s_last = st.s[in_contact.max()]
     ds_max = 48.118 / 18
     assert abs(st.grounded_length - s_last) <= ds_max, (st.grounded_length, s_last)
+
+
+def test_line_in_a_strong_current():
+    # fuzz s11-0533: chain and wire in a 1.86 m/s current, which carries the line 128 m
+    # downstream of ends 41 m apart; from the closed-form starts and by continuation in the
+    # current Newton stalled; the energy start with the drag frozen at the last shape gets
+    # it. The study's ODE shooting (DOP853, rtol 1e-11; no discretisation) gives T_A 4648.7
+    # N, T_B 4298.1 N; 25 segments leave a second-order error (the study's tolerance
+    # 4 / N_eff^2 of the tension scale: 1 % here)
+    scene = {"environment": {"current": [1.8592, 0.0]},
+             "line_types": {"c0": {"mass": 15.598, "diameter": 0.027997, "cd_normal": 1.59334,
+                                   "cd_tangential": 0.051565, "EA": 2.87065e6},
+                            "w1": {"mass": 6.1523, "diameter": 0.035078, "cd_normal": 1.11145,
+                                   "cd_tangential": 0.29670, "EA": 2.05683e9}},
+             "sections": [{"type": "c0", "length": 31.7045, "segments": 5},
+                          {"type": "w1", "length": 96.2124, "segments": 20}],
+             "end_a": {"condition": "pinned", "position": [13.7388, -38.3294]},
+             "end_b": {"condition": "pinned", "position": [0.0, 0.0]}}
+    st = sc.solve_static(scene)
+    assert st.status == "converged"
+    assert abs(st.anchor_tension - 4648.7) <= 0.01 * 4648.7
+    assert abs(st.fairlead_tension - 4298.1) <= 0.01 * 4648.7

@@ -573,6 +573,38 @@ def _march(sol, seg, start, end, sx, sz, swapped: bool) -> np.ndarray:
     return pos[::-1].copy() if swapped else pos
 
 
+def _bowed(pa, pb, seg) -> np.ndarray:
+    """Node positions of a half sine between the two ends, bowed sideways until it is as
+    long as the line, nodes at their arc lengths: the first buckling mode's shape, a start
+    for a rod compressed between its ends (from the straight strut, the buckled branch is a
+    sideways jump Newton does not make). Bowed down when the line sinks, else up (to +x
+    for a vertical chord)."""
+    s, L = seg["s"], float(seg["s"][-1])
+    chord = pb - pa
+    c = float(np.hypot(*chord))
+    t = chord / c
+    n = np.array([-t[1], t[0]])
+    sinks = float(np.sum(seg["w"] * seg["ds"])) >= 0.0
+    if n[1] != 0.0 and (n[1] > 0.0) == sinks or (n[1] == 0.0 and n[0] < 0.0):
+        n = -n
+    u = np.linspace(0.0, 1.0, 2001)
+
+    def curve(a):
+        return np.outer(u * c, t) + np.outer(a * np.sin(math.pi * u), n)
+
+    def length(a):
+        return float(np.sum(np.hypot(*np.diff(curve(a), axis=0).T)))
+
+    lo, hi = 0.0, L
+    for _ in range(60):  # bisection: the length grows with the amplitude
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if length(mid) < L else (lo, mid)
+    pts = curve(0.5 * (lo + hi))
+    arc = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(pts, axis=0).T))])
+    frac = s / L * arc[-1]
+    return pa + np.stack([np.interp(frac, arc, pts[:, 0]), np.interp(frac, arc, pts[:, 1])], axis=1)
+
+
 def _hanging_start(scene, seg, free_a: bool):
     """Exact discrete equilibrium of a line without bending, drag or seabed that hangs from
     its fixed end: integrating F_{i-1} = F_i + P_i from the free end gives every segment
@@ -660,6 +692,10 @@ def _initial_guess(scene, seg, layout: _Layout, p_target, bending):
         straight = pa + np.outer(s / L, pb - pa)
         phi, eps = _from_positions(straight, seg, None)
         yield make(straight, phi, np.maximum(eps, 0.0), cable_p, "straight line", cable_h)
+        if bending and np.hypot(*(pb - pa)) < L:
+            bowed = _bowed(pa, pb, seg)
+            yield make(bowed, *_from_positions(bowed, seg, None), np.array(p_target),
+                       "bowed line (half sine)", "")
         relaxed = _relaxed(scene, seg, straight if start is None else start[0], p_target, make)
         if relaxed is not None:
             yield relaxed
@@ -708,8 +744,8 @@ def _initial_guess(scene, seg, layout: _Layout, p_target, bending):
 def _relaxed(scene, seg, pos0, p_target, make):
     """The start at the minimum of the line's potential energy
     (:func:`~symcable.models.planar_relax.relaxed_positions`) from ``pos0``, for lines
-    without bending; its parameters without the current (drag is not conservative: the
-    solver continues in it). None for a line with bending or when the minimiser fails."""
+    without bending, the drag of a current frozen at the last shape in a few passes. None
+    for a line with bending or when the minimiser fails."""
     from .planar_relax import relaxed_positions
 
     if np.any(seg["EI"] > 0.0):
@@ -739,16 +775,38 @@ def _relaxed(scene, seg, pos0, p_target, make):
     for end, node in ((a, 0), (b, N)):
         if not free[node]:
             pos0[node] = end.position
+    env = scene.environment
+    drag = None if env.in_air or not any(env.current) else _drag_loads(env, seg)
     pos = relaxed_positions(seg, pos0, free, slack_law(seg, force_scale), lumped, forces,
-                            contact, force_scale)
+                            contact, force_scale, drag)
     if pos is None:
         return None
-    p0 = np.array(p_target)
-    current = [P_NAMES.index("ux"), P_NAMES.index("uz")]
-    homotopy = "current" if np.any(p0[current] != 0.0) else ""
-    p0[current] = 0.0
-    return make(pos, *_from_positions(pos, seg, None), p0, "minimum of the potential energy",
-                homotopy)
+    return make(pos, *_from_positions(pos, seg, None), np.array(p_target),
+                "minimum of the potential energy", "")
+
+
+def _drag_loads(env, seg):
+    """Nodal drag of a current on the line at given node positions, (N+1, 2) N: the
+    residual's Morison law (:func:`~symcable.models.terms.morison_drag`) in numbers, each
+    segment's half on each of its nodes."""
+    u = np.asarray(env.current, float)
+    k = 0.5 * env.water_density * seg["d"] * seg["ds"]
+
+    def loads(pos):
+        d = np.diff(pos, axis=0)
+        length = np.maximum(np.hypot(d[:, 0], d[:, 1]), 1e-300)
+        t = d / length[:, None]
+        n = np.stack([-t[:, 1], t[:, 0]], axis=1)
+        ut, un = t @ u, n @ u
+        stretch = np.sqrt(np.maximum(length / seg["ds"], 0.0))
+        f = (k * stretch)[:, None] * ((seg["cdt"] * np.abs(ut) * ut)[:, None] * t
+                                      + (seg["cdn"] * np.abs(un) * un)[:, None] * n)
+        out = np.zeros((len(pos), 2))
+        out[:-1] += 0.5 * f
+        out[1:] += 0.5 * f
+        return out
+
+    return loads
 
 
 # --------------------------------------------------------------------------- results

@@ -20,6 +20,8 @@ current from this start.
 """
 from __future__ import annotations
 
+from typing import Callable
+
 import casadi as ca
 import numpy as np
 
@@ -27,7 +29,7 @@ __all__ = ["relaxed_positions"]
 
 #: IPOPT's iterations and tolerance (on the scaled energy: forces relative to the force
 #: scale) for the start; Newton on the equations polishes what is left
-RELAX_MAX_ITER, RELAX_TOL = 500, 1e-10
+RELAX_MAX_ITER, RELAX_TOL = 3000, 1e-10
 #: the minimised energy's slack law is this much stiffer in compression and smoother at its
 #: corner than the equations' (1e-4 of the force scale per unit strain; the corner where
 #: the tension is 1e-3 of it): with the equations' own law the energy is nearly flat along a
@@ -35,6 +37,8 @@ RELAX_MAX_ITER, RELAX_TOL = 500, 1e-10
 #: (measured: "Error in step computation" on a 450 m pile). A pile's shape hardly depends
 #: on how little it resists, and Newton on the equations polishes the rest
 RELAX_WIDER = 1e3
+#: minimisations with the drag frozen at the last shape (then one with the exact law)
+DRAG_PASSES = 6
 
 
 def _ramp_integral(x, delta):
@@ -46,14 +50,19 @@ def _ramp_integral(x, delta):
 
 def relaxed_positions(seg: dict, pos0: np.ndarray, free: np.ndarray, law: dict,
                       node_weight: np.ndarray, end_forces: np.ndarray,
-                      contact: tuple | None, force_scale: float) -> np.ndarray | None:
+                      contact: tuple | None, force_scale: float,
+                      loads: Callable[[np.ndarray], np.ndarray] | None = None
+                      ) -> np.ndarray | None:
     """Node positions (N+1, 2), m, at the minimum of the line's potential energy (module
     docstring), from ``pos0``; None when the minimiser ends on non-finite numbers.
 
     ``free``: (N+1,) bool, the nodes that move (held ends keep ``pos0``); ``law``: the
     tension-only law (:func:`~symcable.models.planar.slack_law`, every segment a cable);
     ``node_weight``: (N+1,) N, downward; ``end_forces``: (N+1, 2) N applied on free nodes;
-    ``contact``: (depth, stiffness Pa, smoothing m, tributary widths (N+1,) m) or None."""
+    ``contact``: (depth, stiffness Pa, smoothing m, tributary widths (N+1,) m) or None;
+    ``loads``: position-dependent nodal loads (N+1, 2), N, that are not conservative (drag):
+    held fixed while the energy is minimised, then evaluated at the minimum and the minimum
+    sought again (DRAG_PASSES times, each load the mean of the last two)."""
     pos0 = np.asarray(pos0, float)
     idx = np.flatnonzero(free)
     L = float(np.sum(seg["ds"]))
@@ -67,28 +76,45 @@ def relaxed_positions(seg: dict, pos0: np.ndarray, free: np.ndarray, law: dict,
     ds, EA = ca.DM(seg["ds"]), ca.DM(seg["EA"])
     dx, dz = X[1:] - X[:-1], Z[1:] - Z[:-1]
     e = ca.sqrt(dx * dx + dz * dz) / ds - 1.0
-    EA_s = ca.DM(law["EA_slack"]) * RELAX_WIDER
-    delta = ca.DM(law["delta"]) * RELAX_WIDER
+    wider = ca.SX.sym("wider")  # the law's regularisation (RELAX_WIDER, then 1)
+    EA_s = ca.DM(law["EA_slack"]) * wider
+    delta = ca.DM(law["delta"]) * wider
     U = (0.5 * EA_s * e * e + (EA - EA_s) * _ramp_integral(e, delta)
          + law["F_wall"] * law["w_wall"] * ca.exp(-(1.0 + e) / law["w_wall"]))
     energy = ca.sum1(ds * U) + ca.dot(ca.DM(node_weight), Z)
-    energy -= ca.dot(ca.DM(end_forces[:, 0]), X) + ca.dot(ca.DM(end_forces[:, 1]), Z)
+    applied = ca.SX.sym("applied", 2 * len(pos0))  # nodal loads, frozen: (x, z) per node
+    energy -= ca.dot(applied[0::2], X) + ca.dot(applied[1::2], Z)
     if contact is not None:
         depth, k, width, trib = contact
         on = ca.DM(np.where(free, k * np.asarray(trib, float), 0.0))
         energy += ca.dot(on, _ramp_integral(-depth - Z, width))
-    nlp = {"x": y, "f": energy / (force_scale * L)}
+    nlp = {"x": y, "p": ca.vertcat(wider, applied), "f": energy / (force_scale * L)}
     opts = {"ipopt.print_level": 0, "print_time": False, "ipopt.sb": "yes",
             "ipopt.max_iter": RELAX_MAX_ITER, "ipopt.tol": RELAX_TOL,
             "show_eval_warnings": False}
+    def positions(yv):
+        pos = pos0.copy()
+        pos[idx, 0] += L * yv[0::2]
+        pos[idx, 1] += L * yv[1::2]
+        return pos
+
+    fixed = np.asarray(end_forces, float)
+    f = fixed + (loads(pos0) if loads is not None else 0.0)
+    yv = np.zeros(2 * idx.size)
+    passes = [RELAX_WIDER] * (DRAG_PASSES if loads is not None else 1) + [1.0]
     try:
-        sol = ca.nlpsol("relax", "ipopt", nlp, opts)(x0=np.zeros(2 * idx.size))
+        solver = ca.nlpsol("relax", "ipopt", nlp, opts)
+        # regularised, then with the equations' own law from there (kept only when it ends
+        # well: on a pile the exact law's flat energy may stall it)
+        for k, factor in enumerate(passes):
+            sol = solver(x0=yv, p=np.concatenate([[factor], f.ravel()]))
+            y_new = np.asarray(sol["x"], float).ravel()
+            if factor != 1.0 or (solver.stats()["success"] and np.all(np.isfinite(y_new))):
+                yv = y_new
+            if loads is not None and k + 2 < len(passes) and np.all(np.isfinite(yv)):
+                f = 0.5 * f + 0.5 * (fixed + loads(positions(yv)))
     except RuntimeError:
         return None
-    yv = np.asarray(sol["x"], float).ravel()
     if not np.all(np.isfinite(yv)):
         return None
-    pos = pos0.copy()
-    pos[idx, 0] += L * yv[0::2]
-    pos[idx, 1] += L * yv[1::2]
-    return pos
+    return positions(yv)

@@ -387,10 +387,13 @@ def _continuations(F, mech, p, tol, opts, step, seen, continuation):
         for start, x0 in seen:
             yield (start, f"continuation in {continuation}",
                    lambda x0=x0: _cont(step, x0, p0, p, opts, False, 1.0, 1.0))
-    for (start, x0), at_p in zip(seen, same):
-        if at_p:
-            yield (start, "pseudo-transient continuation",
-                   lambda x0=x0: (_ptc_stable(F, mech, x0, p, tol), 0))
+    # pseudo-transient continuation at p, from every start (those at p first): a start built
+    # for a continuation (no bending, the slack law's wide corner) is still a shape to relax
+    # from, and the relaxation's push off an unstable equilibrium reaches a buckled branch
+    # that no continuation from the straight state does
+    for (start, x0), at_p in sorted(zip(seen, same), key=lambda item: not item[1]):
+        yield (start, "pseudo-transient continuation",
+               lambda x0=x0: (_ptc_stable(F, mech, x0, p, tol), 0))
 
 
 def _cont(step, x0, p0, p1, opts, polish, dt0, dt_max):

@@ -208,6 +208,16 @@ def summary_markdown(res: dict) -> str:
             L.append(f"- `{r['id']}` {r['outcome']} ({r['cls']}, {r.get('variant')}): "
                      f"{_detail(r)[:260]}{tail}")
         L.append("")
+    noted = [r for r in recs if r["outcome"] == "correct" and r.get("note")]
+    if noted:
+        L += ["## Correct after refining", "",
+              "Off the reference at the scene's segments, within its tolerance with 4 times "
+              "as many, the deviation falling by at least 1.5 per doubling:", ""]
+        for r in noted:
+            devs = ", ".join(f"{x['segments']}: {max(v for v in x['deviation'].values() if v == v):.3g}"
+                             for x in r.get("refined") or [])
+            L.append(f"- `{r['id']}` ({r['cls']}): {r['note']} (largest deviation at {devs})")
+        L.append("")
     ce = collections.Counter(r["cls"] for r in recs if r["outcome"] == "clean error")
     ce_ref = collections.Counter(r["cls"] for r in recs
                                  if r["outcome"] == "clean error" and r.get("reference"))

@@ -743,10 +743,10 @@ def _initial_guess(scene, seg, layout: _Layout, p_target, bending):
 
 def _relaxed(scene, seg, pos0, p_target, make):
     """The start at the minimum of the line's potential energy
-    (:func:`~symcable.models.planar_relax.relaxed_positions`) from ``pos0``, for lines
+    (:func:`~symcable.models.relax.relaxed_positions`) from ``pos0``, for lines
     without bending, the drag of a current frozen at the last shape in a few passes. None
     for a line with bending or when the minimiser fails."""
-    from .planar_relax import relaxed_positions
+    from .relax import relaxed_positions
 
     if np.any(seg["EI"] > 0.0):
         return None

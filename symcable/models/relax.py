@@ -1,4 +1,4 @@
-"""A start for the planar cable from the minimum of its potential energy.
+"""A start for a cable (planar or 3D) from the minimum of its potential energy.
 
 A line without bending, on which only its weight, the seabed's contact and the forces on its
 free ends act, is in equilibrium exactly where the potential energy of its discrete chain is
@@ -53,37 +53,39 @@ def relaxed_positions(seg: dict, pos0: np.ndarray, free: np.ndarray, law: dict,
                       contact: tuple | None, force_scale: float,
                       loads: Callable[[np.ndarray], np.ndarray] | None = None
                       ) -> np.ndarray | None:
-    """Node positions (N+1, 2), m, at the minimum of the line's potential energy (module
-    docstring), from ``pos0``; None when the minimiser ends on non-finite numbers.
+    """Node positions (N+1, dim), m, at the minimum of the line's potential energy (module
+    docstring), from ``pos0`` (N+1, dim: planar (x, z) or 3D (x, y, z), the last coordinate
+    up); None when the minimiser ends on non-finite numbers.
 
     ``free``: (N+1,) bool, the nodes that move (held ends keep ``pos0``); ``law``: the
     tension-only law (:func:`~symcable.models.planar.slack_law`, every segment a cable);
-    ``node_weight``: (N+1,) N, downward; ``end_forces``: (N+1, 2) N applied on free nodes;
+    ``node_weight``: (N+1,) N, downward; ``end_forces``: (N+1, dim) N applied on free nodes;
     ``contact``: (depth, stiffness Pa, smoothing m, tributary widths (N+1,) m) or None;
-    ``loads``: position-dependent nodal loads (N+1, 2), N, that are not conservative (drag):
+    ``loads``: position-dependent nodal loads (N+1, dim), N, that are not conservative (drag):
     held fixed while the energy is minimised, then evaluated at the minimum and the minimum
     sought again (DRAG_PASSES times, each load the mean of the last two)."""
     pos0 = np.asarray(pos0, float)
+    n, dim = pos0.shape
     idx = np.flatnonzero(free)
     L = float(np.sum(seg["ds"]))
-    y = ca.SX.sym("y", 2 * idx.size)
-    X = [ca.SX(float(v)) for v in pos0[:, 0]]
-    Z = [ca.SX(float(v)) for v in pos0[:, 1]]
+    y = ca.SX.sym("y", dim * idx.size)
+    cols = [[ca.SX(float(v)) for v in pos0[:, c]] for c in range(dim)]
     for k, i in enumerate(idx):  # unknowns: displacement from pos0 relative to the length
-        X[i] = pos0[i, 0] + L * y[2 * k]
-        Z[i] = pos0[i, 1] + L * y[2 * k + 1]
-    X, Z = ca.vertcat(*X), ca.vertcat(*Z)
+        for c in range(dim):
+            cols[c][i] = pos0[i, c] + L * y[dim * k + c]
+    X = [ca.vertcat(*col) for col in cols]
+    Z = X[-1]  # up
+    d = [x[1:] - x[:-1] for x in X]
     ds, EA = ca.DM(seg["ds"]), ca.DM(seg["EA"])
-    dx, dz = X[1:] - X[:-1], Z[1:] - Z[:-1]
-    e = ca.sqrt(dx * dx + dz * dz) / ds - 1.0
+    e = ca.sqrt(sum(di * di for di in d)) / ds - 1.0
     wider = ca.SX.sym("wider")  # the law's regularisation (RELAX_WIDER, then 1)
     EA_s = ca.DM(law["EA_slack"]) * wider
     delta = ca.DM(law["delta"]) * wider
     U = (0.5 * EA_s * e * e + (EA - EA_s) * _ramp_integral(e, delta)
          + law["F_wall"] * law["w_wall"] * ca.exp(-(1.0 + e) / law["w_wall"]))
     energy = ca.sum1(ds * U) + ca.dot(ca.DM(node_weight), Z)
-    applied = ca.SX.sym("applied", 2 * len(pos0))  # nodal loads, frozen: (x, z) per node
-    energy -= ca.dot(applied[0::2], X) + ca.dot(applied[1::2], Z)
+    applied = ca.SX.sym("applied", dim * n)  # nodal loads, frozen: (x, [y,] z) per node
+    energy -= sum(ca.dot(applied[c::dim], X[c]) for c in range(dim))
     if contact is not None:
         depth, k, width, trib = contact
         on = ca.DM(np.where(free, k * np.asarray(trib, float), 0.0))
@@ -92,15 +94,15 @@ def relaxed_positions(seg: dict, pos0: np.ndarray, free: np.ndarray, law: dict,
     opts = {"ipopt.print_level": 0, "print_time": False, "ipopt.sb": "yes",
             "ipopt.max_iter": RELAX_MAX_ITER, "ipopt.tol": RELAX_TOL,
             "show_eval_warnings": False}
+
     def positions(yv):
         pos = pos0.copy()
-        pos[idx, 0] += L * yv[0::2]
-        pos[idx, 1] += L * yv[1::2]
+        pos[idx] += L * yv.reshape(-1, dim)
         return pos
 
     fixed = np.asarray(end_forces, float)
     f = fixed + (loads(pos0) if loads is not None else 0.0)
-    yv = np.zeros(2 * idx.size)
+    yv = np.zeros(dim * idx.size)
     passes = [RELAX_WIDER] * (DRAG_PASSES if loads is not None else 1) + [1.0]
     try:
         solver = ca.nlpsol("relax", "ipopt", nlp, opts)

@@ -12,7 +12,7 @@ import time
 import numpy as np
 
 from .derive import functions
-from .errors import ConvergenceError
+from .errors import ConvergenceError, SymcableError
 from .models import build_model
 from .models.base import Model
 from .models.static_mechanism import static_mechanism
@@ -34,7 +34,10 @@ def solve_static(scene, *, tol: float | None = None, max_iter: int = 50,
     Parameters
     ----------
     scene : Scene, dict or path
-        Anything :func:`symcable.load_scene` takes.
+        Anything :func:`symcable.load_scene` takes. A ``model = "cable3d"`` scene is solved
+        as the 3D cable (:mod:`symcable.cable3d_static`): the same StaticSolution, with
+        positions (n, 3), end forces (3,), ``angle`` the segments' elevation, no shear or
+        moment.
     tol : float, optional
         Residual tolerance, N (max-norm over all equations, each a force). Default
         ``1e-9`` times the scene's force scale (total submerged weight, applied forces),
@@ -71,6 +74,13 @@ def solve_static(scene, *, tol: float | None = None, max_iter: int = 50,
     """
     if not isinstance(scene, Scene):
         scene = load_scene(scene)
+    if scene.model.value == "cable3d":
+        if model is not None:
+            raise SymcableError("solve_static(model=...): a planar Model; a cable3d scene "
+                                "builds its own Mechanism (leave model out)")
+        from .cable3d_static import solve_static_3d
+        return solve_static_3d(scene, tol=tol, max_iter=max_iter, continuation=continuation,
+                               codegen=codegen)
     t0 = time.perf_counter()
     model = model or build_model(scene)
     mech = static_mechanism(model)

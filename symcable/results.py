@@ -107,6 +107,12 @@ class Exportable:
 
 
 
+def _components(f) -> str:
+    """'Fx a, Fz b kN' (planar) or 'Fx a, Fy b, Fz c kN' (3D)."""
+    names = ("Fx", "Fz") if len(f) == 2 else ("Fx", "Fy", "Fz")
+    return ", ".join(f"{n} {v / 1e3:.4f}" for n, v in zip(names, f)) + " kN"
+
+
 class OneLine:
     """Results per part for a one-line scene: ``.lines["line"]`` is the result itself (the
     same fields), ``.points`` and ``.bodies`` are empty. Scenes of several parts give each
@@ -139,10 +145,11 @@ class StaticSolution(OneLine, Exportable):
     scene_name : str
     s : ndarray (n,)
         Unstretched arc length of the nodes from end A, m.
-    positions : ndarray (n, 2)
-        Node positions (x, z), m.
+    positions : ndarray (n, 2) or (n, 3)
+        Node positions (x, z), m; (x, y, z) for a cable3d scene.
     angle : ndarray (n-1,)
-        Tangent angle of each segment from +x towards +z, rad.
+        Tangent angle of each segment from +x towards +z, rad (cable3d: its elevation above
+        the horizontal).
     strain : ndarray (n-1,)
         Axial strain of each segment, -.
     axial_force : ndarray (n-1,)
@@ -155,13 +162,13 @@ class StaticSolution(OneLine, Exportable):
         Magnitude of the internal force at the nodes, N (at the ends: the end forces).
     contact_force : ndarray (n,)
         Seabed contact force carried by each node, N.
-    fairlead_force, anchor_force : ndarray (2,)
+    fairlead_force, anchor_force : ndarray (2,) or (3,)
         Force the line exerts on its end B (fairlead) and end A (anchor), N.
     fairlead_tension, anchor_tension : float
         Their magnitudes, N.
     grounded_length : float
         Unstretched length resting on the seabed, m.
-    touchdown : ndarray (2,) or None
+    touchdown : ndarray (2,) or (3,), or None
         Position of the touchdown point, m (None without seabed contact).
     status : str
         ``"converged"`` or ``"failed"`` (only on a ConvergenceError's partial result).
@@ -203,10 +210,8 @@ class StaticSolution(OneLine, Exportable):
         lines = [
             f"scene             {self.scene_name}",
             f"status            {self.status} via {st.get('path', '?')} from {st.get('start', '?')}",
-            f"fairlead tension  {self.fairlead_tension / 1e3:.4f} kN  "
-            f"(Fx {self.fairlead_force[0] / 1e3:.4f}, Fz {self.fairlead_force[1] / 1e3:.4f} kN)",
-            f"anchor tension    {self.anchor_tension / 1e3:.4f} kN  "
-            f"(Fx {self.anchor_force[0] / 1e3:.4f}, Fz {self.anchor_force[1] / 1e3:.4f} kN)",
+            f"fairlead tension  {self.fairlead_tension / 1e3:.4f} kN  ({_components(self.fairlead_force)})",
+            f"anchor tension    {self.anchor_tension / 1e3:.4f} kN  ({_components(self.anchor_force)})",
             f"grounded length   {self.grounded_length:.3f} m",
             f"max |moment|      {np.max(np.abs(self.moment)) / 1e3:.4f} kN m",
             f"solver            {st.get('iterations', '?')} iterations, residual "
@@ -222,6 +227,10 @@ class StaticSolution(OneLine, Exportable):
         figure (saved to ``path`` when given). Give the ``scene`` solved to mark its sections,
         free surface and seabed (see :func:`symcable.plotting.plot_static`). Returns the
         matplotlib Figure."""
+        if self.positions.shape[1] != 2:
+            from .errors import SymcableError
+            raise SymcableError("StaticSolution.plot: 3D (cable3d) static plots are not built "
+                                "yet; plot positions[:, 0] against positions[:, 2] meanwhile")
         from .plotting import plot_static
         return plot_static(self, path, scene=scene)
 

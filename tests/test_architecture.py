@@ -17,7 +17,7 @@ Layers, lowest first; a module may import modules of its own layer or of a lower
    ``results_periodic_mech``, ``plotting``, ``plotting3d``: what comes out
    (results import plotting lazily; plotting imports no solver)
 5. ``solvers``: how it is solved
-6. ``api``, ``planar_static``, ``planar_time``, ``planar_periodic``, ``export``, ``cli`` and
+6. ``api``, ``planar_static``, ``cable3d_static``, ``planar_time``, ``planar_periodic``, ``export``, ``cli`` and
    the package's ``__init__``: orchestration and entry points
 
 ``codegen`` sits at layer 0, below the derived Functions that design.md puts it with: it
@@ -62,6 +62,7 @@ LAYERS = {
     "symcable.solvers": 5,
     "symcable.api": 6,
     "symcable.planar_static": 6,
+    "symcable.cable3d_static": 6,
     "symcable.planar_periodic": 6,
     "symcable.planar_time": 6,
     "symcable.export": 6,

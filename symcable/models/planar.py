@@ -746,7 +746,7 @@ def _relaxed(scene, seg, pos0, p_target, make):
     (:func:`~symcable.models.relax.relaxed_positions`) from ``pos0``, for lines
     without bending, the drag of a current frozen at the last shape in a few passes. None
     for a line with bending or when the minimiser fails."""
-    from .relax import relaxed_positions
+    from .relax import drag_loads, relaxed_positions
 
     if np.any(seg["EI"] > 0.0):
         return None
@@ -776,37 +776,13 @@ def _relaxed(scene, seg, pos0, p_target, make):
         if not free[node]:
             pos0[node] = end.position
     env = scene.environment
-    drag = None if env.in_air or not any(env.current) else _drag_loads(env, seg)
+    drag = None if env.in_air or not any(env.current) else drag_loads(env, seg)
     pos = relaxed_positions(seg, pos0, free, slack_law(seg, force_scale), lumped, forces,
                             contact, force_scale, drag)
     if pos is None:
         return None
     return make(pos, *_from_positions(pos, seg, None), np.array(p_target),
                 "minimum of the potential energy", "")
-
-
-def _drag_loads(env, seg):
-    """Nodal drag of a current on the line at given node positions, (N+1, 2) N: the
-    residual's Morison law (:func:`~symcable.models.terms.morison_drag`) in numbers, each
-    segment's half on each of its nodes."""
-    u = np.asarray(env.current, float)
-    k = 0.5 * env.water_density * seg["d"] * seg["ds"]
-
-    def loads(pos):
-        d = np.diff(pos, axis=0)
-        length = np.maximum(np.hypot(d[:, 0], d[:, 1]), 1e-300)
-        t = d / length[:, None]
-        n = np.stack([-t[:, 1], t[:, 0]], axis=1)
-        ut, un = t @ u, n @ u
-        stretch = np.sqrt(np.maximum(length / seg["ds"], 0.0))
-        f = (k * stretch)[:, None] * ((seg["cdt"] * np.abs(ut) * ut)[:, None] * t
-                                      + (seg["cdn"] * np.abs(un) * un)[:, None] * n)
-        out = np.zeros((len(pos), 2))
-        out[:-1] += 0.5 * f
-        out[1:] += 0.5 * f
-        return out
-
-    return loads
 
 
 # --------------------------------------------------------------------------- results

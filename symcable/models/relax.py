@@ -25,7 +25,7 @@ from typing import Callable
 import casadi as ca
 import numpy as np
 
-__all__ = ["relaxed_positions"]
+__all__ = ["drag_loads", "relaxed_positions"]
 
 #: IPOPT's iterations and tolerance (on the scaled energy: forces relative to the force
 #: scale) for the start; Newton on the equations polishes what is left
@@ -120,3 +120,30 @@ def relaxed_positions(seg: dict, pos0: np.ndarray, free: np.ndarray, law: dict,
     if not np.all(np.isfinite(yv)):
         return None
     return positions(yv)
+
+
+def drag_loads(env, seg: dict) -> Callable[[np.ndarray], np.ndarray]:
+    """Nodal drag of the environment's uniform current on a line at rest, as a function of
+    the node positions (N+1, dim) -> (N+1, dim), N: the Morison law of the residuals
+    (:func:`~symcable.models.terms.morison_drag`: 0.5 rho d Cd |u| u sqrt(1 + e) per
+    unstretched metre, split along and across each segment) in numbers, each segment's half
+    on each of its nodes. Planar or 3D (the current has the positions' dimension)."""
+    u = np.asarray(env.current, float)
+    k = 0.5 * env.water_density * seg["d"] * seg["ds"]
+
+    def loads(pos):
+        d = np.diff(pos, axis=0)
+        length = np.maximum(np.linalg.norm(d, axis=1), 1e-300)
+        t = d / length[:, None]
+        ut = t @ u
+        un = u[None, :] - ut[:, None] * t  # the normal part, a vector
+        un_abs = np.linalg.norm(un, axis=1)
+        stretch = np.sqrt(length / seg["ds"])
+        f = (k * stretch)[:, None] * ((seg["cdt"] * np.abs(ut) * ut)[:, None] * t
+                                      + (seg["cdn"] * un_abs)[:, None] * un)
+        out = np.zeros_like(pos, dtype=float)
+        out[:-1] += 0.5 * f
+        out[1:] += 0.5 * f
+        return out
+
+    return loads

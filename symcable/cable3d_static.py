@@ -1,0 +1,117 @@
+"""The static configuration of a ``cable3d`` scene: its Mechanism
+(:func:`~symcable.models.cable3d.build_cable3d`) solved by the generic
+:func:`~symcable.solvers.equilibrium.solve_equilibrium`, and the outputs turned into a
+:class:`~symcable.results.StaticSolution` with 3D positions and forces."""
+from __future__ import annotations
+
+import time
+from collections import OrderedDict
+
+import numpy as np
+
+from .errors import ConvergenceError
+from .models.cable3d import build_cable3d
+from .models.mechanism import Mechanism
+from .models.planar import force_scale_of, segment_table
+from .results import StaticSolution
+from .scene import Scene
+from .solvers.equilibrium import solve_equilibrium
+
+__all__ = ["cable3d_mechanism", "solve_static_3d"]
+
+#: default residual tolerance, relative to the scene's force scale (as the planar line)
+RTOL = 1e-9
+_CACHE: "OrderedDict[str, Mechanism]" = OrderedDict()
+_CACHE_SIZE = 16
+
+
+def cable3d_mechanism(scene: Scene) -> Mechanism:
+    """The scene's cable3d Mechanism, built once per scene content (16 most recent)."""
+    key = repr(scene.to_dict())
+    mech = _CACHE.get(key)
+    if mech is None:
+        mech = _CACHE[key] = build_cable3d(scene)
+        if len(_CACHE) > _CACHE_SIZE:
+            _CACHE.popitem(last=False)
+    else:
+        _CACHE.move_to_end(key)
+    return mech
+
+
+def solve_static_3d(scene: Scene, *, tol: float | None = None, max_iter: int = 50,
+                    continuation: bool = True, codegen: bool | None = None) -> StaticSolution:
+    """Static configuration of a cable3d scene (see :func:`symcable.solve_static`)."""
+    t0 = time.perf_counter()
+    mech = cable3d_mechanism(scene)
+    seg = segment_table(scene)
+    if tol is None:
+        tol = max(RTOL * force_scale_of(scene, seg), 10 * mech.scales.residual_floor)
+    try:
+        eq = solve_equilibrium(mech, tol=tol, max_iter=max_iter,
+                               continuation=None if continuation else False, codegen=codegen)
+    except ConvergenceError as exc:
+        part = exc.partial
+        partial = None if part is None else _solution(scene, seg, part.outputs, part.q, "failed",
+                                                      dict(part.stats), ())
+        raise ConvergenceError(f"static solve of '{scene.name}' (cable3d) found no admissible "
+                               f"equilibrium: {exc}", partial=partial,
+                               diagnostics=exc.diagnostics) from None
+    stats = dict(eq.stats)
+    stats.update(wall_time=time.perf_counter() - t0, unknowns=mech.n_q, terms=list(mech.terms))
+    warnings = list(eq.warnings)
+    if scene.seabed is not None and scene.seabed.friction > 0:
+        warnings.append("seabed friction is not applied in cable3d statics yet (frictionless "
+                        "contact)")
+    return _solution(scene, seg, eq.outputs, eq.q, "converged", stats, tuple(warnings))
+
+
+def _solution(scene, seg, out, q, status, stats, warnings) -> StaticSolution:
+    pos = np.asarray(out["positions"], float)
+    axial = np.ravel(out["axial_force"])
+    contact = np.ravel(out["contact_force"])
+    fa, fb = np.ravel(out["end_force_a"]), np.ravel(out["end_force_b"])
+    d = np.diff(pos, axis=0)
+    elevation = np.arctan2(d[:, 2], np.hypot(d[:, 0], d[:, 1]))
+    tension = np.concatenate([[np.linalg.norm(fa)], 0.5 * (np.abs(axial[:-1]) + np.abs(axial[1:])),
+                              [np.linalg.norm(fb)]])
+    grounded, touchdown = _grounded(scene, seg, pos, contact, fa, fb)
+    n = len(pos)
+    return StaticSolution(
+        scene_name=scene.name, s=np.asarray(seg["s"]), positions=pos, angle=elevation,
+        strain=np.ravel(out["strain"]), axial_force=axial, shear=np.zeros(n - 1),
+        moment=np.zeros(n), tension=tension, contact_force=contact, fairlead_force=fb,
+        anchor_force=fa, fairlead_tension=float(np.linalg.norm(fb)),
+        anchor_tension=float(np.linalg.norm(fa)), grounded_length=grounded,
+        touchdown=touchdown, status=status, stats=stats, warnings=warnings,
+        unknowns=np.array(q, float))
+
+
+def _grounded(scene, seg, pos, contact, fa, fb):
+    """Grounded length (m, unstretched: the length whose weight the seabed carries, each node
+    at most its tributary length, plus what a held end on the bed props up) and the
+    touchdown point (3,), as the planar line's."""
+    if scene.seabed is None or not contact.max() > 0:
+        return 0.0, None
+    s = seg["s"]
+    trib = np.zeros_like(s)
+    trib[:-1] += 0.5 * seg["ds"]
+    trib[1:] += 0.5 * seg["ds"]
+    w_node = np.zeros_like(s)
+    w_node[:-1] += 0.5 * seg["ds"] * seg["w"]
+    w_node[1:] += 0.5 * seg["ds"] * seg["w"]
+    w_node /= trib
+    w_div = np.where(w_node > 0, w_node, np.inf)
+    grounded = float(np.sum(np.minimum(contact / w_div, trib)))
+    in_contact = contact / trib > 0.1 * np.abs(w_node)
+    for node, force, end in ((0, fa, scene.end_a), (len(s) - 1, fb, scene.end_b)):
+        if end.is_fixed and w_node[node] > 0 and in_contact[node]:
+            grounded += max(0.0, -float(force[-1])) / w_node[node]
+    grounded = min(grounded, float(s[-1]))
+    if in_contact[0] and not in_contact[-1]:
+        s_td = grounded
+    elif in_contact[-1] and not in_contact[0]:
+        s_td = float(s[-1]) - grounded
+    else:
+        s_td = float(s[np.argmax(in_contact)])
+    touchdown = np.array([np.interp(s_td, s, pos[:, c]) for c in range(pos.shape[1])])
+    return grounded, touchdown

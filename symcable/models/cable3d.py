@@ -1,0 +1,240 @@
+"""The 3D position-vector cable (seed 003), ``model = "cable3d"``, as a Mechanism.
+
+Nodes 0..N along the line (end A to end B), two-node elements between them. The unknowns q
+are the positions (x, y, z) of the nodes that move (every interior node, and a free end),
+v their velocities; a pinned end is held at its scene position plus its prescribed motion,
+a function of t and the parameters. Per element j (unstretched length L0, current length
+l, unit tangent t = (x_b - x_a) / l, strain e = l / L0 - 1), one kernel mapped over the
+elements gives:
+
+- axial force T = law(e) + BA de/dt: the tension-only law of cables
+  (:func:`~symcable.models.terms.cable_axial_force`, as the planar line's; a seed-003
+  secant K is not used: CasADi differentiates this law exactly, giving the tangent
+  (EA/L0) t t^T + (T/l)(I - t t^T)), and Kelvin-Voigt material damping BA (N s), seed 003's
+  C = c K;
+- weight and buoyancy: the submerged weight w L0 (N), half on each node;
+- Morison drag on the water's velocity relative to the element (the current minus the
+  mean of its nodes' velocities), split along and across t: 0.5 rho d Cd |u| u sqrt(1+e)
+  per unstretched metre (the planar law), |u| smoothed as sqrt(|u|^2 + DRAG_SPEED^2) so the
+  force is differentiable at rest, half on each node;
+- lumped mass: structural m L0 / 2 per node, and added mass rho A L0 / 2 (Ca_n (I - t t^T) +
+  Ca_t t t^T) per node, rho A the displaced water per metre.
+
+Each node on a flat seabed at z = -depth gets the planar line's smooth penalty contact
+k d b ramp(-depth - z) (b its tributary length). Friction and the seabed's damper are not
+built yet (issue 12, item 2). The free end carries its applied force.
+
+Parameters (blocks): ``load`` (scales weight, buoyancy and applied forces; 1),
+``end_a.position``, ``end_b.position`` (3 each, m), ``current`` (3, m/s), ``slack`` (the
+tension-only law's continuation, as planar), ``motion`` (scales the prescribed motions; 0 in
+statics).
+"""
+from __future__ import annotations
+
+import math
+
+import casadi as ca
+import numpy as np
+
+from ..errors import SymcableError
+from ..scene import EndCondition, Scene
+from . import terms
+from .cable3d_starts import starts_of
+from .mechanism import Bound, Layout, Mechanism, Output, ParamBlocks, PartLayout, Scales
+from .planar import (CABLE_COMPRESSION, FOLD_PUSH, SLACK_CONTINUATION, force_scale_of,
+                     segment_table, slack_law)
+
+__all__ = ["DRAG_SPEED", "build_cable3d"]
+
+#: m/s, the speed below which |u| in the drag law is smoothed (sqrt(|u|^2 + DRAG_SPEED^2)):
+#: far below any current or motion speed that matters, and a linear damping there of
+#: 0.5 rho d Cd DRAG_SPEED per metre
+DRAG_SPEED = 1e-4
+
+P_NAMES = ("load", "end_a.position", "end_b.position", "current", "slack", "motion")
+P_SIZES = (1, 3, 3, 3, 1, 1)
+
+
+def _element_kernel() -> ca.Function:
+    """Forces of one element on its two nodes (N, 3 each), its axial force T (N) and
+    strain e, from its node positions and velocities and its properties (module docstring).
+    """
+    xa, xb, va, vb, u = (ca.SX.sym(n, 3) for n in ("xa", "xb", "va", "vb", "u"))
+    L0, EA, BA, EAs, delta, wall, w, d, cdn, cdt, rho, load = (
+        ca.SX.sym(n) for n in ("L0", "EA", "BA", "EAs", "delta", "wall", "w", "d", "cdn", "cdt",
+                               "rho", "load"))
+    dx = xb - xa
+    ell = ca.sqrt(ca.dot(dx, dx))
+    t = dx / ell
+    e = ell / L0 - 1.0
+    edot = ca.dot(t, vb - va) / L0
+    T = terms.cable_axial_force(EA, e, delta, EAs, wall, 0.005) + BA * edot
+    u_rel = u - 0.5 * (va + vb)
+    ut = ca.dot(u_rel, t)
+    un = u_rel - ut * t
+    k = 0.5 * rho * d * L0 * ca.sqrt(ca.fmax(1.0 + e, 0.0))
+    drag = k * (cdt * ca.sqrt(ut * ut + DRAG_SPEED ** 2) * ut * t
+                + cdn * ca.sqrt(ca.dot(un, un) + DRAG_SPEED ** 2) * un)
+    gravity = ca.vertcat(0.0, 0.0, -load * w * L0)
+    half = 0.5 * (drag + gravity)
+    fa = T * t + half
+    fb = -T * t + half
+    return ca.Function("cable3d_element",
+                       [xa, xb, va, vb, u, L0, EA, BA, EAs, delta, wall, w, d, cdn, cdt, rho, load],
+                       [fa, fb, T, e],
+                       ["xa", "xb", "va", "vb", "u", "L0", "EA", "BA", "EAs", "delta", "wall",
+                        "w", "d", "cdn", "cdt", "rho", "load"], ["fa", "fb", "T", "e"])
+
+
+def _held(end, pos_p, motion_scale, t):
+    """A pinned end's position, m: its parameter position plus the scaled prescribed motion
+    x_i = A_i cos(2 pi t / period + phase_i)."""
+    m = end.motion
+    if m is None:
+        return pos_p
+    A = ca.DM(m.amplitude)
+    ph = ca.DM([math.radians(v) for v in m.phase_deg])
+    return pos_p + motion_scale * A * ca.cos(2.0 * math.pi * t / m.period + ph)
+
+
+def build_cable3d(scene: Scene) -> Mechanism:
+    """The scene's line as a cable3d Mechanism (module docstring)."""
+    if any(e.position is not None and len(e.position) != 3 for e in (scene.end_a, scene.end_b)):
+        raise SymcableError(f"build_cable3d: scene {scene.name!r} has planar end positions "
+                            "(model = 'cable3d' reads [x, y, z])")
+    seg = segment_table(scene)
+    N = len(seg["ds"])
+    env, sb = scene.environment, scene.seabed
+    a, b = scene.end_a, scene.end_b
+    free = [a.condition is EndCondition.FREE, b.condition is EndCondition.FREE]
+    if all(free):
+        raise SymcableError(f"scene {scene.name!r}: both ends free; hold one end")
+    params = ParamBlocks(P_NAMES, P_SIZES, np.concatenate([
+        [1.0], a.position if a.position is not None else np.zeros(3),
+        b.position if b.position is not None else np.zeros(3), env.current, [1.0], [1.0]]))
+    p = ca.SX.sym("p", params.n)
+    load, pa, pb = p[0], p[1:4], p[4:7]
+    current, sigma, motion = p[7:10], p[10], p[11]
+    t = ca.SX.sym("t")
+
+    moving = [i for i in range(N + 1) if (i == 0 and free[0]) or (i == N and free[1]) or 0 < i < N]
+    q = ca.SX.sym("q", 3 * len(moving))
+    v = ca.SX.sym("v", 3 * len(moving))
+    X, V = [None] * (N + 1), [None] * (N + 1)
+    for k, i in enumerate(moving):
+        X[i], V[i] = q[3 * k:3 * k + 3], v[3 * k:3 * k + 3]
+    for end, i, pp in ((a, 0, pa), (b, N, pb)):
+        if X[i] is None:
+            X[i] = _held(end, pp, motion, t)
+            V[i] = ca.jacobian(X[i], t)
+    Xm, Vm = ca.horzcat(*X), ca.horzcat(*V)  # (3, N+1)
+
+    F = force_scale_of(scene, seg)
+    law = slack_law(seg, F)
+    width = ca.exp(math.log(SLACK_CONTINUATION) * (1.0 - sigma))
+    rho = 0.0 if env.in_air else env.water_density
+    kernel = _element_kernel().map(N)
+    row = lambda key: ca.DM(seg[key]).T  # noqa: E731  (1, N)
+    BA = np.array([s.line_type.damping for s in scene.sections for _ in range(s.segments)]) \
+        if all(hasattr(s.line_type, "damping") for s in scene.sections) else np.zeros(N)
+    BA = np.where(BA < 0, -BA * 2.0 * np.sqrt(seg["EA"] * seg["mass"]) * seg["ds"], BA)
+    fa, fb, T, e = kernel(Xm[:, :-1], Xm[:, 1:], Vm[:, :-1], Vm[:, 1:], ca.repmat(current, 1, N),
+                          row("ds"), row("EA"), ca.DM(BA).T, ca.DM(law["EA_slack"]).T,
+                          width * ca.DM(law["delta"]).T, F, row("w"), row("d"), row("cdn"),
+                          row("cdt"), rho, load)
+    nodal = ca.horzcat(fa, ca.SX.zeros(3, 1)) + ca.horzcat(ca.SX.zeros(3, 1), fb)  # (3, N+1)
+    contact = ca.SX.zeros(1, N + 1)
+    term_names = ["elastic", "weight"]
+    if not env.in_air and any(env.current):
+        term_names.append("drag")
+    if sb is not None:
+        term_names.append("seabed")
+        trib = np.zeros(N + 1)
+        trib[:-1] += 0.5 * seg["d"] * seg["ds"]
+        trib[1:] += 0.5 * seg["d"] * seg["ds"]
+        dlt = terms.contact_smoothing(float(np.max(seg["w"])), sb.stiffness, float(np.min(seg["d"])))
+        # a held end on the seabed takes its neighbour's penetration: the half segment
+        # beside it rests where the neighbour does (as the planar line)
+        sink = max(abs(float(np.max(seg["w"]))) / (sb.stiffness * float(np.min(seg["d"]))),
+                   1e-6 * scene.length)
+        probe = list(range(N + 1))
+        for end, i, nb in ((a, 0, 1), (b, N, N - 1)):
+            if end.condition is not EndCondition.FREE and end.position[2] <= -env.depth + sink:
+                probe[i] = nb
+        z_probe = ca.horzcat(*[Xm[2, i] for i in probe])
+        contact = ca.DM(trib * sb.stiffness).T * terms.smooth_ramp(-env.depth - z_probe, dlt)
+        nodal = nodal + ca.vertcat(ca.SX.zeros(2, N + 1), contact)
+    applied = np.zeros((3, N + 1))
+    for end, i in ((a, 0), (b, N)):
+        if end.condition is EndCondition.FREE and end.force is not None:
+            applied[:, i] = end.force
+    if np.any(applied):
+        term_names.append("end force")
+        nodal = nodal + load * ca.DM(applied)
+    force = ca.vertcat(*[nodal[:, i] for i in moving])
+
+    # lumped mass: structural and added (normal, tangential), 3 x 3 per moving node
+    A_w = math.pi * seg["d"] ** 2 / 4.0
+    blocks = [ca.SX.zeros(3, 3) for _ in range(N + 1)]
+    can = np.array([s.line_type.ca_normal for s in scene.sections for _ in range(s.segments)])
+    cat = np.array([getattr(s.line_type, "ca_tangential", 0.0)
+                    for s in scene.sections for _ in range(s.segments)])
+    for j in range(N):
+        dx = Xm[:, j + 1] - Xm[:, j]
+        tt = ca.mtimes(dx, dx.T) / ca.dot(dx, dx)
+        m_j = 0.5 * seg["mass"][j] * seg["ds"][j]
+        ma = 0.5 * rho * A_w[j] * seg["ds"][j]
+        blk = m_j * ca.SX.eye(3) + ma * (can[j] * (ca.SX.eye(3) - tt) + cat[j] * tt)
+        blocks[j] += blk
+        blocks[j + 1] += blk
+    mass = ca.diagcat(*[blocks[i] for i in moving])
+
+    # what the line pulls on each held end (N): its element's force and the node's own loads
+    end_force_a = -nodal[:, 0]
+    end_force_b = -nodal[:, N]
+    outputs = {
+        "positions": Output(Xm.T, "m", "line", "node positions (x, y, z)"),
+        "axial_force": Output(T.T, "N", "line", "axial force of each segment"),
+        "strain": Output(e.T, "1", "line", "strain of each segment"),
+        "contact_force": Output(contact.T, "N", "line", "seabed contact force on each node"),
+        "end_force_a": Output(end_force_a, "N", "line", "force of the line on end A"),
+        "end_force_b": Output(end_force_b, "N", "line", "force of the line on end B"),
+    }
+    L = scene.length
+    cable = seg["EI"] <= 0.0
+    push = np.maximum(CABLE_COMPRESSION * F, FOLD_PUSH * np.abs(seg["w"]) * seg["ds"])
+    bounds = {"strain": Bound(e.T, lower=-1.0 + 1e-9, unit="1", scale=1.0,
+                              what="segments of positive length"),
+              "cable_axial_force": Bound(T.T, lower=-push, unit="N", scale=F,
+                                         what="a cable (EI = 0) carries no compression")}
+    if sb is not None:
+        press = float(np.sum(np.maximum(seg["w"], 0.0) * seg["ds"])) + float(np.abs(applied).sum())
+        u2 = float(np.dot(env.current, env.current))
+        press += float(np.sum(0.5 * rho * seg["cdn"] * seg["d"] * seg["ds"])) * u2
+        bounds["seabed_reaction"] = Bound(ca.sum2(contact), upper=1.01 * press + 1e-6 * F,
+                                          unit="N", scale=F, what="the seabed carries at most "
+                                                                  "what presses the line onto it")
+    coord = L + max(float(np.max(np.abs(e_.position))) for e_ in (a, b) if e_.position is not None)
+    floor = 100.0 * np.finfo(float).eps * float(np.max(seg["EA"] / seg["ds"])) * coord
+    n_q = 3 * len(moving)
+    total_mass = float(np.sum(seg["mass"] * seg["ds"]))
+    scales = Scales(q=np.full(n_q, 0.1 * L), v=np.full(n_q, math.sqrt(env.gravity * L)),
+                    z=np.zeros(0), force=F, mass=max(total_mass, 1e-6), residual_floor=floor)
+    layout = Layout(3, {"line": PartLayout(
+        "line", seg["s"], _node_index(N, moving), _node_index(N, moving),
+        {i: name for i, name in ((0, "end_a"), (N, "end_b")) if i not in moving})})
+    return Mechanism(
+        name="cable3d", q=q, v=v, z=ca.SX.sym("z", 0), t=t, p=p, params=params, mass=mass,
+        force=force, constraint=ca.SX.zeros(0, 1), scales=scales,
+        starts=lambda: starts_of(scene, seg, params, moving),
+        outputs=outputs, layout=layout, terms=tuple(term_names),
+        static_params={"motion": np.zeros(1)}, bounds=bounds,
+        stability_when=ca.SX(1.0) if np.all(cable) else None)
+
+
+def _node_index(N, moving) -> np.ndarray:
+    """(N+1, 3) index of each node's coordinates in q (-1 for a held end)."""
+    idx = -np.ones((N + 1, 3), dtype=int)
+    for k, i in enumerate(moving):
+        idx[i] = np.arange(3 * k, 3 * k + 3)
+    return idx

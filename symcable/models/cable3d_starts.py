@@ -1,0 +1,124 @@
+"""Static starts of the cable3d line (:mod:`symcable.models.cable3d`), in order, each built
+only when the ones before it have failed:
+
+1. two held ends: the planar line's closed-form elastic catenary (with seabed, piles and
+   folds built segment by segment) in the vertical plane through the two ends;
+2. two held ends: the straight line between them;
+3. the minimum of the line's potential energy over the node positions
+   (:func:`~symcable.models.relax.relaxed_positions`, the current's drag frozen at the last
+   shape), from the first start (or, with a free end, from the line hanging straight down
+   from its held end).
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from ..errors import ConvergenceError
+from ..scene import EndCondition
+from . import terms
+from .mechanism import Start
+from .planar import _catenary_start, force_scale_of, slack_law
+from .relax import drag_loads, relaxed_positions
+
+__all__ = ["starts_of"]
+
+
+def _plane(pa, pb):
+    """Unit horizontal direction from A to B (x when B is straight above or below A)."""
+    h = np.array([pb[0] - pa[0], pb[1] - pa[1]])
+    n = float(np.hypot(*h))
+    return np.array([1.0, 0.0]) if n < 1e-12 * (1.0 + abs(pb[2] - pa[2])) else h / n
+
+
+def _catenary(scene, seg):
+    """Node positions (N+1, 3) from the planar closed form in the ends' vertical plane, or
+    None."""
+    pa, pb = np.asarray(scene.end_a.position, float), np.asarray(scene.end_b.position, float)
+    u = _plane(pa, pb)
+    span = float(np.dot(pb[:2] - pa[:2], u))
+    try:
+        start = _catenary_start(np.array([0.0, pa[2]]), np.array([span, pb[2]]), seg, scene)
+    except (ConvergenceError, ValueError, FloatingPointError):
+        return None
+    if start is None:
+        return None
+    pos2, _, source = start
+    pos = np.empty((len(pos2), 3))
+    pos[:, :2] = pa[:2] + np.outer(pos2[:, 0], u)
+    pos[:, 2] = pos2[:, 1]
+    return pos, source + " (in the ends' vertical plane)"
+
+
+def _relaxed(scene, seg, pos0):
+    N = len(seg["ds"])
+    a, b = scene.end_a, scene.end_b
+    free = np.ones(N + 1, dtype=bool)
+    free[0], free[N] = a.condition is EndCondition.FREE, b.condition is EndCondition.FREE
+    pos0 = np.array(pos0, float)
+    for end, i in ((a, 0), (b, N)):
+        if not free[i]:
+            pos0[i] = end.position
+    lumped = np.zeros(N + 1)
+    lumped[:-1] += 0.5 * seg["w"] * seg["ds"]
+    lumped[1:] += 0.5 * seg["w"] * seg["ds"]
+    forces = np.zeros((N + 1, 3))
+    for end, i in ((a, 0), (b, N)):
+        if end.condition is EndCondition.FREE and end.force is not None:
+            forces[i] = end.force
+    contact = None
+    if scene.seabed is not None:
+        width = np.zeros(N + 1)
+        width[:-1] += 0.5 * seg["d"] * seg["ds"]
+        width[1:] += 0.5 * seg["d"] * seg["ds"]
+        k = scene.seabed.stiffness
+        contact = (scene.environment.depth, k,
+                   terms.contact_smoothing(float(np.max(seg["w"])), k, float(np.min(seg["d"]))),
+                   width)
+    env = scene.environment
+    drag = None if env.in_air or not any(env.current) else drag_loads(env, seg)
+    F = force_scale_of(scene, seg)
+    return relaxed_positions(seg, pos0, free, slack_law(seg, F), lumped, forces, contact, F, drag)
+
+
+def _hanging(scene, seg):
+    """The line hanging straight from its held end along its load (weight and the free
+    end's force), each segment at its length."""
+    a, b = scene.end_a, scene.end_b
+    free_a = a.condition is EndCondition.FREE
+    held = np.asarray((b if free_a else a).position, float)
+    load = np.array([0.0, 0.0, -float(np.sum(seg["w"] * seg["ds"]))])
+    f = (a if free_a else b).force
+    if f is not None:
+        load = load + np.asarray(f, float)
+    n = float(np.linalg.norm(load))
+    direction = load / n if n > 0 else np.array([0.0, 0.0, -1.0])
+    s = seg["s"] if not free_a else seg["s"][-1] - seg["s"]
+    return held + np.outer(s, direction)
+
+
+def starts_of(scene, seg, params, moving):
+    """Start objects for :class:`~symcable.models.mechanism.Mechanism` (lazily)."""
+    p0 = params.with_values(motion=0.0)
+    idx = np.asarray(moving)
+
+    def start(pos, source):
+        return Start(np.ascontiguousarray(pos[idx]).ravel(), np.zeros(0), p0, source)
+
+    a, b = scene.end_a, scene.end_b
+    first = None
+    if a.condition is not EndCondition.FREE and b.condition is not EndCondition.FREE:
+        cat = _catenary(scene, seg)
+        if cat is not None:
+            first = cat[0]
+            yield start(*cat)
+        pa, pb = np.asarray(a.position, float), np.asarray(b.position, float)
+        straight = pa + np.outer(seg["s"] / seg["s"][-1], pb - pa)
+        first = straight if first is None else first
+        yield start(straight, "straight line")
+    else:
+        first = _hanging(scene, seg)
+        yield start(first, "line hanging straight along its load")
+    if np.all(seg["EI"] <= 0.0):
+        pos = _relaxed(scene, seg, first)
+        if pos is not None:
+            yield start(pos, "minimum of the potential energy")

@@ -309,7 +309,7 @@ BAD = {
         ("condition", _set("end_a.condition", "fixed"),
          ["end_a.condition = 'fixed'", "'pinned', 'clamped', 'free'"]),
         ("condition typo", _set("end_b.condition", "pined"), ["did you mean 'pinned'?"]),
-        ("model", _set("model", "cable3d"), ["model = 'cable3d'", "(allowed: 'planar')"]),
+        ("model", _set("model", "rod"), ["model = 'rod'", "(allowed: 'planar', 'cable3d')"]),
         ("motion kind", _set("end_b.motion.kind", "sine"),
          ["end_b.motion.kind = 'sine'", "'harmonic'"]),
     ],

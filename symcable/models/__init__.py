@@ -3,6 +3,7 @@ from __future__ import annotations
 
 from collections import OrderedDict
 
+from ..errors import SymcableError
 from ..scene import Model as ModelKind, Scene, load_scene
 from .base import Guess, Model
 from .dynamic import DynamicModel
@@ -18,6 +19,17 @@ _CACHE: "OrderedDict[str, Model]" = OrderedDict()
 _CACHE_SIZE = 16
 
 
+def _builder(builders: dict, scene: Scene, what: str):
+    """The builder of ``scene.model`` in ``builders``, or a SymcableError saying there is
+    none yet (cable3d is a Mechanism, not built here)."""
+    builder = builders.get(scene.model)
+    if builder is None:
+        raise SymcableError(f"model = {scene.model.value!r}: no {what} model for "
+                            f"{scene.model.value} yet (allowed: "
+                            f"{', '.join(repr(m.value) for m in builders)})")
+    return builder
+
+
 def build_model(scene) -> Model:
     """The scene's formulation, discretised, as CasADi expressions; ``scene`` a Scene, or
     anything :func:`symcable.load_scene` takes (a dict, a path to TOML or a MoorDyn deck).
@@ -30,7 +42,7 @@ def build_model(scene) -> Model:
     key = repr(scene.to_dict())
     model = _CACHE.get(key)
     if model is None:
-        model = _BUILDERS[scene.model](scene)
+        model = _builder(_BUILDERS, scene, "static")(scene)
         _CACHE[key] = model
         if len(_CACHE) > _CACHE_SIZE:
             _CACHE.popitem(last=False)
@@ -43,7 +55,7 @@ def linearised_model(scene: Scene, static) -> DynamicModel:
     """The scene's dynamics linearised about ``static`` (its
     :class:`~symcable.results.StaticSolution`), as CasADi expressions; not cached.
     :func:`symcable.api.build_dynamic_model` solves the static state and caches."""
-    return _DYNAMIC_BUILDERS[scene.model](scene, static)
+    return _builder(_DYNAMIC_BUILDERS, scene, "dynamic")(scene, static)
 
 
 def cached_dynamic_model(scene: Scene) -> DynamicModel | None:

@@ -27,12 +27,13 @@ else:  # pragma: no cover - exercised on Python 3.10 only
     import tomli as tomllib
 
 from ..errors import SceneError
-from .model import (_LINE_KEYS, End, EndCondition, Environment, LineType, Model, Motion, Scene, Seabed,
-                    Section, scene_to_dict)
+from .model import (_DIMS, _LINE_KEYS, End, EndCondition, Environment, LineType, Model, Motion,
+                    Scene, Seabed, Section, scene_to_dict)
 
 __all__ = ["load_scene", "scene_to_dict", "scene_to_toml"]
 
-_DIM = 2  # the planar model: vectors are (x, z)
+_AXES = {2: ("x", "z"), 3: ("x", "y", "z")}  # vectors per dimension, z up in both
+_DIM_MODEL = {d: m for m, d in _DIMS.items()}  # the model named in messages on vectors
 _MISSING = object()
 _BARE_KEY = re.compile(r"[A-Za-z0-9_-]+")
 
@@ -88,6 +89,16 @@ def _fmt(x: float) -> str:
     """About four significant digits, at least one decimal (lengths in messages)."""
     digits = 3 - math.floor(math.log10(abs(x))) if x != 0 else 1
     return f"{x:.{max(1, digits)}f}"
+
+
+def _layout(dim: int, prefix: str = "") -> str:
+    """The components of a vector in ``dim`` dimensions, e.g. ``[F_x, F_y, F_z]``."""
+    return "[" + ", ".join(prefix + a for a in _AXES[dim]) + "]"
+
+
+def _for(dim: int, prefix: str = "") -> str:
+    """``[x, y, z] for model "cable3d"``: what a vector must be, in messages."""
+    return f'{_layout(dim, prefix)} for model "{_DIM_MODEL[dim].value}"'
 
 
 # ----------------------------------------------------------------------------- validators
@@ -180,7 +191,7 @@ def _num_reader(path: str, table: Mapping):
 
 # ----------------------------------------------------------------------------- tables
 
-def _environment(data: Mapping) -> Environment:
+def _environment(data: Mapping, dim: int) -> Environment:
     t = _table("environment", _get(data, "environment", {}), _ENV_KEYS)
     num = _num_reader("environment", t)
     depth = _get(t, "depth")
@@ -188,8 +199,8 @@ def _environment(data: Mapping) -> Environment:
         gravity=num("gravity", "m/s^2", _ENV.gravity, gt=0),
         water_density=num("water_density", "kg/m^3", _ENV.water_density, ge=0),
         depth=None if depth is None else num("depth", "m", gt=0),
-        current=_vector("environment.current", _get(t, "current", _ENV.current), _DIM, "m/s",
-                        "[U_x, U_z]"),
+        current=_vector("environment.current", _get(t, "current", (0.0,) * dim), dim, "m/s",
+                        _for(dim, "U_")),
     )
 
 
@@ -205,13 +216,17 @@ def _seabed(data: Mapping, env: Environment) -> Seabed | None:
                   friction=num("friction", "", _SEABED.friction, ge=0))
 
 
-def _line_type(path: str, name: str, raw: Any, env: Environment) -> LineType:
+def _line_type(path: str, name: str, raw: Any, env: Environment, dim: int) -> LineType:
     num = _num_reader(path, _table(path, raw, _LINE_KEYS))
     mass = num("mass", "kg/m", gt=0)
     diameter = num("diameter", "m", gt=0)
     default_weight = (mass - env.water_density * math.pi * diameter**2 / 4.0) * env.gravity
+    ei = num("EI", "N m^2", 0.0, ge=0)
+    if dim == 3 and ei > 0:
+        raise _err(_key(path, "EI"), ei, "N m^2",
+                   'cable3d has no bending yet; EI = 0, or model = "planar"')
     return LineType(
-        name=name, EA=num("EA", "N", gt=0), EI=num("EI", "N m^2", 0.0, ge=0), mass=mass,
+        name=name, EA=num("EA", "N", gt=0), EI=ei, mass=mass,
         diameter=diameter, weight=num("weight", "N/m", default_weight),
         cd_normal=num("cd_normal", "", _LT.cd_normal, ge=0),
         cd_tangential=num("cd_tangential", "", _LT.cd_tangential, ge=0),
@@ -220,7 +235,7 @@ def _line_type(path: str, name: str, raw: Any, env: Environment) -> LineType:
     )
 
 
-def _line_types(data: Mapping, env: Environment) -> dict[str, LineType]:
+def _line_types(data: Mapping, env: Environment, dim: int) -> dict[str, LineType]:
     raw = _required("", data, "line_types", "a table of line types, [line_types.NAME]")
     if not isinstance(raw, Mapping) or not raw:
         raise _err("line_types", raw, "", "must be a non-empty table of line types "
@@ -229,7 +244,7 @@ def _line_types(data: Mapping, env: Environment) -> dict[str, LineType]:
     for name, table in raw.items():
         if not isinstance(name, str) or not name:
             raise _err("line_types", name, "", "line type names must be non-empty strings")
-        out[name] = _line_type(_key("line_types", name), name, table, env)
+        out[name] = _line_type(_key("line_types", name), name, table, env, dim)
     return out
 
 
@@ -253,20 +268,20 @@ def _sections(data: Mapping, types: Mapping[str, LineType]) -> tuple[Section, ..
     return tuple(out)
 
 
-def _motion(path: str, raw: Any) -> Motion:
+def _motion(path: str, raw: Any, dim: int) -> Motion:
     t = _table(path, raw, _MOTION_KEYS)
     kind = _choice(f"{path}.kind", _get(t, "kind", "harmonic"), _MOTION_KINDS, "motion kind")
-    amplitude = _required(path, t, "amplitude", "[A_x, A_z], m")
+    amplitude = _required(path, t, "amplitude", f"{_layout(dim, 'A_')}, m")
     return Motion(
         kind=kind,
         period=_num_reader(path, t)("period", "s", gt=0),
-        amplitude=_vector(f"{path}.amplitude", amplitude, _DIM, "m", "[A_x, A_z]"),
-        phase_deg=_vector(f"{path}.phase_deg", _get(t, "phase_deg", (0.0,) * _DIM), _DIM, "deg",
-                          "[phase_x, phase_z]"),
+        amplitude=_vector(f"{path}.amplitude", amplitude, dim, "m", _for(dim, "A_")),
+        phase_deg=_vector(f"{path}.phase_deg", _get(t, "phase_deg", (0.0,) * dim), dim, "deg",
+                          _for(dim, "phase_")),
     )
 
 
-def _end(path: str, data: Mapping) -> End:
+def _end(path: str, data: Mapping, dim: int) -> End:
     t = _table(path, _required("", data, path, "a table with condition and position"), _END_KEYS)
     cond = EndCondition(_choice(f"{path}.condition", _required(
         path, t, "condition", f"one of {', '.join(map(repr, _CONDITIONS))}"), _CONDITIONS,
@@ -281,26 +296,34 @@ def _end(path: str, data: Mapping) -> End:
             raise _err(f"{path}.motion", motion, "", f"only a pinned or clamped end moves {this}")
     else:
         if position is None:
-            raise SceneError(f"{path}.position: required key missing ([x, z], m; "
+            raise SceneError(f"{path}.position: required key missing ({_layout(dim)}, m; "
                              f"a {cond.value} end needs its position)")
         if force is not None:
             raise _err(f"{path}.force", force, "N", f"only a free end takes a force {this}")
+    if dim == 3 and cond is EndCondition.CLAMPED:
+        raise _err(f"{path}.condition", cond.value, "", "cable3d has no bending yet: "
+                   '"pinned" or "free"')
+    if dim == 3 and angle is not None:
+        raise _err(f"{path}.angle_deg", angle, "deg", "cable3d has no end angle (no bending "
+                   "yet): remove it")
     if cond is EndCondition.CLAMPED:
         angle = _number(f"{path}.angle_deg", _required(
             path, t, "angle_deg", "deg; a clamped end needs its tangent angle from +x"), "deg")
     elif angle is not None:
         raise _err(f"{path}.angle_deg", angle, "deg", f"only a clamped end takes angle_deg {this}")
     if position is not None:
-        position = _vector(f"{path}.position", position, _DIM, "m", "[x, z]")
+        position = _vector(f"{path}.position", position, dim, "m", _for(dim))
     if cond is EndCondition.FREE:
-        force = _vector(f"{path}.force", _get(t, "force", (0.0,) * _DIM), _DIM, "N", "[F_x, F_z]")
+        force = _vector(f"{path}.force", _get(t, "force", (0.0,) * dim), dim, "N", _for(dim, "F_"))
     if motion is not None:
-        motion = _motion(f"{path}.motion", motion)
+        motion = _motion(f"{path}.motion", motion, dim)
     return End(condition=cond, position=position, angle_deg=angle, force=force, motion=motion)
 
 
-def _check_geometry(env: Environment, sections: tuple[Section, ...], ends: dict[str, End]) -> None:
-    """Checks that need the whole scene: a held end, bending at clamps, seabed, reach."""
+def _check_geometry(env: Environment, sections: tuple[Section, ...], ends: dict[str, End],
+                    dim: int) -> None:
+    """Checks that need the whole scene: a held end, bending at clamps, seabed, reach.
+    Vectors have ``dim`` components, the last one z (up)."""
     if not any(e.is_fixed for e in ends.values()):
         raise _err("end_b.condition", "free", "", "at least one end must be pinned or clamped "
                                                    "(both ends are free)")
@@ -319,7 +342,7 @@ def _check_geometry(env: Environment, sections: tuple[Section, ...], ends: dict[
         if end.motion is not None:
             _check_motion_speed(name, end.motion, lt)
     _check_stiffness(sections, ends)
-    _check_loaded(env, sections, ends)
+    _check_loaded(env, sections, ends, dim)
     a, b = ends["end_a"].position, ends["end_b"].position
     if a is not None and b is not None:
         distance = math.dist(a, b)
@@ -368,7 +391,8 @@ def _check_stiffness(sections: tuple[Section, ...], ends: dict[str, End]) -> Non
                        "inextensible anyway)")
 
 
-def _check_loaded(env: Environment, sections: tuple[Section, ...], ends: dict[str, End]) -> None:
+def _check_loaded(env: Environment, sections: tuple[Section, ...], ends: dict[str, End],
+                  dim: int) -> None:
     """Refuse a free end that nothing pulls on: with no submerged weight (to round-off of
     the dry weight), no force on the free end and no current, nothing sets the direction
     of the line below a pinned end, and its static shape is undetermined (unless bending
@@ -388,8 +412,8 @@ def _check_loaded(env: Environment, sections: tuple[Section, ...], ends: dict[st
         raise _err(f"{name}.condition", "free", "", "the line has no submerged weight (mass "
                    "equal to the water it displaces), no force on its free end and no current: "
                    "nothing pulls it, so its static shape is undetermined; give the free end a "
-                   f"force ({name}.force = [F_x, F_z], N), a line weight, a current, or hold "
-                   "the end")
+                   f"force ({name}.force = {_layout(dim, 'F_')}, N), a line weight, a current, "
+                   "or hold the end")
     length = sum(s.length for s in sections)
     distance = math.dist(ends["end_a"].position, ends["end_b"].position)
     if distance < length and not any(s.line_type.EI > 0 for s in sections):
@@ -413,13 +437,13 @@ def _check_motion_speed(name: str, motion: Motion, lt: LineType) -> None:
     just as meaningless (e.g. 70 m/s for the seed-001 chain, 220 m/s for the OC3 line; a
     fairlead moves at a few m/s). Slower motions that still overstretch the line are caught
     on the result, whose status is then "invalid" (results_time.strain_warnings)."""
-    if motion.kind != "harmonic" or len(motion.amplitude) != 2:
+    if motion.kind != "harmonic":
         return
-    ax, az = motion.amplitude
-    delta = motion.phase[1] - motion.phase[0]
-    # max over t of |(A_x w sin(wt + p_x), A_z w sin(wt + p_z))|
-    peak = math.sqrt(0.5 * (ax * ax + az * az) + 0.5 * abs(ax * ax + az * az * complex(
-        math.cos(2 * delta), math.sin(2 * delta))))
+    # max over t of |(A_i w sin(wt + p_i))_i|: with c_i = A_i exp(i p_i), the squared speed
+    # over w^2 is sum |c_i|^2 / 2 + Re(sum c_i^2 exp(2 i w t)) / 2, largest at
+    # (sum |c_i|^2 + |sum c_i^2|) / 2
+    c = [a * complex(math.cos(p), math.sin(p)) for a, p in zip(motion.amplitude, motion.phase)]
+    peak = math.sqrt(0.5 * sum(abs(ci) ** 2 for ci in c) + 0.5 * abs(sum(ci * ci for ci in c)))
     limit = lt.max_strain * math.sqrt(lt.EA / lt.mass)
     if peak * motion.omega > limit:
         raise _err(f"{name}.motion.period", motion.period, "s",
@@ -486,12 +510,13 @@ def _build(data: Mapping, source: str) -> Scene:
     if not isinstance(name, str):
         raise _err("name", name, "", "must be a string")
     model = Model(_choice("model", _get(data, "model", Model.PLANAR.value), _MODELS, "model"))
-    env = _environment(data)
+    dim = _DIMS[model]
+    env = _environment(data, dim)
     seabed = _seabed(data, env)
-    types = _line_types(data, env)
+    types = _line_types(data, env, dim)
     sections = _sections(data, types)
-    ends = {"end_a": _end("end_a", data), "end_b": _end("end_b", data)}
-    _check_geometry(env, sections, ends)
+    ends = {"end_a": _end("end_a", data, dim), "end_b": _end("end_b", data, dim)}
+    _check_geometry(env, sections, ends, dim)
     return Scene(name=name, model=model, environment=env, seabed=seabed,
                  line_types=MappingProxyType(types), sections=sections,
                  end_a=ends["end_a"], end_b=ends["end_b"], source=source)

@@ -35,7 +35,12 @@ class EndCondition(str, enum.Enum):
 class Model(str, enum.Enum):
     """Formulations a scene can ask for (``model = ...``)."""
 
-    PLANAR = "planar"
+    PLANAR = "planar"    #: a line in the vertical x-z plane; vectors are [x, z]
+    CABLE3D = "cable3d"  #: a 3D position-vector cable, no bending yet; vectors are [x, y, z]
+
+
+#: space dimensions of each model: the length of every vector in its scenes (z is up)
+_DIMS = {Model.PLANAR: 2, Model.CABLE3D: 3}
 
 
 @dataclass(frozen=True)
@@ -114,7 +119,7 @@ class Motion:
     period : float
         s (> 0).
     amplitude : tuple of float
-        m, one per coordinate (x, z) or (x, y, z).
+        m, one per coordinate: (x, z) planar, (x, y, z) cable3d.
     phase_deg : tuple of float
         degrees, one per coordinate.
     """
@@ -143,12 +148,14 @@ class End:
     ----------
     condition : EndCondition
     position : tuple of float or None
-        m; given for pinned and clamped ends, None for a free end.
+        m, (x, z) planar or (x, y, z) cable3d, z up; given for pinned and clamped ends,
+        None for a free end.
     angle_deg : float or None
-        Clamped ends only: angle of the line's tangent (direction of increasing arc length,
+        Clamped ends only (planar): angle of the line's tangent (direction of increasing arc length,
         i.e. pointing from A towards B) from +x, counter-clockwise, degrees.
     force : tuple of float or None
-        Free ends only: external force applied to the end, N (zero vector if not given).
+        Free ends only: external force applied to the end, N, one component per coordinate
+        (zero vector if not given).
     motion : Motion or None
         Prescribed motion about ``position`` (pinned/clamped ends only).
     """
@@ -184,7 +191,8 @@ class Environment:
     depth : float or None
         m (> 0); a flat seabed at z = -depth, or None for no seabed.
     current : tuple of float
-        Uniform current velocity [U_x, U_z], m/s; default zero.
+        Uniform current velocity, m/s: [U_x, U_z] planar, [U_x, U_y, U_z] cable3d; default
+        zero (the loader gives the scene's dimension; the dataclass default is planar).
     """
 
     gravity: float = 9.80665
@@ -247,8 +255,9 @@ class Scene:
 
     @property
     def dim(self) -> int:
-        """Number of space dimensions (2 for the planar model)."""
-        return 2
+        """Number of space dimensions, the length of every vector in the scene: 2 for
+        ``planar`` (x, z), 3 for ``cable3d`` (x, y, z); z is up in both."""
+        return _DIMS[Model(self.model)]
 
     @property
     def length(self) -> float:

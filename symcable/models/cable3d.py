@@ -189,9 +189,10 @@ def build_cable3d(scene: Scene) -> Mechanism:
         blocks[j + 1] += blk
     mass = ca.diagcat(*[blocks[i] for i in moving])
 
-    # what the line pulls on each held end (N): its element's force and the node's own loads
-    end_force_a = -nodal[:, 0]
-    end_force_b = -nodal[:, N]
+    # what the line exerts on each held end (N): its element's pull and the loads lumped on
+    # the end node, which the support takes (as the planar line's end forces)
+    end_force_a = nodal[:, 0]
+    end_force_b = nodal[:, N]
     outputs = {
         "positions": Output(Xm.T, "m", "line", "node positions (x, y, z)"),
         "axial_force": Output(T.T, "N", "line", "axial force of each segment"),

@@ -1,0 +1,44 @@
+"""Natural modes of the cable3d line from the generic modal analysis (issue 12, first step):
+a weightless string stretched in air between two points on a diagonal of the x-y plane.
+With lumped masses its modes are those of a chain of equal masses in closed form: in each
+of the two transverse planes omega_j = 2 sqrt(T / (m ds l)) sin(j pi / 2N) (T the tension,
+l the stretched segment length: the tangent stiffness T / l across the element), and
+axially the same with EA / ds for T / l. The 3D mass matrix (lumped), the exact tangent
+stiffness (EA/L0) t t^T + (T/l)(I - t t^T) and the generic eigen-solve must give them to
+round-off, whatever the line's direction."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from symcable.cable3d_static import cable3d_mechanism
+from symcable.scene import load_scene
+from symcable.solvers.equilibrium import solve_equilibrium
+from symcable.solvers.linearize import mechanism_modes
+
+
+def test_stretched_string_modes_in_closed_form():
+    N, L, m, EA, stretch = 20, 10.0, 1.0, 1e6, 0.01
+    reach = L * (1 + stretch)
+    d = {"model": "cable3d", "environment": {"water_density": 0.0},
+         "line_types": {"s": {"mass": m, "diameter": 0.01, "EA": EA, "weight": 0.0}},
+         "sections": [{"type": "s", "length": L, "segments": N}],
+         "end_a": {"condition": "pinned", "position": [0.0, 0.0, 0.0]},
+         "end_b": {"condition": "pinned",
+                   "position": [reach * 0.6, reach * 0.48, reach * 0.64]}}
+    mech = cable3d_mechanism(load_scene(d))
+    eq = solve_equilibrium(mech)
+    modes = mechanism_modes(mech, eq)
+    f = np.sort(modes.frequencies)
+    ds, T = L / N, EA * stretch
+    j = np.arange(1, N)
+    shape = 2 * np.sin(j * math.pi / (2 * N)) / (2 * math.pi)
+    f_tr = shape * math.sqrt(T / (m * ds * ds * (1 + stretch)))
+    f_ax = shape * math.sqrt(EA / (m * ds * ds))
+    ref = np.sort(np.concatenate([f_tr, f_tr, f_ax]))
+    assert f.size == ref.size == 3 * (N - 1)
+    np.testing.assert_allclose(f, ref, rtol=1e-10)
+    # and the continuum string, to the discretisation (second order: (pi / 2N)^2 / 6)
+    f1 = math.sqrt(T / (m / (1 + stretch))) / (2 * reach)
+    assert abs(f[0] - f1) / f1 < (math.pi / (2 * N)) ** 2 / 6 * 1.1

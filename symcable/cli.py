@@ -15,9 +15,9 @@ from pathlib import Path
 from .errors import SymcableError
 
 
-def _scene_summary(scene, model) -> str:
+def _scene_summary(scene, n_unknowns: int, terms) -> str:
     lines = [f"scene      {scene.name}  ({scene.source})",
-             f"model      {scene.model.value}: {model.n_w} unknowns, terms: {', '.join(model.terms)}",
+             f"model      {scene.model.value}: {n_unknowns} unknowns, terms: {', '.join(terms)}",
              f"line       {scene.length:.3f} m in {scene.n_segments} segments"]
     for k, sec in enumerate(scene.sections):
         lt = sec.line_type
@@ -64,7 +64,14 @@ def _check(args) -> int:
     from .scene import load_scene
 
     scene = load_scene(args.scene)
-    print(_scene_summary(scene, build_model(scene)))
+    if scene.model.value == "cable3d":
+        from .cable3d_static import cable3d_mechanism
+        mech = cable3d_mechanism(scene)
+        print(_scene_summary(scene, mech.n_q, mech.terms))
+        print("ok")
+        return 0
+    model = build_model(scene)
+    print(_scene_summary(scene, model.n_w, model.terms))
     if not any(e.motion is not None for e in (scene.end_a, scene.end_b)):
         print("ok")
         return 0

@@ -23,6 +23,10 @@ def _builder(builders: dict, scene: Scene, what: str):
     """The builder of ``scene.model`` in ``builders``, or a SymcableError saying there is
     none yet (cable3d is a Mechanism, not built here)."""
     builder = builders.get(scene.model)
+    if builder is None and scene.model is ModelKind.CABLE3D:
+        raise SymcableError(f"model = 'cable3d': no {what} Model record for it; cable3d is a "
+                            "Mechanism (symcable.cable3d_static.cable3d_mechanism(scene); "
+                            "solve_static solves it)")
     if builder is None:
         raise SymcableError(f"model = {scene.model.value!r}: no {what} model for "
                             f"{scene.model.value} yet (allowed: "

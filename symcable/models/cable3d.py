@@ -88,13 +88,16 @@ def _element_kernel() -> ca.Function:
 
 def _held(end, pos_p, motion_scale, t):
     """A pinned end's position, m: its parameter position plus the scaled prescribed motion
-    x_i = A_i cos(2 pi t / period + phase_i)."""
+    x_i = r(t) A_i cos(2 pi t / period + phase_i), ramped in over the first period by
+    r = (1 - cos(pi t / period)) / 2 (1 from then on), so that a run from the static state
+    (at t = 0) starts without a jump in the end's position or velocity."""
     m = end.motion
     if m is None:
         return pos_p
     A = ca.DM(m.amplitude)
     ph = ca.DM([math.radians(v) for v in m.phase_deg])
-    return pos_p + motion_scale * A * ca.cos(2.0 * math.pi * t / m.period + ph)
+    ramp = ca.if_else(t < m.period, 0.5 * (1.0 - ca.cos(math.pi * t / m.period)), 1.0)
+    return pos_p + motion_scale * ramp * A * ca.cos(2.0 * math.pi * t / m.period + ph)
 
 
 def build_cable3d(scene: Scene) -> Mechanism:
@@ -164,6 +167,8 @@ def build_cable3d(scene: Scene) -> Mechanism:
         z_probe = ca.horzcat(*[Xm[2, i] for i in probe])
         contact = ca.DM(trib * sb.stiffness).T * terms.smooth_ramp(-env.depth - z_probe, dlt)
         nodal = nodal + ca.vertcat(ca.SX.zeros(2, N + 1), contact)
+        nodal = nodal + _seabed_dynamics(sb, Xm, Vm, contact, -env.depth - z_probe, dlt, trib,
+                                         term_names)
     applied = np.zeros((3, N + 1))
     for end, i in ((a, 0), (b, N)):
         if end.condition is EndCondition.FREE and end.force is not None:
@@ -231,6 +236,39 @@ def build_cable3d(scene: Scene) -> Mechanism:
         outputs=outputs, layout=layout, terms=tuple(term_names),
         static_params={"motion": np.zeros(1)}, bounds=bounds,
         stability_when=ca.SX(1.0) if np.all(cable) else None)
+
+
+def _seabed_dynamics(sb, Xm, Vm, contact, pen, dlt, area, term_names):
+    """Nodal forces (3, N+1) of the seabed's normal damper and regularised Coulomb friction,
+    N; zero at rest (so statics are frictionless) and built only where the scene asks.
+
+    - damper: -damping b v_z times the contact's smooth on-off factor
+      0.5 (1 + g / sqrt(g^2 + delta^2)) (b = ``area``, the node's contact width x length,
+      m^2; g the penetration, m);
+    - friction on the horizontal velocity v_h, split along the line's horizontal direction
+      tau at the node (central difference of the neighbours) and across it:
+      -N (mu_a (v_h . tau) tau + mu_l (v_h - (v_h . tau) tau)) / sqrt(|v_h|^2 + v_eps^2),
+      N the contact's normal force (the spring, not the damper), v_eps the scene's
+      ``friction_velocity``."""
+    n = Xm.shape[1]
+    out = ca.SX.zeros(3, n)
+    on = 0.5 * (1.0 + pen / ca.sqrt(pen * pen + dlt * dlt))
+    if sb.damping > 0:
+        term_names.append("seabed damping")
+        out[2, :] = -sb.damping * ca.DM(area).T * Vm[2, :] * on
+    mu_a, mu_l = sb.mu_axial, sb.mu_lateral
+    if mu_a > 0 or mu_l > 0:
+        term_names.append("seabed friction")
+        nxt = ca.horzcat(Xm[:, 1:], Xm[:, -1])
+        prv = ca.horzcat(Xm[:, 0], Xm[:, :-1])
+        tau = (nxt - prv)[0:2, :]
+        tau = tau / ca.repmat(ca.sqrt(ca.sum1(tau * tau) + 1e-24), 2, 1)
+        vh = Vm[0:2, :]
+        va = ca.repmat(ca.sum1(vh * tau), 2, 1) * tau
+        speed = ca.sqrt(ca.sum1(vh * vh) + sb.friction_velocity ** 2)
+        f = -ca.repmat(contact / speed, 2, 1) * (mu_a * va + mu_l * (vh - va))
+        out[0:2, :] = f
+    return out
 
 
 def _node_index(N, moving) -> np.ndarray:

@@ -39,7 +39,8 @@ _BARE_KEY = re.compile(r"[A-Za-z0-9_-]+")
 
 _TOP_KEYS = ("name", "model", "environment", "seabed", "line_types", "sections", "end_a", "end_b")
 _ENV_KEYS = ("gravity", "water_density", "depth", "current")
-_SEABED_KEYS = ("stiffness", "friction")
+_SEABED_KEYS = ("stiffness", "friction", "damping", "friction_axial", "friction_lateral",
+                "friction_velocity")
 _SECTION_KEYS = ("type", "length", "segments")
 _END_KEYS = ("condition", "position", "angle_deg", "force", "motion")
 _MOTION_KEYS = ("kind", "period", "amplitude", "phase_deg")
@@ -211,9 +212,17 @@ def _seabed(data: Mapping, env: Environment) -> Seabed | None:
             raise _err("seabed", raw, "", "a seabed needs environment.depth (flat seabed at "
                                           "z = -depth); give the depth or remove [seabed]")
         return None
-    num = _num_reader("seabed", _table("seabed", _get(data, "seabed", {}), _SEABED_KEYS))
+    t = _table("seabed", _get(data, "seabed", {}), _SEABED_KEYS)
+    num = _num_reader("seabed", t)
     return Seabed(stiffness=num("stiffness", "Pa/m", _SEABED.stiffness, gt=0),
-                  friction=num("friction", "", _SEABED.friction, ge=0))
+                  friction=num("friction", "", _SEABED.friction, ge=0),
+                  damping=num("damping", "Pa s/m", _SEABED.damping, ge=0),
+                  friction_axial=None if _get(t, "friction_axial") is None
+                  else num("friction_axial", "", ge=0),
+                  friction_lateral=None if _get(t, "friction_lateral") is None
+                  else num("friction_lateral", "", ge=0),
+                  friction_velocity=num("friction_velocity", "m/s", _SEABED.friction_velocity,
+                                        gt=0))
 
 
 def _line_type(path: str, name: str, raw: Any, env: Environment, dim: int) -> LineType:

@@ -216,11 +216,31 @@ class Seabed:
         unstretched length is ``stiffness * diameter * penetration``. Default 1e5.
     friction : float
         Coulomb coefficient (>= 0). Statics treat the seabed as frictionless (friction is
-        statically indeterminate); the key is kept for the dynamics.
+        statically indeterminate); the cable3d dynamics apply it.
+    damping : float
+        Pa s/m (>= 0): the normal damper of the contact, pressure per m/s of the node's
+        vertical speed while it is in contact (cable3d dynamics).
+    friction_axial, friction_lateral : float or None
+        Coulomb coefficients along and across the line (cable3d dynamics); None: ``friction``.
+    friction_velocity : float
+        m/s (> 0): the speed over which the Coulomb law is regularised,
+        -mu N v / sqrt(|v|^2 + friction_velocity^2). Default 0.01.
     """
 
     stiffness: float = 1.0e5
     friction: float = 0.0
+    damping: float = 0.0
+    friction_axial: float | None = None
+    friction_lateral: float | None = None
+    friction_velocity: float = 0.01
+
+    @property
+    def mu_axial(self) -> float:
+        return self.friction if self.friction_axial is None else self.friction_axial
+
+    @property
+    def mu_lateral(self) -> float:
+        return self.friction if self.friction_lateral is None else self.friction_lateral
 
 
 @dataclass(frozen=True)
@@ -293,7 +313,15 @@ def scene_to_dict(scene: Scene) -> dict:
     out: dict[str, Any] = {"name": scene.name, "model": Model(scene.model).value,
                            "environment": environment}
     if scene.seabed is not None:
-        out["seabed"] = {"stiffness": scene.seabed.stiffness, "friction": scene.seabed.friction}
+        sb = scene.seabed
+        out["seabed"] = {"stiffness": sb.stiffness, "friction": sb.friction}
+        if sb.damping:
+            out["seabed"]["damping"] = sb.damping
+        for key in ("friction_axial", "friction_lateral"):
+            if getattr(sb, key) is not None:
+                out["seabed"][key] = getattr(sb, key)
+        if sb.friction_velocity != Seabed.friction_velocity:
+            out["seabed"]["friction_velocity"] = sb.friction_velocity
     types = dict(scene.line_types)
     for s in scene.sections:  # a hand-built Scene may hold types missing from the mapping
         types.setdefault(s.line_type.name, s.line_type)

@@ -10,9 +10,9 @@ from collections import OrderedDict
 import numpy as np
 
 from .errors import ConvergenceError
-from .models.cable3d import build_cable3d
+from .models.cable3d import build_cable3d, force_scale
 from .models.mechanism import Mechanism
-from .models.planar import force_scale_of, segment_table
+from .models.planar import segment_table
 from .results import StaticSolution
 from .scene import Scene
 from .solvers.equilibrium import solve_equilibrium
@@ -45,7 +45,7 @@ def solve_static_3d(scene: Scene, *, tol: float | None = None, max_iter: int = 5
     mech = cable3d_mechanism(scene)
     seg = segment_table(scene)
     if tol is None:
-        tol = max(RTOL * force_scale_of(scene, seg), 10 * mech.scales.residual_floor)
+        tol = max(RTOL * force_scale(scene, seg), 10 * mech.scales.residual_floor)
     try:
         eq = solve_equilibrium(mech, tol=tol, max_iter=max_iter,
                                continuation=None if continuation else False, codegen=codegen)

@@ -39,12 +39,13 @@ import numpy as np
 from ..errors import SymcableError
 from ..scene import EndCondition, Scene
 from . import terms
-from .cable3d_starts import starts_of
+from .cable3d_starts import force_scale, starts_of
+from .relax import _ramp_integral
 from .mechanism import Bound, Layout, Mechanism, Output, ParamBlocks, PartLayout, Scales
-from .planar import (CABLE_COMPRESSION, FOLD_PUSH, SLACK_CONTINUATION, force_scale_of,
-                     segment_table, slack_law)
+from .planar import (CABLE_COMPRESSION, FOLD_PUSH, SLACK_CONTINUATION, segment_table,
+                     slack_law)
 
-__all__ = ["DRAG_SPEED", "build_cable3d"]
+__all__ = ["DRAG_SPEED", "build_cable3d", "force_scale"]
 
 #: m/s, the speed below which |u| in the drag law is smoothed (sqrt(|u|^2 + DRAG_SPEED^2)):
 #: far below any current or motion speed that matters, and a linear damping there of
@@ -132,7 +133,7 @@ def build_cable3d(scene: Scene) -> Mechanism:
             V[i] = ca.jacobian(X[i], t)
     Xm, Vm = ca.horzcat(*X), ca.horzcat(*V)  # (3, N+1)
 
-    F = force_scale_of(scene, seg)
+    F = force_scale(scene, seg)
     law = slack_law(seg, F)
     width = ca.exp(math.log(SLACK_CONTINUATION) * (1.0 - sigma))
     rho = 0.0 if env.in_air else env.water_density
@@ -206,6 +207,21 @@ def build_cable3d(scene: Scene) -> Mechanism:
         "end_force_a": Output(end_force_a, "N", "line", "force of the line on end A"),
         "end_force_b": Output(end_force_b, "N", "line", "force of the line on end B"),
     }
+    # energies (J): kinetic 0.5 v^T M v of the moving nodes; potential: the law's integral
+    # over each element, the submerged weight's height, the contact's integral (the
+    # conservative forces' potential: with no drag, damping, friction or moving end the
+    # sum is conserved)
+    ec = e.T  # (N, 1)
+    U = (0.5 * ca.DM(law["EA_slack"]) * ec * ec
+         + ca.DM(seg["EA"] - law["EA_slack"]) * _ramp_integral(ec, width * ca.DM(law["delta"]))
+         + F * 0.005 * ca.exp(-(1.0 + ec) / 0.005))
+    potential = ca.dot(ca.DM(seg["ds"]), U) + load * ca.dot(ca.DM(_lumped(seg)), Xm[2, :].T)
+    if sb is not None:
+        potential += ca.dot(ca.DM(trib * sb.stiffness), _ramp_integral(-env.depth - z_probe, dlt).T)
+    outputs["kinetic_energy"] = Output(0.5 * ca.dot(v, ca.mtimes(mass, v)), "J", "line",
+                                       "kinetic energy of the moving nodes")
+    outputs["potential_energy"] = Output(potential, "J", "line",
+                                         "elastic, gravity and contact potential energy")
     L = scene.length
     cable = seg["EI"] <= 0.0
     push = np.maximum(CABLE_COMPRESSION * F, FOLD_PUSH * np.abs(seg["w"]) * seg["ds"])
@@ -268,6 +284,14 @@ def _seabed_dynamics(sb, Xm, Vm, contact, pen, dlt, area, term_names):
         speed = ca.sqrt(ca.sum1(vh * vh) + sb.friction_velocity ** 2)
         f = -ca.repmat(contact / speed, 2, 1) * (mu_a * va + mu_l * (vh - va))
         out[0:2, :] = f
+    return out
+
+
+def _lumped(seg) -> np.ndarray:
+    """Submerged weight lumped on the nodes (N+1,), N: half of each adjacent segment."""
+    out = np.zeros(len(seg["ds"]) + 1)
+    out[:-1] += 0.5 * seg["w"] * seg["ds"]
+    out[1:] += 0.5 * seg["w"] * seg["ds"]
     return out
 
 

@@ -14,13 +14,25 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import ConvergenceError
-from ..scene import EndCondition
+from ..scene import EndCondition, Scene
 from . import terms
 from .mechanism import Start
 from .planar import _catenary_start, force_scale_of, slack_law
 from .relax import drag_loads, relaxed_positions
 
-__all__ = ["starts_of"]
+__all__ = ["force_scale", "starts_of"]
+
+
+def force_scale(scene: Scene, seg: dict) -> float:
+    """A characteristic force, N: the planar line's (weight, applied forces, 1e-6 EA), or
+    the tension of the line stretched straight between its held ends when that is more
+    (a weightless string in air)."""
+    F = force_scale_of(scene, seg)
+    a, b = scene.end_a, scene.end_b
+    if a.position is not None and b.position is not None:
+        reach = float(np.linalg.norm(np.subtract(b.position, a.position)))
+        F = max(F, float(np.min(seg["EA"])) * max(0.0, reach / float(seg["s"][-1]) - 1.0))
+    return F
 
 
 def _plane(pa, pb):
@@ -76,7 +88,7 @@ def _relaxed(scene, seg, pos0):
                    width)
     env = scene.environment
     drag = None if env.in_air or not any(env.current) else drag_loads(env, seg)
-    F = force_scale_of(scene, seg)
+    F = force_scale(scene, seg)
     return relaxed_positions(seg, pos0, free, slack_law(seg, F), lumped, forces, contact, F, drag)
 
 

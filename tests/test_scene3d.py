@@ -244,3 +244,21 @@ def test_cli_check_cable3d(tmp_path, capsys):
     assert main(["check", str(path)]) == 0
     out = capsys.readouterr().out
     assert "cable3d" in out and "unknowns" in out and out.strip().endswith("ok")
+
+
+def test_cable3d_only_line_keys():
+    """``damping`` (axial material damping, N s; negative = -zeta) and ``ca_tangential``
+    load in cable3d and round-trip; a planar scene refuses them when nonzero (the planar
+    line has neither), naming the key."""
+    d = base3d()
+    lt = next(iter(d["line_types"].values()))
+    lt.update(damping=-0.8, ca_tangential=0.5)
+    s = load_scene(d)
+    t = next(iter(s.line_types.values()))
+    assert (t.damping, t.ca_tangential) == (-0.8, 0.5)
+    assert next(iter(load_scene(s.to_dict()).line_types.values())) == t
+    planar = {"line_types": {"c": {"mass": 50.0, "diameter": 0.1, "EA": 1e8, "damping": 1e4}},
+              "sections": [{"type": "c", "length": 100.0, "segments": 10}],
+              "end_a": {"condition": "pinned", "position": [0.0, 0.0]},
+              "end_b": {"condition": "pinned", "position": [90.0, 0.0]}}
+    _refused(planar, "line_types.c.damping", "cable3d")

@@ -139,8 +139,9 @@ def build_cable3d(scene: Scene) -> Mechanism:
     rho = 0.0 if env.in_air else env.water_density
     kernel = _element_kernel().map(N)
     row = lambda key: ca.DM(seg[key]).T  # noqa: E731  (1, N)
-    BA = np.array([s.line_type.damping for s in scene.sections for _ in range(s.segments)]) \
-        if all(hasattr(s.line_type, "damping") for s in scene.sections) else np.zeros(N)
+    BA = np.array([s.line_type.damping for s in scene.sections for _ in range(s.segments)])
+    # negative: minus the damping ratio of the segment's axial mode (stiffness EA/ds, mass
+    # m ds: critical damping 2 sqrt(EA m) for the rate of length, BA / ds of it)
     BA = np.where(BA < 0, -BA * 2.0 * np.sqrt(seg["EA"] * seg["mass"]) * seg["ds"], BA)
     fa, fb, T, e = kernel(Xm[:, :-1], Xm[:, 1:], Vm[:, :-1], Vm[:, 1:], ca.repmat(current, 1, N),
                           row("ds"), row("EA"), ca.DM(BA).T, ca.DM(law["EA_slack"]).T,
@@ -148,7 +149,7 @@ def build_cable3d(scene: Scene) -> Mechanism:
                           row("cdt"), rho, load)
     nodal = ca.horzcat(fa, ca.SX.zeros(3, 1)) + ca.horzcat(ca.SX.zeros(3, 1), fb)  # (3, N+1)
     contact = ca.SX.zeros(1, N + 1)
-    term_names = ["elastic", "weight"]
+    term_names = ["elastic", "weight"] + (["material damping"] if np.any(BA) else [])
     if not env.in_air and any(env.current):
         term_names.append("drag")
     if sb is not None:
@@ -183,8 +184,7 @@ def build_cable3d(scene: Scene) -> Mechanism:
     A_w = math.pi * seg["d"] ** 2 / 4.0
     blocks = [ca.SX.zeros(3, 3) for _ in range(N + 1)]
     can = np.array([s.line_type.ca_normal for s in scene.sections for _ in range(s.segments)])
-    cat = np.array([getattr(s.line_type, "ca_tangential", 0.0)
-                    for s in scene.sections for _ in range(s.segments)])
+    cat = np.array([s.line_type.ca_tangential for s in scene.sections for _ in range(s.segments)])
     for j in range(N):
         dx = Xm[:, j + 1] - Xm[:, j]
         tt = ca.mtimes(dx, dx.T) / ca.dot(dx, dx)

@@ -241,7 +241,18 @@ def _line_type(path: str, name: str, raw: Any, env: Environment, dim: int) -> Li
         cd_tangential=num("cd_tangential", "", _LT.cd_tangential, ge=0),
         ca_normal=num("ca_normal", "", _LT.ca_normal, ge=0),
         max_strain=num("max_strain", "", _LT.max_strain, gt=0),
+        ca_tangential=_only_3d(path, "ca_tangential", num("ca_tangential", "", _LT.ca_tangential,
+                                                          ge=0), dim),
+        damping=_only_3d(path, "damping", num("damping", "N s", _LT.damping), dim),
     )
+
+
+def _only_3d(path: str, key: str, value: float, dim: int) -> float:
+    """A line-type key only cable3d reads: refused when nonzero in a planar scene."""
+    if dim != 3 and value != 0.0:
+        raise _err(_key(path, key), value, "", 'read by model = "cable3d" only (the planar '
+                   "line has no axial damping or tangential added mass): remove it, or 0")
+    return value
 
 
 def _line_types(data: Mapping, env: Environment, dim: int) -> dict[str, LineType]:

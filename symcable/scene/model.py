@@ -21,7 +21,9 @@ __all__ = [
 
 #: keys of a line type (``[line_types.NAME]``) in the file, in the order they are written
 _LINE_KEYS = ("EA", "EI", "mass", "diameter", "weight", "cd_normal", "cd_tangential", "ca_normal",
-              "max_strain")
+              "max_strain", "ca_tangential", "damping")
+#: the keys only cable3d reads (written only when set)
+_LINE_KEYS_3D = ("ca_tangential", "damping")
 
 
 class EndCondition(str, enum.Enum):
@@ -68,6 +70,12 @@ class LineType:
     max_strain : float
         Largest admissible axial strain (> 0), used to decide whether a fairlead is out of
         reach; default 0.1.
+    ca_tangential : float
+        Tangential added-mass coefficient (>= 0; cable3d only), default 0.
+    damping : float
+        Axial material damping BA, N s (cable3d only; seed 003's C = c K, BA = c EA): the
+        axial force gains BA de/dt. Negative: minus the damping ratio of each segment's axial
+        mode, BA = -damping x 2 ds sqrt(EA mass). Default 0.
     """
 
     name: str
@@ -80,6 +88,8 @@ class LineType:
     cd_tangential: float = 0.008
     ca_normal: float = 1.0
     max_strain: float = 0.1
+    ca_tangential: float = 0.0
+    damping: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -325,7 +335,8 @@ def scene_to_dict(scene: Scene) -> dict:
     types = dict(scene.line_types)
     for s in scene.sections:  # a hand-built Scene may hold types missing from the mapping
         types.setdefault(s.line_type.name, s.line_type)
-    out["line_types"] = {name: {k: getattr(lt, k) for k in _LINE_KEYS}
+    out["line_types"] = {name: {k: getattr(lt, k) for k in _LINE_KEYS
+                                if k not in _LINE_KEYS_3D or getattr(lt, k) != 0.0}
                          for name, lt in types.items()}
     out["sections"] = [{"type": s.line_type.name, "length": s.length, "segments": s.segments}
                        for s in scene.sections]

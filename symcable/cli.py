@@ -32,7 +32,9 @@ def _scene_summary(scene, n_unknowns: int, terms) -> str:
         if end.force is not None:
             extra += f", force ({', '.join(f'{v:.4g}' for v in end.force)}) N"
         if end.motion is not None:
-            extra += f", harmonic motion of period {end.motion.period:g} s"
+            m = end.motion
+            extra += (f", motion from {m.file} ({len(m.samples)} rows over {m.period:g} s)"
+                      if m.kind == "table" else f", harmonic motion of period {m.period:g} s")
         lines.append(f"{label}      {end.condition.value}{extra}")
     return "\n".join(lines)
 

@@ -88,13 +88,21 @@ def _element_kernel() -> ca.Function:
 
 
 def _held(end, pos_p, motion_scale, t):
-    """A pinned end's position, m: its parameter position plus the scaled prescribed motion
+    """A pinned end's position, m: its parameter position plus the scaled prescribed motion:
+    a table's displacement, linearly interpolated (held at its first and last rows), or
     x_i = r(t) A_i cos(2 pi t / period + phase_i), ramped in over the first period by
     r = (1 - cos(pi t / period)) / 2 (1 from then on), so that a run from the static state
     (at t = 0) starts without a jump in the end's position or velocity."""
     m = end.motion
     if m is None:
         return pos_p
+    if m.kind == "table":  # piecewise linear through the rows, held outside them
+        r = np.asarray(m.samples, float)
+        tk, X = r[:, 0], r[:, 1:4]
+        slopes = np.diff(X, axis=0) / np.diff(tk)[:, None]
+        kinks = np.vstack([slopes[:1], np.diff(slopes, axis=0), -slopes[-1:]])  # (n, 3)
+        disp = ca.DM(X[0]) + ca.mtimes(ca.DM(kinks).T, ca.fmax(t - ca.DM(tk), 0.0))
+        return pos_p + motion_scale * disp
     A = ca.DM(m.amplitude)
     ph = ca.DM([math.radians(v) for v in m.phase_deg])
     ramp = ca.if_else(t < m.period, 0.5 * (1.0 - ca.cos(math.pi * t / m.period)), 1.0)

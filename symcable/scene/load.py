@@ -19,6 +19,7 @@ import sys
 from types import MappingProxyType
 from typing import Any, Mapping
 
+import numpy as np
 import tomli_w
 
 if sys.version_info >= (3, 11):
@@ -43,8 +44,8 @@ _SEABED_KEYS = ("stiffness", "friction", "damping", "friction_axial", "friction_
                 "friction_velocity")
 _SECTION_KEYS = ("type", "length", "segments")
 _END_KEYS = ("condition", "position", "angle_deg", "force", "motion")
-_MOTION_KEYS = ("kind", "period", "amplitude", "phase_deg")
-_MOTION_KINDS = ("harmonic",)
+_MOTION_KEYS = ("kind", "period", "amplitude", "phase_deg", "file")
+_MOTION_KINDS = ("harmonic", "table")
 _CONDITIONS = tuple(c.value for c in EndCondition)
 _MODELS = tuple(m.value for m in Model)
 
@@ -288,9 +289,13 @@ def _sections(data: Mapping, types: Mapping[str, LineType]) -> tuple[Section, ..
     return tuple(out)
 
 
-def _motion(path: str, raw: Any, dim: int) -> Motion:
+def _motion(path: str, raw: Any, dim: int, base: str = ".") -> Motion:
     t = _table(path, raw, _MOTION_KEYS)
     kind = _choice(f"{path}.kind", _get(t, "kind", "harmonic"), _MOTION_KINDS, "motion kind")
+    if kind == "table":
+        return _table_motion(path, t, dim, base)
+    if _get(t, "file") is not None:
+        raise _err(f"{path}.file", _get(t, "file"), "", 'only kind = "table" reads a file')
     amplitude = _required(path, t, "amplitude", f"{_layout(dim, 'A_')}, m")
     return Motion(
         kind=kind,
@@ -301,7 +306,37 @@ def _motion(path: str, raw: Any, dim: int) -> Motion:
     )
 
 
-def _end(path: str, data: Mapping, dim: int) -> End:
+def _table_motion(path: str, t: Mapping, dim: int, base: str) -> Motion:
+    """A motion read from a table file (see :class:`Motion`): cable3d only."""
+    if dim != 3:
+        raise _err(f"{path}.kind", "table", "", 'table motions are read by model = "cable3d" '
+                   'only (the planar dynamics take "harmonic")')
+    for key in ("period", "amplitude", "phase_deg"):
+        if _get(t, key) is not None:
+            raise _err(f"{path}.{key}", _get(t, key), "", 'a table motion takes only "file"')
+    name = _required(path, t, "file", "a file of rows t x y z [rx ry rz] (s, m; displacement "
+                     "from the end's position), relative to the scene file")
+    if not isinstance(name, str):
+        raise _err(f"{path}.file", name, "", "must be a path string")
+    full = os.path.abspath(os.path.join(base, os.path.expanduser(name)))
+    try:
+        rows = np.loadtxt(full, ndmin=2)
+    except (OSError, ValueError) as exc:
+        raise _err(f"{path}.file", name, "", f"cannot be read as rows of numbers "
+                   f"({type(exc).__name__}: {str(exc).splitlines()[0] if str(exc) else ''})") from None
+    if rows.shape[0] < 2 or rows.shape[1] < 4 or not np.all(np.isfinite(rows[:, :4])):
+        raise _err(f"{path}.file", name, "", f"needs at least 2 rows of t x y z (got "
+                   f"{rows.shape[0]} rows of {rows.shape[1]} finite numbers)")
+    if not np.all(np.diff(rows[:, 0]) > 0):
+        raise _err(f"{path}.file", name, "", "its times (first column) must increase")
+    rows = rows[:, :4]
+    return Motion(kind="table", period=float(rows[-1, 0] - rows[0, 0]),
+                  amplitude=tuple(float(v) for v in np.max(np.abs(rows[:, 1:]), axis=0)),
+                  phase_deg=(0.0, 0.0, 0.0), file=full,
+                  samples=tuple(tuple(float(v) for v in r) for r in rows))
+
+
+def _end(path: str, data: Mapping, dim: int, base: str = ".") -> End:
     t = _table(path, _required("", data, path, "a table with condition and position"), _END_KEYS)
     cond = EndCondition(_choice(f"{path}.condition", _required(
         path, t, "condition", f"one of {', '.join(map(repr, _CONDITIONS))}"), _CONDITIONS,
@@ -336,7 +371,7 @@ def _end(path: str, data: Mapping, dim: int) -> End:
     if cond is EndCondition.FREE:
         force = _vector(f"{path}.force", _get(t, "force", (0.0,) * dim), dim, "N", _for(dim, "F_"))
     if motion is not None:
-        motion = _motion(f"{path}.motion", motion, dim)
+        motion = _motion(f"{path}.motion", motion, dim, base)
     return End(condition=cond, position=position, angle_deg=angle, force=force, motion=motion)
 
 
@@ -457,6 +492,15 @@ def _check_motion_speed(name: str, motion: Motion, lt: LineType) -> None:
     just as meaningless (e.g. 70 m/s for the seed-001 chain, 220 m/s for the OC3 line; a
     fairlead moves at a few m/s). Slower motions that still overstretch the line are caught
     on the result, whose status is then "invalid" (results_time.strain_warnings)."""
+    if motion.kind == "table":
+        r = np.asarray(motion.samples, float)
+        v = np.linalg.norm(np.diff(r[:, 1:], axis=0), axis=1) / np.diff(r[:, 0])
+        limit = lt.max_strain * math.sqrt(lt.EA / lt.mass)
+        if float(v.max()) > limit:
+            raise _err(f"{name}.motion.file", motion.file, "",
+                       f"the end would move at up to {float(v.max()):.3g} m/s, faster than "
+                       f"max_strain * sqrt(EA / mass) = {limit:.3g} m/s of line type {lt.name!r}")
+        return
     if motion.kind != "harmonic":
         return
     # max over t of |(A_i w sin(wt + p_i))_i|: with c_i = A_i exp(i p_i), the squared speed
@@ -516,7 +560,8 @@ def load_scene(source: str | os.PathLike | Mapping | Scene) -> Scene:
     else:
         raise _err("scene", source, "", "must be a path to a TOML file, a dict or a Scene")
     try:
-        return _build(data, str(name))
+        base = os.path.dirname(os.path.abspath(name)) if name != "<dict>" else os.getcwd()
+        return _build(data, str(name), base)
     except SceneError:
         raise
     except Exception as exc:  # a gap in the checks above: still report it as a scene error
@@ -524,7 +569,7 @@ def load_scene(source: str | os.PathLike | Mapping | Scene) -> Scene:
                          .replace("\n", " ")) from exc
 
 
-def _build(data: Mapping, source: str) -> Scene:
+def _build(data: Mapping, source: str, base: str = ".") -> Scene:
     _check_keys("", data, _TOP_KEYS)
     name = _get(data, "name", "unnamed")
     if not isinstance(name, str):
@@ -535,7 +580,7 @@ def _build(data: Mapping, source: str) -> Scene:
     seabed = _seabed(data, env)
     types = _line_types(data, env, dim)
     sections = _sections(data, types)
-    ends = {"end_a": _end("end_a", data, dim), "end_b": _end("end_b", data, dim)}
+    ends = {"end_a": _end("end_a", data, dim, base), "end_b": _end("end_b", data, dim, base)}
     _check_geometry(env, sections, ends, dim)
     return Scene(name=name, model=model, environment=env, seabed=seabed,
                  line_types=MappingProxyType(types), sections=sections,

@@ -120,24 +120,34 @@ class Section:
 class Motion:
     """Prescribed motion of an end about its position (``[end_b.motion]``).
 
-    ``x_i(t) = amplitude[i] * cos(2*pi*t/period + phase[i])``.
+    ``"harmonic"``: ``x_i(t) = amplitude[i] * cos(2*pi*t/period + phase[i])``.
+    ``"table"`` (cable3d): the displacement read from a file of rows ``t x y z [rx ry rz]``,
+    linearly interpolated, held at its first and last rows outside it (rotations ignored:
+    an end is a point).
 
     Attributes
     ----------
     kind : str
-        ``"harmonic"`` (the only kind so far).
+        ``"harmonic"`` or ``"table"``.
     period : float
-        s (> 0).
+        s (> 0); for a table, its time span.
     amplitude : tuple of float
-        m, one per coordinate: (x, z) planar, (x, y, z) cable3d.
+        m, one per coordinate: (x, z) planar, (x, y, z) cable3d; for a table, the largest
+        |displacement| per coordinate.
     phase_deg : tuple of float
-        degrees, one per coordinate.
+        degrees, one per coordinate (zeros for a table).
+    file : str or None
+        The table's file, resolved (absolute).
+    samples : tuple of (t, dx, dy, dz) or None
+        The table's rows, s and m.
     """
 
     kind: str
     period: float
     amplitude: tuple[float, ...]
     phase_deg: tuple[float, ...]
+    file: str | None = None
+    samples: tuple | None = None
 
     @property
     def omega(self) -> float:
@@ -350,7 +360,8 @@ def scene_to_dict(scene: Scene) -> dict:
             e["force"] = list(end.force)
         if end.motion is not None:
             m = end.motion
-            e["motion"] = {"kind": m.kind, "period": m.period, "amplitude": list(m.amplitude),
-                           "phase_deg": list(m.phase_deg)}
+            e["motion"] = ({"kind": "table", "file": m.file} if m.kind == "table" else
+                           {"kind": m.kind, "period": m.period, "amplitude": list(m.amplitude),
+                            "phase_deg": list(m.phase_deg)})
         out[key] = e
     return out

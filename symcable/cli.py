@@ -63,13 +63,16 @@ def _static(scene_path, args) -> int:
 
 def _check(args) -> int:
     from .models import build_model
-    from .scene import load_scene
+    from .scene import load_scene, moordyn_deck
 
     scene = load_scene(args.scene)
     if scene.model.value == "cable3d":
         from .cable3d_static import cable3d_mechanism
         mech = cable3d_mechanism(scene)
         print(_scene_summary(scene, mech.n_q, mech.terms))
+        deck = moordyn_deck(args.scene) if isinstance(args.scene, str) else None
+        for note in deck.notes if deck is not None else ():
+            print(f"deck note  {note}")
         print("ok")
         return 0
     model = build_model(scene)

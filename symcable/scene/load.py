@@ -1,7 +1,8 @@
 """Reading, validating and writing scenes (the scene-file layout of the README, "A scene file").
 
-:func:`load_scene` turns a TOML file or a dict in the file's layout into a frozen
-:class:`~symcable.scene.Scene`; :func:`scene_to_dict` and :func:`scene_to_toml` go back.
+:func:`load_scene` turns a TOML file, a dict in the file's layout or a MoorDyn v2 deck
+(:mod:`.moordyn`) into a frozen :class:`~symcable.scene.Scene`; :func:`scene_to_dict` and
+:func:`scene_to_toml` go back.
 Every bad input raises a one-line :class:`~symcable.errors.SceneError` of the form
 ``<key path> = <value> [unit]: <what is allowed>``, for example
 ``sections[0].length = -3.0 m: must be > 0``.
@@ -30,8 +31,9 @@ else:  # pragma: no cover - exercised on Python 3.10 only
 from ..errors import SceneError
 from .model import (_DIMS, _LINE_KEYS, End, EndCondition, Environment, LineType, Model, Motion,
                     Scene, Seabed, Section, scene_to_dict)
+from .moordyn import MoorDynDeck, is_moordyn_deck, parse_moordyn
 
-__all__ = ["load_scene", "scene_to_dict", "scene_to_toml"]
+__all__ = ["load_scene", "moordyn_deck", "scene_to_dict", "scene_to_toml"]
 
 _AXES = {2: ("x", "z"), 3: ("x", "y", "z")}  # vectors per dimension, z up in both
 _DIM_MODEL = {d: m for m, d in _DIMS.items()}  # the model named in messages on vectors
@@ -532,13 +534,47 @@ def _read_toml(path: str) -> dict:
         raise SceneError(f"{path}: invalid TOML: {exc}".replace("\n", " ")) from None
 
 
+def _read_file(path: str) -> tuple[Any, MoorDynDeck | None]:
+    """A scene file's dict: TOML, or else a MoorDyn deck (then also the deck)."""
+    try:
+        return _read_toml(path), None
+    except SceneError:
+        deck = moordyn_deck(path)
+        if deck is None:
+            raise
+    return deck.scene, deck
+
+
+def moordyn_deck(path: str | os.PathLike) -> MoorDynDeck | None:
+    """The MoorDyn deck at ``path`` as :func:`load_scene` reads it (its scene dict and its
+    notes on what it ignored), or None when the file is TOML, unreadable or not a deck.
+
+    Raises
+    ------
+    SceneError
+        When the file is a deck that cannot be represented (:func:`.moordyn.parse_moordyn`).
+    """
+    name = os.fspath(path)
+    try:
+        with open(name, "rb") as f:
+            raw = f.read()
+        tomllib.loads(raw.decode("utf-8"))
+        return None
+    except OSError:
+        return None
+    except ValueError:  # not UTF-8, or not TOML
+        text = raw.decode("utf-8", errors="replace")
+    return parse_moordyn(text, name) if is_moordyn_deck(text) else None
+
+
 def load_scene(source: str | os.PathLike | Mapping | Scene) -> Scene:
     """Read and validate a scene.
 
     Parameters
     ----------
     source : str, os.PathLike, dict or Scene
-        Path of a TOML scene file, a dict in the same layout, or a Scene (returned unchanged).
+        Path of a TOML scene file or of a MoorDyn v2 deck (a file that is not TOML and looks
+        like one, :mod:`.moordyn`), a dict in the scene layout, or a Scene (returned unchanged).
 
     Returns
     -------
@@ -548,13 +584,15 @@ def load_scene(source: str | os.PathLike | Mapping | Scene) -> Scene:
     Raises
     ------
     SceneError
-        With a one-line message naming the key, the value and what is allowed.
+        With a one-line message naming the key, the value and what is allowed (for a deck,
+        prefixed with the deck's line the key came from).
     """
     if isinstance(source, Scene):
         return source
+    deck = None
     if isinstance(source, (str, os.PathLike)):
         name = os.fspath(source)
-        data: Any = _read_toml(name)
+        data, deck = _read_file(name)
     elif isinstance(source, Mapping):
         name, data = "<dict>", source
     else:
@@ -562,8 +600,10 @@ def load_scene(source: str | os.PathLike | Mapping | Scene) -> Scene:
     try:
         base = os.path.dirname(os.path.abspath(name)) if name != "<dict>" else os.getcwd()
         return _build(data, str(name), base)
-    except SceneError:
-        raise
+    except SceneError as exc:
+        if deck is None:
+            raise
+        raise SceneError(deck.locate(str(exc))) from None  # the deck line the key came from
     except Exception as exc:  # a gap in the checks above: still report it as a scene error
         raise SceneError(f"{name}: invalid scene ({type(exc).__name__}: {exc})"
                          .replace("\n", " ")) from exc

@@ -42,3 +42,24 @@ def test_stretched_string_modes_in_closed_form():
     # and the continuum string, to the discretisation (second order: (pi / 2N)^2 / 6)
     f1 = math.sqrt(T / (m / (1 + stretch))) / (2 * reach)
     assert abs(f[0] - f1) / f1 < (math.pi / (2 * N)) ** 2 / 6 * 1.1
+
+
+def test_material_damping_as_moordyn_zeta():
+    """A line type's negative ``damping`` is minus the damping ratio zeta of the line's
+    highest axial mode (adjacent nodes in opposition), as MoorDyn's BA/-zeta: BA = zeta ds
+    sqrt(EA m). Kelvin-Voigt damping is stiffness-proportional, so the axial mode j of the
+    lumped chain has zeta_j = zeta sin(j pi / 2N) (its frequency over that of the ideal
+    opposition mode): the generic modal analysis with damping gives exactly that (1e-6)."""
+    N, L, zeta = 12, 10.0, 0.3
+    d = {"model": "cable3d", "environment": {"water_density": 0.0},
+         "line_types": {"s": {"mass": 1.0, "diameter": 0.01, "EA": 1e6, "weight": 0.0,
+                              "damping": -zeta}},
+         "sections": [{"type": "s", "length": L, "segments": N}],
+         "end_a": {"condition": "pinned", "position": [0.0, 0.0, 0.0]},
+         "end_b": {"condition": "pinned", "position": [L * 1.01, 0.0, 0.0]}}
+    mech = cable3d_mechanism(load_scene(d))
+    modes = mechanism_modes(mech, solve_equilibrium(mech), damped=True)
+    order = np.argsort(modes.frequencies)
+    axial = np.asarray(modes.damping_ratios)[order][-(N - 1):]  # the stiff axial modes
+    j = np.arange(1, N)
+    np.testing.assert_allclose(axial, zeta * np.sin(j * math.pi / (2 * N)), rtol=1e-6)

@@ -53,7 +53,7 @@ def test_chain_decks_load_with_the_deck_numbers(name):
     assert (lt.cd_normal, lt.ca_normal, lt.cd_tangential, lt.ca_tangential) == \
         (1.37, 1.0, 0.64, 0.0)
     # BA/-zeta = -1.0: MoorDyn's BA = zeta ds sqrt(EA m), cable3d's zeta 2 ds sqrt(EA m)
-    assert lt.damping == -1.0 * ZETA_FACTOR == -0.5
+    assert lt.damping == -1.0 * ZETA_FACTOR == -1.0  # the same zeta convention as MoorDyn
     assert lt.weight == pytest.approx((390.0 - 1025.0 * math.pi * 0.252**2 / 4) * 9.80665,
                                       rel=1e-15)
     (sec,) = s.sections

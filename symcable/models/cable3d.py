@@ -148,9 +148,10 @@ def build_cable3d(scene: Scene) -> Mechanism:
     kernel = _element_kernel().map(N)
     row = lambda key: ca.DM(seg[key]).T  # noqa: E731  (1, N)
     BA = np.array([s.line_type.damping for s in scene.sections for _ in range(s.segments)])
-    # negative: minus the damping ratio of the segment's axial mode (stiffness EA/ds, mass
-    # m ds: critical damping 2 sqrt(EA m) for the rate of length, BA / ds of it)
-    BA = np.where(BA < 0, -BA * 2.0 * np.sqrt(seg["EA"] * seg["mass"]) * seg["ds"], BA)
+    # negative: minus the damping ratio zeta of the line's highest axial mode (adjacent
+    # nodes in opposition: stiffness 4 EA/ds, damping 4 BA/ds, mass m ds per node), as
+    # MoorDyn reads BA/-zeta: BA = zeta ds sqrt(EA m)
+    BA = np.where(BA < 0, -BA * np.sqrt(seg["EA"] * seg["mass"]) * seg["ds"], BA)
     fa, fb, T, e = kernel(Xm[:, :-1], Xm[:, 1:], Vm[:, :-1], Vm[:, 1:], ca.repmat(current, 1, N),
                           row("ds"), row("EA"), ca.DM(BA).T, ca.DM(law["EA_slack"]).T,
                           width * ca.DM(law["delta"]).T, F, row("w"), row("d"), row("cdn"),

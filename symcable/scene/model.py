@@ -74,8 +74,9 @@ class LineType:
         Tangential added-mass coefficient (>= 0; cable3d only), default 0.
     damping : float
         Axial material damping BA, N s (cable3d only; seed 003's C = c K, BA = c EA): the
-        axial force gains BA de/dt. Negative: minus the damping ratio of each segment's axial
-        mode, BA = -damping x 2 ds sqrt(EA mass). Default 0.
+        axial force gains BA de/dt. Negative: minus the damping ratio of the line's highest
+        axial mode (adjacent nodes in opposition), BA = -damping x ds sqrt(EA mass), as
+        MoorDyn's BA/-zeta. Default 0.
     """
 
     name: str

@@ -22,9 +22,9 @@ LINE TYPES, by column name   ``[line_types.<TypeName>]`` (only the type the line
   Mass/m, MassDen            ``mass``, kg/m in air; ``weight`` left to its default
                              (mass - rho pi d^2/4) g, which is MoorDyn's too
   EA                         ``EA``, N (a table, a ``|`` or a Syrope law: refused)
-  BA/-zeta                   ``damping``: BA >= 0 as given (N s); a negative -zeta scaled by
-                             :data:`ZETA_FACTOR` = 0.5, because MoorDyn's BA is
-                             zeta ds sqrt(EA m) and cable3d's is zeta 2 ds sqrt(EA m)
+  BA/-zeta                   ``damping``: BA >= 0 as given (N s); a negative -zeta as given
+                             (:data:`ZETA_FACTOR` = 1: cable3d reads it as MoorDyn does,
+                             BA = zeta ds sqrt(EA m))
   EI                         must be 0 (cable3d has no bending yet): else refused
   Cd, Ca / Cdn, Can          ``cd_normal``, ``ca_normal``
   CdAx, CaAx / Cdt, Cat      ``cd_tangential``, ``ca_tangential``
@@ -68,10 +68,9 @@ from ..errors import SceneError
 
 __all__ = ["ZETA_FACTOR", "MoorDynDeck", "is_moordyn_deck", "parse_moordyn"]
 
-#: cable3d's negative ``damping`` per MoorDyn negative BA/-zeta: MoorDyn sets
-#: BA = -BAin ds sqrt(EA m) (Line.cpp), cable3d BA = -damping 2 ds sqrt(EA m); the factor
-#: keeps BA in N s the same
-ZETA_FACTOR = 0.5
+#: cable3d's negative ``damping`` per MoorDyn negative BA/-zeta: both set
+#: BA = zeta ds sqrt(EA m), zeta the damping ratio of the line's highest axial mode
+ZETA_FACTOR = 1.0
 
 #: section kind -> names MoorDyn accepts in the header (MoorDyn2.cpp, findStartOfSection),
 #: the v2 name first

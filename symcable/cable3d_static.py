@@ -12,7 +12,7 @@ import numpy as np
 from .errors import ConvergenceError
 from .models.cable3d import build_cable3d, force_scale
 from .models.mechanism import Mechanism
-from .models.planar import segment_table
+from .models.planar import grounded_length, segment_table
 from .results import StaticSolution
 from .scene import Scene
 from .solvers.equilibrium import solve_equilibrium
@@ -74,7 +74,8 @@ def _solution(scene, seg, out, q, status, stats, warnings) -> StaticSolution:
     elevation = np.arctan2(d[:, 2], np.hypot(d[:, 0], d[:, 1]))
     tension = np.concatenate([[np.linalg.norm(fa)], 0.5 * (np.abs(axial[:-1]) + np.abs(axial[1:])),
                               [np.linalg.norm(fb)]])
-    grounded, touchdown = _grounded(scene, seg, pos, contact, fa, fb)
+    grounded, _, touchdown = grounded_length(scene, seg, None, pos,
+                                             contact if scene.seabed is not None else None, fa, fb)
     n = len(pos)
     return StaticSolution(
         scene_name=scene.name, s=np.asarray(seg["s"]), positions=pos, angle=elevation,
@@ -84,34 +85,3 @@ def _solution(scene, seg, out, q, status, stats, warnings) -> StaticSolution:
         anchor_tension=float(np.linalg.norm(fa)), grounded_length=grounded,
         touchdown=touchdown, status=status, stats=stats, warnings=warnings,
         unknowns=np.array(q, float))
-
-
-def _grounded(scene, seg, pos, contact, fa, fb):
-    """Grounded length (m, unstretched: the length whose weight the seabed carries, each node
-    at most its tributary length, plus what a held end on the bed props up) and the
-    touchdown point (3,), as the planar line's."""
-    if scene.seabed is None or not contact.max() > 0:
-        return 0.0, None
-    s = seg["s"]
-    trib = np.zeros_like(s)
-    trib[:-1] += 0.5 * seg["ds"]
-    trib[1:] += 0.5 * seg["ds"]
-    w_node = np.zeros_like(s)
-    w_node[:-1] += 0.5 * seg["ds"] * seg["w"]
-    w_node[1:] += 0.5 * seg["ds"] * seg["w"]
-    w_node /= trib
-    w_div = np.where(w_node > 0, w_node, np.inf)
-    grounded = float(np.sum(np.minimum(contact / w_div, trib)))
-    in_contact = contact / trib > 0.1 * np.abs(w_node)
-    for node, force, end in ((0, fa, scene.end_a), (len(s) - 1, fb, scene.end_b)):
-        if end.is_fixed and w_node[node] > 0 and in_contact[node]:
-            grounded += max(0.0, -float(force[-1])) / w_node[node]
-    grounded = min(grounded, float(s[-1]))
-    if in_contact[0] and not in_contact[-1]:
-        s_td = grounded
-    elif in_contact[-1] and not in_contact[0]:
-        s_td = float(s[-1]) - grounded
-    else:
-        s_td = float(s[np.argmax(in_contact)])
-    touchdown = np.array([np.interp(s_td, s, pos[:, c]) for c in range(pos.shape[1])])
-    return grounded, touchdown

@@ -15,10 +15,9 @@ import numpy as np
 
 from ..errors import ConvergenceError
 from ..scene import EndCondition, Scene
-from . import terms
 from .mechanism import Start
 from .planar import _catenary_start, force_scale_of, slack_law
-from .relax import drag_loads, relaxed_positions
+from .relax import relax_line
 
 __all__ = ["force_scale", "starts_of"]
 
@@ -61,37 +60,6 @@ def _catenary(scene, seg):
     return pos, source + " (in the ends' vertical plane)"
 
 
-def _relaxed(scene, seg, pos0):
-    N = len(seg["ds"])
-    a, b = scene.end_a, scene.end_b
-    free = np.ones(N + 1, dtype=bool)
-    free[0], free[N] = a.condition is EndCondition.FREE, b.condition is EndCondition.FREE
-    pos0 = np.array(pos0, float)
-    for end, i in ((a, 0), (b, N)):
-        if not free[i]:
-            pos0[i] = end.position
-    lumped = np.zeros(N + 1)
-    lumped[:-1] += 0.5 * seg["w"] * seg["ds"]
-    lumped[1:] += 0.5 * seg["w"] * seg["ds"]
-    forces = np.zeros((N + 1, 3))
-    for end, i in ((a, 0), (b, N)):
-        if end.condition is EndCondition.FREE and end.force is not None:
-            forces[i] = end.force
-    contact = None
-    if scene.seabed is not None:
-        width = np.zeros(N + 1)
-        width[:-1] += 0.5 * seg["d"] * seg["ds"]
-        width[1:] += 0.5 * seg["d"] * seg["ds"]
-        k = scene.seabed.stiffness
-        contact = (scene.environment.depth, k,
-                   terms.contact_smoothing(float(np.max(seg["w"])), k, float(np.min(seg["d"]))),
-                   width)
-    env = scene.environment
-    drag = None if env.in_air or not any(env.current) else drag_loads(env, seg)
-    F = force_scale(scene, seg)
-    return relaxed_positions(seg, pos0, free, slack_law(seg, F), lumped, forces, contact, F, drag)
-
-
 def _hanging(scene, seg):
     """The line hanging straight from its held end along its load (weight and the free
     end's force), each segment at its length."""
@@ -131,6 +99,7 @@ def starts_of(scene, seg, params, moving):
         first = _hanging(scene, seg)
         yield start(first, "line hanging straight along its load")
     if np.all(seg["EI"] <= 0.0):
-        pos = _relaxed(scene, seg, first)
+        F = force_scale(scene, seg)
+        pos = relax_line(scene, seg, first, slack_law(seg, F), F)
         if pos is not None:
             yield start(pos, "minimum of the potential energy")

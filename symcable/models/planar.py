@@ -746,39 +746,12 @@ def _relaxed(scene, seg, pos0, p_target, make):
     (:func:`~symcable.models.relax.relaxed_positions`) from ``pos0``, for lines
     without bending, the drag of a current frozen at the last shape in a few passes. None
     for a line with bending or when the minimiser fails."""
-    from .relax import drag_loads, relaxed_positions
+    from .relax import relax_line
 
     if np.any(seg["EI"] > 0.0):
         return None
-    a, b = scene.end_a, scene.end_b
-    N = len(seg["ds"])
-    free = np.ones(N + 1, dtype=bool)
-    free[0], free[N] = a.condition is EndCondition.FREE, b.condition is EndCondition.FREE
-    lumped = np.zeros(N + 1)
-    lumped[:-1] += 0.5 * seg["w"] * seg["ds"]
-    lumped[1:] += 0.5 * seg["w"] * seg["ds"]
-    forces = np.zeros((N + 1, 2))
-    for end, node in ((a, 0), (b, N)):
-        if end.condition is EndCondition.FREE and end.force is not None:
-            forces[node] = end.force
-    contact = None
-    if scene.seabed is not None:
-        width = np.zeros(N + 1)
-        width[:-1] += 0.5 * seg["d"] * seg["ds"]
-        width[1:] += 0.5 * seg["d"] * seg["ds"]
-        k = scene.seabed.stiffness
-        contact = (scene.environment.depth, k,
-                   terms.contact_smoothing(float(np.max(seg["w"])), k, float(np.min(seg["d"]))),
-                   width)
     force_scale = force_scale_of(scene, seg)
-    pos0 = np.array(pos0, dtype=float)
-    for end, node in ((a, 0), (b, N)):
-        if not free[node]:
-            pos0[node] = end.position
-    env = scene.environment
-    drag = None if env.in_air or not any(env.current) else drag_loads(env, seg)
-    pos = relaxed_positions(seg, pos0, free, slack_law(seg, force_scale), lumped, forces,
-                            contact, force_scale, drag)
+    pos = relax_line(scene, seg, pos0, slack_law(seg, force_scale), force_scale)
     if pos is None:
         return None
     return make(pos, *_from_positions(pos, seg, None), np.array(p_target),
@@ -801,6 +774,40 @@ def _nodal_weights(seg: dict) -> tuple:
     return trib, w_node, np.where(w_node > 0, w_node, np.inf), 0.1 * np.abs(w_node)
 
 
+def grounded_length(scene: Scene, seg: dict, nodal: tuple | None, pos: np.ndarray,
+                    contact: np.ndarray | None, fa: np.ndarray, fb: np.ndarray) -> tuple:
+    """(grounded length, m, unstretched; its end's arc length s, m, or None; the touchdown
+    point (dim,), m, or None) of a line (planar or 3D: z is the last coordinate) from its
+    nodes' contact forces and its end forces; ``nodal``: :func:`_nodal_weights` of ``seg``
+    (None: computed here)."""
+    s = seg["s"]
+    if contact is None or not contact.max() > 0:
+        return 0.0, None, None
+    trib, w_node, w_div, w_tenth = _nodal_weights(seg) if nodal is None else nodal
+    # the grounded length is the length whose weight the seabed carries: the contact
+    # forces, plus what a held end lying on the seabed props up of the grounded line
+    # next to it (on a penalty seabed the end sits above the sunken line beside it)
+    # (each node at most its tributary length: a light section between heavier ones
+    # carries part of their weight where the line curves over the penalty bed, and
+    # would count as more line than it is)
+    grounded = float(np.sum(np.minimum(contact / w_div, trib)))
+    # in contact: the seabed carries more than a tenth of the local weight per length
+    in_contact = contact / trib > w_tenth
+    for node, force, end in ((0, fa, scene.end_a), (len(s) - 1, fb, scene.end_b)):
+        if end.is_fixed and w_node[node] > 0 and in_contact[node]:
+            grounded += max(0.0, -float(force[-1])) / w_node[node]
+    grounded = min(grounded, float(s[-1]))
+    if not grounded > 0:
+        return grounded, None, None
+    if in_contact[0] and not in_contact[-1]:
+        s_td = grounded
+    elif in_contact[-1] and not in_contact[0]:
+        s_td = float(s[-1]) - grounded
+    else:
+        s_td = float(s[np.argmax(in_contact)])
+    return grounded, s_td, np.array([np.interp(s_td, s, pos[:, c]) for c in range(pos.shape[1])])
+
+
 def _postprocess(scene: Scene, seg: dict, nodal: tuple, out: dict) -> dict:
     """Fairlead/anchor tension, grounded length (m, unstretched) and touchdown point
     (``nodal``: :func:`_nodal_weights` of ``seg``)."""
@@ -809,32 +816,8 @@ def _postprocess(scene: Scene, seg: dict, nodal: tuple, out: dict) -> dict:
     res = {"anchor_force": fa, "fairlead_force": fb,
            "anchor_tension": float(np.hypot(fa[0], fa[1])),
            "fairlead_tension": float(np.hypot(fb[0], fb[1]))}
-    s = seg["s"]
-    grounded, touchdown, s_td = 0.0, None, None
     contact = np.ravel(out["contact_force"]) if scene.seabed is not None else None
-    if contact is not None and contact.max() > 0:
-        trib, w_node, w_div, w_tenth = nodal
-        # the grounded length is the length whose weight the seabed carries: the contact
-        # forces, plus what a held end lying on the seabed props up of the grounded line
-        # next to it (on a penalty seabed the end sits above the sunken line beside it)
-        # (each node at most its tributary length: a light section between heavier ones
-        # carries part of their weight where the line curves over the penalty bed, and
-        # would count as more line than it is)
-        grounded = float(np.sum(np.minimum(contact / w_div, trib)))
-        # in contact: the seabed carries more than a tenth of the local weight per length
-        in_contact = contact / trib > w_tenth
-        for node, force, end in ((0, fa, scene.end_a), (len(s) - 1, fb, scene.end_b)):
-            if end.is_fixed and w_node[node] > 0 and in_contact[node]:
-                grounded += max(0.0, -float(force[1])) / w_node[node]
-        grounded = min(grounded, float(s[-1]))
-        if grounded > 0:
-            if in_contact[0] and not in_contact[-1]:
-                s_td = grounded
-            elif in_contact[-1] and not in_contact[0]:
-                s_td = float(s[-1]) - grounded
-            else:
-                s_td = float(s[np.argmax(in_contact)])
-            pos = np.asarray(out["positions"])
-            touchdown = np.array([np.interp(s_td, s, pos[:, 0]), np.interp(s_td, s, pos[:, 1])])
+    grounded, s_td, touchdown = grounded_length(scene, seg, nodal, np.asarray(out["positions"]),
+                                                contact, fa, fb)
     res.update(grounded_length=grounded, touchdown_arclength=s_td, touchdown=touchdown)
     return res

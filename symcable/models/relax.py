@@ -25,7 +25,10 @@ from typing import Callable
 import casadi as ca
 import numpy as np
 
-__all__ = ["drag_loads", "relaxed_positions"]
+from ..scene import EndCondition
+from . import terms
+
+__all__ = ["drag_loads", "relax_line", "relaxed_positions"]
 
 #: IPOPT's iterations and tolerance (on the scaled energy: forces relative to the force
 #: scale) for the start; Newton on the equations polishes what is left
@@ -147,3 +150,38 @@ def drag_loads(env, seg: dict) -> Callable[[np.ndarray], np.ndarray]:
         return out
 
     return loads
+
+
+def relax_line(scene, seg: dict, pos0: np.ndarray, law: dict,
+               force_scale: float) -> np.ndarray | None:
+    """:func:`relaxed_positions` of a one-line scene (planar or 3D: the dimension of
+    ``pos0``): its held ends at their positions, the weight lumped on the nodes, the free
+    ends' forces, the seabed's contact and the current's drag as the residuals have them;
+    ``law`` the tension-only law (:func:`~symcable.models.planar.slack_law`)."""
+    a, b = scene.end_a, scene.end_b
+    N = len(seg["ds"])
+    free = np.ones(N + 1, dtype=bool)
+    free[0], free[N] = a.condition is EndCondition.FREE, b.condition is EndCondition.FREE
+    pos0 = np.array(pos0, dtype=float)
+    forces = np.zeros_like(pos0)
+    for end, node in ((a, 0), (b, N)):
+        if free[node]:
+            if end.force is not None:
+                forces[node] = end.force
+        else:
+            pos0[node] = end.position
+    lumped = np.zeros(N + 1)
+    lumped[:-1] += 0.5 * seg["w"] * seg["ds"]
+    lumped[1:] += 0.5 * seg["w"] * seg["ds"]
+    contact = None
+    if scene.seabed is not None:
+        width = np.zeros(N + 1)
+        width[:-1] += 0.5 * seg["d"] * seg["ds"]
+        width[1:] += 0.5 * seg["d"] * seg["ds"]
+        k = scene.seabed.stiffness
+        contact = (scene.environment.depth, k,
+                   terms.contact_smoothing(float(np.max(seg["w"])), k, float(np.min(seg["d"]))),
+                   width)
+    env = scene.environment
+    drag = None if env.in_air or not any(env.current) else drag_loads(env, seg)
+    return relaxed_positions(seg, pos0, free, law, lumped, forces, contact, force_scale, drag)

@@ -246,7 +246,8 @@ class Mechanism:
     t : casadi symbol (1, 1), s
     p : casadi symbol (n_p, 1)
     params : ParamBlocks
-    mass : expression (n_v, n_v) of ``(q, p)``, kg (kg m^2 for rotations)
+    mass : expression (n_v, n_v) of ``(q, t, p)``, kg (kg m^2 for rotations; t enters
+        through a prescribed node's position, e.g. the direction of an element's added mass)
     force : expression (n_v, 1) of ``(q, v, z, t, p)``, N (N m)
     constraint : expression (n_z, 1) of ``(q, v, z, t, p)``
     kinematics : expression (n_q, 1) of ``(q, v, z, t, p)``: q' = G(q) v (+ prescribed

@@ -183,7 +183,8 @@ def _linear_solver(J: ca.SX, args: list, cache: dict, lu: bool):
 
 def _taylor_jet(mech: Mechanism) -> ca.Function:
     """``jet(q, v, a, z, t, p) -> (q'', b)`` along the motion q' = kinematics, v' = a (z
-    held): q'' = d(kinematics)/dt and b = df/dt - (dM/dt) a, so that v'' = M^-1 b."""
+    held): q'' = d(kinematics)/dt and b = df/dt - (dM/dt) a (M may move with q and t), so
+    that v'' = M^-1 b."""
     m = mech
     a = ca.SX.sym("a", m.n_v) if isinstance(m.v, ca.SX) else ca.MX.sym("a", m.n_v)
     kin = m.v if m.kinematics is None else m.kinematics
@@ -191,7 +192,8 @@ def _taylor_jet(mech: Mechanism) -> ca.Function:
     def ddt(expr):
         return (ca.jtimes(expr, m.q, kin) + ca.jtimes(expr, m.v, a) + ca.jacobian(expr, m.t))
 
-    b = ddt(m.force) - ca.jtimes(ca.mtimes(m.mass, a), m.q, kin)
+    Ma = ca.mtimes(m.mass, a)
+    b = ddt(m.force) - ca.jtimes(Ma, m.q, kin) - ca.jacobian(Ma, m.t)
     return ca.Function(f"{m.name}_jet", [m.q, m.v, a, m.z, m.t, m.p], [ddt(kin), b])
 
 

@@ -33,7 +33,7 @@ from .schedule import save_indices
 from .stepcache import STEP_CACHE, maybe_compiled
 from .steps import check_second_order, galpha_step, rk4_stability_limit, rk4_step
 
-__all__ = ["BLOWUP", "ERROR_TARGET", "accurate_dt", "check_positive", "error_warning", "integrate",
+__all__ = ["BLOWUP", "ERROR_TARGET", "accurate_dt", "check_positive", "error_warning", "integrate", "substep_warning",
            "galpha_step", "galpha1_step", "method_name", "rk4_stability_limit", "rk4_step",
            "start_rates"]
 
@@ -66,8 +66,9 @@ def start_rates(mech: Mechanism, q0, v0, t0: float, p) -> tuple[np.ndarray, np.n
     if not mech.n_v:
         return qd, np.zeros(0)
     f = -np.asarray(F.acc_residual(q0, v0, np.zeros(mech.n_v), z, t0, p)[0], dtype=float).ravel()
-    mass = STEP_CACHE.get(mech, ("mass",), lambda: ca.Function("mass", [mech.q, mech.p], [mech.mass]))
-    M = ca.DM(mass(q0, p))
+    mass = STEP_CACHE.get(mech, ("mass",),
+                          lambda: ca.Function("mass", [mech.q, mech.t, mech.p], [mech.mass]))
+    M = ca.DM(mass(q0, t0, p))
     if M.sparsity().is_diag() and M.nnz() == mech.n_v:
         return qd, f / np.asarray(ca.diag(M).full()).ravel()
     return qd, np.asarray(ca.solve(M, ca.DM(f), "qr").full(), dtype=float).ravel()
@@ -153,7 +154,10 @@ def integrate(mech: Mechanism, duration: float, dt: float | None = None, *, meth
         (total) and ``newton_iterations_max`` (per step; first-order generalized-alpha),
         ``max_step_residual``, ``max_error_estimate`` (the largest ``tol`` estimate: adaptive
         runs), ``step_time`` (s in the step calls), ``us_per_step``, ``samples``,
-        ``compiled``, ``max_constraint``, ``wall_time``, and the run's error estimate
+        ``compiled``, ``max_constraint``, ``wall_time``; fixed steps: ``substepped_steps``
+        (steps whose Newton iteration failed and that converged as 2, 4, ... up to
+        MAX_SUBSTEPS = 16 equal substeps, with a warning: a snap or an impact),
+        ``max_substeps`` and ``first_substep_time`` (s); and the run's error estimate
         (generalized-alpha, fixed or adapted steps; None with RK4):
 
         * ``error_estimate``: the estimated largest error of the state over the run from
@@ -184,7 +188,8 @@ def integrate(mech: Mechanism, duration: float, dt: float | None = None, *, meth
     SymcableError
         A bad argument (named, with its value and what is allowed).
     ConvergenceError
-        A step's Newton iteration did not converge, or the state blew up (not finite, or
+        A step's Newton iteration did not converge (not even as 16 substeps), or the state
+        blew up (not finite, or
         beyond BLOWUP times its scale: RK4 above its stability limit); ``partial`` holds the
         run up to the last good step (status "failed"); ``diagnostics`` has ``reason``
         ("newton", "blowup" or "error"), ``time`` (end of the failed step, s),
@@ -258,10 +263,20 @@ def integrate(mech: Mechanism, duration: float, dt: float | None = None, *, meth
     warnings = (_message(failure, label, method, stats),) if failure is not None else ()
     if failure is None and (stats["error_estimate"] or 0.0) > ERROR_TARGET:
         warnings += (error_warning(label, stats, "the motion", period),)
+    if stats.get("substepped_steps"):
+        warnings += (substep_warning(label, stats),)
     traj = MechanismTrajectory(mech.name, T, q, v, z, outputs, status, stats, warnings)
     if failure is not None:
         raise ConvergenceError(warnings[0], partial=traj, diagnostics=failure)
     return traj
+
+
+def substep_warning(label: str, stats: dict) -> str:
+    """The note of a fixed-step run some of whose steps needed substeps to converge."""
+    return (f"{label}: {stats['substepped_steps']} step(s) of dt = {stats['dt']:.3g} s converged "
+            f"only as up to {stats['max_substeps']} substeps (first at t = "
+            f"{stats['first_substep_time']:.6g} s): a sudden event such as a snap (a slack line "
+            "jerked taut) or an impact; its peak is resolved only as far as the steps around it")
 
 
 def _outputs_fn(mech, codegen, n_t) -> FastCall:

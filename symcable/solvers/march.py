@@ -42,6 +42,8 @@ SAFETY, GROW, CUT = 0.8, 2.0, 0.2
 _CHUNK = 256
 #: smallest range of the motion (relative to the scales) the error estimate is relative to
 MOTION_FLOOR = 1e-6
+#: a fixed step whose Newton iteration fails is retried as 2, 4, ... up to this many substeps
+MAX_SUBSTEPS = 16
 
 
 def method_name(method) -> str:
@@ -243,6 +245,7 @@ def run_fixed(stepper, x, t0, h, p, idx, scale, progress, label, tau):
     saved_x, saved_k = ([x[None, keep_cols]], [np.zeros(1, int)]) if idx[0] == 0 else ([], [])
     k, iters, iters_max, worst, lte_max, step_time = 0, 0.0, 0.0, 0.0, -np.inf, 0.0
     sec_per_step, failure = None, None
+    sub = {"substepped_steps": 0, "max_substeps": 1, "first_substep_time": None}
     wanted = idx
     idx = with_checkpoints(idx)
     bar = ProgressBar(int(idx[-1]), progress, label=f"simulate {label}")
@@ -273,7 +276,7 @@ def run_fixed(stepper, x, t0, h, p, idx, scale, progress, label, tau):
                 if n_good < m:
                     failure, x, k, extra, it_good = _replay(
                         stepper, x, k, t0, h, p, (m - n_good) * S, set(idx.tolist()), inv_scale,
-                        track)
+                        track, sub)
                     for kk, xx in extra:
                         saved_k.append(np.array([kk]))
                         saved_x.append(xx[None, keep_cols])
@@ -304,23 +307,36 @@ def run_fixed(stepper, x, t0, h, p, idx, scale, progress, label, tau):
              "max_step_residual": worst if isinstance(stepper.method, IMPLICIT) else None,
              "max_error_estimate": lte_max if np.isfinite(lte_max) else None,
              "step_time": step_time, "us_per_step": 1e6 * step_time / max(k, 1),
-             "samples": int(ks.size)}
+             "samples": int(ks.size), **sub}
     extra.update(track.stats())
     return ks.astype(float), Xs, failure, extra
 
 
-def _replay(stepper, x, k, t0, h, p, n_max, save_set, inv_scale, track):
+def _replay(stepper, x, k, t0, h, p, n_max, save_set, inv_scale, track, sub):
     """Step one at a time from a good state to find the first bad step: (failure or None,
     x, k of the last good step, the (k, x) of saved steps passed, Newton iterations); the
-    good steps update ``track``."""
+    good steps update ``track``. A step whose Newton iteration fails (or whose matrix is
+    singular) is retried as 2, 4, ... MAX_SUBSTEPS substeps (:func:`_substeps`) before it
+    counts as failed; ``sub`` counts such steps."""
     saved, good_iters = [], 0.0
     for _ in range(n_max):
         diag = {"time_last_good": t0 + k * h, "time": t0 + (k + 1) * h, "step": k + 1,
                 "method": method_name(stepper.method)}
         try:
             X, E, _, IT, _, FL, _, L = stepper.run(1, 1, x, t0 + k * h, h, p)
+            failed = FL[0] > 0
         except RuntimeError as exc:
-            diag.update(reason="error", message=str(exc).strip().splitlines()[-1], residual=float("nan"))
+            X, failed, message = None, True, str(exc).strip().splitlines()[-1]
+        if failed and isinstance(stepper.method, IMPLICIT):
+            done = _substeps(stepper, x, t0 + k * h, h, p, inv_scale, track, sub)
+            if done is not None:
+                x, k = done[0], k + 1
+                good_iters += done[1]
+                if k in save_set:
+                    saved.append((k, x.copy()))
+                continue
+        if X is None:
+            diag.update(reason="error", message=message, residual=float("nan"))
             return diag, x, k, saved, good_iters
         x1 = X[0]
         if _bad_state(X, inv_scale)[0]:
@@ -333,7 +349,7 @@ def _replay(stepper, x, k, t0, h, p, n_max, save_set, inv_scale, track):
             diag.update(reason="blowup", state_norm=float(rel[i]),
                         worst=f"q[{i}]" if i < nq else f"v[{i - nq}]")
             return diag, x, k, saved, good_iters
-        if FL[0] > 0:
+        if failed:
             diag.update(reason="newton", newton_iterations=int(IT[0]) if stepper.full else None,
                         newton_correction=float(E[0]), residual=float(E[0]), _x=(x, x1))
             return diag, x, k, saved, good_iters
@@ -343,6 +359,29 @@ def _replay(stepper, x, k, t0, h, p, n_max, save_set, inv_scale, track):
         if k in save_set:
             saved.append((k, x.copy()))
     return None, x, k, saved, good_iters
+
+
+def _substeps(stepper, x, t, h, p, inv_scale, track, sub):
+    """The step from ``t`` over ``h`` as n = 2, 4, ... MAX_SUBSTEPS equal substeps, the first n
+    whose every Newton iteration converges and whose state stays bounded: (state at t + h,
+    Newton iterations), ``track`` and ``sub`` updated; None when none does. A snap (a slack
+    line jerked taut) or an impact concentrates in a fraction of a step what the step was
+    sized for; the few steps that need it pay for it, the others keep ``h``."""
+    n = 2
+    while n <= MAX_SUBSTEPS:
+        try:
+            X, _, _, IT, _, FL, Xs, L = stepper.run(n, 1, x, t, h / n, p)
+        except RuntimeError:
+            X = None
+        if X is not None and FL[0] == 0 and not _bad_state(X, inv_scale)[0]:
+            track.update(h / n, Xs, L)
+            sub["substepped_steps"] += 1
+            sub["max_substeps"] = max(sub["max_substeps"], n)
+            if sub["first_substep_time"] is None:
+                sub["first_substep_time"] = t
+            return X[0].copy(), float(IT[0])
+        n *= 2
+    return None
 
 
 def _residual_of_failure(stepper, failure, h, p):

@@ -196,13 +196,13 @@ def _linear_parts(mech, q, v, t, p):
     if ca.depends_on(ca.vec(mech.mass), mech.q):
         a = ca.solve(M, -ca.DM(F.acc_residual(q, v, np.zeros(mech.n_v), z, t, p)[0]))
         dMa = STEP_CACHE.get(mech, ("dMa_dq",), lambda: _dma(mech))
-        K = K + ca.DM(dMa(q, a, p))
+        K = K + ca.DM(dMa(q, a, t, p))
     return H, G, K, C, M
 
 
 def _dma(mech):
     a = (ca.SX if isinstance(mech.q, ca.SX) else ca.MX).sym("a", mech.n_v)
-    return ca.Function("dMa_dq", [mech.q, a, mech.p],
+    return ca.Function("dMa_dq", [mech.q, a, mech.t, mech.p],
                        [ca.jacobian(ca.mtimes(mech.mass, a), mech.q)])
 
 

@@ -33,8 +33,26 @@ from . import planar_time as _planar_time
 from .planar_periodic import solve_model, sweep_model
 from .results_mechanism import Equilibrium, SceneLinearization
 from .planar_static import solve_static
+from . import cable3d_api as _c3
+from .scene import Model
 
 __all__ = ["build_dynamic_model", "modal_analysis", "simulate", "solve_periodic", "sweep_periodic"]
+
+
+def _cable3d(scene, **unsupported):
+    """The loaded scene when it is a cable3d scene (its analyses live in
+    :mod:`symcable.cable3d_api`), else None; an argument only the planar path takes, given
+    for a cable3d scene, is an error naming it."""
+    if scene is None:
+        return None
+    scene = load_scene(scene)
+    if scene.model is not Model.CABLE3D:
+        return None
+    for key, value in unsupported.items():
+        if value is not None:
+            raise SymcableError(f"{key} = <{type(value).__name__}>: not for a cable3d scene (its "
+                                "analyses build their own Mechanism from the scene)")
+    return scene
 
 
 def build_dynamic_model(scene, static=None) -> DynamicModel:
@@ -128,6 +146,11 @@ def simulate(scene, duration: float, dt: float | None = None, method: str = "gen
         Mechanism's q or v).
     """
     started = time.perf_counter()
+    s3 = _cable3d(scene, model=model, params=params)
+    if s3 is not None:
+        return _c3.simulate_3d(s3, duration, dt, method, rho_inf=rho_inf, save_every=save_every,
+                               save_times=save_times, progress=progress, newton_tol=newton_tol,
+                               codegen=codegen)
     if model is None and scene is not None:
         scene = load_scene(scene)
         model = build_dynamic_model(scene)
@@ -208,6 +231,9 @@ def solve_periodic(scene, method="shooting", *, model: DynamicModel | None = Non
         a PeriodicSolution with status "failed", ``diagnostics`` the solver's status.
     """
     started = time.perf_counter()
+    s3 = _cable3d(scene, model=model, params=params, initial=initial, ipopt_options=ipopt_options)
+    if s3 is not None:
+        return _c3.solve_periodic_3d(s3, method, codegen=codegen, tol=tol, **options)
     if model is None:
         scene = load_scene(scene)
         model = build_dynamic_model(scene)
@@ -240,6 +266,9 @@ def sweep_periodic(scene, periods: Sequence[float], method="collocation", *,
         When every period fails.
     """
     started = time.perf_counter()
+    if _cable3d(scene) is not None:
+        raise SymcableError("sweep_periodic: not yet for a cable3d scene (each period is a "
+                            "solve_periodic of the scene with that motion period)")
     if model is None:
         scene = load_scene(scene)
         model = build_dynamic_model(scene)
@@ -300,6 +329,9 @@ def modal_analysis(scene, n_modes: int = 10, *, model: DynamicModel | None = Non
         raise SymcableError(f"n_modes = {n_modes!r}: must be an integer >= 1")
     if codegen is not None and not isinstance(codegen, bool):
         raise SymcableError(f"codegen = {codegen!r}: must be True, False or None (automatic)")
+    s3 = _cable3d(scene, model=model)
+    if s3 is not None:
+        return _c3.modal_analysis_3d(s3, n_modes, max_dense=max_dense)
     if model is None:
         model = build_dynamic_model(load_scene(scene))
     t_model = time.perf_counter()
@@ -366,6 +398,11 @@ def end_stiffness(scene, end: str = "b", *, static=None) -> np.ndarray:
     if str(getattr(cond, "value", cond)) != "pinned":
         raise SymcableError(f"end_{end}.condition = {getattr(cond, 'value', cond)!r}: the end "
                             "stiffness is defined for a pinned end (a prescribed position)")
+    if scene.model is Model.CABLE3D:
+        if static is not None:
+            raise SymcableError("static = <StaticSolution>: not for a cable3d scene (its "
+                                "equilibrium is solved here)")
+        return _c3.end_stiffness_3d(scene, end)
     model = build_model(scene)
     mech = static_mechanism(model)
     st = solve_static(scene, model=model) if static is None else static
@@ -389,6 +426,8 @@ def linearize(scene, *, undamped: bool = False, static=None) -> SceneLinearizati
     static : StaticSolution, optional
     """
     scene = load_scene(scene)
+    if _cable3d(scene, static=static) is not None:
+        return _c3.linearize_3d(scene, undamped=undamped)
     model = build_model(scene)
     st = solve_static(scene, model=model) if static is None else static
     dyn = build_dynamic_model(scene, static=st)

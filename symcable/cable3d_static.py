@@ -17,7 +17,7 @@ from .results import StaticSolution
 from .scene import Scene
 from .solvers.equilibrium import solve_equilibrium
 
-__all__ = ["cable3d_mechanism", "solve_static_3d"]
+__all__ = ["cable3d_mechanism", "solve_static_3d", "static_equilibrium"]
 
 #: default residual tolerance, relative to the scene's force scale (as the planar line)
 RTOL = 1e-9
@@ -38,17 +38,28 @@ def cable3d_mechanism(scene: Scene) -> Mechanism:
     return mech
 
 
+def static_equilibrium(scene: Scene, *, tol: float | None = None, max_iter: int = 50,
+                       continuation: bool = True, codegen: bool | None = None):
+    """``(mechanism, Equilibrium)``: the scene's cable3d Mechanism at rest, solved by
+    :func:`~symcable.solvers.equilibrium.solve_equilibrium` (its checks passed) to ``tol`` N
+    (default RTOL times the force scale); where the dynamic analyses start."""
+    mech = cable3d_mechanism(scene)
+    if tol is None:
+        tol = max(RTOL * force_scale(scene, segment_table(scene)), 10 * mech.scales.residual_floor)
+    eq = solve_equilibrium(mech, tol=tol, max_iter=max_iter,
+                           continuation=None if continuation else False, codegen=codegen)
+    return mech, eq
+
+
 def solve_static_3d(scene: Scene, *, tol: float | None = None, max_iter: int = 50,
                     continuation: bool = True, codegen: bool | None = None) -> StaticSolution:
     """Static configuration of a cable3d scene (see :func:`symcable.solve_static`)."""
     t0 = time.perf_counter()
     mech = cable3d_mechanism(scene)
     seg = segment_table(scene)
-    if tol is None:
-        tol = max(RTOL * force_scale(scene, seg), 10 * mech.scales.residual_floor)
     try:
-        eq = solve_equilibrium(mech, tol=tol, max_iter=max_iter,
-                               continuation=None if continuation else False, codegen=codegen)
+        _, eq = static_equilibrium(scene, tol=tol, max_iter=max_iter, continuation=continuation,
+                                   codegen=codegen)
     except ConvergenceError as exc:
         part = exc.partial
         partial = None if part is None else _solution(scene, seg, part.outputs, part.q, "failed",

@@ -21,13 +21,16 @@ elements gives:
   Ca_t t t^T) per node, rho A the displaced water per metre.
 
 Each node on a flat seabed at z = -depth gets the planar line's smooth penalty contact
-k d b ramp(-depth - z) (b its tributary length). Friction and the seabed's damper are not
-built yet (issue 12, item 2). The free end carries its applied force.
+k d b ramp(-depth - z) (b its tributary length), a damper into the bed and regularised
+Coulomb friction, axial and lateral (:func:`_seabed_dynamics`). The free end carries its
+applied force. The lumped mass of an element next to a moving end turns with it, so the
+mass matrix depends on t as well as q.
 
 Parameters (blocks): ``load`` (scales weight, buoyancy and applied forces; 1),
 ``end_a.position``, ``end_b.position`` (3 each, m), ``current`` (3, m/s), ``slack`` (the
 tension-only law's continuation, as planar), ``motion`` (scales the prescribed motions; 0 in
-statics).
+statics), ``ramp`` (1: a harmonic motion ramps in over its first period from t = 0; 0: at
+full amplitude throughout, as periodic solves take it).
 """
 from __future__ import annotations
 
@@ -52,8 +55,8 @@ __all__ = ["DRAG_SPEED", "build_cable3d", "force_scale"]
 #: 0.5 rho d Cd DRAG_SPEED per metre
 DRAG_SPEED = 1e-4
 
-P_NAMES = ("load", "end_a.position", "end_b.position", "current", "slack", "motion")
-P_SIZES = (1, 3, 3, 3, 1, 1)
+P_NAMES = ("load", "end_a.position", "end_b.position", "current", "slack", "motion", "ramp")
+P_SIZES = (1, 3, 3, 3, 1, 1, 1)
 
 
 def _element_kernel() -> ca.Function:
@@ -87,12 +90,13 @@ def _element_kernel() -> ca.Function:
                         "w", "d", "cdn", "cdt", "rho", "load"], ["fa", "fb", "T", "e"])
 
 
-def _held(end, pos_p, motion_scale, t):
+def _held(end, pos_p, motion_scale, t, ramp_on=1.0):
     """A pinned end's position, m: its parameter position plus the scaled prescribed motion:
     a table's displacement, linearly interpolated (held at its first and last rows), or
     x_i = r(t) A_i cos(2 pi t / period + phase_i), ramped in over the first period by
-    r = (1 - cos(pi t / period)) / 2 (1 from then on), so that a run from the static state
-    (at t = 0) starts without a jump in the end's position or velocity."""
+    r = (1 - cos(pi t / period)) / 2 (0 before t = 0, 1 after one period), so that a run from
+    the static state at any t <= 0 starts without a jump in the end's position or velocity;
+    ``ramp_on`` = 0 (the parameter ``ramp``: periodic solves) takes r = 1 throughout."""
     m = end.motion
     if m is None:
         return pos_p
@@ -105,7 +109,9 @@ def _held(end, pos_p, motion_scale, t):
         return pos_p + motion_scale * disp
     A = ca.DM(m.amplitude)
     ph = ca.DM([math.radians(v) for v in m.phase_deg])
-    ramp = ca.if_else(t < m.period, 0.5 * (1.0 - ca.cos(math.pi * t / m.period)), 1.0)
+    ramp = ca.if_else(t <= 0.0, 0.0,
+                      ca.if_else(t < m.period, 0.5 * (1.0 - ca.cos(math.pi * t / m.period)), 1.0))
+    ramp = 1.0 - ramp_on * (1.0 - ramp)
     return pos_p + motion_scale * ramp * A * ca.cos(2.0 * math.pi * t / m.period + ph)
 
 
@@ -123,10 +129,10 @@ def build_cable3d(scene: Scene) -> Mechanism:
         raise SymcableError(f"scene {scene.name!r}: both ends free; hold one end")
     params = ParamBlocks(P_NAMES, P_SIZES, np.concatenate([
         [1.0], a.position if a.position is not None else np.zeros(3),
-        b.position if b.position is not None else np.zeros(3), env.current, [1.0], [1.0]]))
+        b.position if b.position is not None else np.zeros(3), env.current, [1.0], [1.0], [1.0]]))
     p = ca.SX.sym("p", params.n)
     load, pa, pb = p[0], p[1:4], p[4:7]
-    current, sigma, motion = p[7:10], p[10], p[11]
+    current, sigma, motion, ramp_on = p[7:10], p[10], p[11], p[12]
     t = ca.SX.sym("t")
 
     moving = [i for i in range(N + 1) if (i == 0 and free[0]) or (i == N and free[1]) or 0 < i < N]
@@ -137,7 +143,7 @@ def build_cable3d(scene: Scene) -> Mechanism:
         X[i], V[i] = q[3 * k:3 * k + 3], v[3 * k:3 * k + 3]
     for end, i, pp in ((a, 0, pa), (b, N, pb)):
         if X[i] is None:
-            X[i] = _held(end, pp, motion, t)
+            X[i] = _held(end, pp, motion, t, ramp_on)
             V[i] = ca.jacobian(X[i], t)
     Xm, Vm = ca.horzcat(*X), ca.horzcat(*V)  # (3, N+1)
 
@@ -210,6 +216,7 @@ def build_cable3d(scene: Scene) -> Mechanism:
     end_force_b = nodal[:, N]
     outputs = {
         "positions": Output(Xm.T, "m", "line", "node positions (x, y, z)"),
+        "velocities": Output(ca.densify(Vm.T), "m/s", "line", "node velocities (x, y, z)"),
         "axial_force": Output(T.T, "N", "line", "axial force of each segment"),
         "strain": Output(e.T, "1", "line", "strain of each segment"),
         "contact_force": Output(contact.T, "N", "line", "seabed contact force on each node"),

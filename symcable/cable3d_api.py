@@ -1,0 +1,247 @@
+"""The analyses of a ``cable3d`` scene, fully nonlinear: its Mechanism
+(:func:`~symcable.cable3d_static.cable3d_mechanism`) at rest
+(:func:`~symcable.cable3d_static.static_equilibrium`), then the generic solvers: time
+stepping (:func:`~symcable.solvers.integrate.integrate`), periodic steady states
+(:func:`~symcable.solvers.periodic_mech.solve_periodic_mech`), modes
+(:func:`~symcable.solvers.linearize.mechanism_modes`) and the exact linearisation.
+:mod:`symcable.api` sends a cable3d scene here; the arguments are the same.
+"""
+from __future__ import annotations
+
+import dataclasses
+import math
+import time
+
+import numpy as np
+
+from .derive import functions
+from .errors import ConvergenceError, SymcableError
+from .planar_periodic import method_options
+from .results import ModalSolution
+from .results_line3d import LineTrajectory, slack_report
+from .results_mechanism import SceneLinearization
+from .scene import EndCondition, Scene
+from .cable3d_static import static_equilibrium
+from .solvers.integrate import integrate
+from .solvers.linearize import MAX_DENSE, mechanism_modes, output_sensitivity
+from .solvers.options import RK4, GeneralizedAlphaFirstOrder
+from .solvers.periodic_mech import solve_periodic_mech
+
+__all__ = ["linearize_3d", "modal_analysis_3d", "simulate_3d", "solve_periodic_3d"]
+
+#: steps per excitation period by default (as the planar line's generalized-alpha default)
+STEPS_PER_PERIOD = 100
+
+
+def _motions(scene: Scene) -> list:
+    return [e.motion for e in (scene.end_a, scene.end_b) if e.motion is not None]
+
+
+def run_start(scene: Scene) -> float:
+    """When a run starts, s: the earliest row of a motion table when it is before 0 (MoorDyn's
+    tables start at -10 s), else 0 (where a harmonic motion starts its ramp)."""
+    firsts = [m.samples[0][0] for m in _motions(scene) if m.kind == "table"]
+    return min([0.0] + [float(t) for t in firsts])
+
+
+def default_dt(scene: Scene, duration: float) -> float:
+    """The default step, s: a harmonic motion's period / STEPS_PER_PERIOD; a table's smallest
+    row spacing (the table resolves its motion no finer), at most duration / 100; with no
+    motion duration / 100."""
+    dts = [duration / 100.0]
+    for m in _motions(scene):
+        if m.kind == "table":
+            tk = np.array([r[0] for r in m.samples])
+            if tk.size > 1:
+                dts.append(float(np.min(np.diff(tk))))
+        else:
+            dts.append(m.period / STEPS_PER_PERIOD)
+    return min(dts)
+
+
+def _period(scene: Scene):
+    per = [m.period for m in _motions(scene) if m.kind != "table"]
+    return min(per) if per else None
+
+
+def _line_result(scene, mech, tr, method: str, dt: float, stats: dict, warnings) -> LineTrajectory:
+    out = tr.outputs
+    n_t = len(tr.time)
+    pos = np.asarray(out["positions"], float).reshape(n_t, -1, 3)
+    n = pos.shape[1]
+    axial = np.asarray(out["axial_force"], float).reshape(n_t, n - 1)
+    strain = np.asarray(out["strain"], float).reshape(n_t, n - 1)
+    fa = np.asarray(out["end_force_a"], float).reshape(n_t, 3)
+    fb = np.asarray(out["end_force_b"], float).reshape(n_t, 3)
+    stats = dict(stats)
+    stats.update(slack_report(np.asarray(tr.time, float), strain, axial))
+    warnings = list(warnings)
+    if stats["snaps"]:
+        warnings.append(f"segments went slack ({100 * stats['slack_fraction']:.3g} % of the time, up "
+                        f"to {stats['slack_segments']} at once) and snapped taut {stats['snaps']} "
+                        f"time(s); largest tension after a snap {stats['snap_peak'] / 1e3:.4g} kN "
+                        f"at t = {stats['snap_peak_time']:.4g} s: snap peaks converge slowly in "
+                        "dt, check them at dt / 2")
+    return LineTrajectory(
+        scene_name=scene.name, time=np.asarray(tr.time, float),
+        s=np.asarray(mech.layout.parts["line"].s, float), positions=pos,
+        velocities=np.asarray(out["velocities"], float).reshape(n_t, n, 3), axial_force=axial,
+        strain=strain, contact_force=np.asarray(out["contact_force"], float).reshape(n_t, n),
+        fairlead_force=fb, anchor_force=fa, fairlead_tension=np.linalg.norm(fb, axis=1),
+        anchor_tension=np.linalg.norm(fa, axis=1), method=method, dt=float(dt),
+        status=tr.status, stats=stats, warnings=tuple(warnings))
+
+
+def simulate_3d(scene: Scene, duration: float, dt: float | None = None,
+                method: str = "generalized-alpha", *, rho_inf: float = 0.5,
+                save_every: int | None = None, save_times=None, progress: bool | None = None,
+                newton_tol: float | None = None, codegen: bool | None = None,
+                t_start: float | None = None) -> LineTrajectory:
+    """Time response of a cable3d line from its static state (see :func:`symcable.simulate`).
+
+    The run starts at ``t_start`` s (default :func:`run_start`: a motion table's first row
+    when before 0, else 0) and lasts ``duration`` s; ``dt`` default :func:`default_dt`.
+    ``rho_inf`` (default 0.5) is generalized-alpha's numerical damping: on a slack rope
+    jerked taut (tests/test_cable3d_snap.py) rho_inf = 0.8 at dt = 0.05 s returned a snap
+    peak 500 times the converged one, 0.5 within 20 %, 0 within 5 %: high-frequency axial
+    waves released by a snap need the damping. Returns a :class:`LineTrajectory`; a failed
+    step raises ConvergenceError whose ``partial`` is one too.
+    """
+    started = time.perf_counter()
+    name = str(getattr(method, "value", method)).strip().lower().replace("_", "-")
+    if name not in ("generalized-alpha", "rk4"):
+        raise SymcableError(f"method = {method!r}: must be 'generalized-alpha' or 'rk4'")
+    if not (isinstance(rho_inf, (int, float)) and 0.0 <= rho_inf <= 1.0):
+        raise SymcableError(f"rho_inf = {rho_inf!r}: must be a number in [0, 1]")
+    try:
+        duration = float(duration)
+    except (TypeError, ValueError):
+        duration = float("nan")
+    if not (math.isfinite(duration) and duration > 0):
+        raise SymcableError(f"duration = {duration!r} s: must be > 0")
+    if name == "rk4":
+        opts = RK4()
+    else:
+        opts = GeneralizedAlphaFirstOrder(rho_inf=float(rho_inf))
+        if newton_tol is not None:
+            opts = dataclasses.replace(opts, tol=float(newton_tol))
+    mech, eq = static_equilibrium(scene, codegen=codegen)
+    t_static = time.perf_counter() - started
+    t0 = run_start(scene) if t_start is None else float(t_start)
+    if dt is None and name != "rk4":
+        dt = default_dt(scene, duration)
+    kw = dict(method=opts, t0=t0, start=eq, p=mech.params.values, save_every=save_every,
+              save_times=save_times, progress=progress, codegen=codegen, label=name,
+              period=_period(scene))
+    try:
+        tr = integrate(mech, duration, dt, **kw)
+    except ConvergenceError as exc:
+        part = exc.partial
+        if part is not None and len(part.time):
+            part = _line_result(scene, mech, part, name, part.stats.get("dt", dt or 0.0),
+                                dict(part.stats), part.warnings)
+        raise ConvergenceError(str(exc), partial=part, diagnostics=exc.diagnostics) from None
+    stats = dict(tr.stats, static_time=t_static, wall_time=time.perf_counter() - started,
+                 rho_inf=float(rho_inf) if name != "rk4" else None)
+    return _line_result(scene, mech, tr, name, tr.stats["dt"], stats, tr.warnings)
+
+
+def solve_periodic_3d(scene: Scene, method="collocation", *, codegen: bool | None = None,
+                      **options) -> LineTrajectory:
+    """The periodic response of a cable3d line to its harmonic end motion, fully nonlinear
+    (see :func:`symcable.solve_periodic`): one period, the motion at full amplitude (no
+    ramp), as a :class:`LineTrajectory` over ``[0, T)`` whose ``method`` names the periodic
+    method and whose ``stats`` hold ``period`` (s), the method's iterations and its own
+    ``error_estimate`` (the largest scaled equation defect on a grid 4 times the solver's)."""
+    started = time.perf_counter()
+    period = _period(scene)
+    if period is None or any(m.kind == "table" for m in _motions(scene)):
+        raise SymcableError(f"scene {scene.name!r}: a periodic response needs a harmonic end "
+                            "motion ([end_b.motion] kind = 'harmonic'), not "
+                            + ("a table" if _motions(scene) else "none"))
+    name, opts = method_options(method, options)
+    mech, eq = static_equilibrium(scene, codegen=codegen)
+    p = mech.params.with_values(ramp=0.0)
+    res = solve_periodic_mech(mech, period, opts, p=p, start=eq, codegen=codegen)
+    stats = dict(res.stats, period=period, wall_time=time.perf_counter() - started)
+    n_t = len(res.time)
+    return _line_result(scene, mech, res, name, period / max(n_t, 1), stats, res.warnings)
+
+
+def modal_analysis_3d(scene: Scene, n_modes: int = 10, *, max_dense: int = MAX_DENSE,
+                      damped: bool = False) -> ModalSolution:
+    """The lowest natural modes of a cable3d line about its static state (see
+    :func:`symcable.modal_analysis`): the symmetric problem K phi = omega^2 M phi in the node
+    positions, K the exact tangent stiffness (tension's geometric stiffness included), M the
+    lumped mass with added mass. ``shapes`` (n_modes, n, 3): node displacements (x, y, z),
+    zero at held ends, scaled to a largest node displacement of 1. ``damped=True`` adds the
+    damping ratios of the complex modes in ``stats["damping_ratios"]``."""
+    started = time.perf_counter()
+    if isinstance(n_modes, bool) or int(n_modes) != n_modes or n_modes < 1:
+        raise SymcableError(f"n_modes = {n_modes!r}: must be an integer >= 1")
+    mech, eq = static_equilibrium(scene)
+    t_static = time.perf_counter() - started
+    modes = mechanism_modes(mech, eq, int(n_modes), damped=damped, max_dense=max_dense)
+    lay = mech.layout.parts["line"]
+    idx = np.asarray(lay.node_q)
+    shapes = np.zeros((len(modes.frequencies),) + idx.shape)
+    held = idx < 0
+    for k, phi in enumerate(np.asarray(modes.shapes, float)):
+        u = np.where(held, 0.0, phi[np.where(held, 0, idx)])
+        peak = np.max(np.linalg.norm(u, axis=1))
+        j = int(np.argmax(np.abs(u)))
+        shapes[k] = u * (math.copysign(1.0, u.flat[j]) / peak if peak > 0 else 1.0)
+    freq = np.asarray(modes.frequencies, float)
+    st = dict(modes.stats)
+    stats = {"n_y": st.get("state_size"), "method": f"dense {st.get('method')}",
+             "zero_modes": st.get("zero_eigenvalues"), "zero_tolerance": st.get("zero_tolerance"),
+             "max_relative_real_part": st.get("max_relative_real_part"), "model_time": t_static,
+             "jacobian_time": st.get("linearize_time"), "eig_time": st.get("eig_time"),
+             "wall_time": time.perf_counter() - started}
+    if damped and modes.damping_ratios is not None:
+        stats["damping_ratios"] = np.asarray(modes.damping_ratios, float).tolist()
+    return ModalSolution(
+        scene_name=scene.name, s=np.asarray(lay.s, float),
+        positions=np.asarray(eq.outputs["positions"], float).reshape(-1, 3), frequencies=freq,
+        periods=1.0 / freq, real_parts=np.asarray(modes.real_parts if modes.real_parts is not None
+                                                  else np.zeros_like(freq), float),
+        shapes=shapes, status="converged", stats=stats, warnings=tuple(modes.warnings))
+
+
+def end_stiffness_3d(scene: Scene, end: str = "b", *, equilibrium=None) -> np.ndarray:
+    """(3, 3) N/m: K = -dF/dx of the force the line exerts on pinned end ``end`` against that
+    end's position, the line in static equilibrium; exact (implicit function theorem on the
+    static residual's CasADi derivatives)."""
+    mech, eq = static_equilibrium(scene) if equilibrium is None else equilibrium
+    return -output_sensitivity(mech, eq, f"end_force_{end}", f"end_{end}.position")
+
+
+def linearize_3d(scene: Scene, *, undamped: bool = False) -> SceneLinearization:
+    """K, C, M, G, H of a cable3d line about its static state (see :func:`symcable.linearize`):
+    q and v are the positions and velocities of the moving nodes (``q_kinds`` names each,
+    e.g. ``"node3.y"``); K includes the geometric stiffness of the static tension; C the
+    material damping and the drag linearised about the current (none with ``undamped``,
+    which also switches the current off); and the exact (3, 3) stiffness of each pinned
+    end."""
+    mech, eq = static_equilibrium(scene)
+    p = np.array(eq.p, float)
+    if undamped:
+        p[mech.params.slice("current")] = 0.0
+    F = functions(mech)
+    z0 = np.zeros(0)
+    q0, v0 = np.asarray(eq.q, float), np.zeros(mech.n_v)
+    K, C, M, *_ = (np.asarray(a) for a in F.tangents(q0, v0, z0, 0.0, p))
+    H, G = (np.asarray(a) for a in F.kinematics_jacobian(q0, v0, z0, 0.0, p))
+    if undamped:
+        C = np.zeros_like(C)
+    idx = np.asarray(mech.layout.parts["line"].node_q)
+    kinds = [""] * mech.n_q
+    for i, row in enumerate(idx):
+        for c, j in zip("xyz", row):
+            if j >= 0:
+                kinds[j] = f"node{i}.{c}"
+    ends = {}
+    for end in ("a", "b"):
+        if getattr(scene, f"end_{end}").condition is EndCondition.PINNED:
+            ends[end] = end_stiffness_3d(scene, end, equilibrium=(mech, eq))
+    return SceneLinearization(scene.name, K, C, M, G, H, tuple(kinds), tuple(kinds), ends, undamped)

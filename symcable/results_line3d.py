@@ -1,0 +1,161 @@
+"""Time-domain results of a 3D line (``model = "cable3d"``): :class:`LineTrajectory`, what
+:func:`symcable.simulate` returns for such a scene, with its slack and snap report, plots and
+a ParaView export."""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from .errors import SymcableError
+from .results import Exportable, OneLine
+
+__all__ = ["LineTrajectory", "slack_report"]
+
+#: a segment counts as slack when its strain is at most this (not stretched): the
+#: tension-only law leaves it a tension below about EA times this
+SLACK_STRAIN = 1e-7
+
+
+def slack_report(time: np.ndarray, strain: np.ndarray, axial: np.ndarray) -> dict:
+    """Where and when segments went slack, and the snaps that followed.
+
+    ``time`` (n_t,) s, ``strain`` and ``axial`` (n_t, n_seg): a segment is slack at a sample
+    where its strain is at most SLACK_STRAIN. Returns ``slack_fraction`` (the fraction of
+    the run, by time, during which some segment was slack), ``slack_segments`` (the most
+    segments slack at once), ``snaps`` (returns of a segment from slack to taut), and
+    ``snap_peak`` (N, the largest axial force of a segment after its first snap; None
+    without a snap) with ``snap_peak_time`` (s)."""
+    slack = strain <= SLACK_STRAIN
+    any_slack = slack.any(axis=1)
+    dt = np.diff(time)
+    frac = float(np.sum(dt * any_slack[:-1]) / max(time[-1] - time[0], 1e-300)) if dt.size else 0.0
+    back = slack[:-1] & ~slack[1:]  # slack at a sample, taut at the next
+    snaps = int(np.sum(back))
+    out = {"slack_fraction": frac, "slack_segments": int(slack.sum(axis=1).max(initial=0)),
+           "snaps": snaps, "snap_peak": None, "snap_peak_time": None}
+    if snaps:
+        first = int(np.argmax(back.any(axis=1))) + 1
+        after = axial[first:]
+        k = int(np.argmax(after.max(axis=1)))
+        out.update(snap_peak=float(after[k].max()), snap_peak_time=float(time[first + k]))
+    return out
+
+
+@dataclass(frozen=True)
+class LineTrajectory(OneLine, Exportable):
+    """The time history of a 3D line, fully nonlinear (large motion, slack and snap), at the
+    saved steps.
+
+    ``n_t`` samples, ``n`` nodes (end A to end B), ``n_seg = n - 1`` segments.
+
+    Attributes
+    ----------
+    scene_name : str
+    time : ndarray (n_t,)
+        Sample times, s (the excitation starts at t = 0; a motion table at its first row).
+    s : ndarray (n,)
+        Unstretched arc length of the nodes from end A, m.
+    positions, velocities : ndarray (n_t, n, 3)
+        Node positions (x, y, z), m, and velocities, m/s (z up).
+    axial_force : ndarray (n_t, n_seg)
+        Axial force of each segment, N (tension positive; a cable's is never below zero
+        by more than round-off: it goes slack instead).
+    strain : ndarray (n_t, n_seg)
+        Axial strain of each segment, -.
+    contact_force : ndarray (n_t, n)
+        Seabed reaction on each node, N (zeros without a seabed).
+    fairlead_force, anchor_force : ndarray (n_t, 3)
+        Force the line exerts on end B (the fairlead) and end A (the anchor), N.
+    fairlead_tension, anchor_tension : ndarray (n_t,)
+        Their magnitudes, N.
+    method : str
+        ``"generalized-alpha"`` or ``"rk4"``.
+    dt : float
+        Time step, s.
+    status : str
+        ``"converged"`` (every step done; see ``warnings`` for a coarse step or a snap that
+        needed substeps) or ``"failed"`` (a ConvergenceError's partial result).
+    stats : dict
+        The integrator's (:func:`symcable.integrate`: steps, Newton iterations,
+        ``error_estimate``, ``substepped_steps``, wall time, ...), ``static_time`` (s), and
+        the slack report (:func:`slack_report`): ``slack_fraction``, ``slack_segments``,
+        ``snaps``, ``snap_peak`` (N), ``snap_peak_time`` (s).
+    warnings : tuple of str
+    """
+
+    scene_name: str
+    time: np.ndarray
+    s: np.ndarray
+    positions: np.ndarray
+    velocities: np.ndarray
+    axial_force: np.ndarray
+    strain: np.ndarray
+    contact_force: np.ndarray
+    fairlead_force: np.ndarray
+    anchor_force: np.ndarray
+    fairlead_tension: np.ndarray
+    anchor_tension: np.ndarray
+    method: str
+    dt: float
+    status: str
+    stats: dict = field(default_factory=dict)
+    warnings: tuple = ()
+
+    __repr__ = Exportable.short_repr
+
+    @property
+    def tension(self) -> np.ndarray:
+        """(n_t, n_seg) N: the axial force floored at zero (a cable's tension)."""
+        return np.maximum(self.axial_force, 0.0)
+
+    def envelope(self, t_from: float | None = None) -> dict:
+        """Least, mean and largest tension along the line over the samples from ``t_from`` s
+        (default all): ``s`` (segment midpoints, m) and ``min``, ``mean``, ``max`` (N)."""
+        sel = slice(None) if t_from is None else self.time >= t_from - 1e-12
+        T = self.tension[sel]
+        if not len(T):
+            raise SymcableError(f"t_from = {t_from!r} s: after the last sample "
+                                f"({self.time[-1]:.6g} s)")
+        mid = 0.5 * (self.s[:-1] + self.s[1:])
+        return {"s": mid, "min": T.min(axis=0), "mean": T.mean(axis=0), "max": T.max(axis=0)}
+
+    def summary(self) -> str:
+        """A few lines: run, end tensions (range), slack and snap, warnings."""
+        st = self.stats
+        kn = lambda a: f"{np.min(a) / 1e3:.4g} .. {np.max(a) / 1e3:.4g} kN"  # noqa: E731
+        lines = [f"scene             {self.scene_name}",
+                 f"run               {self.method}, dt {self.dt:.4g} s, {len(self.time)} samples "
+                 f"over {self.time[-1] - self.time[0]:.4g} s, status {self.status}",
+                 f"fairlead tension  {kn(self.fairlead_tension)}",
+                 f"anchor tension    {kn(self.anchor_tension)}"]
+        if st.get("error_estimate") is not None:
+            lines.append(f"error estimate    {100 * st['error_estimate']:.2g} % of the range")
+        if st.get("slack_fraction"):
+            lines.append(f"slack             {100 * st['slack_fraction']:.3g} % of the time, up to "
+                         f"{st['slack_segments']} segments; {st['snaps']} snap(s)"
+                         + (f", peak {st['snap_peak'] / 1e3:.4g} kN at t = "
+                            f"{st['snap_peak_time']:.4g} s" if st.get("snap_peak") else ""))
+        lines.append(f"wall time         {st.get('wall_time', float('nan')):.3g} s")
+        lines += [f"warning           {w}" for w in self.warnings]
+        return "\n".join(lines)
+
+    def plot(self, path: str | Path | None = None, *, kind: str = "tensions", **options):
+        """``kind = "tensions"``: end tensions against time and the tension envelope along the
+        line; ``"profile"``: snapshots of the line in 3D, plan and elevation
+        (:func:`symcable.plotting_line3d.plot_profiles`; ``snapshots``, ``title``). Saved
+        to ``path`` when given; returns the matplotlib Figure."""
+        from .plotting_line3d import plot_profiles, plot_tensions
+        if kind == "tensions":
+            return plot_tensions(self, path, **options)
+        if kind == "profile":
+            return plot_profiles(self, path, **options)
+        raise SymcableError(f"kind = {kind!r}: must be 'tensions' or 'profile'")
+
+    def to_vtk(self, folder: str | Path, stem: str = "line") -> Path:
+        """Write the run for ParaView (:func:`symcable.plotting_line3d.write_vtk`): one
+        ``.vtu`` per sample (the line as a polyline, with tension, strain, velocity and
+        seabed contact) and a ``.pvd`` collection with their times; returns the ``.pvd``."""
+        from .plotting_line3d import write_vtk
+        return write_vtk(self, folder, stem)

@@ -26,12 +26,14 @@ from ..errors import SceneError
 from .checks import _check_keys, _choice, _err, _get
 from .model import _DIMS, Model, Scene, scene_to_dict
 from .moordyn import MoorDynDeck, is_moordyn_deck, parse_moordyn
+from .system import read_system
 from .tables import (MAX_STIFFNESS_RATIO, _check_geometry, _end, _environment, _line_types,
                      _seabed, _sections)
 
 __all__ = ["MAX_STIFFNESS_RATIO", "load_scene", "moordyn_deck", "scene_to_dict", "scene_to_toml"]
 
-_TOP_KEYS = ("name", "model", "environment", "seabed", "line_types", "sections", "end_a", "end_b")
+_TOP_KEYS = ("name", "model", "environment", "seabed", "line_types", "sections", "end_a", "end_b",
+             "points", "lines")
 _MODELS = tuple(m.value for m in Model)
 
 
@@ -134,6 +136,14 @@ def _build(data: Mapping, source: str, base: str = ".") -> Scene:
     env = _environment(data, dim)
     seabed = _seabed(data, env)
     types = _line_types(data, env, dim)
+    if _get(data, "lines") is not None:  # version 2: several lines and points
+        points, lines = read_system(data, env, types, dim, model.value, base)
+        return Scene(name=name, model=model, environment=env, seabed=seabed,
+                     line_types=MappingProxyType(types), sections=(), end_a=None, end_b=None,
+                     source=source, points=points, lines=lines)
+    if _get(data, "points") is not None:
+        raise _err("points", "{...}", "", "points are the ends of [[lines]] (scene version 2): "
+                   "give [[lines]] with end_a / end_b naming them, or remove [points]")
     sections = _sections(data, types)
     ends = {"end_a": _end("end_a", data, dim, base), "end_b": _end("end_b", data, dim, base)}
     _check_geometry(env, sections, ends, dim)

@@ -108,14 +108,17 @@ def _line_types(data: Mapping, env: Environment, dim: int) -> dict[str, LineType
     return out
 
 
-def _sections(data: Mapping, types: Mapping[str, LineType]) -> tuple[Section, ...]:
-    raw = _required("", data, "sections", "a non-empty array of tables [[sections]]")
+def _sections(data: Mapping, types: Mapping[str, LineType], where: str = "") -> tuple[Section, ...]:
+    """The ``sections`` array of ``data`` (the scene, or the line ``where``, e.g.
+    ``lines[0]``, whose key path prefixes the messages)."""
+    key = _key(where, "sections")
+    raw = _required(where, data, "sections", f"a non-empty array of tables [[{key}]]")
     if not isinstance(raw, (list, tuple)) or not raw:
-        raise _err("sections", raw, "", "must be a non-empty array of tables ([[sections]] with "
-                                        "type, length, segments), from end A to end B")
+        raise _err(key, raw, "", f"must be a non-empty array of tables ([[{key}]] with "
+                                 "type, length, segments), from end A to end B")
     out = []
     for i, table in enumerate(raw):
-        path = f"sections[{i}]"
+        path = f"{key}[{i}]"
         t = _table(path, table, _SECTION_KEYS)
         name = _required(path, t, "type", f"the name of a line type: {', '.join(map(repr, types))}")
         if not isinstance(name, str) or name not in types:
@@ -176,7 +179,13 @@ def _table_motion(path: str, t: Mapping, dim: int, base: str) -> Motion:
 
 
 def _end(path: str, data: Mapping, dim: int, base: str = ".") -> End:
-    t = _table(path, _required("", data, path, "a table with condition and position"), _END_KEYS)
+    return _end_table(path, _required("", data, path, "a table with condition and position"),
+                      dim, base)
+
+
+def _end_table(path: str, raw: Any, dim: int, base: str = ".") -> End:
+    """An end table (``[end_a]``, or a line's inline ``end_a``) at key path ``path``."""
+    t = _table(path, raw, _END_KEYS)
     cond = EndCondition(_choice(f"{path}.condition", _required(
         path, t, "condition", f"one of {', '.join(map(repr, _CONDITIONS))}"), _CONDITIONS,
         "end condition"))

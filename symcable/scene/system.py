@@ -96,8 +96,9 @@ def _points(data: Mapping, dim: int, base: str) -> dict[str, Point]:
                                       "position, ...)")
     out = {}
     for name, table in raw.items():
-        if not isinstance(name, str) or not name:
-            raise _err("points", name, "", "point names must be non-empty strings")
+        if not isinstance(name, str) or not _BARE_KEY.fullmatch(name):
+            raise _err("points", name, "", "point names must be names of letters, digits, _ "
+                                           "and - (they prefix the point's outputs)")
         out[name] = _point(name, table, dim, base)
     return out
 
@@ -184,16 +185,54 @@ def _check_system(env: Environment, lines: tuple[Line, ...], points: Mapping[str
             if end.motion is not None:
                 _check_motion_speed(f"{path}.{which}", end.motion, section.line_type)
         _check_stiffness(ln.sections, ends)
-        a, b = _held_position(ln, "a", points), _held_position(ln, "b", points)
-        if a is not None and b is not None:
-            distance = math.dist(a[1], b[1])
-            reach = sum(s.length * (1.0 + s.line_type.max_strain) for s in ln.sections)
-            if distance > reach:
-                raise _err(f"{path}.end_b", _show_end(ln.end_b), "", f"the ends are "
-                           f"{_fmt(distance)} m apart ({a[0]} to {b[0]}) but the line stretches "
-                           f"to at most {_fmt(reach)} m (length {_fmt(ln.length)} m at its "
-                           "line types' max_strain)")
     _check_held(lines, points)
+    _check_reach(lines, points)
+
+
+def _node(line: Line, i: int, which: str) -> str:
+    """A graph node for a line's end: its point's name, or the inline end's key path."""
+    end = line.end(which)
+    return end if isinstance(end, str) else f"lines[{i}].{which}"
+
+
+def _check_reach(lines: tuple[Line, ...], points: Mapping[str, Point]) -> None:
+    """Two held ends (points or inline ends) joined by lines, directly or through free
+    points, are no farther apart than the shortest such path stretches (each line's length
+    at its line types' max_strain)."""
+    held: dict[str, tuple[str, tuple]] = {}  # node -> (key path of its position, position)
+    edges: dict[tuple[str, str], tuple[float, list[str]]] = {}
+    for i, ln in enumerate(lines):
+        a, b = _node(ln, i, "a"), _node(ln, i, "b")
+        for node, which in ((a, "a"), (b, "b")):
+            pos = _held_position(ln, which, points)
+            if pos is not None:
+                key = pos[0] if isinstance(ln.end(which), str) else f"lines[{i}].{pos[0]}"
+                held[node] = (key, pos[1])
+        reach = sum(s.length * (1.0 + s.line_type.max_strain) for s in ln.sections)
+        for u, w in ((a, b), (b, a)):
+            if reach < edges.get((u, w), (math.inf, []))[0]:
+                edges[(u, w)] = (reach, [ln.name])
+    nodes = sorted({u for u, _ in edges})
+    best = {(u, w): edges.get((u, w), (0.0 if u == w else math.inf, []))
+            for u in nodes for w in nodes}
+    for k in nodes:  # Floyd-Warshall; paths through held nodes are no shorter than direct
+        if k in held:
+            continue
+        for u in nodes:
+            for w in nodes:
+                via = best[(u, k)][0] + best[(k, w)][0]
+                if via < best[(u, w)][0]:
+                    best[(u, w)] = (via, best[(u, k)][1] + best[(k, w)][1])
+    names = sorted(held)
+    for x, u in enumerate(names):
+        for w in names[x + 1:]:
+            reach, path = best[(u, w)]
+            distance = math.dist(held[u][1], held[w][1])
+            if distance > reach:
+                raise _err(held[w][0], list(held[w][1]), "m", f"the ends are {_fmt(distance)} "
+                           f"m apart ({held[u][0]} to {held[w][0]}) but the lines between "
+                           f"them ({', '.join(path)}) stretch to at most {_fmt(reach)} m "
+                           "at their line types' max_strain")
 
 
 def _show_end(end) -> Any:

@@ -18,8 +18,7 @@ the rest. Joints:
 
 Parameters, outputs, admissibility bounds and layout parts are namespaced ``part.name``;
 stability is judged where any part's ``stability_when`` is negative (always, when a part has
-none). Attaching a node to a rigid
-body (a constraint joint) arrives with the bodies.
+none). Attaching a node to a rigid body (a constraint joint) arrives with the bodies.
 """
 from __future__ import annotations
 

@@ -10,7 +10,8 @@ value and what is allowed):
 - a free point gives ``mass`` or ``volume`` (explicitly 0 for a massless joint of lines);
   only free points take mass, volume, drag and force; only vessel points move;
 - every group of joined lines holds at least one point or end (else it floats away);
-- held points and ends lie above the seabed; a line between two held ends reaches;
+- held points and ends lie above the seabed; two held ends joined by lines (directly or
+  through free points) are no farther apart than the shortest such path stretches;
 - the line types' stiffness against each line's load, and a vessel point's speed against
   the lines it moves (as version 1).
 """

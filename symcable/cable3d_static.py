@@ -6,14 +6,16 @@ from __future__ import annotations
 
 import time
 from collections import OrderedDict
+from types import MappingProxyType
 
 import numpy as np
 
 from .errors import ConvergenceError
 from .models.cable3d import build_cable3d, force_scale
+from .models.cable3d_system import build_system, line_scene
 from .models.mechanism import Mechanism
 from .models.planar import grounded_length, segment_table
-from .results import StaticSolution
+from .results import PointState, StaticSolution, SystemStaticSolution
 from .scene import Scene
 from .solvers.equilibrium import solve_equilibrium
 
@@ -26,11 +28,14 @@ _CACHE_SIZE = 16
 
 
 def cable3d_mechanism(scene: Scene) -> Mechanism:
-    """The scene's cable3d Mechanism, built once per scene content (16 most recent)."""
+    """The scene's cable3d Mechanism, built once per scene content (16 most recent): one
+    line's (:func:`~symcable.models.cable3d.build_cable3d`), or for a scene of several lines
+    and points (version 2) their assembly
+    (:func:`~symcable.models.cable3d_system.build_system`)."""
     key = repr(scene.to_dict())
     mech = _CACHE.get(key)
     if mech is None:
-        mech = _CACHE[key] = build_cable3d(scene)
+        mech = _CACHE[key] = build_system(scene) if scene.version == 2 else build_cable3d(scene)
         if len(_CACHE) > _CACHE_SIZE:
             _CACHE.popitem(last=False)
     else:
@@ -53,7 +58,11 @@ def static_equilibrium(scene: Scene, *, tol: float | None = None, max_iter: int 
 
 def solve_static_3d(scene: Scene, *, tol: float | None = None, max_iter: int = 50,
                     continuation: bool = True, codegen: bool | None = None) -> StaticSolution:
-    """Static configuration of a cable3d scene (see :func:`symcable.solve_static`)."""
+    """Static configuration of a cable3d scene (see :func:`symcable.solve_static`); a scene
+    of several lines and points gives a :class:`~symcable.results.SystemStaticSolution`."""
+    if scene.version == 2:
+        return _solve_system(scene, tol=tol, max_iter=max_iter, continuation=continuation,
+                             codegen=codegen)
     t0 = time.perf_counter()
     mech = cable3d_mechanism(scene)
     seg = segment_table(scene)
@@ -96,3 +105,45 @@ def _solution(scene, seg, out, q, status, stats, warnings) -> StaticSolution:
         anchor_tension=float(np.linalg.norm(fa)), grounded_length=grounded,
         touchdown=touchdown, status=status, stats=stats, warnings=warnings,
         unknowns=np.array(q, float))
+
+
+def _solve_system(scene: Scene, *, tol, max_iter, continuation, codegen) -> SystemStaticSolution:
+    """:func:`solve_static_3d` of a scene of several lines and points."""
+    t0 = time.perf_counter()
+    mech = cable3d_mechanism(scene)
+    if tol is None:
+        tol = max(RTOL * mech.scales.force, 10 * mech.scales.residual_floor)
+    try:
+        eq = solve_equilibrium(mech, tol=tol, max_iter=max_iter,
+                               continuation=None if continuation else False, codegen=codegen)
+    except ConvergenceError as exc:
+        part = exc.partial
+        partial = None if part is None else _system(scene, part.outputs, part.q, "failed",
+                                                    dict(part.stats), ())
+        raise ConvergenceError(f"static solve of '{scene.name}' (cable3d, {len(scene.lines)} "
+                               f"lines, {len(scene.points)} points) found no admissible "
+                               f"equilibrium: {exc}", partial=partial,
+                               diagnostics=exc.diagnostics) from None
+    stats = dict(eq.stats)
+    stats.update(wall_time=time.perf_counter() - t0, unknowns=mech.n_q, terms=list(mech.terms))
+    warnings = list(eq.warnings)
+    if scene.seabed is not None and scene.seabed.friction > 0:
+        warnings.append("seabed friction is not applied in cable3d statics yet (frictionless "
+                        "contact)")
+    return _system(scene, eq.outputs, eq.q, "converged", stats, tuple(warnings))
+
+
+def _system(scene, out, q, status, stats, warnings) -> SystemStaticSolution:
+    lines = {}
+    for line in scene.lines:
+        ls = line_scene(scene, line)
+        mine = {k.split(".", 1)[1]: v for k, v in out.items() if k.startswith(line.name + ".")}
+        lines[line.name] = _solution(ls, segment_table(ls), mine, q, status, stats, warnings)
+    points = {}
+    for name, pt in scene.points.items():
+        net = out.get(f"{name}.net_force")
+        points[name] = PointState(name, pt.kind.value, np.ravel(out[f"{name}.position"]),
+                                  np.ravel(out[f"{name}.force"]),
+                                  None if net is None else np.ravel(net))
+    return SystemStaticSolution(scene.name, MappingProxyType(lines), MappingProxyType(points),
+                                status, stats, warnings, np.array(q, float))

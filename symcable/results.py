@@ -10,7 +10,8 @@ import numpy as np
 
 from .errors import SymcableError
 
-__all__ = ["Exportable", "ModalSolution", "OneLine", "StaticSolution"]
+__all__ = ["Exportable", "ModalSolution", "OneLine", "PointState", "StaticSolution",
+           "SystemStaticSolution"]
 
 
 def _jsonable(v):
@@ -300,3 +301,112 @@ class ModalSolution(Exportable):
         lines.append(f"max |Re|/|lambda| {st.get('max_relative_real_part', float('nan')):.2g}")
         lines += [f"warning           {w}" for w in self.warnings]
         return "\n".join(lines)
+
+
+@dataclass(frozen=True)
+class PointState:
+    """A point of a scene of several lines, in a solution (:class:`SystemStaticSolution`).
+
+    Attributes
+    ----------
+    name : str
+    kind : str
+        ``"fixed"``, ``"vessel"`` or ``"free"``.
+    position : ndarray (3,)
+        m.
+    force : ndarray (3,)
+        The force the attached lines exert on the point, N (on a fixed or vessel point: what
+        holds it must take its opposite).
+    net_force : ndarray (3,) or None
+        Free points: ``force`` plus the point's own weight, buoyancy, drag and applied
+        force, N (zero in equilibrium, to the solver's tolerance); None for held points.
+    """
+
+    name: str
+    kind: str
+    position: np.ndarray
+    force: np.ndarray
+    net_force: np.ndarray | None = None
+
+    @property
+    def tension(self) -> float:
+        """|force|, N."""
+        return float(np.linalg.norm(self.force))
+
+
+@dataclass(frozen=True)
+class SystemStaticSolution:
+    """Static configuration of a scene of several lines and points (scene version 2).
+
+    Attributes
+    ----------
+    scene_name : str
+    lines : Mapping[str, StaticSolution]
+        Each line's own static solution (positions (n, 3), tension, fairlead_tension =
+        |force on its end B|, anchor_tension, grounded_length, ...), by line name; their
+        ``status`` and ``stats`` are the system's.
+    points : Mapping[str, PointState]
+        Every point's position and forces, by point name.
+    status : str
+        ``"converged"`` or ``"failed"`` (only on a ConvergenceError's partial result).
+    stats : dict
+        As :class:`StaticSolution`'s.
+    warnings : tuple of str
+    unknowns : ndarray
+        The solver's unknown vector (to restart from).
+    """
+
+    scene_name: str
+    lines: object
+    points: object
+    status: str
+    stats: dict = field(default_factory=dict)
+    warnings: tuple = ()
+    unknowns: np.ndarray | None = None
+
+    @property
+    def bodies(self):
+        from types import MappingProxyType
+        return MappingProxyType({})
+
+    def __repr__(self) -> str:
+        return (f"SystemStaticSolution(status={self.status!r}, scene_name={self.scene_name!r}, "
+                f"lines={list(self.lines)}, points={list(self.points)})")
+
+    def summary(self) -> str:
+        """Per line its end tensions (kN) and grounded length (m), per point its position
+        (m) and the lines' force on it (kN), then the solver's stats."""
+        st = self.stats
+        out = [f"scene             {self.scene_name}",
+               f"status            {self.status} via {st.get('path', '?')} from "
+               f"{st.get('start', '?')}"]
+        for name, ln in self.lines.items():
+            out.append(f"line {name:12s} fairlead {ln.fairlead_tension / 1e3:.4f} kN, anchor "
+                       f"{ln.anchor_tension / 1e3:.4f} kN, grounded {ln.grounded_length:.3f} m")
+        for name, pt in self.points.items():
+            x = ", ".join(f"{v:.3f}" for v in pt.position)
+            out.append(f"point {name:11s} {pt.kind:6s} at ({x}) m, lines' force "
+                       f"{_components(pt.force)}")
+        out.append(f"solver            {st.get('iterations', '?')} iterations, residual "
+                   f"{st.get('residual_norm', float('nan')):.3g} N (tol "
+                   f"{st.get('tolerance', float('nan')):.3g} N)")
+        out += [f"warning           {w}" for w in self.warnings]
+        return "\n".join(out)
+
+    def to_dict(self) -> dict:
+        """Plain JSON-able Python: each line's :meth:`StaticSolution.to_dict`, each point's
+        fields, the status, stats and warnings."""
+        return {"scene_name": self.scene_name,
+                "lines": {k: v.to_dict() for k, v in self.lines.items()},
+                "points": {k: {f.name: _jsonable(getattr(v, f.name)) for f in fields(v)}
+                           for k, v in self.points.items()},
+                "status": self.status, "stats": _jsonable(self.stats),
+                "warnings": list(self.warnings),
+                "unknowns": _jsonable(self.unknowns)}
+
+    def to_json(self, path: str | Path | None = None) -> str:
+        """JSON text of :meth:`to_dict`; also written to ``path`` when given."""
+        text = json.dumps(self.to_dict(), indent=1)
+        if path is not None:
+            Path(path).write_text(text)
+        return text

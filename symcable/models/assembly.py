@@ -16,11 +16,13 @@ the rest. Joints:
   ``NAME.omega`` (rad/s); its outputs ``NAME.force`` (N, the force the parts exert on the
   node: f_part - M_part a_part at its rows) and ``NAME.position`` (m).
 
-Parameters, outputs and layout parts are namespaced ``part.name``. Attaching a node to a rigid
-body (a constraint joint) arrives with the bodies.
+Parameters, outputs, admissibility bounds and layout parts are namespaced ``part.name``;
+stability is judged where any part's ``stability_when`` is negative (always, when a part has
+none). Attaching a node to a rigid body (a constraint joint) arrives with the bodies.
 """
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 from typing import Callable, Iterable, Sequence
 
@@ -196,7 +198,7 @@ def assemble(parts: Iterable[Mechanism], joints: Iterable = (), *, name: str = "
 
     M = kind.zeros(n_q, n_q)
     f = kind.zeros(n_q, 1)
-    g_rows, outputs = [], {}
+    g_rows, outputs, bounds, when = [], {}, {}, []
     z_off = 0
     p_off = 0
     part_layouts = {}
@@ -248,6 +250,18 @@ def assemble(parts: Iterable[Mechanism], joints: Iterable = (), *, name: str = "
             for k, val in zip(names_o, vals):
                 o = m.outputs[k]
                 outputs[f"{m.name}.{k}"] = Output(val, o.unit, o.owner or m.name, o.description)
+        # admissibility bounds and where stability is judged, namespaced
+        if m.bounds or m.stability_when is not None:
+            names_b = list(m.bounds)
+            exprs = [m.bounds[k].expr for k in names_b]
+            if m.stability_when is not None:
+                exprs.append(m.stability_when)
+            vals = ca.Function(f"part_{m.name}_bounds", args, exprs)(q_loc, v_loc, z_loc, t, p_loc)
+            vals = list(vals) if isinstance(vals, (list, tuple)) else [vals]
+            for k, val in zip(names_b, vals):
+                bounds[f"{m.name}.{k}"] = dataclasses.replace(m.bounds[k], expr=val)
+            if m.stability_when is not None:
+                when.append(vals[-1])
         # layout, in global indices
         for pname, lay in m.layout.parts.items():
             node_q = np.full(lay.node_q.shape, -1, dtype=int)
@@ -301,4 +315,14 @@ def assemble(parts: Iterable[Mechanism], joints: Iterable = (), *, name: str = "
     return Mechanism(name=name, q=q, v=v, z=z, t=t, p=p, params=params, mass=M, force=f,
                      constraint=g, scales=scales, starts=starts or default_starts,
                      outputs=outputs, layout=Layout(dim, part_layouts), terms=terms,
-                     static_params=static_params)
+                     static_params=static_params, bounds=bounds,
+                     stability_when=_least(when) if len(when) == len(parts) else None)
+
+
+def _least(exprs):
+    """The least of the parts' ``stability_when``: stability is judged where any part's is
+    negative (a part without one is always judged, so the whole then has none)."""
+    out = exprs[0]
+    for e in exprs[1:]:
+        out = ca.fmin(out, e)
+    return out

@@ -115,8 +115,15 @@ def _held(end, pos_p, motion_scale, t, ramp_on=1.0):
     return pos_p + motion_scale * ramp * A * ca.cos(2.0 * math.pi * t / m.period + ph)
 
 
-def build_cable3d(scene: Scene) -> Mechanism:
-    """The scene's line as a cable3d Mechanism (module docstring)."""
+def build_cable3d(scene: Scene, part: str | None = None) -> Mechanism:
+    """The scene's line as a cable3d Mechanism (module docstring).
+
+    ``part``: build the line as a part of an assembly
+    (:mod:`~symcable.models.cable3d_system`) under that name: the Mechanism, its layout part
+    and its outputs' owner take the name, and both ends may be free (joined to free points
+    that other lines hold). None: the one-line scene's Mechanism ``"cable3d"``, part ``"line"``.
+    """
+    owner = part or "line"
     if any(e.position is not None and len(e.position) != 3 for e in (scene.end_a, scene.end_b)):
         raise SymcableError(f"build_cable3d: scene {scene.name!r} has planar end positions "
                             "(model = 'cable3d' reads [x, y, z])")
@@ -125,7 +132,7 @@ def build_cable3d(scene: Scene) -> Mechanism:
     env, sb = scene.environment, scene.seabed
     a, b = scene.end_a, scene.end_b
     free = [a.condition is EndCondition.FREE, b.condition is EndCondition.FREE]
-    if all(free):
+    if all(free) and part is None:
         raise SymcableError(f"scene {scene.name!r}: both ends free; hold one end")
     params = ParamBlocks(P_NAMES, P_SIZES, np.concatenate([
         [1.0], a.position if a.position is not None else np.zeros(3),
@@ -215,13 +222,13 @@ def build_cable3d(scene: Scene) -> Mechanism:
     end_force_a = nodal[:, 0]
     end_force_b = nodal[:, N]
     outputs = {
-        "positions": Output(Xm.T, "m", "line", "node positions (x, y, z)"),
-        "velocities": Output(ca.densify(Vm.T), "m/s", "line", "node velocities (x, y, z)"),
-        "axial_force": Output(T.T, "N", "line", "axial force of each segment"),
-        "strain": Output(e.T, "1", "line", "strain of each segment"),
-        "contact_force": Output(contact.T, "N", "line", "seabed contact force on each node"),
-        "end_force_a": Output(end_force_a, "N", "line", "force of the line on end A"),
-        "end_force_b": Output(end_force_b, "N", "line", "force of the line on end B"),
+        "positions": Output(Xm.T, "m", owner, "node positions (x, y, z)"),
+        "velocities": Output(ca.densify(Vm.T), "m/s", owner, "node velocities (x, y, z)"),
+        "axial_force": Output(T.T, "N", owner, "axial force of each segment"),
+        "strain": Output(e.T, "1", owner, "strain of each segment"),
+        "contact_force": Output(contact.T, "N", owner, "seabed contact force on each node"),
+        "end_force_a": Output(end_force_a, "N", owner, "force of the line on end A"),
+        "end_force_b": Output(end_force_b, "N", owner, "force of the line on end B"),
     }
     # energies (J): kinetic 0.5 v^T M v of the moving nodes; potential: the law's integral
     # over each element, the submerged weight's height, the contact's integral (the
@@ -234,9 +241,9 @@ def build_cable3d(scene: Scene) -> Mechanism:
     potential = ca.dot(ca.DM(seg["ds"]), U) + load * ca.dot(ca.DM(_lumped(seg)), Xm[2, :].T)
     if sb is not None:
         potential += ca.dot(ca.DM(trib * sb.stiffness), _ramp_integral(-env.depth - z_probe, dlt).T)
-    outputs["kinetic_energy"] = Output(0.5 * ca.dot(v, ca.mtimes(mass, v)), "J", "line",
+    outputs["kinetic_energy"] = Output(0.5 * ca.dot(v, ca.mtimes(mass, v)), "J", owner,
                                        "kinetic energy of the moving nodes")
-    outputs["potential_energy"] = Output(potential, "J", "line",
+    outputs["potential_energy"] = Output(potential, "J", owner,
                                          "elastic, gravity and contact potential energy")
     L = scene.length
     cable = seg["EI"] <= 0.0
@@ -252,19 +259,20 @@ def build_cable3d(scene: Scene) -> Mechanism:
         bounds["seabed_reaction"] = Bound(ca.sum2(contact), upper=1.01 * press + 1e-6 * F,
                                           unit="N", scale=F, what="the seabed carries at most "
                                                                   "what presses the line onto it")
-    coord = L + max(float(np.max(np.abs(e_.position))) for e_ in (a, b) if e_.position is not None)
+    coord = L + max((float(np.max(np.abs(e_.position))) for e_ in (a, b)
+                     if e_.position is not None), default=0.0)
     floor = 100.0 * np.finfo(float).eps * float(np.max(seg["EA"] / seg["ds"])) * coord
     n_q = 3 * len(moving)
     total_mass = float(np.sum(seg["mass"] * seg["ds"]))
     scales = Scales(q=np.full(n_q, 0.1 * L), v=np.full(n_q, math.sqrt(env.gravity * L)),
                     z=np.zeros(0), force=F, mass=max(total_mass, 1e-6), residual_floor=floor)
-    layout = Layout(3, {"line": PartLayout(
+    layout = Layout(3, {owner: PartLayout(
         "line", seg["s"], _node_index(N, moving), _node_index(N, moving),
         {i: name for i, name in ((0, "end_a"), (N, "end_b")) if i not in moving})})
     return Mechanism(
-        name="cable3d", q=q, v=v, z=ca.SX.sym("z", 0), t=t, p=p, params=params, mass=mass,
+        name=part or "cable3d", q=q, v=v, z=ca.SX.sym("z", 0), t=t, p=p, params=params, mass=mass,
         force=force, constraint=ca.SX.zeros(0, 1), scales=scales,
-        starts=lambda: starts_of(scene, seg, params, moving),
+        starts=(lambda: starts_of(scene, seg, params, moving)) if not all(free) else tuple,
         outputs=outputs, layout=layout, terms=tuple(term_names),
         static_params={"motion": np.zeros(1)}, bounds=bounds,
         stability_when=ca.SX(1.0) if np.all(cable) else None)

@@ -130,7 +130,7 @@ SLACK_CONTINUATION = 1e4
 def force_scale_of(scene: Scene, seg: dict) -> float:
     """A characteristic force of the scene, N: the line's total |submerged weight|, the
     largest applied end force, or 1e-6 of the smallest EA (at least 1 N)."""
-    applied = [float(np.hypot(*e.force)) for e in (scene.end_a, scene.end_b)
+    applied = [float(np.linalg.norm(e.force)) for e in (scene.end_a, scene.end_b)
                if e.force is not None]
     return max(float(np.sum(np.abs(seg["w"]) * seg["ds"])), *applied,
                1e-6 * float(np.min(seg["EA"])), 1.0)

@@ -28,7 +28,7 @@ import numpy as np
 from ..scene import EndCondition
 from . import terms
 
-__all__ = ["drag_loads", "relax_line", "relaxed_positions"]
+__all__ = ["drag_loads", "relax_line", "relaxed_network", "relaxed_positions"]
 
 #: IPOPT's iterations and tolerance (on the scaled energy: forces relative to the force
 #: scale) for the start; Newton on the equations polishes what is left
@@ -49,6 +49,20 @@ def _ramp_integral(x, delta):
     (:func:`~symcable.models.terms.smooth_ramp`), up to a constant."""
     root = ca.sqrt(x * x + delta * delta)
     return 0.25 * (x * x + x * root + delta * delta * ca.asinh(x / delta))
+
+
+def _strain_energy(X, seg: dict, law: dict, wider):
+    """The elastic energy of a chain of nodes X (one column per coordinate, (N+1,) each):
+    sum_j ds_j U(e_j), U the integral of the tension-only law with its slack part widened by
+    ``wider``."""
+    d = [x[1:] - x[:-1] for x in X]
+    ds, EA = ca.DM(seg["ds"]), ca.DM(seg["EA"])
+    e = ca.sqrt(sum(di * di for di in d)) / ds - 1.0
+    EA_s = ca.DM(law["EA_slack"]) * wider
+    delta = ca.DM(law["delta"]) * wider
+    U = (0.5 * EA_s * e * e + (EA - EA_s) * _ramp_integral(e, delta)
+         + law["F_wall"] * law["w_wall"] * ca.exp(-(1.0 + e) / law["w_wall"]))
+    return ca.sum1(ds * U)
 
 
 def relaxed_positions(seg: dict, pos0: np.ndarray, free: np.ndarray, law: dict,
@@ -78,15 +92,8 @@ def relaxed_positions(seg: dict, pos0: np.ndarray, free: np.ndarray, law: dict,
             cols[c][i] = pos0[i, c] + L * y[dim * k + c]
     X = [ca.vertcat(*col) for col in cols]
     Z = X[-1]  # up
-    d = [x[1:] - x[:-1] for x in X]
-    ds, EA = ca.DM(seg["ds"]), ca.DM(seg["EA"])
-    e = ca.sqrt(sum(di * di for di in d)) / ds - 1.0
     wider = ca.SX.sym("wider")  # the law's regularisation (RELAX_WIDER, then 1)
-    EA_s = ca.DM(law["EA_slack"]) * wider
-    delta = ca.DM(law["delta"]) * wider
-    U = (0.5 * EA_s * e * e + (EA - EA_s) * _ramp_integral(e, delta)
-         + law["F_wall"] * law["w_wall"] * ca.exp(-(1.0 + e) / law["w_wall"]))
-    energy = ca.sum1(ds * U) + ca.dot(ca.DM(node_weight), Z)
+    energy = _strain_energy(X, seg, law, wider) + ca.dot(ca.DM(node_weight), Z)
     applied = ca.SX.sym("applied", dim * n)  # nodal loads, frozen: (x, [y,] z) per node
     energy -= sum(ca.dot(applied[c::dim], X[c]) for c in range(dim))
     if contact is not None:
@@ -185,3 +192,81 @@ def relax_line(scene, seg: dict, pos0: np.ndarray, law: dict,
     env = scene.environment
     drag = None if env.in_air or not any(env.current) else drag_loads(env, seg)
     return relaxed_positions(seg, pos0, free, law, lumped, forces, contact, force_scale, drag)
+
+
+def relaxed_network(chains: list[dict], point_weight: np.ndarray, point_force: np.ndarray,
+                    force_scale: float) -> list[np.ndarray] | None:
+    """Node positions of several lines joined at shared nodes (points), m, at the minimum of
+    their potential energy: :func:`relaxed_positions` for a network (each line's strain
+    energy, lumped weight, contact and frozen drag as there) plus the points' own loads.
+
+    ``chains``: one dict per line: ``seg``, ``law`` (its tension-only law), ``pos0`` (N+1, 3)
+    m, ``ids`` (N+1,) int (-1: held at ``pos0``; else the index of the free node, shared by
+    the lines that meet there), ``node_weight`` (N+1,) N, ``contact`` (as
+    :func:`relaxed_positions`, or None), ``loads`` (the drag, or None).
+    ``point_weight`` (n_free,) N downward and ``point_force`` (n_free, 3) N: constant loads on
+    the free nodes (a point's weight less its buoyancy, its applied force and its drag in the
+    current). Returns the positions (N+1, 3) of each line, or None when the minimiser ends on
+    non-finite numbers."""
+    n_free = len(point_weight)
+    x0 = np.zeros((n_free, 3))
+    for c in chains:
+        for i, k in enumerate(c["ids"]):
+            if k >= 0:
+                x0[k] = c["pos0"][i]
+    L = max(float(np.sum(c["seg"]["ds"])) for c in chains)
+    y = ca.SX.sym("y", 3 * n_free)
+    nodes = [ca.DM(x0[k]) + L * y[3 * k:3 * k + 3] for k in range(n_free)]
+    wider = ca.SX.sym("wider")
+    energy = ca.dot(ca.DM(point_weight), ca.vertcat(*[nd[2] for nd in nodes])) \
+        - ca.dot(ca.DM(np.asarray(point_force, float).ravel()), ca.vertcat(*nodes))
+    frozen = []
+    for c in chains:
+        cols = [[nodes[k][j] if k >= 0 else ca.SX(float(c["pos0"][i, j]))
+                 for i, k in enumerate(c["ids"])] for j in range(3)]
+        X = [ca.vertcat(*col) for col in cols]
+        energy += _strain_energy(X, c["seg"], c["law"], wider) + ca.dot(ca.DM(c["node_weight"]), X[2])
+        applied = ca.SX.sym("applied", 3 * len(c["ids"]))
+        frozen.append(applied)
+        energy -= sum(ca.dot(applied[j::3], X[j]) for j in range(3))
+        if c["contact"] is not None:
+            depth, k, width, trib = c["contact"]
+            on = ca.DM(np.where(np.asarray(c["ids"]) >= 0, k * np.asarray(trib, float), 0.0))
+            energy += ca.dot(on, _ramp_integral(-depth - X[2], width))
+    nlp = {"x": y, "p": ca.vertcat(wider, *frozen), "f": energy / (force_scale * L)}
+    opts = {"ipopt.print_level": 0, "print_time": False, "ipopt.sb": "yes",
+            "ipopt.max_iter": RELAX_MAX_ITER, "ipopt.tol": RELAX_TOL, "show_eval_warnings": False}
+
+    def positions(yv):
+        xs = x0 + L * yv.reshape(-1, 3)
+        out = []
+        for c in chains:
+            pos = np.array(c["pos0"], float)
+            ids = np.asarray(c["ids"])
+            pos[ids >= 0] = xs[ids[ids >= 0]]
+            out.append(pos)
+        return out
+
+    def loads(yv):
+        return np.concatenate([(c["loads"](pos) if c["loads"] is not None
+                                else np.zeros_like(pos)).ravel()
+                               for c, pos in zip(chains, positions(yv))])
+
+    dragged = any(c["loads"] is not None for c in chains)
+    yv = np.zeros(3 * n_free)
+    f = loads(yv)
+    passes = [RELAX_WIDER] * (DRAG_PASSES if dragged else 1) + [1.0]
+    try:
+        solver = ca.nlpsol("relax_network", "ipopt", nlp, opts)
+        for k, factor in enumerate(passes):
+            sol = solver(x0=yv, p=np.concatenate([[factor], f]))
+            y_new = np.asarray(sol["x"], float).ravel()
+            if factor != 1.0 or (solver.stats()["success"] and np.all(np.isfinite(y_new))):
+                yv = y_new
+            if dragged and k + 2 < len(passes) and np.all(np.isfinite(yv)):
+                f = 0.5 * f + 0.5 * loads(yv)
+    except RuntimeError:
+        return None
+    if not np.all(np.isfinite(yv)):
+        return None
+    return positions(yv)

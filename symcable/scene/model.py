@@ -12,11 +12,14 @@ from __future__ import annotations
 import enum
 import math
 from dataclasses import dataclass, field
+from types import MappingProxyType
 from typing import Any, Mapping
+
+from .points import Line, Point, PointKind
 
 __all__ = [
     "EndCondition", "Model", "LineType", "Section", "Motion", "End", "Environment", "Seabed",
-    "Scene", "scene_to_dict",
+    "Scene", "scene_to_dict", "Point", "PointKind", "Line",
 ]
 
 #: keys of a line type (``[line_types.NAME]``) in the file, in the order they are written
@@ -278,10 +281,17 @@ class Scene:
     line_types : Mapping[str, LineType]
         Read-only mapping, name -> type.
     sections : tuple of Section
-        From end A to end B.
-    end_a, end_b : End
+        From end A to end B (a version-1 scene, one line); empty in a scene of several
+        lines (version 2).
+    end_a, end_b : End or None
+        The ends of a version-1 scene's line; None in version 2.
     source : str
         Where the scene came from (file path or ``"<dict>"``), for messages.
+    points : Mapping[str, Point]
+        Version 2 (``[points.NAME]``): read-only mapping, name -> point; empty in version 1.
+    lines : tuple of Line
+        Version 2 (``[[lines]]``): the lines, each with its sections and ends (a point's
+        name or an inline End); empty in version 1.
     """
 
     name: str
@@ -290,9 +300,17 @@ class Scene:
     seabed: Seabed | None
     line_types: Mapping[str, LineType]
     sections: tuple[Section, ...]
-    end_a: End
-    end_b: End
+    end_a: End | None
+    end_b: End | None
     source: str = field(default="<dict>", compare=False)
+    points: Mapping[str, Point] = field(default_factory=lambda: MappingProxyType({}))
+    lines: tuple[Line, ...] = ()
+
+    @property
+    def version(self) -> int:
+        """1: one line (``[[sections]]``, ``[end_a]``, ``[end_b]``); 2: ``[[lines]]`` and
+        ``[points.NAME]``."""
+        return 2 if self.lines else 1
 
     @property
     def dim(self) -> int:
@@ -302,16 +320,18 @@ class Scene:
 
     @property
     def length(self) -> float:
-        """Total unstretched length, m."""
-        return sum(s.length for s in self.sections)
+        """Total unstretched length, m (of every line, in version 2)."""
+        return sum(s.length for s in self.sections) + sum(ln.length for ln in self.lines)
 
     @property
     def n_segments(self) -> int:
-        return sum(s.segments for s in self.sections)
+        """Number of segments (of every line, in version 2)."""
+        return sum(s.segments for s in self.sections) + sum(ln.n_segments for ln in self.lines)
 
     @property
     def n_nodes(self) -> int:
-        return self.n_segments + 1
+        """Number of nodes (of every line, in version 2: each line has its own end nodes)."""
+        return self.n_segments + max(1, len(self.lines))
 
     def to_dict(self) -> dict:
         """The scene as a plain dict in the file's layout (angles in degrees), such that
@@ -344,25 +364,63 @@ def scene_to_dict(scene: Scene) -> dict:
         if sb.friction_velocity != Seabed.friction_velocity:
             out["seabed"]["friction_velocity"] = sb.friction_velocity
     types = dict(scene.line_types)
-    for s in scene.sections:  # a hand-built Scene may hold types missing from the mapping
-        types.setdefault(s.line_type.name, s.line_type)
+    for s in scene.sections + tuple(x for ln in scene.lines for x in ln.sections):
+        types.setdefault(s.line_type.name, s.line_type)  # a hand-built Scene may miss some
     out["line_types"] = {name: {k: getattr(lt, k) for k in _LINE_KEYS
                                 if k not in _LINE_KEYS_3D or getattr(lt, k) != 0.0}
                          for name, lt in types.items()}
-    out["sections"] = [{"type": s.line_type.name, "length": s.length, "segments": s.segments}
-                       for s in scene.sections]
+    if scene.lines:
+        out["points"] = {name: _point_dict(pt) for name, pt in scene.points.items()}
+        out["lines"] = [{"name": ln.name, "end_a": _end_ref(ln.end_a), "end_b": _end_ref(ln.end_b),
+                         "sections": _sections_list(ln.sections)} for ln in scene.lines]
+        return out
+    out["sections"] = _sections_list(scene.sections)
     for key, end in (("end_a", scene.end_a), ("end_b", scene.end_b)):
-        e: dict[str, Any] = {"condition": EndCondition(end.condition).value}
-        if end.position is not None:
-            e["position"] = list(end.position)
-        if end.angle_deg is not None:
-            e["angle_deg"] = end.angle_deg
-        if end.force is not None:
-            e["force"] = list(end.force)
-        if end.motion is not None:
-            m = end.motion
-            e["motion"] = ({"kind": "table", "file": m.file} if m.kind == "table" else
-                           {"kind": m.kind, "period": m.period, "amplitude": list(m.amplitude),
-                            "phase_deg": list(m.phase_deg)})
-        out[key] = e
+        out[key] = _end_dict(end)
+    return out
+
+
+def _sections_list(sections) -> list:
+    return [{"type": s.line_type.name, "length": s.length, "segments": s.segments}
+            for s in sections]
+
+
+def _motion_dict(m: Motion) -> dict:
+    return ({"kind": "table", "file": m.file} if m.kind == "table" else
+            {"kind": m.kind, "period": m.period, "amplitude": list(m.amplitude),
+             "phase_deg": list(m.phase_deg)})
+
+
+def _end_dict(end: End) -> dict:
+    e: dict[str, Any] = {"condition": EndCondition(end.condition).value}
+    if end.position is not None:
+        e["position"] = list(end.position)
+    if end.angle_deg is not None:
+        e["angle_deg"] = end.angle_deg
+    if end.force is not None:
+        e["force"] = list(end.force)
+    if end.motion is not None:
+        e["motion"] = _motion_dict(end.motion)
+    return e
+
+
+def _end_ref(end) -> str | dict:
+    """A line's end: a point's name, or an inline end table."""
+    return end if isinstance(end, str) else _end_dict(end)
+
+
+def _point_dict(pt: Point) -> dict:
+    """A point's table, every key that applies written out (so it loads back equal)."""
+    out: dict[str, Any] = {"kind": PointKind(pt.kind).value, "position": list(pt.position)}
+    if pt.motion is not None:
+        out["motion"] = _motion_dict(pt.motion)
+    if pt.kind is PointKind.FREE:
+        out["mass"], out["volume"] = pt.mass, pt.volume
+        if pt.diameter is not None:
+            out["diameter"], out["cd"] = pt.diameter, pt.cd
+        if pt.cd_area is not None:
+            out["cd_area"] = list(pt.cd_area)
+        out["ca"] = pt.ca
+        if pt.force is not None:
+            out["force"] = list(pt.force)
     return out

@@ -8,15 +8,16 @@ a deck (:func:`is_moordyn_deck`), so every check of a TOML scene applies to a de
 Sections are found as MoorDyn finds them: a line holding ``---`` and a section name
 (case-insensitive); a table's header line is followed by its units line, then its rows.
 
-Only a deck of exactly ONE line between two points, one of them Fixed (the anchor) and the
-other Fixed or Vessel, is representable yet (several lines and points come with scene
-version 2). Anything else is one :class:`~symcable.errors.SceneError` of the form
-``<deck>:<line number>: '<that line>': <why>``.
+A deck of one line between two held points (one of them Fixed) reads into a version-1 scene
+(``sections``, ``end_a``, ``end_b``); any other deck (several lines, Free points) into a
+version-2 scene: ``[points.<ID>]`` named by the point IDs, ``[[lines]]`` named
+``line<ID>`` (a line and a point cannot share a name). Anything not representable is one
+:class:`~symcable.errors.SceneError` of the form ``<deck>:<line number>: '<that line>': <why>``.
 
 ===========================  ===============================================================
 MoorDyn v2                   scene (SI units throughout, as in MoorDyn)
 ===========================  ===============================================================
-LINE TYPES, by column name   ``[line_types.<TypeName>]`` (only the type the line uses)
+LINE TYPES, by column name   ``[line_types.<TypeName>]`` (only the types the lines use)
   TypeName / Name            the type's name
   Diam                       ``diameter``, m
   Mass/m, MassDen            ``mass``, kg/m in air; ``weight`` left to its default
@@ -29,13 +30,18 @@ LINE TYPES, by column name   ``[line_types.<TypeName>]`` (only the type the line
   Cd, Ca / Cdn, Can          ``cd_normal``, ``ca_normal``
   CdAx, CaAx / Cdt, Cat      ``cd_tangential``, ``ca_tangential``
   Cl (dF, cF)                VIV lift: must be 0 (dF, cF then ignored)
-POINTS (ID Type X Y Z M V    the line's AttachA point -> ``end_a``, AttachB -> ``end_b``,
-[Fx Fy Fz] CdA Ca)           ``condition = "pinned"``, ``position = [X, Y, Z]``; Fixed,
-                             Fix, Anchor or Vessel, Ves, Coupled, Cpld, Fairlead (a vessel
-                             point is pinned where it is: its motion is not in the deck);
-                             M, V, F must be 0; CdA, Ca of a held point are ignored
-LINES (ID LineType AttachA   one ``[[sections]]``: ``type``, ``length`` = UnstrLen (m),
-AttachB UnstrLen NumSegs)    ``segments`` = NumSegs; ``name`` = "<file stem> line <ID>"
+POINTS (ID Type X Y Z M V    one line: its AttachA point -> ``end_a``, AttachB -> ``end_b``,
+[Fx Fy Fz] CdA Ca)           ``condition = "pinned"``, ``position = [X, Y, Z]``. Otherwise
+                             ``[points.<ID>]``: Fixed, Fix, Anchor -> ``kind = "fixed"``;
+                             Vessel, Ves, Coupled, Cpld, Fairlead -> ``"vessel"`` (held where
+                             it is: its motion is not in the deck); Free, Point, Connect, Con
+                             -> ``"free"`` with ``mass`` = M, ``volume`` = V, ``cd_area`` =
+                             [CdA] * 3, ``ca`` = Ca, ``force`` = [Fx, Fy, Fz] (when not 0).
+                             A held point's M, V, F must be 0 (its CdA, Ca are ignored);
+                             every point must be some line's end
+LINES (ID LineType AttachA   one ``[[sections]]`` (or ``[[lines.sections]]``): ``type``,
+AttachB UnstrLen NumSegs)    ``length`` = UnstrLen (m), ``segments`` = NumSegs; the scene's
+                             ``name``: "<file stem> line <ID>" (one line) or "<file stem>"
 OPTIONS (value, then key)
   WtrDpth                    ``environment.depth`` (seabed at z = -WtrDpth, as MoorDyn's);
                              missing or above a point: the deepest point's depth, as MoorDyn
@@ -65,12 +71,10 @@ from types import MappingProxyType
 from typing import Any, Mapping
 
 from ..errors import SceneError
+from .moordyn_tables import ZETA_FACTOR, _Tables, _float
 
 __all__ = ["ZETA_FACTOR", "MoorDynDeck", "is_moordyn_deck", "parse_moordyn"]
 
-#: cable3d's negative ``damping`` per MoorDyn negative BA/-zeta: both set
-#: BA = zeta ds sqrt(EA m), zeta the damping ratio of the line's highest axial mode
-ZETA_FACTOR = 1.0
 
 #: section kind -> names MoorDyn accepts in the header (MoorDyn2.cpp, findStartOfSection),
 #: the v2 name first
@@ -93,23 +97,6 @@ _REFUSED = {"rod_types": "rod types (symcable has no rods yet)",
             "failure": "line failures (not modelled)",
             "syrope": "Syrope initial conditions (no Syrope law)"}
 
-#: LINE TYPES column names (lower case) -> scene key
-_COLUMNS = {
-    "typename": "name", "name": "name", "type": "name", "linetype": "name",
-    "diam": "diameter", "diameter": "diameter", "d": "diameter",
-    "mass/m": "mass", "massden": "mass", "massdeninair": "mass", "mass": "mass", "m": "mass",
-    "ea": "EA", "ba/-zeta": "damping", "ba": "damping", "ba/zeta": "damping",
-    "-zeta": "damping", "ei": "EI",
-    "cd": "cd_normal", "cdn": "cd_normal", "ca": "ca_normal", "can": "ca_normal",
-    "cdax": "cd_tangential", "cdt": "cd_tangential", "caax": "ca_tangential",
-    "cat": "ca_tangential", "cl": "Cl", "df": "dF", "cf": "cF",
-}
-_REQUIRED_COLUMNS = ("name", "diameter", "mass", "EA", "damping", "cd_normal", "ca_normal",
-                     "cd_tangential", "ca_tangential")
-
-_FIXED = ("ANCHOR", "FIXED", "FIX")
-_VESSEL = ("VESSEL", "VES", "COUPLED", "CPLD", "FAIRLEAD")
-_FREE = ("POINT", "CONNECT", "CON", "FREE")
 
 #: OPTIONS keys (lower case) -> (table, key) in the scene
 _OPTIONS = {"wtrdpth": ("environment", "depth"), "wtrdnsty": ("environment", "water_density"),
@@ -124,7 +111,6 @@ _FRICTION_NOTES = {"fricdamp": "MoorDyn's friction rises as mu FricDamp |v| (N s
                                "seabed.friction_velocity",
                    "statdynfricscale": "symcable has one friction coefficient, static = dynamic"}
 
-_SCALE = "scenes of several lines and points come with scene version 2"
 
 
 @dataclass(frozen=True)
@@ -194,7 +180,7 @@ def _kind(line: str) -> str | None:
     return next((k for k, names in _SECTIONS.items() if any(n in up for n in names)), None)
 
 
-class _Parser:
+class _Parser(_Tables):
     def __init__(self, text: str, source: str):
         self.lines = tuple(text.splitlines())
         self.source = source
@@ -251,10 +237,14 @@ class _Parser:
                     raise self.fail(rows[0], f"{what} are not representable yet")
         options = self.options(sec)
         types = self.line_types(sec)
-        line_n, line = self.line(sec, types)
-        ends = self.points(sec, line_n, line)
+        rows = self.line_rows(sec, types)
+        found = self.point_rows(sec, rows)
+        if len(rows) == 1 and not any(f[1] == "free" for f in found.values()):
+            body, held = self.one_line(types, rows[0], found)
+        else:
+            body, held = self.system(types, rows, found)
         env: dict[str, Any] = dict(options.get("environment", {}))
-        deepest = -min(e["position"][2] for e in ends.values())
+        deepest = -min(xyz[2] for xyz in held)
         depth = env.get("depth")
         if depth is None or depth < deepest:
             if deepest <= 0:
@@ -270,20 +260,65 @@ class _Parser:
             if key not in options.get("seabed", {}):
                 self.notes.append(f"seabed.{key} not in the deck: MoorDyn's default {value:g}")
         stem = os.path.splitext(os.path.basename(self.source))[0]
-        type_name = line["type"]
-        scene = {"name": f"{stem} line {line['id']}", "model": "cable3d", "environment": env,
-                 "seabed": seabed, "line_types": {type_name: types[type_name][1]},
-                 "sections": [{"type": type_name, "length": line["length"],
-                               "segments": line["segments"]}],
-                 **ends}
-        self.origin.update({_dotted("line_types", type_name): types[type_name][0],
-                            "sections[0]": line_n})
-        for name in types:
-            if name != type_name:
-                self.notes.append(f"line {types[name][0]}: line type {name!r} unused, not read")
+        used = list(dict.fromkeys(line["type"] for _, line in rows))
+        name = f"{stem} line {rows[0][1]['id']}" if len(rows) == 1 else stem
+        scene = {"name": name, "model": "cable3d", "environment": env, "seabed": seabed,
+                 "line_types": {t: types[t][1] for t in used}, **body}
+        for t in used:
+            self.origin[_dotted("line_types", t)] = types[t][0]
+        for t in types:
+            if t not in used:
+                self.notes.append(f"line {types[t][0]}: line type {t!r} unused, not read")
         return MoorDynDeck(scene=scene, notes=tuple(self.notes),
                            origin=MappingProxyType(dict(self.origin)), lines=self.lines,
                            source=self.source)
+
+    def one_line(self, types: dict, row: tuple[int, dict], found: dict) -> tuple[dict, list]:
+        """A deck of one line between two held points: a version-1 scene (its sections,
+        end_a, end_b) and the held positions."""
+        line_n, line = row
+        ends: dict[str, dict[str, Any]] = {}
+        for end, ident in zip(("end_a", "end_b"), line["attach"]):
+            n, kind, token, xyz, _ = found[ident]
+            ends[end] = {"condition": "pinned", "position": xyz}
+            self.origin[end] = n
+            if kind == "vessel":
+                self.notes.append(f"line {n}: {token} point {ident} is {end}, pinned at its "
+                                  f"position (its motion is not in the deck: add {end}.motion)")
+        if all(found[i][1] == "vessel" for i in line["attach"]):
+            raise self.fail(found[line["attach"][1]][0], "both ends are vessel points: one "
+                            "must be Fixed (the anchor) in a one-line scene")
+        self.origin["sections[0]"] = line_n
+        return ({"sections": [{"type": line["type"], "length": line["length"],
+                               "segments": line["segments"]}], **ends},
+                [e["position"] for e in ends.values()])
+
+    def system(self, types: dict, rows: list, found: dict) -> tuple[dict, list]:
+        """A deck of several lines or with free points: a version-2 scene (points named by
+        their IDs, lines ``line<ID>``) and the held positions."""
+        points: dict[str, dict[str, Any]] = {}
+        for ident, (n, kind, token, xyz, extra) in found.items():
+            pt: dict[str, Any] = {"kind": kind, "position": xyz}
+            if kind == "free":
+                pt.update(mass=extra["M"], volume=extra["V"], cd_area=[extra["CdA"]] * 3,
+                          ca=extra["Ca"])
+                force = [extra.get(k, 0.0) for k in ("Fx", "Fy", "Fz")]
+                if any(force):
+                    pt["force"] = force
+            elif kind == "vessel":
+                self.notes.append(f"line {n}: {token} point {ident} is held at its position "
+                                  f"(its motion is not in the deck: add points.{ident}.motion)")
+            points[str(ident)] = pt
+            self.origin[f"points.{ident}"] = n
+        lines = []
+        for i, (n, line) in enumerate(rows):
+            a, b = (str(k) for k in line["attach"])
+            lines.append({"name": f"line{line['id']}", "end_a": a, "end_b": b,
+                          "sections": [{"type": line["type"], "length": line["length"],
+                                        "segments": line["segments"]}]})
+            self.origin[f"lines[{i}]"] = n
+        return ({"points": points, "lines": lines},
+                [f[3] for f in found.values() if f[1] != "free"])
 
     # ------------------------------------------------------------------- sections
 
@@ -313,141 +348,6 @@ class _Parser:
                 self.notes.append(f"line {n}: {entries[1]} = {value} ignored (a MoorDyn "
                                   "solver or output setting, or unknown)")
         return out
-
-    def line_types(self, sec: dict) -> dict[str, tuple[int, dict[str, float]]]:
-        head, rows = self.table(sec, "line_types")
-        names = self.lines[head - 1].split()
-        keys = []
-        for col in names:
-            key = _COLUMNS.get(col.lower())
-            if key is None or key in keys:
-                why = "repeated" if key else "unknown"
-                raise self.fail(head, f"LINE TYPES column {col!r} {why} (known: TypeName, "
-                                      "Diam, Mass/m, EA, BA/-zeta, EI, Cd, Ca, CdAx, CaAx, Cl, dF, "
-                                      "cF; or Cdn, Can, Cdt, Cat)")
-            keys.append(key)
-        missing = [k for k in _REQUIRED_COLUMNS if k not in keys]
-        if missing:
-            raise self.fail(head, f"LINE TYPES columns lack {', '.join(missing)}")
-        out: dict[str, tuple[int, dict[str, float]]] = {}
-        for n in rows:
-            entries = self.lines[n - 1].split()
-            if len(entries) != len(keys):
-                raise self.fail(n, f"{len(entries)} values for the {len(keys)} LINE TYPES "
-                                   f"columns {' '.join(names)}")
-            row = dict(zip(keys, entries))
-            name = row.pop("name")
-            if name in out:
-                raise self.fail(n, f"line type {name!r} defined twice (first at line "
-                                   f"{out[name][0]})")
-            for key, col in (("EA", "EA"), ("damping", "BA"), ("EI", "EI")):
-                if math.isnan(_float(row.get(key, "0"))):
-                    raise self.fail(n, f"{col} = {row[key]!r}: a nonlinear or viscoelastic {col}"
-                                       " (a table, a file or a '|' list) is not representable yet")
-            values = {k: self.number(n, v, k) for k, v in row.items()}
-            for key, why in (("EI", "cable3d has no bending yet"), ("Cl", "no VIV lift")):
-                if values.pop(key, 0.0) != 0.0:
-                    raise self.fail(n, f"{key} = {row[key]} in line type {name!r} is not "
-                                       f"representable yet ({why}): {key} must be 0")
-            values.pop("dF", None)
-            values.pop("cF", None)
-            if values["damping"] < 0:
-                values["damping"] *= ZETA_FACTOR
-            out[name] = (n, values)
-        if not out:
-            raise self.fail(head, "LINE TYPES has no rows")
-        return out
-
-    def line(self, sec: dict, types: dict) -> tuple[int, dict[str, Any]]:
-        head, rows = self.table(sec, "lines")
-        if not rows:
-            raise self.fail(head, "LINES has no rows (a line needs one)")
-        if len(rows) > 1:
-            raise self.fail(rows[1], f"a second line is not representable yet ({_SCALE})")
-        n = rows[0]
-        entries = self.lines[n - 1].split()
-        if len(entries) < 6:
-            raise self.fail(n, "a line needs ID LineType AttachA AttachB UnstrLen NumSegs")
-        ident, type_name = entries[0], entries[1]
-        if type_name not in types:
-            raise self.fail(n, f"unknown line type {type_name!r} (defined: "
-                               f"{', '.join(map(repr, types))})")
-        attach = []
-        for tok in entries[2:4]:
-            m = re.fullmatch(r"([A-Za-z]*)(\d+)([A-Za-z]*)", tok)
-            if m and m.group(1).upper() in ("R", "ROD"):
-                raise self.fail(n, f"attachment {tok!r} to a rod is not representable yet "
-                                   "(symcable has no rods yet)")
-            if not m or m.group(1).upper() not in ("", "C", "CON", "P", "POINT") or m.group(3):
-                raise self.fail(n, f"attachment {tok!r}: must be a point's ID (1, P1, ...)")
-            attach.append(int(m.group(2)))
-        try:
-            segments = int(entries[5])
-        except ValueError:
-            raise self.fail(n, f"NumSegs = {entries[5]!r}: must be an integer") from None
-        return n, {"id": ident, "type": type_name, "attach": attach,
-                   "length": self.number(n, entries[4], "UnstrLen"), "segments": segments}
-
-    def points(self, sec: dict, line_n: int, line: dict) -> dict[str, dict[str, Any]]:
-        _, rows = self.table(sec, "points")
-        found: dict[int, tuple[int, str, list[float]]] = {}  # ID -> (line, vessel type, xyz)
-        for n in rows:
-            entries = self.lines[n - 1].split()
-            if len(entries) < 9:
-                raise self.fail(n, "a point needs ID Type X Y Z M V CdA Ca (9 values, or 12 "
-                                   "with Fx Fy Fz after V)")
-            try:
-                ident = int(entries[0])
-            except ValueError:
-                raise self.fail(n, f"point ID {entries[0]!r}: must be an integer") from None
-            if ident in found:
-                raise self.fail(n, f"point {ident} defined twice (first at line "
-                                   f"{found[ident][0]})")
-            kind = re.match(r"[A-Za-z]*", entries[1]).group(0).upper()
-            for kinds, why in ((_FREE, f"(free, solved for) is not representable yet ({_SCALE})"),
-                               (("BODY", "TURBINE"), "on a body is not representable yet "
-                                                     "(symcable has no bodies yet)")):
-                if kind in kinds:
-                    raise self.fail(n, f"a {entries[1]} point {why}")
-            if kind not in _FIXED + _VESSEL:
-                raise self.fail(n, f"unknown point type {entries[1]!r} (MoorDyn's: Fixed, "
-                                   "Vessel, Coupled, Free, Connect, Body<n>)")
-            xyz = [self.number(n, t, c) for t, c in zip(entries[2:5], "XYZ")]
-            extra = dict(zip(("M", "V", "Fx", "Fy", "Fz"),
-                             entries[5:10] if len(entries) >= 12 else entries[5:7]))
-            for key, tok in extra.items():
-                if self.number(n, tok, key) != 0.0:
-                    raise self.fail(n, f"{key} = {tok}: a point with mass, volume or force "
-                                       f"is not representable yet ({_SCALE})")
-            found[ident] = (n, entries[1] if kind in _VESSEL else "", xyz)
-        for ident, (n, _, _) in found.items():
-            if ident not in line["attach"]:
-                raise self.fail(n, f"point {ident} is not on the line: points beyond the "
-                                   f"line's two ends are not representable yet ({_SCALE})")
-        ends: dict[str, dict[str, Any]] = {}
-        for end, ident in zip(("end_a", "end_b"), line["attach"]):
-            if ident not in found:
-                raise self.fail(line_n, f"the line attaches to point {ident}, which POINTS "
-                                        "does not define")
-            n, vessel, xyz = found[ident]
-            ends[end] = {"condition": "pinned", "position": xyz}
-            self.origin[end] = n
-            if vessel:
-                self.notes.append(f"line {n}: {vessel} point {ident} is {end}, pinned at its "
-                                  f"position (its motion is not in the deck: add {end}.motion)")
-        if all(found[i][1] for i in line["attach"]):
-            raise self.fail(found[line["attach"][1]][0], "both ends are vessel points: one "
-                            "must be Fixed (the anchor) in a one-line scene")
-        return ends
-
-
-def _float(token: str) -> float:
-    """The number a deck's token spells, or NaN."""
-    try:
-        return float(token)
-    except ValueError:
-        return math.nan
-
 
 def _dotted(path: str, key: str) -> str:
     """``path.key``, quoting the key as the scene's messages do when it is not bare."""

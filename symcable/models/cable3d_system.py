@@ -1,0 +1,263 @@
+"""Several cable3d lines and points as ONE Mechanism (scene version 2: ``[points.NAME]``,
+``[[lines]]``).
+
+Each line is a part built by :func:`~symcable.models.cable3d.build_cable3d` from a one-line
+scene (:func:`line_scene`): an end at a fixed or vessel point is held there by the line
+itself (with the point's motion, exactly as a version-1 end), an end at a free point is a
+free node of the line with no force of its own. Each free point is a small part of its own
+(:func:`point_part`): one node with its mass and added mass, its weight less its buoyancy,
+Morison drag on its velocity relative to the current and its applied force. The parts are
+assembled (:func:`~symcable.models.assembly.assemble`) with a :class:`Shared` joint between
+every free point's node and each line end attached to it, so the lines' end forces and the
+point's loads add up there by virtual work.
+
+Outputs, beside each part's own (namespaced: ``"line1.axial_force"``, ``"line1.end_force_b"``,
+``"buoy.own_force"``, ...):
+
+- ``"P.position"`` (3,), m, of every point P;
+- ``"P.force"`` (3,), N: the force the lines attached to P exert on it (the sum of their end
+  forces there);
+- ``"P.net_force"`` (3,), N, free points only: that plus the point's own loads (zero in
+  equilibrium; its mass times its acceleration in motion);
+- ``"kinetic_energy"``, ``"potential_energy"``, J, of the whole system.
+
+Static starts, in order: each line's closed-form elastic catenary between its end points
+(free points where the scene puts them; a line with a free inline end hangs straight from
+its other end), then the minimum of the whole network's potential energy from there
+(:func:`~symcable.models.relax.relaxed_network`).
+"""
+from __future__ import annotations
+
+import dataclasses
+
+import casadi as ca
+import numpy as np
+
+from ..scene import End, EndCondition, Environment, Scene
+from ..scene.points import Point
+from . import terms
+from .assembly import Shared, assemble
+from .cable3d import DRAG_SPEED, _lumped, build_cable3d, force_scale
+from .cable3d_starts import _catenary, _hanging
+from .mechanism import Layout, Mechanism, Output, ParamBlocks, PartLayout, Scales, Start
+from .planar import segment_table, slack_law
+from .relax import drag_loads, relaxed_network
+
+__all__ = ["build_system", "line_scene", "point_part"]
+
+
+def _end_of(scene: Scene, end, pinned_free: bool = False) -> End:
+    """A line's end as a version-1 End: a fixed or vessel point pinned (with its motion), a
+    free point a free end with no force (or, with ``pinned_free``, pinned where the scene
+    puts it: for the starts), an inline end as it is."""
+    if not isinstance(end, str):
+        return end
+    pt = scene.points[end]
+    if pt.is_free and not pinned_free:
+        return End(EndCondition.FREE)
+    return End(EndCondition.PINNED, position=pt.position,
+               motion=None if pinned_free else pt.motion)
+
+
+def line_scene(scene: Scene, line, *, pinned_free: bool = False) -> Scene:
+    """A version-1 scene of one line of ``scene`` (its environment, seabed and line types;
+    ends from :func:`_end_of`), not re-validated: ``scene`` was."""
+    return Scene(name=f"{scene.name}: {line.name}", model=scene.model,
+                 environment=scene.environment, seabed=scene.seabed,
+                 line_types=scene.line_types, sections=line.sections,
+                 end_a=_end_of(scene, line.end_a, pinned_free),
+                 end_b=_end_of(scene, line.end_b, pinned_free), source=scene.source)
+
+
+def _point_loads(pt: Point, env: Environment) -> tuple[float, np.ndarray, float]:
+    """(net weight (m - rho V) g, N downward; applied force (3,), N; water density)."""
+    rho = 0.0 if env.in_air else env.water_density
+    applied = np.zeros(3) if pt.force is None else np.asarray(pt.force, float)
+    return (pt.mass - rho * pt.volume) * env.gravity, applied, rho
+
+
+def point_part(pt: Point, env: Environment) -> Mechanism:
+    """A free point as a Mechanism of one node (q its position, m): mass ``mass`` plus added
+    mass ``ca rho V_a`` in every direction (kg); force (N) ``load (-(mass - rho volume) g e_z
+    + force)`` plus Morison drag ``0.5 rho cd_area_i |u| u_i``, u = current - v (|u| smoothed
+    as the lines'). Parameter blocks ``load`` (1) and ``current`` (3, m/s). Outputs
+    ``position``, ``own_force`` (those loads), ``potential_energy`` (of the weight, buoyancy
+    and applied force, J), ``kinetic_energy`` (J)."""
+    weight, applied, rho = _point_loads(pt, env)
+    q, v = ca.SX.sym("q", 3), ca.SX.sym("v", 3)
+    t = ca.SX.sym("t")
+    params = ParamBlocks(("load", "current"), (1, 3), np.concatenate([[1.0], env.current]))
+    p = ca.SX.sym("p", params.n)
+    load, current = p[0], p[1:4]
+    u = current - v
+    speed = ca.sqrt(ca.dot(u, u) + DRAG_SPEED ** 2)
+    drag = 0.5 * rho * ca.DM(pt.drag_area) * speed * u
+    own = load * (ca.vertcat(0.0, 0.0, -weight) + ca.DM(applied)) + drag
+    m = pt.mass + pt.ca * rho * pt.added_volume
+    mass = m * ca.SX.eye(3)
+    names = ["point weight"] + (["point drag"] if rho > 0 and any(pt.drag_area) else []) \
+        + (["point force"] if np.any(applied) else [])
+    outputs = {
+        "position": Output(q, "m", pt.name, "position of the point"),
+        "own_force": Output(own, "N", pt.name, "weight, buoyancy, drag and applied force on "
+                                               "the point"),
+        "potential_energy": Output(load * (weight * q[2] - ca.dot(ca.DM(applied), q)), "J",
+                                   pt.name, "potential of the point's weight, buoyancy and "
+                                            "applied force"),
+        "kinetic_energy": Output(0.5 * m * ca.dot(v, v), "J", pt.name, "kinetic energy"),
+    }
+    scale = max(abs(weight), float(np.linalg.norm(applied)), 1e-6)
+    return Mechanism(
+        name=pt.name, q=q, v=v, z=ca.SX.sym("z", 0), t=t, p=p, params=params, mass=mass,
+        force=own, constraint=ca.SX.zeros(0, 1),
+        scales=Scales(q=np.ones(3), v=np.ones(3), z=np.zeros(0), force=scale,
+                      mass=max(m, 1e-6)),
+        starts=tuple, outputs=outputs,
+        layout=Layout(3, {pt.name: PartLayout("point", np.zeros(1), np.arange(3)[None, :],
+                                              np.arange(3)[None, :])}),
+        terms=tuple(names), stability_when=ca.SX(1.0))
+
+
+def build_system(scene: Scene) -> Mechanism:
+    """The lines and points of a version-2 cable3d scene as one Mechanism (module
+    docstring)."""
+    env = scene.environment
+    parts, joints = [], []
+    for line in scene.lines:
+        parts.append(build_cable3d(line_scene(scene, line), part=line.name))
+    for name, pt in scene.points.items():
+        if pt.is_free:
+            parts.append(point_part(pt, env))
+    attached: dict[str, list] = {name: [] for name in scene.points}
+    for line in scene.lines:
+        for key, node in (("a", 0), ("b", line.n_segments)):
+            end = line.end(key)
+            if isinstance(end, str):
+                attached[end].append((line.name, key, node))
+                if scene.points[end].is_free:
+                    joints.append(Shared((end, 0), (line.name, node)))
+    mech = assemble(parts, joints, name="cable3d_system")
+    out = dict(mech.outputs)
+    for name, pt in scene.points.items():
+        force = sum(out[f"{ln}.end_force_{key}"].expr for ln, key, _ in attached[name])
+        if not pt.is_free:
+            ln, _, node = attached[name][0]
+            out[f"{name}.position"] = Output(out[f"{ln}.positions"].expr[node, :].T, "m", name,
+                                             "position of the point")
+        out[f"{name}.force"] = Output(force, "N", name, "force of the attached lines on the point")
+        if pt.is_free:
+            out[f"{name}.net_force"] = Output(force + out[f"{name}.own_force"].expr, "N", name,
+                                              "net force on the point (zero in equilibrium)")
+    potential = sum(out[f"{p.name}.potential_energy"].expr for p in parts)
+    out["kinetic_energy"] = Output(0.5 * ca.dot(mech.v, ca.mtimes(mech.mass, mech.v)), "J", "",
+                                   "kinetic energy of the system")
+    out["potential_energy"] = Output(potential, "J", "", "elastic, gravity, buoyancy, contact "
+                                                        "and applied-force potential energy")
+    return dataclasses.replace(mech, outputs=out, bounds=_bounds(scene, mech),
+                               starts=lambda: _starts(scene, mech))
+
+
+def _bounds(scene: Scene, mech: Mechanism) -> dict:
+    """The parts' bounds, with the lines' seabed reactions summed into one: the seabed
+    carries at most what presses on it, and a line's share of that includes the free points
+    (a clump on the bed) and whatever else hangs from them."""
+    bounds = {k: b for k, b in mech.bounds.items() if not k.endswith(".seabed_reaction")}
+    parts = [b for k, b in mech.bounds.items() if k.endswith(".seabed_reaction")]
+    if parts:
+        env = scene.environment
+        press = 0.0
+        for pt in scene.points.values():
+            if pt.is_free:
+                w, applied, rho = _point_loads(pt, env)
+                u = float(np.linalg.norm(env.current))
+                press += max(w, 0.0) + float(np.linalg.norm(applied)) \
+                    + 0.5 * rho * float(np.max(pt.drag_area)) * u * u
+        bounds["seabed_reaction"] = dataclasses.replace(
+            parts[0], expr=sum(b.expr for b in parts),
+            upper=sum(float(b.upper) for b in parts) + 1.01 * press,
+            scale=max(b.scale for b in parts))
+    return bounds
+
+
+def _node_q(mech: Mechanism, part: str) -> np.ndarray:
+    return np.asarray(mech.layout.parts[part].node_q, int)
+
+
+def _first_shapes(scene: Scene) -> dict[str, tuple[np.ndarray, str]]:
+    """Each line's first shape (N+1, 3), m: its elastic catenary (or the straight line)
+    between its end points, free points where the scene puts them; or hanging straight from
+    its held end when its other end is a free inline end."""
+    out = {}
+    for line in scene.lines:
+        ls = line_scene(scene, line, pinned_free=True)
+        seg = segment_table(ls)
+        if ls.end_a.is_fixed and ls.end_b.is_fixed:
+            cat = _catenary(ls, seg)
+            if cat is None:
+                pa, pb = np.asarray(ls.end_a.position), np.asarray(ls.end_b.position)
+                cat = pa + np.outer(seg["s"] / seg["s"][-1], pb - pa), "straight line"
+            out[line.name] = cat
+        else:
+            out[line.name] = _hanging(ls, seg), "hanging straight along its load"
+    return out
+
+
+def _starts(scene: Scene, mech: Mechanism):
+    """Static starts of the system (module docstring), lazily."""
+    p0 = mech.static_p
+    shapes = _first_shapes(scene)
+
+    def start(positions: dict[str, np.ndarray], source: str) -> Start:
+        q = np.zeros(mech.n_q)
+        for line in scene.lines:
+            idx = _node_q(mech, line.name)
+            held = idx[:, 0] < 0
+            q[idx[~held].ravel()] = positions[line.name][~held].ravel()
+        # every free point is some line's end node: placed with that line
+        return Start(q, np.zeros(0), p0, source)
+
+    sources = sorted({src.split(" (")[0] for _, src in shapes.values()})
+    yield start({k: v[0] for k, v in shapes.items()},
+                f"each line's {' / '.join(sources)} between its end points")
+    relaxed = _relaxed(scene, mech, {k: v[0] for k, v in shapes.items()})
+    if relaxed is not None:
+        yield start(relaxed, "minimum of the potential energy")
+
+
+def _relaxed(scene: Scene, mech: Mechanism, shapes: dict[str, np.ndarray]) -> dict | None:
+    """The lines' shapes at the minimum of the network's potential energy, from
+    ``shapes`` (:func:`~symcable.models.relax.relaxed_network`), or None."""
+    env, sb = scene.environment, scene.seabed
+    ids: dict[int, int] = {}
+    chains, scales = [], []
+    for line in scene.lines:
+        idx = _node_q(mech, line.name)
+        node_ids = np.array([-1 if i[0] < 0 else ids.setdefault(int(i[0]), len(ids))
+                             for i in idx])
+        ls = line_scene(scene, line)
+        seg = segment_table(ls)
+        F = force_scale(ls, seg)
+        scales.append(F)
+        contact = None
+        if sb is not None:
+            trib = np.zeros(len(seg["s"]))
+            trib[:-1] += 0.5 * seg["d"] * seg["ds"]
+            trib[1:] += 0.5 * seg["d"] * seg["ds"]
+            contact = (env.depth, sb.stiffness, terms.contact_smoothing(
+                float(np.max(seg["w"])), sb.stiffness, float(np.min(seg["d"]))), trib)
+        drag = None if env.in_air or not any(env.current) else drag_loads(env, seg)
+        chains.append({"seg": seg, "law": slack_law(seg, F), "pos0": shapes[line.name],
+                       "ids": node_ids, "node_weight": _lumped(seg), "contact": contact,
+                       "loads": drag})
+    weight, force = np.zeros(len(ids)), np.zeros((len(ids), 3))
+    for name, pt in scene.points.items():
+        if pt.is_free:
+            w, applied, rho = _point_loads(pt, env)
+            u = np.asarray(env.current, float)
+            k = ids[int(_node_q(mech, name)[0, 0])]
+            weight[k] = w
+            force[k] = applied + 0.5 * rho * np.asarray(pt.drag_area) * np.linalg.norm(u) * u
+    rel = relaxed_network(chains, weight, force, max(scales))
+    if rel is None:
+        return None
+    return {line.name: pos for line, pos in zip(scene.lines, rel)}

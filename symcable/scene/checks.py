@@ -1,0 +1,155 @@
+"""Messages and validators shared by the scene readers (:mod:`.tables`, :mod:`.system`,
+:mod:`.load`): every bad input becomes a one-line :class:`~symcable.errors.SceneError` of the
+form ``<key path> = <value> [unit]: <what is allowed>``. A key given as ``None`` (possible in
+a dict, not in TOML) counts as not given."""
+from __future__ import annotations
+
+import difflib
+import json
+import math
+import numbers
+import re
+from typing import Any, Mapping
+
+from ..errors import SceneError
+from .model import _DIMS, EndCondition, Model
+
+_AXES = {2: ("x", "z"), 3: ("x", "y", "z")}  # vectors per dimension, z up in both
+_DIM_MODEL = {d: m for m, d in _DIMS.items()}  # the model named in messages on vectors
+_MISSING = object()
+_BARE_KEY = re.compile(r"[A-Za-z0-9_-]+")
+
+# ----------------------------------------------------------------------------- messages
+
+def _key(path: str, key: str) -> str:
+    """Dotted key path ``path.key`` (TOML-quoting keys that are not bare)."""
+    k = key if _BARE_KEY.fullmatch(key) else _quote(key)
+    return f"{path}.{k}" if path else k
+
+
+def _quote(text: str) -> str:
+    """A TOML basic string (JSON's escapes are TOML's, except DEL must be escaped too)."""
+    return json.dumps(text, ensure_ascii=False).replace("\x7f", "\\u007f")
+
+
+def _show(value: Any) -> str:
+    text = repr(value)
+    return text if len(text) <= 100 else text[:97] + "..."
+
+
+def _err(path: str, value: Any, unit: str, allowed: str) -> SceneError:
+    """``<path> = <value> [unit]: <allowed>`` as a one-line SceneError."""
+    unit = f" {unit}" if unit else ""
+    return SceneError(f"{path} = {_show(value)}{unit}: {allowed}".replace("\n", " "))
+
+
+def _suggest(word: Any, choices) -> str:
+    """``"; did you mean 'x'?"`` when a choice is close to ``word``, else ``""``."""
+    if not isinstance(word, str):
+        return ""
+    close = difflib.get_close_matches(word, list(choices), n=1)
+    return f"; did you mean {close[0]!r}?" if close else ""
+
+
+def _fmt(x: float) -> str:
+    """About four significant digits, at least one decimal (lengths in messages)."""
+    digits = 3 - math.floor(math.log10(abs(x))) if x != 0 else 1
+    return f"{x:.{max(1, digits)}f}"
+
+
+def _layout(dim: int, prefix: str = "") -> str:
+    """The components of a vector in ``dim`` dimensions, e.g. ``[F_x, F_y, F_z]``."""
+    return "[" + ", ".join(prefix + a for a in _AXES[dim]) + "]"
+
+
+def _for(dim: int, prefix: str = "") -> str:
+    """``[x, y, z] for model "cable3d"``: what a vector must be, in messages."""
+    return f'{_layout(dim, prefix)} for model "{_DIM_MODEL[dim].value}"'
+
+
+# ----------------------------------------------------------------------------- validators
+
+def _check_keys(path: str, table: Mapping, allowed) -> None:
+    """Reject keys of ``table`` that are not in ``allowed``, suggesting the closest one."""
+    for key in table:
+        if not isinstance(key, str):
+            raise SceneError(f"{path or 'scene'}: key {_show(key)} must be a string "
+                             f"(allowed: {', '.join(allowed)})")
+        if key not in allowed:
+            raise SceneError(f"{_key(path, key)}: unknown key{_suggest(key, allowed)} "
+                             f"(allowed: {', '.join(allowed)})")
+
+
+def _table(path: str, value: Any, allowed) -> Mapping:
+    """A table (dict) with only ``allowed`` keys."""
+    if not isinstance(value, Mapping):
+        raise _err(path, value, "", f"must be a table with keys {', '.join(allowed)}")
+    _check_keys(path, value, allowed)
+    return value
+
+
+def _get(table: Mapping, key: str, default: Any = None) -> Any:
+    value = table.get(key)
+    return default if value is None else value
+
+
+def _required(path: str, table: Mapping, key: str, what: str) -> Any:
+    value = table.get(key)
+    if value is None:
+        raise SceneError(f"{_key(path, key)}: required key missing ({what})")
+    return value
+
+
+def _number(path: str, value: Any, unit: str = "", *, gt: float | None = None,
+            ge: float | None = None) -> float:
+    """A finite real number (bools rejected), optionally ``> gt`` or ``>= ge``; as float."""
+    bound = f" > {gt:g}" if gt is not None else f" >= {ge:g}" if ge is not None else ""
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        raise _err(path, value, unit, f"must be a number{bound}")
+    try:
+        x = float(value)
+    except (OverflowError, ValueError, TypeError):
+        x = math.nan
+    if not math.isfinite(x):
+        raise _err(path, value, unit, f"must be a finite number{bound}")
+    if (gt is not None and not x > gt) or (ge is not None and not x >= ge):
+        raise _err(path, value, unit, f"must be{bound}")
+    return x
+
+
+def _integer(path: str, value: Any, *, ge: int) -> int:
+    """An int (not a bool, not a float even if integral) ``>= ge``."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral):
+        raise _err(path, value, "", f"must be an integer >= {ge}")
+    if value < ge:
+        raise _err(path, value, "", f"must be >= {ge}")
+    return int(value)
+
+
+def _vector(path: str, value: Any, n: int, unit: str = "", what: str = "") -> tuple[float, ...]:
+    """A list of ``n`` finite numbers, as a tuple of float."""
+    if hasattr(value, "tolist") and not isinstance(value, (str, bytes)):
+        value = value.tolist()  # NumPy arrays in dict input
+    if not isinstance(value, (list, tuple)) or len(value) != n:
+        raise _err(path, value, unit, f"must be a list of {n} numbers {what}".rstrip())
+    return tuple(_number(f"{path}[{i}]", v, unit) for i, v in enumerate(value))
+
+
+def _choice(path: str, value: Any, allowed: tuple[str, ...], what: str) -> str:
+    """One of the strings ``allowed``."""
+    if not isinstance(value, str) or value not in allowed:
+        raise _err(path, value, "", f"unknown {what}{_suggest(value, allowed)} "
+                                    f"(allowed: {', '.join(map(repr, allowed))})")
+    return str(value.value if isinstance(value, Model | EndCondition) else value)
+
+
+def _num_reader(path: str, table: Mapping):
+    """``num(key, unit, default=<required>, gt=, ge=)`` reading numbers from ``table``."""
+    def num(key: str, unit: str, default: Any = _MISSING, *, gt=None, ge=None) -> float:
+        value = _get(table, key, default)
+        if value is _MISSING:
+            bound = f" > {gt:g}" if gt is not None else f" >= {ge:g}" if ge is not None else ""
+            what = f"{unit}, a number{bound}" if unit else f"a number{bound}"
+            raise SceneError(f"{_key(path, key)}: required key missing ({what})")
+        return _number(_key(path, key), value, unit, gt=gt, ge=ge)
+    return num

@@ -28,7 +28,7 @@ from .schedule import runs, with_checkpoints
 from .stepcache import STEP_CACHE, maybe_compiled
 from .steps import galpha_step, rk4_step
 
-__all__ = ["BLOWUP", "IMPLICIT", "EstimatePlan", "RunningEstimate", "method_name", "run_adaptive",
+__all__ = ["BLOWUP", "IMPLICIT", "EstimatePlan", "RunningEstimate", "leaky_sum", "method_name", "run_adaptive",
            "get_stepper", "run_fixed"]
 
 IMPLICIT = (GeneralizedAlpha, GeneralizedAlphaFirstOrder)
@@ -129,7 +129,7 @@ class RunningEstimate:
             self.prev_rates = R[-2].copy()
             self.rates = R[-1].copy()
         self.h_prev = (h, h) if k > 1 else (h, self.h_prev[0])
-        E = _leaky_sum(self.E, d, h / self.tau)
+        E = leaky_sum(self.E, d, h / self.tau)
         self.E, self.E_max = float(E[-1]), max(self.E_max, float(np.max(E)))
 
     def stats(self) -> dict:
@@ -146,7 +146,7 @@ class RunningEstimate:
                 "motion_range": rng}
 
 
-def _leaky_sum(E0: float, d: np.ndarray, a: float) -> np.ndarray:
+def leaky_sum(E0: float, d: np.ndarray, a: float) -> np.ndarray:
     """E_j = exp(-a) E_{j-1} + d_j from E0, for every j, in chunks short enough that
     exp(a j) stays below e^30 (E_j = exp(-a j) (E0 + sum_i exp(a i) d_i) within a chunk)."""
     out = np.empty(d.size)

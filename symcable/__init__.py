@@ -18,6 +18,8 @@ from .results import ModalSolution, PointState, StaticSolution, SystemStaticSolu
 from .results_periodic import PeriodicSolution, PeriodicSweep
 from .results_time import Trajectory
 from .scene import Scene, load_scene
+from .results_line3d import LineTrajectory
+from .cable3d_static import cable3d_mechanism
 from .planar_static import solve_static
 from .models.assembly import Prescribed, Shared, assemble
 from .models.mechanism import (Bound, Mechanism, Output, ParamBlocks, PartLayout, Layout, Scales,
@@ -48,6 +50,8 @@ __all__ = [
     "SystemStaticSolution",
     "PointState",
     "Trajectory",
+    "LineTrajectory",
+    "cable3d_mechanism",
     "analytic",
     "build_dynamic_model",
     "build_model",

@@ -64,6 +64,16 @@ def default_dt(scene: Scene, duration: float) -> float:
     return min(dts)
 
 
+def _one_line(scene: Scene, what: str) -> None:
+    """A SymcableError for a scene of several lines and points (version 2), which ``what``
+    does not run yet."""
+    if scene.version == 2:
+        raise SymcableError(f"scene {scene.name!r} has several lines and points (version 2): "
+                            f"{what} runs one-line cable3d scenes for now (solve_static solves "
+                            "it; symcable.integrate(symcable.cable3d_mechanism(scene), ...) "
+                            "steps it)")
+
+
 def _period(scene: Scene):
     per = [m.period for m in _motions(scene) if m.kind != "table"]
     return min(per) if per else None
@@ -154,6 +164,7 @@ def simulate_3d(scene: Scene, duration: float, dt: float | None = None,
     step raises ConvergenceError whose ``partial`` is one too.
     """
     started = time.perf_counter()
+    _one_line(scene, "simulate")
     name = str(getattr(method, "value", method)).strip().lower().replace("_", "-")
     if name not in ("generalized-alpha", "rk4"):
         raise SymcableError(f"method = {method!r}: must be 'generalized-alpha' or 'rk4'")
@@ -201,6 +212,7 @@ def solve_periodic_3d(scene: Scene, method="collocation", *, codegen: bool | Non
     method and whose ``stats`` hold ``period`` (s), the method's iterations and its own
     ``error_estimate`` (the largest scaled equation defect on a grid 4 times the solver's)."""
     started = time.perf_counter()
+    _one_line(scene, "solve_periodic")
     period = _period(scene)
     if period is None or any(m.kind == "table" for m in _motions(scene)):
         raise SymcableError(f"scene {scene.name!r}: a periodic response needs a harmonic end "
@@ -227,6 +239,7 @@ def modal_analysis_3d(scene: Scene, n_modes: int = 10, *, max_dense: int = MAX_D
     zero at held ends, scaled to a largest node displacement of 1. ``damped=True`` adds the
     damping ratios of the complex modes in ``stats["damping_ratios"]``."""
     started = time.perf_counter()
+    _one_line(scene, "modal_analysis")
     if isinstance(n_modes, bool) or int(n_modes) != n_modes or n_modes < 1:
         raise SymcableError(f"n_modes = {n_modes!r}: must be an integer >= 1")
     mech, eq = static_equilibrium(scene)
@@ -273,6 +286,7 @@ def linearize_3d(scene: Scene, *, undamped: bool = False) -> SceneLinearization:
     material damping and the drag linearised about the current (none with ``undamped``,
     which also switches the current off); and the exact (3, 3) stiffness of each pinned
     end."""
+    _one_line(scene, "linearize")
     mech, eq = static_equilibrium(scene)
     p = np.array(eq.p, float)
     if undamped:

@@ -19,6 +19,8 @@ def _scene_summary(scene, n_unknowns: int, terms) -> str:
     lines = [f"scene      {scene.name}  ({scene.source})",
              f"model      {scene.model.value}: {n_unknowns} unknowns, terms: {', '.join(terms)}",
              f"line       {scene.length:.3f} m in {scene.n_segments} segments"]
+    if scene.version == 2:
+        return "\n".join(lines[:2] + _system_summary(scene))
     for k, sec in enumerate(scene.sections):
         lt = sec.line_type
         lines.append(f"  section {k}: {sec.length:.3f} m of '{lt.name}' in {sec.segments} segments "
@@ -37,6 +39,32 @@ def _scene_summary(scene, n_unknowns: int, terms) -> str:
                       if m.kind == "table" else f", harmonic motion of period {m.period:g} s")
         lines.append(f"{label}      {end.condition.value}{extra}")
     return "\n".join(lines)
+
+
+def _end_text(end) -> str:
+    if isinstance(end, str):
+        return f"point '{end}'"
+    return end.condition.value + (f" at ({', '.join(f'{v:.3f}' for v in end.position)}) m"
+                                  if end.position is not None else "")
+
+
+def _system_summary(scene) -> list:
+    """Lines of a version-2 scene: its points, then its lines with their sections."""
+    out = []
+    for name, pt in scene.points.items():
+        extra = f", mass {pt.mass:g} kg" if pt.mass else ""
+        extra += f", volume {pt.volume:g} m^3" if pt.volume else ""
+        extra += ", moving" if pt.motion is not None else ""
+        out.append(f"point      {name}: {pt.kind.value} at "
+                   f"({', '.join(f'{v:.3f}' for v in pt.position)}) m{extra}")
+    for ln in scene.lines:
+        out.append(f"line       {ln.name}: {ln.length:.3f} m in {ln.n_segments} segments, from "
+                   f"{_end_text(ln.end_a)} to {_end_text(ln.end_b)}")
+        for k, sec in enumerate(ln.sections):
+            lt = sec.line_type
+            out.append(f"  section {k}: {sec.length:.3f} m of '{lt.name}' in {sec.segments} "
+                       f"segments (EA {lt.EA:.4g} N, w {lt.weight:.4g} N/m)")
+    return out
 
 
 def _static(scene_path, args) -> int:
@@ -136,10 +164,14 @@ def _simulate(args) -> int:
     from .plotting import plot_trajectory
 
     scene = load_scene(args.scene)
-    period = next((e.motion.period for e in (scene.end_a, scene.end_b) if e.motion), None)
-    duration = args.duration or (10.0 * period if period else 60.0)
+    motions = [e.motion for e in (scene.end_a, scene.end_b) if e is not None and e.motion]
+    period = next((m.period for m in motions), None)
+    # a table runs over its rows; a harmonic motion ten periods
+    table = next((m for m in motions if m.kind == "table"), None)
+    duration = args.duration or (table.period if table else 10.0 * period if period else 60.0)
     traj = simulate(scene, duration, dt=args.dt, method=args.method)
-    _emit(traj, args, lambda path: plot_trajectory(traj, path))
+    _emit(traj, args, lambda path: (traj.plot(path) if scene.model.value == "cable3d"
+                                    else plot_trajectory(traj, path)))
     return _exit_status(traj)
 
 
@@ -150,7 +182,8 @@ def _periodic(args) -> int:
 
     scene = load_scene(args.scene)
     per = solve_periodic(scene, method=args.method)
-    _emit(per, args, lambda path: plot_periodic(per, path))
+    _emit(per, args, lambda path: (per.plot(path) if scene.model.value == "cable3d"
+                                   else plot_periodic(per, path)))
     return _exit_status(per)
 
 
@@ -160,6 +193,9 @@ def _modes(args) -> int:
     from .plotting import plot_modes
 
     scene = load_scene(args.scene)
+    if args.plot and scene.model.value == "cable3d":
+        raise SymcableError(f"--plot {args.plot}: no plot of 3D mode shapes yet (--json or "
+                            "--save give them)")
     modal = modal_analysis(scene, args.n)
     _emit(modal, args, lambda path: plot_modes(modal, modal.positions, path))
     return 0

@@ -18,7 +18,7 @@ from .derive import functions
 from .errors import ConvergenceError, SymcableError
 from .planar_periodic import method_options
 from .results import ModalSolution
-from .results_line3d import LineTrajectory, slack_report
+from .results_line3d import LineTrajectory, SystemTrajectory, line_from_outputs
 from .results_mechanism import SceneLinearization
 from .scene import EndCondition, Scene
 from .cable3d_static import static_equilibrium
@@ -39,7 +39,12 @@ TENSION_ESTIMATE_FACTOR = 2.0
 
 
 def _motions(scene: Scene) -> list:
-    return [e.motion for e in (scene.end_a, scene.end_b) if e.motion is not None]
+    """Every prescribed motion: of the ends (one line) or of the vessel points (version 2)."""
+    ends = [e for e in (scene.end_a, scene.end_b) if e is not None]
+    ends += [ln_end for ln in scene.lines for ln_end in (ln.end_a, ln.end_b)
+             if not isinstance(ln_end, str)]
+    return [e.motion for e in ends if e.motion is not None] + [
+        pt.motion for pt in scene.points.values() if pt.motion is not None]
 
 
 def run_start(scene: Scene) -> float:
@@ -99,7 +104,7 @@ def tension_error_estimate(time, series, h: float, tau: float, constant: float) 
     return TENSION_ESTIMATE_FACTOR * float(np.max(E)) / rng
 
 
-def _with_tension_estimate(stats: dict, warnings, tr, fa, fb, opts, period, label) -> tuple:
+def _with_tension_estimate(stats: dict, warnings, tr, ends, opts, period, label) -> tuple:
     """The run's error estimate as the larger of the state's and the end tensions' (see
     :func:`tension_error_estimate`), and its warning."""
     if stats.get("error_estimate") is None or not hasattr(opts, "error_constant"):
@@ -107,7 +112,7 @@ def _with_tension_estimate(stats: dict, warnings, tr, fa, fb, opts, period, labe
     h = stats["dt"]
     tau = stats.get("error_memory") or (tr.time[-1] - tr.time[0]) / (2 * math.pi)
     est = max(tension_error_estimate(tr.time, np.linalg.norm(f, axis=1), h, tau,
-                                     opts.error_constant) for f in (fa, fb))
+                                     opts.error_constant) for f in ends)
     stats = dict(stats, error_estimate_states=stats["error_estimate"], tension_error_estimate=est)
     stats["error_estimate"] = max(est, stats["error_estimate"])
     stats["dt_accurate"] = accurate_dt(h, stats["error_estimate"])
@@ -118,41 +123,35 @@ def _with_tension_estimate(stats: dict, warnings, tr, fa, fb, opts, period, labe
 
 
 def _line_result(scene, mech, tr, method: str, dt: float, stats: dict, warnings,
-                 opts=None, period=None) -> LineTrajectory:
-    out = tr.outputs
-    n_t = len(tr.time)
-    pos = np.asarray(out["positions"], float).reshape(n_t, -1, 3)
-    n = pos.shape[1]
-    axial = np.asarray(out["axial_force"], float).reshape(n_t, n - 1)
-    strain = np.asarray(out["strain"], float).reshape(n_t, n - 1)
-    fa = np.asarray(out["end_force_a"], float).reshape(n_t, 3)
-    fb = np.asarray(out["end_force_b"], float).reshape(n_t, 3)
-    stats = dict(stats)
-    stats.update(slack_report(np.asarray(tr.time, float), strain, axial))
+                 opts=None, period=None):
+    """The run as a LineTrajectory (one line) or a SystemTrajectory (scene version 2), its
+    error estimate extended to the end tensions when ``opts`` (the stepping method) is given."""
+    t = np.asarray(tr.time, float)
     warnings = list(warnings)
+    lines = [n for n, part in mech.layout.parts.items() if part.kind == "line"]
+    prefix = {n: ("" if scene.version == 1 else f"{n}.") for n in lines}
     if opts is not None:
-        stats, warnings = _with_tension_estimate(stats, warnings, tr, fa, fb, opts, period, method)
-    if stats["snaps"]:
-        warnings.append(f"segments went slack ({100 * stats['slack_fraction']:.3g} % of the time, up "
-                        f"to {stats['slack_segments']} at once) and snapped taut {stats['snaps']} "
-                        f"time(s); largest tension after a snap {stats['snap_peak'] / 1e3:.4g} kN "
-                        f"at t = {stats['snap_peak_time']:.4g} s: snap peaks converge slowly in "
-                        "dt, check them at dt / 2")
-    return LineTrajectory(
-        scene_name=scene.name, time=np.asarray(tr.time, float),
-        s=np.asarray(mech.layout.parts["line"].s, float), positions=pos,
-        velocities=np.asarray(out["velocities"], float).reshape(n_t, n, 3), axial_force=axial,
-        strain=strain, contact_force=np.asarray(out["contact_force"], float).reshape(n_t, n),
-        fairlead_force=fb, anchor_force=fa, fairlead_tension=np.linalg.norm(fb, axis=1),
-        anchor_tension=np.linalg.norm(fa, axis=1), method=method, dt=float(dt),
-        status=tr.status, stats=stats, warnings=tuple(warnings))
+        ends = [np.asarray(tr.outputs[prefix[n] + k], float).reshape(t.size, 3)
+                for n in lines for k in ("end_force_a", "end_force_b")]
+        stats, warnings = _with_tension_estimate(dict(stats), warnings, tr, ends, opts, period,
+                                                 method)
+    common = dict(method=method, dt=float(dt), status=tr.status, stats=stats)
+    if scene.version == 1:
+        return line_from_outputs(scene.name, t, tr.outputs, mech.layout.parts["line"].s,
+                                 warnings=warnings, **common)
+    out = SystemTrajectory(scene.name, t, {k: np.asarray(v, float) for k, v in tr.outputs.items()},
+                           tuple(lines), tuple(scene.points),
+                           {n: np.asarray(mech.layout.parts[n].s, float) for n in lines},
+                           warnings=tuple(warnings), **common)
+    notes = [f"line {n}: {w}" for n, ln in out.lines.items() for w in ln.warnings]
+    return dataclasses.replace(out, warnings=out.warnings + tuple(notes)) if notes else out
 
 
 def simulate_3d(scene: Scene, duration: float, dt: float | None = None,
                 method: str = "generalized-alpha", *, rho_inf: float = 0.5,
                 save_every: int | None = None, save_times=None, progress: bool | None = None,
                 newton_tol: float | None = None, codegen: bool | None = None,
-                t_start: float | None = None) -> LineTrajectory:
+                t_start: float | None = None) -> LineTrajectory | SystemTrajectory:
     """Time response of a cable3d line from its static state (see :func:`symcable.simulate`).
 
     The run starts at ``t_start`` s (default :func:`run_start`: a motion table's first row
@@ -160,11 +159,11 @@ def simulate_3d(scene: Scene, duration: float, dt: float | None = None,
     ``rho_inf`` (default 0.5) is generalized-alpha's numerical damping: on a slack rope
     jerked taut (tests/test_cable3d_snap.py) rho_inf = 0.8 at dt = 0.05 s returned a snap
     peak 500 times the converged one, 0.5 within 20 %, 0 within 5 %: high-frequency axial
-    waves released by a snap need the damping. Returns a :class:`LineTrajectory`; a failed
-    step raises ConvergenceError whose ``partial`` is one too.
+    waves released by a snap need the damping. Returns a :class:`LineTrajectory` (a scene of
+    several lines and points: a :class:`SystemTrajectory`, ``.lines[name]`` each line's);
+    a failed step raises ConvergenceError whose ``partial`` is one too.
     """
     started = time.perf_counter()
-    _one_line(scene, "simulate")
     name = str(getattr(method, "value", method)).strip().lower().replace("_", "-")
     if name not in ("generalized-alpha", "rk4"):
         raise SymcableError(f"method = {method!r}: must be 'generalized-alpha' or 'rk4'")
@@ -212,7 +211,6 @@ def solve_periodic_3d(scene: Scene, method="collocation", *, codegen: bool | Non
     method and whose ``stats`` hold ``period`` (s), the method's iterations and its own
     ``error_estimate`` (the largest scaled equation defect on a grid 4 times the solver's)."""
     started = time.perf_counter()
-    _one_line(scene, "solve_periodic")
     period = _period(scene)
     if period is None or any(m.kind == "table" for m in _motions(scene)):
         raise SymcableError(f"scene {scene.name!r}: a periodic response needs a harmonic end "
@@ -220,7 +218,10 @@ def solve_periodic_3d(scene: Scene, method="collocation", *, codegen: bool | Non
                             + ("a table" if _motions(scene) else "none"))
     name, opts = method_options(method, options)
     mech, eq = static_equilibrium(scene, codegen=codegen)
-    p = mech.params.with_values(ramp=0.0)
+    p = np.array(mech.params.values, float)
+    for block in mech.params.names:  # every line's "ramp" (namespaced in a scene of several)
+        if block.split(".")[-1] == "ramp":
+            p[mech.params.slice(block)] = 0.0
     # the virtual machine by default: compiling a collocation system of a 10-segment line
     # took minutes, longer than the solve (a few seconds) it would speed up
     res = solve_periodic_mech(mech, period, opts, p=p, start=eq,

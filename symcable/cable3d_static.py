@@ -50,7 +50,8 @@ def static_equilibrium(scene: Scene, *, tol: float | None = None, max_iter: int 
     (default RTOL times the force scale); where the dynamic analyses start."""
     mech = cable3d_mechanism(scene)
     if tol is None:
-        tol = max(RTOL * force_scale(scene, segment_table(scene)), 10 * mech.scales.residual_floor)
+        F = mech.scales.force if scene.version == 2 else force_scale(scene, segment_table(scene))
+        tol = max(RTOL * F, 10 * mech.scales.residual_floor)
     eq = solve_equilibrium(mech, tol=tol, max_iter=max_iter,
                            continuation=None if continuation else False, codegen=codegen)
     return mech, eq
@@ -110,12 +111,9 @@ def _solution(scene, seg, out, q, status, stats, warnings) -> StaticSolution:
 def _solve_system(scene: Scene, *, tol, max_iter, continuation, codegen) -> SystemStaticSolution:
     """:func:`solve_static_3d` of a scene of several lines and points."""
     t0 = time.perf_counter()
-    mech = cable3d_mechanism(scene)
-    if tol is None:
-        tol = max(RTOL * mech.scales.force, 10 * mech.scales.residual_floor)
     try:
-        eq = solve_equilibrium(mech, tol=tol, max_iter=max_iter,
-                               continuation=None if continuation else False, codegen=codegen)
+        mech, eq = static_equilibrium(scene, tol=tol, max_iter=max_iter,
+                                      continuation=continuation, codegen=codegen)
     except ConvergenceError as exc:
         part = exc.partial
         partial = None if part is None else _system(scene, part.outputs, part.q, "failed",

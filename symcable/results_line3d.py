@@ -11,7 +11,7 @@ import numpy as np
 from .errors import SymcableError
 from .results import Exportable, OneLine
 
-__all__ = ["LineTrajectory", "slack_report"]
+__all__ = ["LineTrajectory", "SystemTrajectory", "line_from_outputs", "slack_report", "snap_warning"]
 
 #: a segment counts as slack when its strain is at most this (not stretched): the
 #: tension-only law leaves it a tension below about EA times this
@@ -159,3 +159,134 @@ class LineTrajectory(OneLine, Exportable):
         seabed contact) and a ``.pvd`` collection with their times; returns the ``.pvd``."""
         from .plotting_line3d import write_vtk
         return write_vtk(self, folder, stem)
+
+
+def snap_warning(stats: dict) -> str | None:
+    """The warning of a run in which segments went slack and snapped taut (None if none)."""
+    if not stats.get("snaps"):
+        return None
+    return (f"segments went slack ({100 * stats['slack_fraction']:.3g} % of the time, up to "
+            f"{stats['slack_segments']} at once) and snapped taut {stats['snaps']} time(s); "
+            f"largest tension after a snap {stats['snap_peak'] / 1e3:.4g} kN at t = "
+            f"{stats['snap_peak_time']:.4g} s: snap peaks converge slowly in dt, check them at "
+            "dt / 2")
+
+
+def line_from_outputs(scene_name: str, time, outputs: dict, s, *, prefix: str = "",
+                      method: str, dt: float, status: str, stats: dict,
+                      warnings=()) -> LineTrajectory:
+    """A LineTrajectory from a mechanism's outputs at the samples (``prefix``: a line's
+    ``"NAME."`` in a scene of several lines), with its slack report in ``stats`` and a
+    warning when it snapped."""
+    t = np.asarray(time, float)
+    n_t = t.size
+    get = lambda key: np.asarray(outputs[prefix + key], float)  # noqa: E731
+    pos = get("positions").reshape(n_t, -1, 3)
+    n = pos.shape[1]
+    axial = get("axial_force").reshape(n_t, n - 1)
+    strain = get("strain").reshape(n_t, n - 1)
+    fa, fb = (get(k).reshape(n_t, 3) for k in ("end_force_a", "end_force_b"))
+    stats = dict(stats, **slack_report(t, strain, axial))
+    note = snap_warning(stats)
+    return LineTrajectory(
+        scene_name=scene_name, time=t, s=np.asarray(s, float), positions=pos,
+        velocities=get("velocities").reshape(n_t, n, 3), axial_force=axial, strain=strain,
+        contact_force=get("contact_force").reshape(n_t, n), fairlead_force=fb,
+        anchor_force=fa, fairlead_tension=np.linalg.norm(fb, axis=1),
+        anchor_tension=np.linalg.norm(fa, axis=1), method=method, dt=float(dt), status=status,
+        stats=stats, warnings=tuple(warnings) + ((note,) if note else ()))
+
+
+@dataclass(frozen=True)
+class SystemTrajectory(Exportable):
+    """The time history of a scene of several lines and points (scene version 2).
+
+    Attributes
+    ----------
+    scene_name : str
+    time : ndarray (n_t,), s
+    outputs : dict name -> ndarray (n_t, ...)
+        The mechanism's outputs at the samples, namespaced (``"upper.axial_force"``,
+        ``"buoy.position"``; see :mod:`symcable.models.cable3d_system`).
+    line_names, point_names : tuple of str
+    line_s : dict line name -> ndarray (n,)  unstretched arc length of its nodes, m
+    method : str;  dt : float, s;  status : str;  stats : dict;  warnings : tuple of str
+
+    ``lines[name]`` is each line's :class:`LineTrajectory` (with its own slack report);
+    ``points[name]`` a dict of ``position`` (n_t, 3) m and ``force`` (n_t, 3) N, the force
+    the lines exert on the point.
+    """
+
+    scene_name: str
+    time: np.ndarray
+    outputs: dict
+    line_names: tuple
+    point_names: tuple
+    line_s: dict
+    method: str
+    dt: float
+    status: str
+    stats: dict = field(default_factory=dict)
+    warnings: tuple = ()
+
+    def __repr__(self) -> str:
+        return (f"SystemTrajectory(status={self.status!r}, scene_name={self.scene_name!r}, "
+                f"lines={list(self.line_names)}, points={list(self.point_names)}, "
+                f"{self.time.size} samples)")
+
+    @property
+    def lines(self):
+        from types import MappingProxyType
+        return MappingProxyType({
+            name: line_from_outputs(f"{self.scene_name}:{name}", self.time, self.outputs,
+                                    self.line_s[name], prefix=f"{name}.", method=self.method,
+                                    dt=self.dt, status=self.status, stats={})
+            for name in self.line_names})
+
+    @property
+    def points(self):
+        from types import MappingProxyType
+        n_t = self.time.size
+        return MappingProxyType({
+            name: {k: np.asarray(self.outputs[f"{name}.{k}"], float).reshape(n_t, 3)
+                   for k in ("position", "force") if f"{name}.{k}" in self.outputs}
+            for name in self.point_names})
+
+    @property
+    def bodies(self):
+        from types import MappingProxyType
+        return MappingProxyType({})
+
+    def summary(self) -> str:
+        """The run, each line's end tensions (range, kN) and each point's excursion (m)."""
+        st = self.stats
+        out = [f"scene             {self.scene_name}",
+               f"run               {self.method}, dt {self.dt:.4g} s, {self.time.size} samples "
+               f"over {self.time[-1] - self.time[0]:.4g} s, status {self.status}"]
+        for name, ln in self.lines.items():
+            out.append(f"line {name:12s} fairlead {ln.fairlead_tension.min() / 1e3:.4g} .. "
+                       f"{ln.fairlead_tension.max() / 1e3:.4g} kN, anchor "
+                       f"{ln.anchor_tension.min() / 1e3:.4g} .. {ln.anchor_tension.max() / 1e3:.4g} kN")
+        for name, pt in self.points.items():
+            x = pt["position"]
+            out.append(f"point {name:11s} excursion {np.max(np.linalg.norm(x - x[0], axis=1)):.4g} m")
+        if st.get("error_estimate") is not None:
+            out.append(f"error estimate    {100 * st['error_estimate']:.2g} % of the range")
+        out.append(f"wall time         {st.get('wall_time', float('nan')):.3g} s")
+        out += [f"warning           {w}" for w in self.warnings]
+        return "\n".join(out)
+
+    def save(self, path):
+        """``.json`` only (the outputs are a dict of arrays)."""
+        if Path(path).suffix != ".json":
+            raise SymcableError(f"save path = '{path}': a SystemTrajectory saves as .json")
+        return super().save(path)
+
+    @classmethod
+    def load(cls, path):
+        obj = super().load(path)
+        object.__setattr__(obj, "outputs", {k: np.asarray(v, float) for k, v in obj.outputs.items()})
+        object.__setattr__(obj, "line_s", {k: np.asarray(v, float) for k, v in obj.line_s.items()})
+        object.__setattr__(obj, "line_names", tuple(obj.line_names))
+        object.__setattr__(obj, "point_names", tuple(obj.point_names))
+        return obj

@@ -18,7 +18,8 @@ elements gives:
   per unstretched metre (the planar law), |u| smoothed as sqrt(|u|^2 + DRAG_SPEED^2) so the
   force is differentiable at rest, half on each node;
 - lumped mass: structural m L0 / 2 per node, and added mass rho A L0 / 2 (Ca_n (I - t t^T) +
-  Ca_t t t^T) per node, rho A the displaced water per metre.
+  Ca_t t t^T) per node, rho A the displaced water per metre; or, with ``mass_matrix =
+  "consistent"``, seed 003's L0 B / 6 [[2, 1], [1, 2]] per element (:func:`_consistent_mass`).
 
 Each node on a flat seabed at z = -depth gets the planar line's smooth penalty contact
 k d b ramp(-depth - z) (b its tributary length), a damper into the bed and regularised
@@ -202,9 +203,11 @@ def build_cable3d(scene: Scene, part: str | None = None) -> Mechanism:
         nodal = nodal + load * ca.DM(applied)
     force = ca.vertcat(*[nodal[:, i] for i in moving])
 
-    # lumped mass: structural and added (normal, tangential), 3 x 3 per moving node
+    # mass: structural and added (normal, tangential); lumped: 3 x 3 per moving node, or
+    # consistent (scene.mass_matrix)
     A_w = math.pi * seg["d"] ** 2 / 4.0
     blocks = [ca.SX.zeros(3, 3) for _ in range(N + 1)]
+    halves = []  # each element's L0 B / 2
     can = np.array([s.line_type.ca_normal for s in scene.sections for _ in range(s.segments)])
     cat = np.array([s.line_type.ca_tangential for s in scene.sections for _ in range(s.segments)])
     for j in range(N):
@@ -215,7 +218,12 @@ def build_cable3d(scene: Scene, part: str | None = None) -> Mechanism:
         blk = m_j * ca.SX.eye(3) + ma * (can[j] * (ca.SX.eye(3) - tt) + cat[j] * tt)
         blocks[j] += blk
         blocks[j + 1] += blk
-    mass = ca.diagcat(*[blocks[i] for i in moving])
+        halves.append(blk)
+    if scene.mass_matrix == "lumped":
+        mass = ca.diagcat(*[blocks[i] for i in moving])
+    else:
+        mass, inertia = _consistent_mass(halves, V, t, moving, N)
+        force = force + inertia
 
     # what the line exerts on each held end (N): its element's pull and the loads lumped on
     # the end node, which the support takes (as the planar line's end forces)
@@ -309,6 +317,32 @@ def _seabed_dynamics(sb, Xm, Vm, contact, pen, dlt, area, term_names):
         f = -ca.repmat(contact / speed, 2, 1) * (mu_a * va + mu_l * (vh - va))
         out[0:2, :] = f
     return out
+
+
+def _consistent_mass(halves, V, t, moving, N):
+    """Seed 003's consistent mass: element j's L0 B / 6 [[2, 1], [1, 2]] (B its mass per
+    metre, 3 x 3, structural and added), from ``halves[j]`` = L0 B / 2 (what the lumped mass
+    puts on each of its nodes): two thirds of a half on each node, one third coupling them.
+    Returns (M over the moving nodes, sparse block-tridiagonal; the force -M_ih a_h on a
+    moving node i beside a held node h, a_h the prescribed motion's acceleration)."""
+    slot = {i: k for k, i in enumerate(moving)}
+    M = ca.SX(3 * len(moving), 3 * len(moving))
+    inertia = ca.SX.zeros(3 * len(moving), 1)
+    rows = lambda i: slice(3 * slot[i], 3 * slot[i] + 3)  # noqa: E731
+    for j, half in enumerate(halves):
+        a, b = j, j + 1
+        for i in (a, b):
+            if i in slot:
+                M[rows(i), rows(i)] = M[rows(i), rows(i)] + (2.0 / 3.0) * half
+        if a in slot and b in slot:
+            M[rows(a), rows(b)] = M[rows(a), rows(b)] + half / 3.0
+            M[rows(b), rows(a)] = M[rows(b), rows(a)] + half / 3.0
+        else:
+            for i, h in ((a, b), (b, a)):
+                if i in slot and h not in slot:
+                    inertia[rows(i)] = inertia[rows(i)] - ca.mtimes(half / 3.0,
+                                                                    ca.jacobian(V[h], t))
+    return M, inertia
 
 
 def _lumped(seg) -> np.ndarray:

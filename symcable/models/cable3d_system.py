@@ -66,7 +66,8 @@ def line_scene(scene: Scene, line, *, pinned_free: bool = False) -> Scene:
                  environment=scene.environment, seabed=scene.seabed,
                  line_types=scene.line_types, sections=line.sections,
                  end_a=_end_of(scene, line.end_a, pinned_free),
-                 end_b=_end_of(scene, line.end_b, pinned_free), source=scene.source)
+                 end_b=_end_of(scene, line.end_b, pinned_free), source=scene.source,
+                 mass_matrix=scene.mass_matrix)
 
 
 def _point_loads(pt: Point, env: Environment) -> tuple[float, np.ndarray, float]:

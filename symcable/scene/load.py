@@ -33,7 +33,8 @@ from .tables import (MAX_STIFFNESS_RATIO, _check_geometry, _end, _environment, _
 __all__ = ["MAX_STIFFNESS_RATIO", "load_scene", "moordyn_deck", "scene_to_dict", "scene_to_toml"]
 
 _TOP_KEYS = ("name", "model", "environment", "seabed", "line_types", "sections", "end_a", "end_b",
-             "points", "lines")
+             "points", "lines", "mass_matrix")
+_MASS_MATRICES = ("lumped", "consistent")
 _MODELS = tuple(m.value for m in Model)
 
 
@@ -133,6 +134,11 @@ def _build(data: Mapping, source: str, base: str = ".") -> Scene:
         raise _err("name", name, "", "must be a string")
     model = Model(_choice("model", _get(data, "model", Model.PLANAR.value), _MODELS, "model"))
     dim = _DIMS[model]
+    mass_matrix = _choice("mass_matrix", _get(data, "mass_matrix", "lumped"), _MASS_MATRICES,
+                          "mass_matrix")
+    if mass_matrix != "lumped" and model is not Model.CABLE3D:
+        raise _err("mass_matrix", mass_matrix, "", "a mass matrix other than 'lumped' is a "
+                   "cable3d option (model = 'cable3d')")
     env = _environment(data, dim)
     seabed = _seabed(data, env)
     types = _line_types(data, env, dim)
@@ -140,7 +146,7 @@ def _build(data: Mapping, source: str, base: str = ".") -> Scene:
         points, lines = read_system(data, env, types, dim, model.value, base)
         return Scene(name=name, model=model, environment=env, seabed=seabed,
                      line_types=MappingProxyType(types), sections=(), end_a=None, end_b=None,
-                     source=source, points=points, lines=lines)
+                     source=source, points=points, lines=lines, mass_matrix=mass_matrix)
     if _get(data, "points") is not None:
         raise _err("points", "{...}", "", "points are the ends of [[lines]] (scene version 2): "
                    "give [[lines]] with end_a / end_b naming them, or remove [points]")
@@ -149,7 +155,8 @@ def _build(data: Mapping, source: str, base: str = ".") -> Scene:
     _check_geometry(env, sections, ends, dim)
     return Scene(name=name, model=model, environment=env, seabed=seabed,
                  line_types=MappingProxyType(types), sections=sections,
-                 end_a=ends["end_a"], end_b=ends["end_b"], source=source)
+                 end_a=ends["end_a"], end_b=ends["end_b"], source=source,
+                 mass_matrix=mass_matrix)
 
 
 def scene_to_toml(scene: Scene) -> str:

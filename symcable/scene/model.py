@@ -292,6 +292,10 @@ class Scene:
     lines : tuple of Line
         Version 2 (``[[lines]]``): the lines, each with its sections and ends (a point's
         name or an inline End); empty in version 1.
+    mass_matrix : str
+        cable3d: ``"lumped"`` (default: half of each element's mass, structural and added,
+        on each of its nodes) or ``"consistent"`` (seed 003's linear-interpolation mass,
+        L0/6 [[2, 1], [1, 2]] per element, coupling neighbours).
     """
 
     name: str
@@ -305,6 +309,7 @@ class Scene:
     source: str = field(default="<dict>", compare=False)
     points: Mapping[str, Point] = field(default_factory=lambda: MappingProxyType({}))
     lines: tuple[Line, ...] = ()
+    mass_matrix: str = "lumped"
 
     @property
     def version(self) -> int:
@@ -353,6 +358,8 @@ def scene_to_dict(scene: Scene) -> dict:
     environment["current"] = list(env.current)
     out: dict[str, Any] = {"name": scene.name, "model": Model(scene.model).value,
                            "environment": environment}
+    if scene.mass_matrix != "lumped":
+        out["mass_matrix"] = scene.mass_matrix
     if scene.seabed is not None:
         sb = scene.seabed
         out["seabed"] = {"stiffness": sb.stiffness, "friction": sb.friction}

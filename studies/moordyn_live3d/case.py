@@ -21,7 +21,8 @@ One MoorDyn v2 deck (:func:`deck_text`) is the source of both models:
   from the deck's folder (MoorDyn's docs/waterkinematics.rst; source
   Waves/WaveGrid.cpp: three header lines, then rows ``z ux uy uz``, linear in z and held
   beyond the end rows). Its initial condition (``Init``, the stationary solver) does not
-  include the current (measured: 61.14 kN at the fairlead against 61.69 kN settled), so the
+  include the current (measured: 61.14 kN at the fairlead with and without ``Currents``,
+  61.69 kN settled in it), so the
   line settles in the current with the fairlead held (:func:`run_moordyn`), then the
   fairlead is driven from Python, one ``moordyn.Step`` per MoorDyn step with the exact
   position and velocity of the ramped motion at the step's start (MoorDyn moves a coupled

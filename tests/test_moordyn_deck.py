@@ -50,8 +50,9 @@ def test_chain_decks_load_with_the_deck_numbers(name):
     assert list(s.line_types) == ["chain"]
     lt = s.line_types["chain"]
     assert (lt.diameter, lt.mass, lt.EA, lt.EI) == (0.252, 390.0, 1.674e9, 0.0)
+    # CdAx is per surface area pi d l in MoorDyn, cd_tangential per d l
     assert (lt.cd_normal, lt.ca_normal, lt.cd_tangential, lt.ca_tangential) == \
-        (1.37, 1.0, 0.64, 0.0)
+        (1.37, 1.0, math.pi * 0.64, 0.0)
     # BA/-zeta = -1.0: MoorDyn's BA = zeta ds sqrt(EA m), cable3d's zeta 2 ds sqrt(EA m)
     assert lt.damping == -1.0 * ZETA_FACTOR == -1.0  # the same zeta convention as MoorDyn
     assert lt.weight == pytest.approx((390.0 - 1025.0 * math.pi * 0.252**2 / 4) * 9.80665,
@@ -124,7 +125,7 @@ def test_v1_column_names_and_positive_ba(tmp_path):
                         "2.0e8   1.2  0.8  0.4  0.1")
     lt = load_scene(write(tmp_path, text)).line_types["chain"]
     assert (lt.damping, lt.EI, lt.cd_normal, lt.ca_normal, lt.cd_tangential, lt.ca_tangential) \
-        == (2.0e8, 0.0, 1.2, 0.8, 0.4, 0.1)
+        == (2.0e8, 0.0, 1.2, 0.8, math.pi * 0.4, 0.1)
 
 
 _LINES = "---------------------- LINES"

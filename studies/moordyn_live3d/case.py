@@ -140,7 +140,7 @@ def symcable_scene(segments: int = SEGMENTS, motion: bool = True, current: bool 
 
     scene = copy.deepcopy(dict(parse_moordyn(deck_text(segments, currents=False), "live3d.txt").scene))
     (lt,) = scene["line_types"].values()
-    lt["cd_tangential"] = math.pi * LINE["CdAx"]
+    assert lt["cd_tangential"] == math.pi * LINE["CdAx"]  # the loader's own reading
     scene["environment"]["current"] = list(current_vector()) if current else [0.0, 0.0, 0.0]
     if motion:
         scene["end_b"]["motion"] = {"kind": "harmonic", "period": PERIOD,

@@ -28,7 +28,8 @@ LINE TYPES, by column name   ``[line_types.<TypeName>]`` (only the types the lin
                              BA = zeta ds sqrt(EA m))
   EI                         must be 0 (cable3d has no bending yet): else refused
   Cd, Ca / Cdn, Can          ``cd_normal``, ``ca_normal``
-  CdAx, CaAx / Cdt, Cat      ``cd_tangential``, ``ca_tangential``
+  CdAx, CaAx / Cdt, Cat      ``cd_tangential`` = pi CdAx (MoorDyn's axial drag is per surface
+                             area pi d l, symcable's per d l), ``ca_tangential`` = CaAx
   Cl (dF, cF)                VIV lift: must be 0 (dF, cF then ignored)
 POINTS (ID Type X Y Z M V    one line: its AttachA point -> ``end_a``, AttachB -> ``end_b``,
 [Fx Fy Fz] CdA Ca)           ``condition = "pinned"``, ``position = [X, Y, Z]``. Otherwise

@@ -74,6 +74,9 @@ class _Tables:
             values.pop("cF", None)
             if values["damping"] < 0:
                 values["damping"] *= ZETA_FACTOR
+            # MoorDyn's axial drag coefficient is per surface area pi d l (its docs and
+            # Line.cpp), symcable's cd_tangential per d l as the normal one
+            values["cd_tangential"] *= math.pi
             out[name] = (n, values)
         if not out:
             raise self.fail(head, "LINE TYPES has no rows")

@@ -18,7 +18,8 @@ elements gives:
   per unstretched metre (the planar law), |u| smoothed as sqrt(|u|^2 + DRAG_SPEED^2) so the
   force is differentiable at rest, half on each node;
 - lumped mass: structural m L0 / 2 per node, and added mass rho A L0 / 2 (Ca_n (I - t t^T) +
-  Ca_t t t^T) per node, rho A the displaced water per metre.
+  Ca_t t t^T) per node, rho A the displaced water per metre (an element at a moving held end
+  takes t from its neighbour, so that the mass depends on q and p only: :func:`_mass_direction`).
 
 Each node on a flat seabed at z = -depth gets the planar line's smooth penalty contact
 k d b ramp(-depth - z) (b its tributary length). Friction and the seabed's damper are not
@@ -51,6 +52,11 @@ __all__ = ["DRAG_SPEED", "build_cable3d", "force_scale"]
 #: far below any current or motion speed that matters, and a linear damping there of
 #: 0.5 rho d Cd DRAG_SPEED per metre
 DRAG_SPEED = 1e-4
+
+#: the velocity of a table motion changes from one interval's slope to the next over this
+#: fraction of the smallest row spacing about each row (see :func:`_held`): far below any
+#: time step, far above the round-off of t
+TABLE_VELOCITY_WIDTH = 1e-6
 
 P_NAMES = ("load", "end_a.position", "end_b.position", "current", "slack", "motion")
 P_SIZES = (1, 3, 3, 3, 1, 1)
@@ -88,25 +94,38 @@ def _element_kernel() -> ca.Function:
 
 
 def _held(end, pos_p, motion_scale, t):
-    """A pinned end's position, m: its parameter position plus the scaled prescribed motion:
-    a table's displacement, linearly interpolated (held at its first and last rows), or
-    x_i = r(t) A_i cos(2 pi t / period + phase_i), ramped in over the first period by
-    r = (1 - cos(pi t / period)) / 2 (1 from then on), so that a run from the static state
-    (at t = 0) starts without a jump in the end's position or velocity."""
+    """A pinned end's position (m) and velocity (m/s): its parameter position plus the scaled
+    prescribed motion:
+
+    - a table's displacement, linearly interpolated (held at its first and last rows). Its
+      velocity is the interval's slope, and at a row the mean of the slopes either side,
+      changing linearly over :data:`TABLE_VELOCITY_WIDTH` of the smallest row spacing about
+      each row: continuous in t, so a time step that ends on a row (up to round-off in t)
+      sees one velocity, not the slope of whichever side the rounding of t falls on (with
+      the derivative of the interpolant, a step of 0.05 s on the MoorDyn chain tables saw
+      the left slope, the right one or their mean depending on how the run was batched);
+    - or x_i = r(t) A_i cos(2 pi t / period + phase_i), ramped in over the first period by
+      r = (1 - cos(pi t / period)) / 2 (1 from then on), so that a run from the static state
+      (at t = 0) starts without a jump in the end's position or velocity; its velocity is
+      the derivative."""
     m = end.motion
     if m is None:
-        return pos_p
+        return pos_p, ca.SX.zeros(3, 1)
     if m.kind == "table":  # piecewise linear through the rows, held outside them
         r = np.asarray(m.samples, float)
         tk, X = r[:, 0], r[:, 1:4]
         slopes = np.diff(X, axis=0) / np.diff(tk)[:, None]
-        kinks = np.vstack([slopes[:1], np.diff(slopes, axis=0), -slopes[-1:]])  # (n, 3)
-        disp = ca.DM(X[0]) + ca.mtimes(ca.DM(kinks).T, ca.fmax(t - ca.DM(tk), 0.0))
-        return pos_p + motion_scale * disp
+        kinks = ca.DM(np.vstack([slopes[:1], np.diff(slopes, axis=0), -slopes[-1:]])).T  # (3, n)
+        since = t - ca.DM(tk)
+        disp = ca.DM(X[0]) + ca.mtimes(kinks, ca.fmax(since, 0.0))
+        half = 0.5 * TABLE_VELOCITY_WIDTH * float(np.min(np.diff(tk)))
+        passed = ca.fmin(ca.fmax(0.5 + since / (2.0 * half), 0.0), 1.0)
+        return pos_p + motion_scale * disp, motion_scale * ca.mtimes(kinks, passed)
     A = ca.DM(m.amplitude)
     ph = ca.DM([math.radians(v) for v in m.phase_deg])
     ramp = ca.if_else(t < m.period, 0.5 * (1.0 - ca.cos(math.pi * t / m.period)), 1.0)
-    return pos_p + motion_scale * ramp * A * ca.cos(2.0 * math.pi * t / m.period + ph)
+    x = pos_p + motion_scale * ramp * A * ca.cos(2.0 * math.pi * t / m.period + ph)
+    return x, ca.jacobian(x, t)
 
 
 def build_cable3d(scene: Scene) -> Mechanism:
@@ -137,8 +156,7 @@ def build_cable3d(scene: Scene) -> Mechanism:
         X[i], V[i] = q[3 * k:3 * k + 3], v[3 * k:3 * k + 3]
     for end, i, pp in ((a, 0, pa), (b, N, pb)):
         if X[i] is None:
-            X[i] = _held(end, pp, motion, t)
-            V[i] = ca.jacobian(X[i], t)
+            X[i], V[i] = _held(end, pp, motion, t)
     Xm, Vm = ca.horzcat(*X), ca.horzcat(*V)  # (3, N+1)
 
     F = force_scale(scene, seg)
@@ -195,7 +213,7 @@ def build_cable3d(scene: Scene) -> Mechanism:
     can = np.array([s.line_type.ca_normal for s in scene.sections for _ in range(s.segments)])
     cat = np.array([s.line_type.ca_tangential for s in scene.sections for _ in range(s.segments)])
     for j in range(N):
-        dx = Xm[:, j + 1] - Xm[:, j]
+        dx = _mass_direction(Xm, j, t, (pa, pb))
         tt = ca.mtimes(dx, dx.T) / ca.dot(dx, dx)
         m_j = 0.5 * seg["mass"][j] * seg["ds"][j]
         ma = 0.5 * rho * A_w[j] * seg["ds"][j]
@@ -294,6 +312,23 @@ def _seabed_dynamics(sb, Xm, Vm, contact, pen, dlt, area, term_names):
         f = -ca.repmat(contact / speed, 2, 1) * (mu_a * va + mu_l * (vh - va))
         out[0:2, :] = f
     return out
+
+
+def _mass_direction(Xm, j, t, held_at):
+    """Element j's direction for its added mass (unnormalised, (3, 1)), a function of the
+    positions q and the parameters only, as the Mechanism's mass must be: an element whose
+    held end moves (a function of t) takes the direction of its neighbour inside the line
+    (adjacent elements of a cable turn by about w ds / T: 0.03 rad at the fairlead of the
+    WD0050 chain, so the split of ~255 kg of added mass between normal and axial moves by
+    ~1 %), or with no such neighbour the direction between the held ends' places ``held_at``
+    (their positions without the motion)."""
+    N = Xm.shape[1] - 1
+    for k in (j, j - 1, j + 1):
+        if 0 <= k < N:
+            dx = Xm[:, k + 1] - Xm[:, k]
+            if not ca.depends_on(dx, t):
+                return dx
+    return held_at[1] - held_at[0]
 
 
 def _lumped(seg) -> np.ndarray:

@@ -56,6 +56,11 @@ __all__ = ["DRAG_SPEED", "build_cable3d", "force_scale"]
 #: 0.5 rho d Cd DRAG_SPEED per metre
 DRAG_SPEED = 1e-4
 
+#: the velocity of a table motion changes from one interval's slope to the next over this
+#: fraction of the smallest row spacing about each row (see :func:`_held`): far below any
+#: time step, far above the round-off of t
+TABLE_VELOCITY_WIDTH = 1e-6
+
 P_NAMES = ("load", "end_a.position", "end_b.position", "current", "slack", "motion", "ramp")
 P_SIZES = (1, 3, 3, 3, 1, 1, 1)
 
@@ -92,28 +97,42 @@ def _element_kernel() -> ca.Function:
 
 
 def _held(end, pos_p, motion_scale, t, ramp_on=1.0):
-    """A pinned end's position, m: its parameter position plus the scaled prescribed motion:
-    a table's displacement, linearly interpolated (held at its first and last rows), or
-    x_i = r(t) A_i cos(2 pi t / period + phase_i), ramped in over the first period by
-    r = (1 - cos(pi t / period)) / 2 (0 before t = 0, 1 after one period), so that a run from
-    the static state at any t <= 0 starts without a jump in the end's position or velocity;
-    ``ramp_on`` = 0 (the parameter ``ramp``: periodic solves) takes r = 1 throughout."""
+    """A pinned end's position (m) and velocity (m/s): its parameter position plus the scaled
+    prescribed motion:
+
+    - a table's displacement, linearly interpolated (held at its first and last rows). Its
+      velocity is the interval's slope, and at a row the mean of the slopes either side,
+      changing linearly over :data:`TABLE_VELOCITY_WIDTH` of the smallest row spacing about
+      each row: continuous in t, so a time step that ends on a row (up to round-off in t)
+      sees one velocity, not the slope of whichever side the rounding of t falls on (with
+      the derivative of the interpolant, a step of 0.05 s on the MoorDyn chain tables saw
+      the left slope, the right one or their mean depending on how the run was batched:
+      runs differed by up to 25 kN);
+    - or x_i = r(t) A_i cos(2 pi t / period + phase_i), ramped in over the first period by
+      r = (1 - cos(pi t / period)) / 2 (0 before t = 0, 1 after one period), so that a run
+      from the static state at any t <= 0 starts without a jump in the end's position or
+      velocity; ``ramp_on`` = 0 (the parameter ``ramp``: periodic solves) takes r = 1
+      throughout. Its velocity is the derivative."""
     m = end.motion
     if m is None:
-        return pos_p
+        return pos_p, ca.SX.zeros(3, 1)
     if m.kind == "table":  # piecewise linear through the rows, held outside them
         r = np.asarray(m.samples, float)
         tk, X = r[:, 0], r[:, 1:4]
         slopes = np.diff(X, axis=0) / np.diff(tk)[:, None]
-        kinks = np.vstack([slopes[:1], np.diff(slopes, axis=0), -slopes[-1:]])  # (n, 3)
-        disp = ca.DM(X[0]) + ca.mtimes(ca.DM(kinks).T, ca.fmax(t - ca.DM(tk), 0.0))
-        return pos_p + motion_scale * disp
+        kinks = ca.DM(np.vstack([slopes[:1], np.diff(slopes, axis=0), -slopes[-1:]])).T  # (3, n)
+        since = t - ca.DM(tk)
+        disp = ca.DM(X[0]) + ca.mtimes(kinks, ca.fmax(since, 0.0))
+        half = 0.5 * TABLE_VELOCITY_WIDTH * float(np.min(np.diff(tk)))
+        passed = ca.fmin(ca.fmax(0.5 + since / (2.0 * half), 0.0), 1.0)
+        return pos_p + motion_scale * disp, motion_scale * ca.mtimes(kinks, passed)
     A = ca.DM(m.amplitude)
     ph = ca.DM([math.radians(v) for v in m.phase_deg])
     ramp = ca.if_else(t <= 0.0, 0.0,
                       ca.if_else(t < m.period, 0.5 * (1.0 - ca.cos(math.pi * t / m.period)), 1.0))
     ramp = 1.0 - ramp_on * (1.0 - ramp)
-    return pos_p + motion_scale * ramp * A * ca.cos(2.0 * math.pi * t / m.period + ph)
+    x = pos_p + motion_scale * ramp * A * ca.cos(2.0 * math.pi * t / m.period + ph)
+    return x, ca.jacobian(x, t)
 
 
 def build_cable3d(scene: Scene, part: str | None = None) -> Mechanism:
@@ -151,8 +170,7 @@ def build_cable3d(scene: Scene, part: str | None = None) -> Mechanism:
         X[i], V[i] = q[3 * k:3 * k + 3], v[3 * k:3 * k + 3]
     for end, i, pp in ((a, 0, pa), (b, N, pb)):
         if X[i] is None:
-            X[i] = _held(end, pp, motion, t, ramp_on)
-            V[i] = ca.jacobian(X[i], t)
+            X[i], V[i] = _held(end, pp, motion, t, ramp_on)
     Xm, Vm = ca.horzcat(*X), ca.horzcat(*V)  # (3, N+1)
 
     F = force_scale(scene, seg)
@@ -222,7 +240,11 @@ def build_cable3d(scene: Scene, part: str | None = None) -> Mechanism:
     if scene.mass_matrix == "lumped":
         mass = ca.diagcat(*[blocks[i] for i in moving])
     else:
-        mass, inertia = _consistent_mass(halves, V, t, moving, N)
+        # a prescribed end's acceleration reaches its neighbour through the coupling; a
+        # table's (impulses at its rows) is left out
+        acc = {i: (ca.jacobian(V[i], t) if end.motion is not None and end.motion.kind != "table"
+                   else ca.SX.zeros(3, 1)) for end, i in ((a, 0), (b, N))}
+        mass, inertia = _consistent_mass(halves, acc, moving, N)
         force = force + inertia
 
     # what the line exerts on each held end (N): its element's pull and the loads lumped on
@@ -319,12 +341,13 @@ def _seabed_dynamics(sb, Xm, Vm, contact, pen, dlt, area, term_names):
     return out
 
 
-def _consistent_mass(halves, V, t, moving, N):
+def _consistent_mass(halves, acc, moving, N):
     """Seed 003's consistent mass: element j's L0 B / 6 [[2, 1], [1, 2]] (B its mass per
     metre, 3 x 3, structural and added), from ``halves[j]`` = L0 B / 2 (what the lumped mass
     puts on each of its nodes): two thirds of a half on each node, one third coupling them.
     Returns (M over the moving nodes, sparse block-tridiagonal; the force -M_ih a_h on a
-    moving node i beside a held node h, a_h the prescribed motion's acceleration)."""
+    moving node i beside a held node h, a_h = ``acc[h]`` the prescribed motion's
+    acceleration)."""
     slot = {i: k for k, i in enumerate(moving)}
     M = ca.SX(3 * len(moving), 3 * len(moving))
     inertia = ca.SX.zeros(3 * len(moving), 1)
@@ -340,8 +363,7 @@ def _consistent_mass(halves, V, t, moving, N):
         else:
             for i, h in ((a, b), (b, a)):
                 if i in slot and h not in slot:
-                    inertia[rows(i)] = inertia[rows(i)] - ca.mtimes(half / 3.0,
-                                                                    ca.jacobian(V[h], t))
+                    inertia[rows(i)] = inertia[rows(i)] - ca.mtimes(half / 3.0, acc[h])
     return M, inertia
 
 

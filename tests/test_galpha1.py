@@ -136,3 +136,17 @@ def test_integrate_saves_reports_and_refuses():
         integrate(mech, 1.0, 0.1, save_every=2, save_times=[0.5])
     with pytest.raises(SymcableError, match="newton = 'secant'"):
         GeneralizedAlphaFirstOrder(newton="secant")
+
+
+def test_rootfinder_run_reports_no_iteration_counts():
+    """newton = "rootfinder" gives no iteration counts (NaN from CasADi's rootfinder): the run
+    says None, where it crashed converting NaN to an integer (found by studies/chains)."""
+    from symcable.models.toys import duffing
+    from symcable.solvers.options import GeneralizedAlphaFirstOrder, NewtonScheme
+
+    mech = duffing()
+    tr = sc.integrate(mech, 2.0, 0.05, method=GeneralizedAlphaFirstOrder(
+        newton=NewtonScheme.ROOTFINDER), codegen=False)
+    assert tr.status == "converged" and tr.stats["newton_iterations"] is None
+    unrolled = sc.integrate(mech, 2.0, 0.05, method=GeneralizedAlphaFirstOrder(), codegen=False)
+    np.testing.assert_allclose(tr.q, unrolled.q, atol=1e-8)  # the same steps, solved alike

@@ -302,8 +302,10 @@ def run_fixed(stepper, x, t0, h, p, idx, scale, progress, label, tau):
             ks, Xs = np.append(ks, k), np.vstack([Xs, x[None, keep_cols]])
         _residual_of_failure(stepper, failure, h, p)
     full = stepper.full
-    extra = {"steps": k, "newton_iterations": int(iters) if full else None,
-             "newton_iterations_max": int(iters_max) if full else None,
+    # (a rootfinder Newton reports no iteration counts: NaN)
+    counted = full and math.isfinite(iters) and math.isfinite(iters_max)
+    extra = {"steps": k, "newton_iterations": int(iters) if counted else None,
+             "newton_iterations_max": int(iters_max) if counted else None,
              "max_step_residual": worst if isinstance(stepper.method, IMPLICIT) else None,
              "max_error_estimate": lte_max if np.isfinite(lte_max) else None,
              "step_time": step_time, "us_per_step": 1e6 * step_time / max(k, 1),

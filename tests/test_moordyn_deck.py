@@ -101,7 +101,7 @@ def test_toml_files_load_as_before(tmp_path):
 
 def test_options_defaults_and_aliases(tmp_path):
     """No kBot/cBot/WtrDpth: MoorDyn's defaults (3e6 Pa/m, 3e5 Pa s/m, the deepest point);
-    g, rho and FricDamp read or noted."""
+    g, rho and FricDamp read (FricDamp as the friction's regularisation) or noted."""
     text = deck_text()
     for key in ("kBot", "cBot", "WtrDpth", "WtrDnsty"):
         text = "\n".join(ln for ln in text.splitlines() if key not in ln)
@@ -113,7 +113,12 @@ def test_options_defaults_and_aliases(tmp_path):
     assert (s.environment.depth, s.environment.gravity, s.environment.water_density) == \
         (50.0, 9.81, 1020.0)
     notes = "\n".join(deck.notes)
-    assert "FricDamp = 200 ignored" in notes and "fancyOption = 7 ignored" in notes
+    assert "fancyOption = 7 ignored" in notes
+    # MoorDyn's friction mu FricDamp |v| up to mu N: symcable's regularisation velocity N /
+    # FricDamp with N = w ds, the chain's weight per segment (MoorDyn's source, Line.cpp)
+    w = (390.0 - 1020.0 * math.pi * 0.252 ** 2 / 4) * 9.81
+    assert s.seabed.friction_velocity == pytest.approx(w * 410.0 / 41 / 200.0, rel=1e-12)
+    assert "FricDamp = 200 N s/m" in notes
     assert "WtrDpth missing" in notes and "MoorDyn's default 3e+06" in notes
 
 

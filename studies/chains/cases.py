@@ -4,8 +4,7 @@ and their errors (imported by run.py; see its docstring for the question).
 Scene of a case (:func:`chain_scene`): ``symcable.scene.load_scene(deck)`` (the MoorDyn v2
 deck: 41/76/170 segments, seabed kBot 1e5 Pa/m, cBot 1e4 Pa s/m, friction 0.5, BA/-zeta = -1)
 with ``motion = {"kind": "table", "file": ...}`` added to the vessel end (end B) through
-``to_dict()``, and, unless ``as_loaded``, two keys the deck means as MoorDyn reads it that
-the loader (symcable/scene/moordyn.py) does not yet translate:
+``to_dict()``. The loader (symcable/scene/moordyn.py) reads two keys as MoorDyn means them:
 
 * ``cd_tangential = pi CdAx``: MoorDyn's tangential drag is 0.5 rho d pi CdAx |u| u per metre
   (Line.cpp: ``Dq = vq_mag * Cdt * pi * ...``), symcable's 0.5 rho d cd_tangential |u| u;
@@ -14,8 +13,8 @@ the loader (symcable/scene/moordyn.py) does not yet translate:
   Line.cpp), symcable's mu N v / sqrt(|v|^2 + v_eps^2): the same slope mu N / v_eps at rest
   for a node carrying its own submerged weight N = w ds. For these decks v_eps = 166, 166,
   166 m/s: the friction is a light viscous drag on the bed (0.5 x 200 N s/m per node), far
-  from its Coulomb cap at any speed of these runs. As loaded (v_eps = 0.01 m/s, symcable's
-  default) it is a stiff one: see the README.
+  from its Coulomb cap at any speed of these runs. With symcable's default v_eps = 0.01 m/s
+  it would be a stiff one: see the README.
 
 The table: the motion files run from -10 s to 20 s, the reference's last sample; held after
 its last row, the fairlead would stop dead at t = 20 s and the last sample would see it. The
@@ -24,8 +23,6 @@ study writes the table extended by one period (the heave is 10 s periodic: rows 
 """
 from __future__ import annotations
 
-import math
-import re
 import time
 from pathlib import Path
 
@@ -43,8 +40,6 @@ DECKS = ("WD0050", "WD0200", "WD0600")
 MOTIONS = ("A1", "A2")
 T0 = -10.0  # s: the tables' first row; every code starts at rest there
 PERIOD = 10.0  # s: the heave's period
-#: N s/m: MoorDyn's FricDamp when the deck does not set it (MoorDyn2.cpp)
-FRICDAMP_DEFAULT = 200.0
 
 
 def deck_path(deck: str) -> Path:
@@ -73,23 +68,10 @@ def extended_table(motion: str, out_dir: Path) -> Path:
     return path
 
 
-def fricdamp(deck: Path) -> float:
-    """The deck's FricDamp option (N s/m), or MoorDyn's default."""
-    m = re.search(r"^\s*([-+0-9.eE]+)\s+FricDamp\b", deck.read_text(), re.M | re.I)
-    return float(m.group(1)) if m else FRICDAMP_DEFAULT
-
-
-def chain_scene(deck: str, table: Path, as_loaded: bool = False):
-    """The case's Scene (module docstring); ``as_loaded``: the deck as the loader reads it."""
+def chain_scene(deck: str, table: Path):
+    """The case's Scene (module docstring)."""
     d = load_scene(deck_path(deck)).to_dict()
     d["end_b"]["motion"] = {"kind": "table", "file": str(table)}
-    if not as_loaded:
-        for lt in d["line_types"].values():
-            lt["cd_tangential"] = math.pi * lt["cd_tangential"]
-        (lt,) = d["line_types"].values()
-        (sec,) = d["sections"]
-        ds = sec["length"] / sec["segments"]
-        d["seabed"]["friction_velocity"] = lt["weight"] * ds / fricdamp(deck_path(deck))
     return load_scene(d)
 
 

@@ -51,7 +51,10 @@ OPTIONS (value, then key)
   kBot / kb                  ``seabed.stiffness`` (Pa/m); default MoorDyn's 3e6
   cBot / cb                  ``seabed.damping`` (Pa s/m); default MoorDyn's 3e5
   FrictionCoefficient        ``seabed.friction``
-  FricDamp, StatDynFricScale ignored, with a note (MoorDyn's friction law, not symcable's)
+  FricDamp                   ``seabed.friction_velocity`` = w ds / FricDamp (default 200 N s/m):
+                             MoorDyn's friction rises as mu FricDamp |v| per node up to mu N,
+                             symcable's as mu N |v| / v_eps; equal slopes at N = w ds
+  StatDynFricScale           ignored, with a note (one coefficient, static = dynamic)
   SeafloorFile               refused (a bathymetry file)
   WaveKin, Currents (not 0)  refused (waves and current files); ``current`` is zero
   anything else              ignored (dtM, CFL, TmaxIC, dtIC, threshIC, writeLog, fileIC,
@@ -107,10 +110,9 @@ _OPTIONS = {"wtrdpth": ("environment", "depth"), "wtrdnsty": ("environment", "wa
             "cb": ("seabed", "damping"), "frictioncoefficient": ("seabed", "friction")}
 #: MoorDyn's defaults of the seabed options (MoorDyn2.cpp), which a deck leaving them out means
 _SEABED_DEFAULTS = {"stiffness": 3.0e6, "damping": 3.0e5}
-_FRICTION_NOTES = {"fricdamp": "MoorDyn's friction rises as mu FricDamp |v| (N s/m per node) "
-                               "to mu N; symcable's is -mu N v / sqrt(|v|^2 + v_eps^2) with "
-                               "seabed.friction_velocity",
-                   "statdynfricscale": "symcable has one friction coefficient, static = dynamic"}
+_FRICTION_NOTES = {"statdynfricscale": "symcable has one friction coefficient, static = dynamic"}
+#: MoorDyn's default FricDamp, N s/m (MoorDyn2.cpp)
+FRIC_DAMP = 200.0
 
 
 
@@ -260,6 +262,10 @@ class _Parser(_Tables):
         for key, value in _SEABED_DEFAULTS.items():
             if key not in options.get("seabed", {}):
                 self.notes.append(f"seabed.{key} not in the deck: MoorDyn's default {value:g}")
+        if seabed.get("friction", 0.0) > 0:
+            seabed["friction_velocity"] = self.friction_velocity(
+                types, rows, options.get("friction", {}).get("fricdamp", FRIC_DAMP),
+                env.get("water_density", 1025.0), env.get("gravity", 9.80665))
         stem = os.path.splitext(os.path.basename(self.source))[0]
         used = list(dict.fromkeys(line["type"] for _, line in rows))
         name = f"{stem} line {rows[0][1]['id']}" if len(rows) == 1 else stem
@@ -273,6 +279,25 @@ class _Parser(_Tables):
         return MoorDynDeck(scene=scene, notes=tuple(self.notes),
                            origin=MappingProxyType(dict(self.origin)), lines=self.lines,
                            source=self.source)
+
+    def friction_velocity(self, types: dict, rows: list, fricdamp: float, rho: float,
+                          g: float) -> float:
+        """symcable's friction_velocity for MoorDyn's friction: MoorDyn's rises as
+        mu FricDamp |v| (per node) until it reaches mu N, symcable's as mu N |v| / v_eps near
+        rest, so v_eps = N / FricDamp with N a grounded node's contact force, its weight
+        w ds (the smallest over the deck's lines; MoorDyn's transition is per node)."""
+        if not fricdamp > 0:
+            raise SceneError(f"{self.source}: FricDamp = {fricdamp!r}: must be > 0 N s/m")
+        vs = []
+        for _, line in rows:
+            lt = types[line["type"]][1]
+            w = (lt["mass"] - rho * math.pi * lt["diameter"] ** 2 / 4.0) * g
+            vs.append(abs(w) * line["length"] / line["segments"] / fricdamp)
+        v = max(min(vs), 1e-6)
+        self.notes.append(f"friction: MoorDyn's law (mu FricDamp |v| up to mu N, FricDamp = "
+                          f"{fricdamp:g} N s/m) as seabed.friction_velocity = w ds / FricDamp = "
+                          f"{v:.4g} m/s")
+        return v
 
     def one_line(self, types: dict, row: tuple[int, dict], found: dict) -> tuple[dict, list]:
         """A deck of one line between two held points: a version-1 scene (its sections,
@@ -338,7 +363,10 @@ class _Parser(_Tables):
                     raise self.fail(n, f"{entries[1]} = {value}: waves and current files are "
                                        "not representable yet (0 only)")
                 continue
-            if key in _FRICTION_NOTES:
+            if key == "fricdamp":
+                out.setdefault("friction", {})["fricdamp"] = self.number(n, value, entries[1])
+                self.origin["seabed.friction_velocity"] = n
+            elif key in _FRICTION_NOTES:
                 self.notes.append(f"line {n}: {entries[1]} = {value} ignored: "
                                   f"{_FRICTION_NOTES[key]}")
             elif key in _OPTIONS:

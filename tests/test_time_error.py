@@ -12,7 +12,7 @@ import pytest
 
 from symcable.models.toys import duffing
 from symcable.solvers.integrate import ERROR_TARGET, accurate_dt, integrate
-from symcable.solvers.march import _leaky_sum
+from symcable.solvers.march import leaky_sum
 from symcable.solvers.options import RK4, GeneralizedAlpha, GeneralizedAlphaFirstOrder
 
 P = 2 * math.pi / 1.2  # the Duffing toy's forcing period, s
@@ -76,4 +76,4 @@ def test_leaky_sum_is_the_recursion(a):
     for x in d:
         E = math.exp(-a) * E + x
         want.append(E)
-    np.testing.assert_allclose(_leaky_sum(0.3, d, a), want, rtol=1e-12)
+    np.testing.assert_allclose(leaky_sum(0.3, d, a), want, rtol=1e-12)

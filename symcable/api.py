@@ -266,9 +266,10 @@ def sweep_periodic(scene, periods: Sequence[float], method="collocation", *,
         When every period fails.
     """
     started = time.perf_counter()
-    if _cable3d(scene) is not None:
-        raise SymcableError("sweep_periodic: not yet for a cable3d scene (each period is a "
-                            "solve_periodic of the scene with that motion period)")
+    s3 = _cable3d(scene, model=model, ipopt_options=ipopt_options)
+    if s3 is not None:
+        return _c3.sweep_periodic_3d(s3, periods, method, resolution=resolution, codegen=codegen,
+                                     tol=tol, **options)
     if model is None:
         scene = load_scene(scene)
         model = build_dynamic_model(scene)

@@ -18,6 +18,7 @@ from .derive import functions
 from .errors import ConvergenceError, SymcableError
 from .planar_periodic import method_options
 from .results import ModalSolution
+from .results_periodic import PeriodicSweep
 from .results_line3d import LineTrajectory, SystemTrajectory, line_from_outputs
 from .results_mechanism import SceneLinearization
 from .scene import EndCondition, Scene
@@ -28,7 +29,8 @@ from .solvers.linearize import MAX_DENSE, mechanism_modes, output_sensitivity
 from .solvers.options import RK4, GeneralizedAlphaFirstOrder
 from .solvers.periodic_mech import solve_periodic_mech
 
-__all__ = ["linearize_3d", "modal_analysis_3d", "simulate_3d", "solve_periodic_3d"]
+__all__ = ["linearize_3d", "modal_analysis_3d", "simulate_3d", "solve_periodic_3d",
+           "sweep_periodic_3d"]
 
 #: steps per excitation period by default (as the planar line's generalized-alpha default)
 STEPS_PER_PERIOD = 100
@@ -216,6 +218,7 @@ def solve_periodic_3d(scene: Scene, method="collocation", *, codegen: bool | Non
         raise SymcableError(f"scene {scene.name!r}: a periodic response needs a harmonic end "
                             "motion ([end_b.motion] kind = 'harmonic'), not "
                             + ("a table" if _motions(scene) else "none"))
+    tol = options.pop("tol", None)
     name, opts = method_options(method, options)
     mech, eq = static_equilibrium(scene, codegen=codegen)
     p = np.array(mech.params.values, float)
@@ -225,10 +228,80 @@ def solve_periodic_3d(scene: Scene, method="collocation", *, codegen: bool | Non
     # the virtual machine by default: compiling a collocation system of a 10-segment line
     # took minutes, longer than the solve (a few seconds) it would speed up
     res = solve_periodic_mech(mech, period, opts, p=p, start=eq,
-                              codegen=False if codegen is None else codegen)
+                              codegen=False if codegen is None else codegen,
+                              **({} if tol is None else {"tol": float(tol)}))
     stats = dict(res.stats, period=period, wall_time=time.perf_counter() - started)
     n_t = len(res.time)
     return _line_result(scene, mech, res, name, period / max(n_t, 1), stats, res.warnings)
+
+
+def _with_period(scene: Scene, period: float) -> Scene:
+    """The scene with every harmonic motion at ``period`` s."""
+    from .scene import load_scene
+    d = scene.to_dict()
+    tables = [d.get("end_a"), d.get("end_b")] + [ln.get(k) for ln in d.get("lines", [])
+                                                 for k in ("end_a", "end_b")]
+    tables += list(d.get("points", {}).values())
+    for t in tables:
+        if isinstance(t, dict) and isinstance(t.get("motion"), dict):
+            t["motion"]["period"] = period
+    return load_scene(d)
+
+
+def sweep_periodic_3d(scene: Scene, periods, method="collocation", *, resolution: int = 200,
+                      codegen: bool | None = None, **options) -> PeriodicSweep:
+    """The periodic fairlead tension of a one-line cable3d scene over excitation periods (a
+    tension RAO; see :func:`symcable.sweep_periodic`): the scene's harmonic motion at each
+    period, each solved by :func:`solve_periodic_3d` from its own start (the period is part
+    of the line's Mechanism, so each period builds its own). A period that fails gives NaN
+    and a warning; every one failing raises."""
+    started = time.perf_counter()
+    _one_line(scene, "sweep_periodic")
+    periods = np.asarray(periods, dtype=float).ravel()
+    if periods.size == 0 or not np.all(np.isfinite(periods)) or np.any(periods <= 0):
+        raise SymcableError(f"periods = {periods.tolist()!r}: must be a non-empty list of "
+                            "periods > 0 s")
+    if isinstance(resolution, bool) or int(resolution) != resolution or resolution < 8:
+        raise SymcableError(f"resolution = {resolution!r}: must be an integer >= 8")
+    tau = np.arange(int(resolution)) / int(resolution)
+    rows = {k: np.full(periods.size, np.nan) for k in ("amp", "phase", "mean", "max", "min")}
+    series = np.full((periods.size, tau.size), np.nan)
+    statuses, warnings, its, times = [], [], [], []
+    name = method if isinstance(method, str) else type(method).__name__
+    for i, T in enumerate(periods):
+        t0 = time.perf_counter()
+        try:
+            per = solve_periodic_3d(_with_period(scene, float(T)), method, codegen=codegen,
+                                    **options)
+        except (ConvergenceError, SymcableError) as exc:
+            statuses.append("failed")
+            warnings.append(f"period {T:g} s: {str(exc).splitlines()[0]}")
+            its.append(None)
+            times.append(time.perf_counter() - t0)
+            continue
+        name = per.method
+        f = np.interp(tau * T, np.r_[per.time, T],
+                      np.r_[per.fairlead_tension, per.fairlead_tension[0]])
+        c = np.fft.rfft(f) / f.size
+        series[i] = f
+        rows["amp"][i], rows["phase"][i] = 2 * abs(c[1]), float(np.angle(c[1]))
+        rows["mean"][i], rows["max"][i], rows["min"][i] = f.mean(), f.max(), f.min()
+        statuses.append(per.status)
+        its.append(per.stats.get("iterations"))
+        times.append(time.perf_counter() - t0)
+    if all(st == "failed" for st in statuses):
+        raise ConvergenceError(f"sweep_periodic of {scene.name!r}: every period failed; first: "
+                               f"{warnings[0]}", diagnostics={"warnings": warnings})
+    status = "converged" if all(st == "converged" for st in statuses) else "partial"
+    return PeriodicSweep(
+        scene_name=scene.name, method=name, periods=periods,
+        fairlead_tension_amplitude=rows["amp"], fairlead_tension_phase=rows["phase"],
+        fairlead_tension_mean=rows["mean"], fairlead_tension_max=rows["max"],
+        fairlead_tension_min=rows["min"], normalised_time=tau, fairlead_tension=series,
+        statuses=tuple(statuses), status=status,
+        stats={"wall_time": time.perf_counter() - started, "iterations": its,
+               "solve_time": times, "start": ["own start"] * periods.size},
+        warnings=tuple(warnings))
 
 
 def modal_analysis_3d(scene: Scene, n_modes: int = 10, *, max_dense: int = MAX_DENSE,

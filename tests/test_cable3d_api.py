@@ -133,3 +133,17 @@ def test_cable3d_refuses_planar_only_arguments():
         sc.solve_periodic(_scene(motion=False))
     with pytest.raises(sc.SymcableError, match="method"):
         sc.simulate(_scene(), 1.0, method="euler")
+
+
+def test_sweep_periodic_over_periods():
+    """sweep_periodic on a cable3d scene: each period's fairlead tension equals solve_periodic
+    at that period (the same solve, to round-off, on the sweep's grid of t/T), the first
+    harmonic from the samples."""
+    sw = sc.sweep_periodic(_scene(segments=6), [6.0, 8.0], "collocation", intervals=40,
+                           solver="newton")
+    assert sw.status == "converged" and sw.fairlead_tension.shape == (2, 200)
+    one = sc.solve_periodic(_scene(segments=6), "collocation", intervals=40, solver="newton")
+    want = np.interp(sw.normalised_time * T, np.r_[one.time, T],
+                     np.r_[one.fairlead_tension, one.fairlead_tension[0]])
+    np.testing.assert_allclose(sw.fairlead_tension[1], want, rtol=1e-9)
+    assert np.all(sw.fairlead_tension_amplitude > 0) and "period" in sw.summary()

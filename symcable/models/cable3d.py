@@ -184,14 +184,18 @@ def build_cable3d(scene: Scene, part: str | None = None) -> Mechanism:
     # nodes in opposition: stiffness 4 EA/ds, damping 4 BA/ds, mass m ds per node), as
     # MoorDyn reads BA/-zeta: BA = zeta ds sqrt(EA m)
     BA = np.where(BA < 0, -BA * np.sqrt(seg["EA"] * seg["mass"]) * seg["ds"], BA)
-    fa, fb, T, e = kernel(Xm[:, :-1], Xm[:, 1:], Vm[:, :-1], Vm[:, 1:], ca.repmat(current, 1, N),
+    water = ca.repmat(current, 1, N)
+    if env.current_profile:  # the current at each element's mid-depth
+        water = water + _profile_current(env.current_profile,
+                                         0.5 * (Xm[2, :-1] + Xm[2, 1:]))
+    fa, fb, T, e = kernel(Xm[:, :-1], Xm[:, 1:], Vm[:, :-1], Vm[:, 1:], water,
                           row("ds"), row("EA"), ca.DM(BA).T, ca.DM(law["EA_slack"]).T,
                           width * ca.DM(law["delta"]).T, F, row("w"), row("d"), row("cdn"),
                           row("cdt"), rho, load)
     nodal = ca.horzcat(fa, ca.SX.zeros(3, 1)) + ca.horzcat(ca.SX.zeros(3, 1), fb)  # (3, N+1)
     contact = ca.SX.zeros(1, N + 1)
     term_names = ["elastic", "weight"] + (["material damping"] if np.any(BA) else [])
-    if not env.in_air and any(env.current):
+    if not env.in_air and (any(env.current) or env.current_profile):
         term_names.append("drag")
     if sb is not None:
         term_names.append("seabed")
@@ -284,7 +288,8 @@ def build_cable3d(scene: Scene, part: str | None = None) -> Mechanism:
                                          what="a cable (EI = 0) carries no compression")}
     if sb is not None:
         press = float(np.sum(np.maximum(seg["w"], 0.0) * seg["ds"])) + float(np.abs(applied).sum())
-        u2 = float(np.dot(env.current, env.current))
+        u2 = float(np.dot(env.current, env.current)) + max(
+            (float(np.dot(r[1:], r[1:])) for r in env.current_profile), default=0.0) * 2.0
         press += float(np.sum(0.5 * rho * seg["cdn"] * seg["d"] * seg["ds"])) * u2
         bounds["seabed_reaction"] = Bound(ca.sum2(contact), upper=1.01 * press + 1e-6 * F,
                                           unit="N", scale=F, what="the seabed carries at most "
@@ -338,6 +343,19 @@ def _seabed_dynamics(sb, Xm, Vm, contact, pen, dlt, area, term_names):
         speed = ca.sqrt(ca.sum1(vh * vh) + sb.friction_velocity ** 2)
         f = -ca.repmat(contact / speed, 2, 1) * (mu_a * va + mu_l * (vh - va))
         out[0:2, :] = f
+    return out
+
+
+def _profile_current(rows, z):
+    """The current (3, N) at depths ``z`` (1, N), m: linear between the profile's rows (z
+    ascending), held beyond the first and the last, written as a sum of ramps."""
+    r = np.asarray(rows, float)
+    zk, U = r[:, 0], r[:, 1:4]
+    slopes = np.diff(U, axis=0) / np.diff(zk)[:, None]
+    kinks = np.vstack([slopes[:1], np.diff(slopes, axis=0), -slopes[-1:]])  # (n, 3)
+    out = ca.repmat(ca.DM(U[0]), 1, z.shape[1])
+    for k in range(len(zk)):
+        out = out + ca.mtimes(ca.DM(kinks[k]), ca.fmax(z - zk[k], 0.0))
     return out
 
 

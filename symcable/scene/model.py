@@ -217,12 +217,16 @@ class Environment:
     current : tuple of float
         Uniform current velocity, m/s: [U_x, U_z] planar, [U_x, U_y, U_z] cable3d; default
         zero (the loader gives the scene's dimension; the dataclass default is planar).
+    current_profile : tuple of (z, U_x, U_y, U_z)
+        cable3d: a current varying with depth, rows by ascending z (m, up), linear between
+        them and held beyond (added to ``current``); empty: none.
     """
 
     gravity: float = 9.80665
     water_density: float = 1025.0
     depth: float | None = None
     current: tuple[float, ...] = (0.0, 0.0)
+    current_profile: tuple = ()
 
     @property
     def in_air(self) -> bool:
@@ -356,6 +360,8 @@ def scene_to_dict(scene: Scene) -> dict:
     if env.depth is not None:
         environment["depth"] = env.depth
     environment["current"] = list(env.current)
+    if env.current_profile:
+        environment["current_profile"] = [list(r) for r in env.current_profile]
     out: dict[str, Any] = {"name": scene.name, "model": Model(scene.model).value,
                            "environment": environment}
     if scene.mass_matrix != "lumped":

@@ -16,7 +16,7 @@ from .checks import (_choice, _err, _fmt, _for, _get, _integer, _key, _layout,
 from .model import (_LINE_KEYS, End, EndCondition, Environment, LineType, Motion, Seabed,
                     Section)
 
-_ENV_KEYS = ("gravity", "water_density", "depth", "current")
+_ENV_KEYS = ("gravity", "water_density", "depth", "current", "current_profile")
 _SEABED_KEYS = ("stiffness", "friction", "damping", "friction_axial", "friction_lateral",
                 "friction_velocity")
 _SECTION_KEYS = ("type", "length", "segments")
@@ -42,7 +42,30 @@ def _environment(data: Mapping, dim: int) -> Environment:
         depth=None if depth is None else num("depth", "m", gt=0),
         current=_vector("environment.current", _get(t, "current", (0.0,) * dim), dim, "m/s",
                         _for(dim, "U_")),
+        current_profile=_current_profile(_get(t, "current_profile"), dim),
     )
+
+
+def _current_profile(raw, dim: int) -> tuple:
+    """Rows [z, U_x, U_y, U_z] (m, m/s), at least two, distinct z, sorted by z (cable3d)."""
+    key = "environment.current_profile"
+    if raw is None:
+        return ()
+    if dim != 3:
+        raise _err(key, raw, "", "a current profile is a cable3d option (model = 'cable3d'); "
+                                 "the planar line takes a uniform environment.current")
+    rows = []
+    if isinstance(raw, (list, tuple)):
+        for k, r in enumerate(raw):
+            rows.append(_vector(f"{key}[{k}]", r, 4, "m, m/s", "[z, U_x, U_y, U_z]"))
+    if len(rows) < 2:
+        raise _err(key, raw, "", "must be a list of at least two rows [z, U_x, U_y, U_z] "
+                                 "(m, m/s): the current at depth z, linear between rows")
+    rows.sort(key=lambda r: r[0])
+    zs = [r[0] for r in rows]
+    if any(b <= a for a, b in zip(zs, zs[1:])):
+        raise _err(key, raw, "", "two rows at the same z: each depth once")
+    return tuple(tuple(float(v) for v in r) for r in rows)
 
 
 def _seabed(data: Mapping, env: Environment) -> Seabed | None:

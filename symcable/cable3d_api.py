@@ -71,6 +71,16 @@ def default_dt(scene: Scene, duration: float) -> float:
     return min(dts)
 
 
+def _line_parts(mech) -> list:
+    """The names of the mechanism's line parts, in order."""
+    return [n for n, part in mech.layout.parts.items() if part.kind == "line"]
+
+
+def _prefixes(scene: Scene, lines) -> dict:
+    """Each line's output prefix: none in a one-line scene, ``"NAME."`` in version 2."""
+    return {n: ("" if scene.version == 1 else f"{n}.") for n in lines}
+
+
 def _one_line(scene: Scene, what: str) -> None:
     """A SymcableError for a scene of several lines and points (version 2), which ``what``
     does not run yet."""
@@ -130,8 +140,8 @@ def _line_result(scene, mech, tr, method: str, dt: float, stats: dict, warnings,
     error estimate extended to the end tensions when ``opts`` (the stepping method) is given."""
     t = np.asarray(tr.time, float)
     warnings = list(warnings)
-    lines = [n for n, part in mech.layout.parts.items() if part.kind == "line"]
-    prefix = {n: ("" if scene.version == 1 else f"{n}.") for n in lines}
+    lines = _line_parts(mech)
+    prefix = _prefixes(scene, lines)
     if opts is not None:
         ends = [np.asarray(tr.outputs[prefix[n] + k], float).reshape(t.size, 3)
                 for n in lines for k in ("end_force_a", "end_force_b")]
@@ -311,16 +321,17 @@ def modal_analysis_3d(scene: Scene, n_modes: int = 10, *, max_dense: int = MAX_D
     positions, K the exact tangent stiffness (tension's geometric stiffness included), M the
     lumped mass with added mass. ``shapes`` (n_modes, n, 3): node displacements (x, y, z),
     zero at held ends, scaled to a largest node displacement of 1. ``damped=True`` adds the
-    damping ratios of the complex modes in ``stats["damping_ratios"]``."""
+    damping ratios of the complex modes in ``stats["damping_ratios"]``. A scene of several
+    lines: the lines' nodes stacked in scene order (a shared node once per line), with
+    ``stats["lines"]`` giving each line's [start, stop) rows."""
     started = time.perf_counter()
-    _one_line(scene, "modal_analysis")
     if isinstance(n_modes, bool) or int(n_modes) != n_modes or n_modes < 1:
         raise SymcableError(f"n_modes = {n_modes!r}: must be an integer >= 1")
     mech, eq = static_equilibrium(scene)
     t_static = time.perf_counter() - started
     modes = mechanism_modes(mech, eq, int(n_modes), damped=damped, max_dense=max_dense)
-    lay = mech.layout.parts["line"]
-    idx = np.asarray(lay.node_q)
+    lines = _line_parts(mech)
+    idx = np.vstack([np.asarray(mech.layout.parts[n].node_q) for n in lines])
     shapes = np.zeros((len(modes.frequencies),) + idx.shape)
     held = idx < 0
     for k, phi in enumerate(np.asarray(modes.shapes, float)):
@@ -337,9 +348,15 @@ def modal_analysis_3d(scene: Scene, n_modes: int = 10, *, max_dense: int = MAX_D
              "wall_time": time.perf_counter() - started}
     if damped and modes.damping_ratios is not None:
         stats["damping_ratios"] = np.asarray(modes.damping_ratios, float).tolist()
+    pre = _prefixes(scene, lines)
+    if scene.version == 2:  # where each line's nodes sit in the stacked arrays
+        sizes = np.cumsum([0] + [len(mech.layout.parts[n].s) for n in lines])
+        stats["lines"] = {n: [int(a), int(b)] for n, a, b in zip(lines, sizes[:-1], sizes[1:])}
     return ModalSolution(
-        scene_name=scene.name, s=np.asarray(lay.s, float),
-        positions=np.asarray(eq.outputs["positions"], float).reshape(-1, 3), frequencies=freq,
+        scene_name=scene.name,
+        s=np.concatenate([np.asarray(mech.layout.parts[n].s, float) for n in lines]),
+        positions=np.vstack([np.asarray(eq.outputs[pre[n] + "positions"], float).reshape(-1, 3)
+                             for n in lines]), frequencies=freq,
         periods=1.0 / freq, real_parts=np.asarray(modes.real_parts if modes.real_parts is not None
                                                   else np.zeros_like(freq), float),
         shapes=shapes, status="converged", stats=stats, warnings=tuple(modes.warnings))
@@ -359,12 +376,14 @@ def linearize_3d(scene: Scene, *, undamped: bool = False) -> SceneLinearization:
     e.g. ``"node3.y"``); K includes the geometric stiffness of the static tension; C the
     material damping and the drag linearised about the current (none with ``undamped``,
     which also switches the current off); and the exact (3, 3) stiffness of each pinned
-    end."""
-    _one_line(scene, "linearize")
+    end (a scene of several lines: of each fixed or vessel point, by name, every line
+    attached to it moved with it; q named ``"line.node3.y"``, a free point's ``"buoy.x"``)."""
     mech, eq = static_equilibrium(scene)
     p = np.array(eq.p, float)
     if undamped:
-        p[mech.params.slice("current")] = 0.0
+        for block in mech.params.names:
+            if block.split(".")[-1] == "current":
+                p[mech.params.slice(block)] = 0.0
     F = functions(mech)
     z0 = np.zeros(0)
     q0, v0 = np.asarray(eq.q, float), np.zeros(mech.n_v)
@@ -372,14 +391,28 @@ def linearize_3d(scene: Scene, *, undamped: bool = False) -> SceneLinearization:
     H, G = (np.asarray(a) for a in F.kinematics_jacobian(q0, v0, z0, 0.0, p))
     if undamped:
         C = np.zeros_like(C)
-    idx = np.asarray(mech.layout.parts["line"].node_q)
     kinds = [""] * mech.n_q
-    for i, row in enumerate(idx):
-        for c, j in zip("xyz", row):
-            if j >= 0:
-                kinds[j] = f"node{i}.{c}"
+    # points first: a free point's node, shared with its lines' ends, goes by its name
+    for name, part in sorted(mech.layout.parts.items(), key=lambda kv: kv[1].kind == "line"):
+        tag = "" if scene.version == 1 else f"{name}."
+        for i, row in enumerate(np.asarray(part.node_q)):
+            for c, j in zip("xyz", row):
+                if j >= 0 and not kinds[j]:
+                    kinds[j] = f"{tag}node{i}.{c}" if part.kind == "line" else f"{name}.{c}"
     ends = {}
-    for end in ("a", "b"):
-        if getattr(scene, f"end_{end}").condition is EndCondition.PINNED:
-            ends[end] = end_stiffness_3d(scene, end, equilibrium=(mech, eq))
+    if scene.version == 1:
+        for end in ("a", "b"):
+            if getattr(scene, f"end_{end}").condition is EndCondition.PINNED:
+                ends[end] = end_stiffness_3d(scene, end, equilibrium=(mech, eq))
+    else:  # each held point: -d(lines' force on it)/d(its position), every attached end
+        for pname, pt in scene.points.items():
+            if pt.is_free:
+                continue
+            K_pt = np.zeros((3, 3))
+            for ln in scene.lines:
+                for end in ("a", "b"):
+                    if getattr(ln, f"end_{end}") == pname:
+                        K_pt -= output_sensitivity(mech, eq, f"{pname}.force",
+                                                   f"{ln.name}.end_{end}.position")
+            ends[pname] = K_pt
     return SceneLinearization(scene.name, K, C, M, G, H, tuple(kinds), tuple(kinds), ends, undamped)

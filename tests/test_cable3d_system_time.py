@@ -44,3 +44,34 @@ def test_system_run_gives_each_line_and_point(tmp_path):
     back = SystemTrajectory.load(tr.save(tmp_path / "run.json"))
     assert np.array_equal(back.lines["lower"].axial_force, lo.axial_force)
     assert "line upper" in tr.summary()
+
+
+def test_system_modes_and_stiffness():
+    """Modes of the two ropes and the buoy: the generalized eigenvalues of linearize's K and M
+    (scipy, to 1e-8); the fairlead point's stiffness is the central difference of the static
+    force the lines exert on it (to 1e-4 of its largest entry: the difference's truncation
+    error at 1 mm)."""
+    import math
+
+    import scipy.linalg
+
+    d = _scene()
+    modes = sc.modal_analysis(d, 4)
+    lin = sc.linearize(d, undamped=True)
+    w2 = scipy.linalg.eigh(0.5 * (lin.K + lin.K.T), lin.M, eigvals_only=True)
+    np.testing.assert_allclose(modes.frequencies, np.sqrt(np.sort(w2[w2 > 0])[:4]) / (2 * math.pi),
+                               rtol=1e-8)
+    assert modes.shapes.shape == (4, 18, 3) and modes.stats["lines"] == {"lower": [0, 9],
+                                                                         "upper": [9, 18]}
+    assert "buoy.x" in lin.q_kinds and "upper.node4.z" in lin.q_kinds
+    K = lin.end_stiffness["fair"]
+    fd = np.zeros((3, 3))
+    h = 1e-3
+    for j in range(3):
+        f = []
+        for sgn in (1, -1):
+            dd = _scene()
+            dd["points"]["fair"]["position"][j] += sgn * h
+            f.append(np.asarray(sc.solve_static(dd).points["fair"].force))
+        fd[:, j] = -(f[0] - f[1]) / (2 * h)
+    assert np.max(np.abs(K - fd)) < 1e-4 * np.max(np.abs(K))

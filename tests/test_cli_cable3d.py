@@ -1,6 +1,5 @@
 """The command line on cable3d scenes: check, simulate, periodic and modes with --json,
---save and --plot (issue 12, item 6), and a scene of several lines in check (its modes are
-not there yet: one clear error)."""
+--save and --plot (issue 12, item 6), and a scene of several lines in check and modes."""
 from __future__ import annotations
 
 import json
@@ -55,5 +54,6 @@ def test_cli_check_lists_points_and_lines(tmp_path, capsys):
     assert main(["check", str(p)]) == 0
     out = capsys.readouterr().out
     assert "point      buoy: free" in out and "line       upper" in out
-    assert main(["modes", str(p)]) == 2  # one clear line, not a traceback
-    assert "several lines and points" in capsys.readouterr().err
+    assert main(["modes", str(p), "--n", "2", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["stats"]["lines"] == {"lower": [0, 9],
+                                                                      "upper": [9, 18]}

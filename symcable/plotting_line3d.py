@@ -15,7 +15,7 @@ import numpy as np
 
 from .errors import SymcableError
 
-__all__ = ["plot_profiles", "plot_tensions", "write_vtk"]
+__all__ = ["animate", "plot_profiles", "plot_tensions", "write_vtk"]
 
 DPI = 150
 
@@ -132,3 +132,47 @@ def write_vtk(tr, folder, stem: str = "line") -> Path:
     pvd.write_text('<?xml version="1.0"?>\n<VTKFile type="Collection" version="0.1">\n'
                    "  <Collection>\n" + "\n".join(entries) + "\n  </Collection>\n</VTKFile>\n")
     return pvd
+
+
+def animate(tr, path, *, frames: int = 60, fps: int = 15, title: str | None = None) -> Path:
+    """An animated GIF of the line (plan and elevation side by side, true scale, m) at
+    ``frames`` evenly spaced samples, ``fps`` frames per second, with the time and the
+    fairlead tension (kN) in the title; written by matplotlib's Pillow writer. Returns the
+    path."""
+    plt = _plt()
+    from matplotlib.animation import FuncAnimation, PillowWriter
+
+    path = Path(path)
+    if path.suffix.lower() != ".gif":
+        raise SymcableError(f"path = '{path}': an animation is written as .gif")
+    n_t = len(tr.time)
+    idx = np.unique(np.linspace(0, n_t - 1, max(2, min(int(frames), n_t))).round().astype(int))
+    fig, (plan, elev) = plt.subplots(1, 2, figsize=(11.0, 4.2))
+    pts = tr.positions[idx].reshape(-1, 3)
+    lo, hi = pts.min(axis=0), pts.max(axis=0)
+    pad = 0.05 * max(float(np.max(hi - lo)), 1e-9)
+    for ax, (a, b), name in ((plan, (0, 1), "plan"), (elev, (0, 2), "elevation")):
+        ax.set_xlim(lo[a] - pad, hi[a] + pad)
+        ax.set_ylim(lo[b] - pad, hi[b] + pad)
+        ax.set_aspect("equal", adjustable="box")  # the limits kept, true scale
+        ax.set_xlabel(f"{'xyz'[a]} (m)")
+        ax.set_ylabel(f"{'xyz'[b]} (m)")
+        ax.set_title(name, fontsize=10)
+        ax.grid(alpha=0.3)
+    (lp,) = plan.plot([], [], "-o", color="tab:blue", ms=2.5, lw=1.4)
+    (le,) = elev.plot([], [], "-o", color="tab:blue", ms=2.5, lw=1.4)
+    head = fig.suptitle("", fontsize=11)
+    name = title or tr.scene_name
+
+    def draw(k):
+        P = tr.positions[idx[k]]
+        lp.set_data(P[:, 0], P[:, 1])
+        le.set_data(P[:, 0], P[:, 2])
+        head.set_text(f"{name}: t = {tr.time[idx[k]]:.2f} s, fairlead tension "
+                      f"{tr.fairlead_tension[idx[k]] / 1e3:.4g} kN")
+        return lp, le, head
+
+    anim = FuncAnimation(fig, draw, frames=len(idx), blit=False)
+    anim.save(path, writer=PillowWriter(fps=int(fps)))
+    plt.close(fig)
+    return path

@@ -153,6 +153,12 @@ class LineTrajectory(OneLine, Exportable):
             return plot_profiles(self, path, **options)
         raise SymcableError(f"kind = {kind!r}: must be 'tensions' or 'profile'")
 
+    def animate(self, path: str | Path, **options) -> Path:
+        """An animated GIF of the line in plan and elevation
+        (:func:`symcable.plotting_line3d.animate`: ``frames``, ``fps``, ``title``)."""
+        from .plotting_line3d import animate
+        return animate(self, path, **options)
+
     def to_vtk(self, folder: str | Path, stem: str = "line") -> Path:
         """Write the run for ParaView (:func:`symcable.plotting_line3d.write_vtk`): one
         ``.vtu`` per sample (the line as a polyline, with tension, strain, velocity and

@@ -63,6 +63,8 @@ def test_simulate_gives_a_line_trajectory(tmp_path):
     pvd = tr.to_vtk(tmp_path / "vtk")
     assert len(list((tmp_path / "vtk").glob("*.vtu"))) == n_t and pvd.read_text().count("<DataSet") == n_t
     assert "fairlead tension" in tr.summary()
+    gif = tr.animate(tmp_path / "run.gif", frames=6)
+    assert gif.read_bytes()[:6] == b"GIF89a" and gif.stat().st_size > 10_000
 
 
 def test_tension_error_estimate_tracks_the_true_error(reference):

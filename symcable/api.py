@@ -70,7 +70,7 @@ def build_dynamic_model(scene, static=None) -> DynamicModel:
 
 
 def simulate(scene, duration: float, dt: float | None = None, method: str = "generalized-alpha", *,
-             rho_inf: float = 0.5, save_every: int | None = None, save_times=None,
+             rho_inf: float | None = None, save_every: int | None = None, save_times=None,
              progress: bool | None = None, model: DynamicModel | None = None, params=None,
              newton_tol: float | None = None, codegen: bool | None = None) -> Trajectory:
     """Time response of a line from rest at t = 0 (where its excitation starts): its
@@ -95,8 +95,10 @@ def simulate(scene, duration: float, dt: float | None = None, method: str = "gen
         Implicit generalized-α (first order on the DAE residual, Jansen, Whiting & Hulbert
         2000: second order, A-stable, numerical damping set by ``rho_inf``) or explicit
         classical RK4 (fourth order, stable only below its limit).
-    rho_inf : float
-        Generalized-α spectral radius at infinite step, in [0, 1].
+    rho_inf : float, optional
+        Generalized-α spectral radius at infinite step, in [0, 1]; default 0.5 for the planar
+        line, 0 for cable3d (:data:`symcable.cable3d_api.RHO_INF`: a stiff line's axial modes
+        are far above the step and are best removed).
     save_every : int, optional
         Save every this many steps (and the last step). Default: every step when there are
         fewer than 2000 steps, else about 2000 evenly spaced samples.
@@ -148,13 +150,16 @@ def simulate(scene, duration: float, dt: float | None = None, method: str = "gen
     started = time.perf_counter()
     s3 = _cable3d(scene, model=model, params=params)
     if s3 is not None:
-        return _c3.simulate_3d(s3, duration, dt, method, rho_inf=rho_inf, save_every=save_every,
+        return _c3.simulate_3d(s3, duration, dt, method,
+                               rho_inf=_c3.RHO_INF if rho_inf is None else rho_inf,
+                               save_every=save_every,
                                save_times=save_times, progress=progress, newton_tol=newton_tol,
                                codegen=codegen)
     if model is None and scene is not None:
         scene = load_scene(scene)
         model = build_dynamic_model(scene)
-    return _planar_time.simulate(scene, duration, dt, method, rho_inf=rho_inf,
+    return _planar_time.simulate(scene, duration, dt, method,
+                                 rho_inf=0.5 if rho_inf is None else rho_inf,
                                  save_every=save_every, save_times=save_times,
                                  progress=progress, model=model, params=params,
                                  newton_tol=newton_tol, codegen=codegen, started=started)

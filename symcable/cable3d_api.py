@@ -34,9 +34,19 @@ __all__ = ["linearize_3d", "modal_analysis_3d", "simulate_3d", "solve_periodic_3
 
 #: steps per excitation period by default (as the planar line's generalized-alpha default)
 STEPS_PER_PERIOD = 100
+#: generalized-alpha's default spectral radius at infinite step for cable3d: the axial modes
+#: of a stiff line sit far above any step that resolves its motion, and a kinked motion table,
+#: a seabed landing or a snap excites them; rho_inf = 0 removes them in one step. Measured
+#: (first-order scheme), max fairlead error against the reference: the live-MoorDyn 3D case
+#: 5.8 against 26.6 % at T/240; MoorDyn's chain decks at dt = 0.1 s against OrcaFlex 8.4 /
+#: 7.0 / 8.0 / 8.4 against 10.9 / 14.0 / 9.0 / 8.3 % (WD0050, WD0200 x A1, A2; MoorDyn
+#: itself 14.1 / 11.1 / 10.0 / 9.5); the line of tests/test_cable3d_api.py 35 against 45 %
+#: at T/100 but 19 against 12 % at T/200
+RHO_INF = 0.0
 #: the end tensions' error estimate (:func:`tension_error_estimate`) times this: measured
 #: 0.49, 0.51 and 0.54 of the true error at T/200, T/400 and T/800 on a 10-segment line with
-#: seabed contact (true errors 12, 3.2 and 0.76 % of the range, against dt = T/3200)
+#: seabed contact at rho_inf = 0.5 (true errors 12, 3.2 and 0.76 % of the range, against
+#: dt = T/3200); with the factor, 1.3 to 1.4 times the true error at rho_inf = 0
 TENSION_ESTIMATE_FACTOR = 2.0
 
 
@@ -160,7 +170,7 @@ def _line_result(scene, mech, tr, method: str, dt: float, stats: dict, warnings,
 
 
 def simulate_3d(scene: Scene, duration: float, dt: float | None = None,
-                method: str = "generalized-alpha", *, rho_inf: float = 0.5,
+                method: str = "generalized-alpha", *, rho_inf: float | None = None,
                 save_every: int | None = None, save_times=None, progress: bool | None = None,
                 newton_tol: float | None = None, codegen: bool | None = None,
                 t_start: float | None = None) -> LineTrajectory | SystemTrajectory:
@@ -168,10 +178,10 @@ def simulate_3d(scene: Scene, duration: float, dt: float | None = None,
 
     The run starts at ``t_start`` s (default :func:`run_start`: a motion table's first row
     when before 0, else 0) and lasts ``duration`` s; ``dt`` default :func:`default_dt`.
-    ``rho_inf`` (default 0.5) is generalized-alpha's numerical damping: on a slack rope
-    jerked taut (tests/test_cable3d_snap.py) rho_inf = 0.8 at dt = 0.05 s returned a snap
-    peak 500 times the converged one, 0.5 within 20 %, 0 within 5 %: high-frequency axial
-    waves released by a snap need the damping. Returns a :class:`LineTrajectory` (a scene of
+    ``rho_inf`` (default :data:`RHO_INF` = 0) is generalized-alpha's numerical damping: on a
+    slack rope jerked taut (tests/test_cable3d_snap.py) rho_inf = 0.8 at dt = 0.05 s returned
+    a snap peak 500 times the converged one, 0.5 within 20 %, 0 within 5 % (second-order
+    scheme): high-frequency axial waves released by a snap need the damping. Returns a :class:`LineTrajectory` (a scene of
     several lines and points: a :class:`SystemTrajectory`, ``.lines[name]`` each line's);
     a failed step raises ConvergenceError whose ``partial`` is one too.
     """
@@ -179,6 +189,7 @@ def simulate_3d(scene: Scene, duration: float, dt: float | None = None,
     name = str(getattr(method, "value", method)).strip().lower().replace("_", "-")
     if name not in ("generalized-alpha", "rk4"):
         raise SymcableError(f"method = {method!r}: must be 'generalized-alpha' or 'rk4'")
+    rho_inf = RHO_INF if rho_inf is None else rho_inf
     if not (isinstance(rho_inf, (int, float)) and 0.0 <= rho_inf <= 1.0):
         raise SymcableError(f"rho_inf = {rho_inf!r}: must be a number in [0, 1]")
     try:

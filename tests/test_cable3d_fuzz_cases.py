@@ -161,3 +161,18 @@ def test_friction_and_motion_change_nothing_in_statics(clump):
                                atol=1e-9)
     assert st.lines["upper"].fairlead_tension == pytest.approx(
         clump.lines["upper"].fairlead_tension, rel=1e-9)
+
+
+def test_one_segment_between_held_ends_has_a_start():
+    """A line of one segment between two held ends has no unknowns; its start is the empty
+    vector (the start's indexing raised an IndexError on the empty list of moving nodes,
+    fuzz scene c11-0030)."""
+    from symcable.models.cable3d import build_cable3d
+    d = {"model": "cable3d", "line_types": {"chain": {"mass": 71.0, "diameter": 0.06, "EA": 1.1e8}},
+         "sections": [{"type": "chain", "length": 24.0, "segments": 1}],
+         "end_a": {"condition": "pinned", "position": [-117.2, -847.7, -25.8]},
+         "end_b": {"condition": "pinned", "position": [-108.0, -854.9, -45.7]}}
+    mech = build_cable3d(load_scene(d))
+    assert mech.n_q == 0
+    starts = list(mech.starts())
+    assert starts and all(np.asarray(s.q).size == 0 for s in starts)

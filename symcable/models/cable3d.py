@@ -216,6 +216,11 @@ def build_cable3d(scene: Scene, part: str | None = None) -> Mechanism:
         nodal = nodal + ca.vertcat(ca.SX.zeros(2, N + 1), contact)
         nodal = nodal + _seabed_dynamics(sb, Xm, Vm, contact, -env.depth - z_probe, dlt, trib,
                                          term_names)
+    # what the line exerts on each end (N): its element's pull and the loads lumped on the
+    # end node, which the support takes (as the planar line's end forces); on a free end the
+    # applied force is not the line's, and balances this
+    end_force_a = nodal[:, 0]
+    end_force_b = nodal[:, N]
     applied = np.zeros((3, N + 1))
     for end, i in ((a, 0), (b, N)):
         if end.condition is EndCondition.FREE and end.force is not None:
@@ -251,10 +256,6 @@ def build_cable3d(scene: Scene, part: str | None = None) -> Mechanism:
         mass, inertia = _consistent_mass(halves, acc, moving, N)
         force = force + inertia
 
-    # what the line exerts on each held end (N): its element's pull and the loads lumped on
-    # the end node, which the support takes (as the planar line's end forces)
-    end_force_a = nodal[:, 0]
-    end_force_b = nodal[:, N]
     outputs = {
         "positions": Output(Xm.T, "m", owner, "node positions (x, y, z)"),
         "velocities": Output(ca.densify(Vm.T), "m/s", owner, "node velocities (x, y, z)"),

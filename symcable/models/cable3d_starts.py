@@ -79,7 +79,7 @@ def _hanging(scene, seg):
 def starts_of(scene, seg, params, moving):
     """Start objects for :class:`~symcable.models.mechanism.Mechanism` (lazily)."""
     p0 = params.with_values(motion=0.0)
-    idx = np.asarray(moving)
+    idx = np.asarray(moving, dtype=int)  # empty: one segment between two held ends
 
     def start(pos, source):
         return Start(np.ascontiguousarray(pos[idx]).ravel(), np.zeros(0), p0, source)

@@ -6,7 +6,10 @@ scene (:func:`line_scene`): an end at a fixed or vessel point is held there by t
 itself (with the point's motion, exactly as a version-1 end), an end at a free point is a
 free node of the line with no force of its own. Each free point is a small part of its own
 (:func:`point_part`): one node with its mass and added mass, its weight less its buoyancy,
-Morison drag on its velocity relative to the current and its applied force. The parts are
+Morison drag on its velocity relative to the current, its applied force and, on a scene
+with a seabed, its own contact with the bed (:func:`point_contact`: a clump weight rests on
+the bed as the lines do, instead of sinking into it through the contact of the few line
+nodes beside it). The parts are
 assembled (:func:`~symcable.models.assembly.assemble`) with a :class:`Shared` joint between
 every free point's node and each line end attached to it, so the lines' end forces and the
 point's loads add up there by virtual work.
@@ -41,9 +44,9 @@ from .cable3d import DRAG_SPEED, _lumped, build_cable3d, force_scale
 from .cable3d_starts import _catenary, _hanging
 from .mechanism import Layout, Mechanism, Output, ParamBlocks, PartLayout, Scales, Start
 from .planar import segment_table, slack_law
-from .relax import drag_loads, relaxed_network
+from .relax import _ramp_integral, drag_loads, relaxed_network
 
-__all__ = ["build_system", "line_scene", "point_part"]
+__all__ = ["build_system", "line_scene", "point_contact", "point_part"]
 
 
 def _end_of(scene: Scene, end, pinned_free: bool = False) -> End:
@@ -77,13 +80,39 @@ def _point_loads(pt: Point, env: Environment) -> tuple[float, np.ndarray, float]
     return (pt.mass - rho * pt.volume) * env.gravity, applied, rho
 
 
-def point_part(pt: Point, env: Environment) -> Mechanism:
+def point_contact(scene: Scene, name: str) -> tuple[float, float] | None:
+    """(stiffness K, N/m; smoothing width, m) of free point ``name``'s seabed contact, or None
+    when the scene has no seabed. The contact is the lines' penalty law on the point's node,
+    K ramp(-depth - z) (:func:`~symcable.models.terms.smooth_ramp`), with K such that what
+    can press the point onto the bed (its own net weight and applied force and the whole
+    weight of the lines attached to it) sinks it no deeper than the heaviest of those lines
+    sinks under its own weight, |w| / (stiffness d); the smoothing width is those lines'."""
+    sb = scene.seabed
+    if sb is None:
+        return None
+    pt, env = scene.points[name], scene.environment
+    secs = [s for ln in scene.lines if name in (ln.end_a, ln.end_b) for s in ln.sections]
+    w = max(abs(s.line_type.weight) for s in secs)
+    d = min(s.line_type.diameter for s in secs)
+    weight, applied, _ = _point_loads(pt, env)
+    press = max(weight, 0.0) + float(np.linalg.norm(applied)) \
+        + sum(abs(s.line_type.weight) * s.length for s in secs)
+    sink = max(w / (sb.stiffness * d), 1e-6 * min(s.length for s in secs))
+    return max(press, 1e-6) / sink, terms.contact_smoothing(w, sb.stiffness, d)
+
+
+def point_part(pt: Point, env: Environment, seabed=None, contact=None) -> Mechanism:
     """A free point as a Mechanism of one node (q its position, m): mass ``mass`` plus added
     mass ``ca rho V_a`` in every direction (kg); force (N) ``load (-(mass - rho volume) g e_z
     + force)`` plus Morison drag ``0.5 rho cd_area_i |u| u_i``, u = current - v (|u| smoothed
-    as the lines'). Parameter blocks ``load`` (1) and ``current`` (3, m/s). Outputs
-    ``position``, ``own_force`` (those loads), ``potential_energy`` (of the weight, buoyancy
-    and applied force, J), ``kinetic_energy`` (J)."""
+    as the lines'). With a ``seabed`` and ``contact`` = (K, width) (:func:`point_contact`):
+    the contact N = K ramp(-depth - z) upward, a damper -damping (K / stiffness) v_z while in
+    contact (the lines' pressure per speed over the same footprint), and regularised Coulomb
+    friction -mu N v_h / sqrt(|v_h|^2 + v_eps^2) with the isotropic ``friction`` (or, when only
+    friction_axial / friction_lateral are given, the larger). Parameter blocks ``load`` (1)
+    and ``current`` (3, m/s). Outputs ``position``, ``own_force`` (those loads),
+    ``contact_force`` (N, upward), ``potential_energy`` (of the weight, buoyancy, applied
+    force and contact, J), ``kinetic_energy`` (J)."""
     weight, applied, rho = _point_loads(pt, env)
     q, v = ca.SX.sym("q", 3), ca.SX.sym("v", 3)
     t = ca.SX.sym("t")
@@ -98,13 +127,30 @@ def point_part(pt: Point, env: Environment) -> Mechanism:
     mass = m * ca.SX.eye(3)
     names = ["point weight"] + (["point drag"] if rho > 0 and any(pt.drag_area) else []) \
         + (["point force"] if np.any(applied) else [])
+    potential = load * (weight * q[2] - ca.dot(ca.DM(applied), q))
+    normal = ca.SX(0.0)
+    if seabed is not None and contact is not None:
+        K, width = contact
+        pen = -env.depth - q[2]
+        normal = K * terms.smooth_ramp(pen, width)
+        names.append("point seabed")
+        own = own + ca.vertcat(0.0, 0.0, normal)
+        potential = potential + K * _ramp_integral(pen, width)
+        on = 0.5 * (1.0 + pen / ca.sqrt(pen * pen + width * width))
+        if seabed.damping > 0:
+            own = own - ca.vertcat(0.0, 0.0, seabed.damping * K / seabed.stiffness * v[2] * on)
+        mu = seabed.friction if seabed.friction > 0 else max(seabed.mu_axial, seabed.mu_lateral)
+        if mu > 0:
+            vh = v[0:2]
+            slip = ca.sqrt(ca.dot(vh, vh) + seabed.friction_velocity ** 2)
+            own = own + ca.vertcat(-mu * normal * vh / slip, 0.0)
     outputs = {
         "position": Output(q, "m", pt.name, "position of the point"),
-        "own_force": Output(own, "N", pt.name, "weight, buoyancy, drag and applied force on "
-                                               "the point"),
-        "potential_energy": Output(load * (weight * q[2] - ca.dot(ca.DM(applied), q)), "J",
-                                   pt.name, "potential of the point's weight, buoyancy and "
-                                            "applied force"),
+        "own_force": Output(own, "N", pt.name, "weight, buoyancy, drag, applied force and "
+                                               "seabed contact on the point"),
+        "contact_force": Output(normal, "N", pt.name, "seabed contact force on the point"),
+        "potential_energy": Output(potential, "J", pt.name, "potential of the point's weight, "
+                                                            "buoyancy, applied force and contact"),
         "kinetic_energy": Output(0.5 * m * ca.dot(v, v), "J", pt.name, "kinetic energy"),
     }
     scale = max(abs(weight), float(np.linalg.norm(applied)), 1e-6)
@@ -128,7 +174,7 @@ def build_system(scene: Scene) -> Mechanism:
         parts.append(build_cable3d(line_scene(scene, line), part=line.name))
     for name, pt in scene.points.items():
         if pt.is_free:
-            parts.append(point_part(pt, env))
+            parts.append(point_part(pt, env, scene.seabed, point_contact(scene, name)))
     attached: dict[str, list] = {name: [] for name in scene.points}
     for line in scene.lines:
         for key, node in (("a", 0), ("b", line.n_segments)):
@@ -165,6 +211,8 @@ def _bounds(scene: Scene, mech: Mechanism) -> dict:
     bounds = {k: b for k, b in mech.bounds.items() if not k.endswith(".seabed_reaction")}
     parts = [b for k, b in mech.bounds.items() if k.endswith(".seabed_reaction")]
     if parts:
+        points = [mech.outputs[f"{n}.contact_force"].expr for n, p in scene.points.items()
+                  if p.is_free]
         env = scene.environment
         press = 0.0
         for pt in scene.points.values():
@@ -174,7 +222,7 @@ def _bounds(scene: Scene, mech: Mechanism) -> dict:
                 press += max(w, 0.0) + float(np.linalg.norm(applied)) \
                     + 0.5 * rho * float(np.max(pt.drag_area)) * u * u
         bounds["seabed_reaction"] = dataclasses.replace(
-            parts[0], expr=sum(b.expr for b in parts),
+            parts[0], expr=sum(b.expr for b in parts) + sum(points),
             upper=sum(float(b.upper) for b in parts) + 1.01 * press,
             scale=max(b.scale for b in parts))
     return bounds
@@ -251,6 +299,7 @@ def _relaxed(scene: Scene, mech: Mechanism, shapes: dict[str, np.ndarray]) -> di
                        "ids": node_ids, "node_weight": _lumped(seg), "contact": contact,
                        "loads": drag})
     weight, force = np.zeros(len(ids)), np.zeros((len(ids), 3))
+    stiff, width = np.zeros(len(ids)), np.ones(len(ids))
     for name, pt in scene.points.items():
         if pt.is_free:
             w, applied, rho = _point_loads(pt, env)
@@ -258,7 +307,11 @@ def _relaxed(scene: Scene, mech: Mechanism, shapes: dict[str, np.ndarray]) -> di
             k = ids[int(_node_q(mech, name)[0, 0])]
             weight[k] = w
             force[k] = applied + 0.5 * rho * np.asarray(pt.drag_area) * np.linalg.norm(u) * u
-    rel = relaxed_network(chains, weight, force, max(scales))
+            contact = point_contact(scene, name)
+            if contact is not None:
+                stiff[k], width[k] = contact
+    rel = relaxed_network(chains, weight, force, max(scales),
+                          point_contact=None if sb is None else (env.depth, stiff, width))
     if rel is None:
         return None
     return {line.name: pos for line, pos in zip(scene.lines, rel)}

@@ -195,7 +195,8 @@ def relax_line(scene, seg: dict, pos0: np.ndarray, law: dict,
 
 
 def relaxed_network(chains: list[dict], point_weight: np.ndarray, point_force: np.ndarray,
-                    force_scale: float) -> list[np.ndarray] | None:
+                    force_scale: float, point_contact: tuple | None = None
+                    ) -> list[np.ndarray] | None:
     """Node positions of several lines joined at shared nodes (points), m, at the minimum of
     their potential energy: :func:`relaxed_positions` for a network (each line's strain
     energy, lumped weight, contact and frozen drag as there) plus the points' own loads.
@@ -206,7 +207,9 @@ def relaxed_network(chains: list[dict], point_weight: np.ndarray, point_force: n
     :func:`relaxed_positions`, or None), ``loads`` (the drag, or None).
     ``point_weight`` (n_free,) N downward and ``point_force`` (n_free, 3) N: constant loads on
     the free nodes (a point's weight less its buoyancy, its applied force and its drag in the
-    current). Returns the positions (N+1, 3) of each line, or None when the minimiser ends on
+    current). ``point_contact``: (depth m, stiffness (n_free,) N/m, smoothing width (n_free,)
+    m) of the free nodes' own seabed contact (a point's: K ramp(-depth - z)), or None.
+    Returns the positions (N+1, 3) of each line, or None when the minimiser ends on
     non-finite numbers."""
     n_free = len(point_weight)
     x0 = np.zeros((n_free, 3))
@@ -220,6 +223,10 @@ def relaxed_network(chains: list[dict], point_weight: np.ndarray, point_force: n
     wider = ca.SX.sym("wider")
     energy = ca.dot(ca.DM(point_weight), ca.vertcat(*[nd[2] for nd in nodes])) \
         - ca.dot(ca.DM(np.asarray(point_force, float).ravel()), ca.vertcat(*nodes))
+    if point_contact is not None:
+        depth, stiff, width = point_contact
+        energy += sum(float(stiff[k]) * _ramp_integral(-depth - nodes[k][2], float(width[k]))
+                      for k in range(n_free) if stiff[k] > 0)
     frozen = []
     for c in chains:
         cols = [[nodes[k][j] if k >= 0 else ca.SX(float(c["pos0"][i, j]))

@@ -193,10 +193,11 @@ def _modes(args) -> int:
     from .plotting import plot_modes
 
     scene = load_scene(args.scene)
-    if args.plot and scene.model.value == "cable3d":
-        raise SymcableError(f"--plot {args.plot}: no plot of 3D mode shapes yet (--json or "
-                            "--save give them)")
     modal = modal_analysis(scene, args.n)
+    if scene.model.value == "cable3d":
+        from .plotting_line3d import plot_modes_3d
+        _emit(modal, args, lambda path: plot_modes_3d(modal, path))
+        return 0
     _emit(modal, args, lambda path: plot_modes(modal, modal.positions, path))
     return 0
 

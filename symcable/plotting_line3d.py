@@ -15,7 +15,7 @@ import numpy as np
 
 from .errors import SymcableError
 
-__all__ = ["animate", "plot_profiles", "plot_tensions", "write_vtk"]
+__all__ = ["animate", "plot_modes_3d", "plot_profiles", "plot_tensions", "write_vtk"]
 
 DPI = 150
 
@@ -176,3 +176,41 @@ def animate(tr, path, *, frames: int = 60, fps: int = 15, title: str | None = No
     anim.save(path, writer=PillowWriter(fps=int(fps)))
     plt.close(fig)
     return path
+
+
+def plot_modes_3d(modal, path=None, *, modes: int = 4, scale: float | None = None,
+                  title: str | None = None):
+    """The lowest ``modes`` mode shapes of a 3D line (a :class:`~symcable.results.ModalSolution`
+    of a cable3d scene): for each, plan (x-y) and elevation (x-z) of the static line (grey)
+    and the line displaced by +/- the shape times ``scale`` m (default a tenth of the line's
+    extent), true scale; frequencies in the titles."""
+    plt = _plt()
+    k = min(int(modes), len(modal.frequencies))
+    if k < 1:
+        raise SymcableError(f"modes = {modes!r}: must be >= 1 (the solution has "
+                            f"{len(modal.frequencies)})")
+    P = np.asarray(modal.positions, float)
+    if P.ndim != 2 or P.shape[1] != 3:
+        raise SymcableError("plot_modes_3d draws 3D modes (positions (n, 3)); planar modes: "
+                            "symcable.plotting.plot_modes")
+    a = 0.1 * float(np.max(np.ptp(P, axis=0))) if scale is None else float(scale)
+    fig, axes = plt.subplots(k, 2, figsize=(11.0, 2.6 * k), squeeze=False)
+    for m in range(k):
+        U = np.asarray(modal.shapes[m], float)
+        for ax, (i, j), name in ((axes[m, 0], (0, 1), "plan"), (axes[m, 1], (0, 2), "elevation")):
+            ax.plot(P[:, i], P[:, j], color="0.6", lw=1.2, label="static")
+            for sgn, style in ((1, "-"), (-1, "--")):
+                Q = P + sgn * a * U
+                ax.plot(Q[:, i], Q[:, j], style, color="tab:blue", lw=1.3,
+                        label=f"{'+' if sgn > 0 else '-'}{a:.3g} m x shape")
+            ax.set_aspect("equal", adjustable="datalim")
+            ax.set_xlabel(f"{'xyz'[i]} (m)")
+            ax.set_ylabel(f"{'xyz'[j]} (m)")
+            ax.grid(alpha=0.3)
+            ax.set_title(f"mode {m + 1}: {modal.frequencies[m]:.4g} Hz "
+                         f"({modal.periods[m]:.4g} s), {name}", fontsize=9)
+        if m == 0:
+            axes[m, 1].legend(loc="best", fontsize=7)
+    fig.suptitle(title or f"{modal.scene_name}: {k} lowest modes", fontsize=11)
+    fig.tight_layout()
+    return _finish(fig, path)

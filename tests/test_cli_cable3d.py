@@ -33,9 +33,11 @@ def test_cli_simulate_periodic_modes(scene_file, tmp_path, capsys):
     assert main(["periodic", str(scene_file), "--method", "shooting", "--json"]) == 0
     d = json.loads(capsys.readouterr().out)
     assert d["method"] == "shooting" and d["status"] == "converged" and d["stats"]["period"] == 8.0
-    assert main(["modes", str(scene_file), "--n", "3", "--json"]) == 0
+    assert main(["modes", str(scene_file), "--n", "3", "--json", "--plot",
+                 str(tmp_path / "modes.png")]) == 0
     d = json.loads(capsys.readouterr().out)
     assert len(d["frequencies"]) == 3 and len(d["shapes"][0][0]) == 3  # (x, y, z) per node
+    assert (tmp_path / "modes.png").stat().st_size > 10_000
 
 
 def test_cli_check_lists_points_and_lines(tmp_path, capsys):

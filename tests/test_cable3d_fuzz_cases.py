@@ -7,7 +7,11 @@ as "converged", and what they must give now:
 - a free point (a clump weight) had no seabed contact of its own: resting on the bed, it sank
   through the contact of the line nodes beside it, 24 m under a 1e4 Pa/m bed (c11-0008); it
   now rests on the bed as the lines do (``cable3d_system.point_contact``), in statics and in
-  the dynamics (contact, damper, friction).
+  the dynamics (contact, damper, friction);
+- a light line lying on the bed up to a heavy clump resting there took, through its end
+  node's contact, the clump's penetration, and reported 55.6 kN at the clump where it pulls
+  2.5 kN (c11-0007): while a free point touches the bed, the half segment of each line beside
+  it now rests where the line's neighbour node does (as a held end on the bed).
 """
 from __future__ import annotations
 
@@ -176,3 +180,43 @@ def test_one_segment_between_held_ends_has_a_start():
     assert mech.n_q == 0
     starts = list(mech.starts())
     assert starts and all(np.asarray(s.q).size == 0 for s in starts)
+
+
+def test_light_line_at_a_clump_on_the_bed_against_moorpy():
+    """A 66 t clump resting on a soft default bed (1e5 Pa/m: it sinks 0.2 m) held by a chain
+    and two ropes, the ropes lying on the bed up to it (fuzz scene c11-0007, rounded): each
+    line's tensions within 3 % of its largest tension from MoorPy's (measured: 1.0 % on each
+    line at the clump; before, the first rope read 55.6 kN there for MoorPy's 2.5 kN), the
+    clump within 0.5 m (measured 0.3 m)."""
+    mp = pytest.importorskip("moorpy")
+    types = {"rope0": {"mass": 70.88, "diameter": 0.285, "EA": 9.911e7},
+             "rope1": {"mass": 6.42, "diameter": 0.0797, "EA": 2.471e8},
+             "chain2": {"mass": 303.5, "diameter": 0.1235, "EA": 2.667e9}}
+    ends = [[-87.04, -409.97, -4.63], [517.36, -346.25, -44.82], [84.27, -11.95, -230.67]]
+    lengths, segs = [401.38, 577.47, 199.74], [17, 18, 16]
+    names = ["rope0", "rope1", "chain2"]
+    d = {"model": "cable3d", "environment": {"depth": 230.67}, "seabed": {}, "line_types": types,
+         "points": {**{f"end{k}": {"kind": "fixed", "position": e} for k, e in enumerate(ends)},
+                    "P": {"kind": "free", "position": [118.2, -129.0, -122.3], "mass": 67116.0}},
+         "lines": [{"name": f"line{k}", "end_a": f"end{k}", "end_b": "P",
+                    "sections": [{"type": names[k], "length": lengths[k], "segments": segs[k]}]}
+                   for k in range(3)]}
+    st = sc.solve_static(d)
+    ms = mp.System(depth=230.67, rho=RHO, g=G)
+    for n, lt in types.items():
+        w = (lt["mass"] - RHO * math.pi * lt["diameter"] ** 2 / 4) * G
+        ms.setLineType(name=n, mass=lt["mass"], d_vol=lt["diameter"], EA=lt["EA"], w=w,
+                       dnommm=1000 * lt["diameter"])
+    for e in ends:
+        ms.addPoint(1, e)
+    ms.addPoint(0, [118.2, -129.0, -122.3], m=67116.0).zTol = 1e-3
+    for k in range(3):
+        ms.addLine(lengths[k], names[k], pointA=k + 1, pointB=4)
+    ms.initialize()
+    ms.solveEquilibrium(tol=1e-6)
+    for k in range(3):
+        line, ref = st.lines[f"line{k}"], ms.lineList[k]
+        scale = max(np.linalg.norm(ref.fA), np.linalg.norm(ref.fB))
+        assert abs(line.fairlead_tension - np.linalg.norm(ref.fB)) < 0.03 * scale, k
+        assert abs(line.anchor_tension - np.linalg.norm(ref.fA)) < 0.03 * scale, k
+    assert np.linalg.norm(st.points["P"].position - ms.pointList[3].r) < 0.5

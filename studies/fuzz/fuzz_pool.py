@@ -35,6 +35,9 @@ def _worker(conn) -> None:
         try:
             if item.get("job") == "refine":
                 rec = fuzz_refine.run(item)
+            elif item.get("model") == "cable3d":
+                import fuzz3d_classify
+                rec = fuzz3d_classify.run_scene(item, notify=lambda *msg: conn.send(("stage", *msg)))
             else:
                 rec = fc.run_scene(item, notify=lambda *msg: conn.send(("stage", *msg)))
         except Exception:  # noqa: BLE001 - a harness bug is reported, not raised

@@ -24,11 +24,14 @@ Run
     python studies/fuzz/run.py            # full: 1200 scenes + 40 refined, ~17 min on 2 cores
     python studies/fuzz/run.py --quick    # 100 scenes, no refinement: about a minute
     options: --n N, --seed S, --workers W, --refine K, --out DIR (default studies/fuzz/out/),
-             --cases PATH (write the curated regression cases there), --limit S (per solve)
+             --cases PATH (write the curated regression cases there), --limit S (per solve),
+             --n3d N (cable3d scenes: 300, quick 12; 0 none), --only3d (those alone)
 
 Writes to the out dir: ``results.csv`` (one row per scene), ``results.json`` (every record),
 ``failures.json`` (every scene not solved correctly, with its scene dict, to replay),
-``refine.json`` and ``summary.md`` (the tables of the README).
+``refine.json`` and ``summary.md`` (the tables of the README); for the cable3d scenes
+(``fuzz3d_*``: 3D lines, seabed with friction, points and several lines) ``results3d.csv``,
+``results3d.json``, ``failures3d.json`` and their section of ``summary.md``.
 Replay one scene: ``python studies/fuzz/fuzz_classify.py studies/fuzz/out/failures.json ID``.
 """
 from __future__ import annotations
@@ -48,13 +51,14 @@ if not os.environ.get("PYTHONPATH"):
     # the worker processes inherit this path
     sys.path.insert(1, str(HERE.parents[1]))
 
+import fuzz3d_report as rep3  # noqa: E402
 import fuzz_pool  # noqa: E402
 import fuzz_report as rep  # noqa: E402
 import fuzz_scenes  # noqa: E402
 import fuzz_tolerance  # noqa: E402
 
-FULL = {"n": 1200, "refine": 40}
-QUICK = {"n": 100, "refine": 0}
+FULL = {"n": 1200, "refine": 40, "n3d": 300}
+QUICK = {"n": 100, "refine": 0, "n3d": 12}
 SEED = 11
 
 
@@ -90,7 +94,11 @@ def main(argv=None) -> dict:
     ap.add_argument("--limit", type=float, default=30.0, help="time limit per solve, s")
     ap.add_argument("--out", type=Path, default=HERE / "out")
     ap.add_argument("--cases", type=Path, help="write the curated regression cases here")
+    ap.add_argument("--n3d", type=int, help="number of cable3d scenes (0: none)")
+    ap.add_argument("--only3d", action="store_true", help="the cable3d scenes only")
     args = ap.parse_args(argv)
+    if args.only3d:
+        return main3d(args, QUICK if args.quick else FULL)
     mode = QUICK if args.quick else FULL
     n = args.n or mode["n"]
     k_refine = mode["refine"] if args.refine is None else args.refine
@@ -147,10 +155,42 @@ def main(argv=None) -> dict:
     res["failures"] = len(fails)
     if args.cases:
         rep.dump_json(rep.curate(fails), args.cases)
+    n3d = mode["n3d"] if args.n3d is None else args.n3d
     text = rep.summary_markdown(res)
+    if n3d:
+        print(f"{n3d} cable3d scenes", flush=True)
+        res["cable3d"] = run3d(n3d, args)
+        res["wall_s"] = time.perf_counter() - t0
+        text += "\n" + rep3.summary_markdown(res["cable3d"])
     (args.out / "summary.md").write_text(text)
     print(text)
     return res
+
+
+def run3d(n3d: int, args) -> dict:
+    """The cable3d scenes (fuzz3d_scenes, fuzz3d_classify): results3d.csv, results3d.json,
+    failures3d.json in the out dir."""
+    t0 = time.perf_counter()
+    shown = set()
+
+    def progress(done, total):
+        if (done % 50 == 0 or done == total) and done not in shown:
+            shown.add(done)
+            print(f"  cable3d {done}/{total} scenes, {time.perf_counter() - t0:.0f} s", flush=True)
+
+    res = rep3.run(n3d, args.seed, args.workers, args.limit, args.out, progress)
+    res["symcable"] = symcable_version()
+    return res
+
+
+def main3d(args, mode) -> dict:
+    """--only3d: the cable3d scenes alone, their summary in summary3d.md."""
+    args.out.mkdir(parents=True, exist_ok=True)
+    res = run3d(mode["n3d"] if args.n3d is None else args.n3d, args)
+    text = rep3.summary_markdown(res)
+    (args.out / "summary3d.md").write_text(text)
+    print(text)
+    return {"cable3d": res}
 
 
 if __name__ == "__main__":

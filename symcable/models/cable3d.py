@@ -135,13 +135,19 @@ def _held(end, pos_p, motion_scale, t, ramp_on=1.0):
     return x, ca.jacobian(x, t)
 
 
-def build_cable3d(scene: Scene, part: str | None = None) -> Mechanism:
+def build_cable3d(scene: Scene, part: str | None = None,
+                  joined: tuple[bool, bool] = (False, False)) -> Mechanism:
     """The scene's line as a cable3d Mechanism (module docstring).
 
     ``part``: build the line as a part of an assembly
     (:mod:`~symcable.models.cable3d_system`) under that name: the Mechanism, its layout part
     and its outputs' owner take the name, and both ends may be free (joined to free points
     that other lines hold). None: the one-line scene's Mechanism ``"cable3d"``, part ``"line"``.
+    ``joined``: whether end A / end B is joined to a free point of the assembly (its seabed
+    contact then takes the neighbour's penetration while the point touches the bed: the
+    point has its own contact, :func:`~symcable.models.cable3d_system.point_contact`; this
+    part of the contact is not conservative, and the potential energy output counts it at
+    the node's own penetration).
     """
     owner = part or "line"
     if any(e.position is not None and len(e.position) != 3 for e in (scene.end_a, scene.end_b)):
@@ -211,11 +217,20 @@ def build_cable3d(scene: Scene, part: str | None = None) -> Mechanism:
         for end, i, nb in ((a, 0, 1), (b, N, N - 1)):
             if end.condition is not EndCondition.FREE and end.position[2] <= -env.depth + sink:
                 probe[i] = nb
-        z_probe = ca.horzcat(*[Xm[2, i] for i in probe])
-        contact = ca.DM(trib * sb.stiffness).T * terms.smooth_ramp(-env.depth - z_probe, dlt)
+        pen = ca.horzcat(*[-env.depth - Xm[2, i] for i in probe])
+        ramp = [terms.smooth_ramp(pen[i], dlt) for i in range(N + 1)]
+        # an end joined to a free point: the point's node sits as deep as the point's own
+        # contact and the other lines put it (a clump pressed in, or held higher by a lighter
+        # bed load than this line's), so while the point touches the bed the half segment
+        # beside it rests where the neighbour does (as a held end on the bed); lifted off the
+        # bed, it carries none (the smooth on-off factor of the point's penetration)
+        for k, (i, nb) in enumerate(((0, 1), (N, N - 1))):
+            if joined[k] and N > 0:
+                ramp[i] = terms.smooth_ramp(pen[nb], dlt) * 0.5 * (
+                    1.0 + pen[i] / ca.sqrt(pen[i] * pen[i] + dlt * dlt))
+        contact = ca.DM(trib * sb.stiffness).T * ca.horzcat(*ramp)
         nodal = nodal + ca.vertcat(ca.SX.zeros(2, N + 1), contact)
-        nodal = nodal + _seabed_dynamics(sb, Xm, Vm, contact, -env.depth - z_probe, dlt, trib,
-                                         term_names)
+        nodal = nodal + _seabed_dynamics(sb, Xm, Vm, contact, pen, dlt, trib, term_names)
     # what the line exerts on each end (N): its element's pull and the loads lumped on the
     # end node, which the support takes (as the planar line's end forces); on a free end the
     # applied force is not the line's, and balances this
@@ -275,7 +290,7 @@ def build_cable3d(scene: Scene, part: str | None = None) -> Mechanism:
          + F * 0.005 * ca.exp(-(1.0 + ec) / 0.005))
     potential = ca.dot(ca.DM(seg["ds"]), U) + load * ca.dot(ca.DM(_lumped(seg)), Xm[2, :].T)
     if sb is not None:
-        potential += ca.dot(ca.DM(trib * sb.stiffness), _ramp_integral(-env.depth - z_probe, dlt).T)
+        potential += ca.dot(ca.DM(trib * sb.stiffness), _ramp_integral(pen, dlt).T)
     outputs["kinetic_energy"] = Output(0.5 * ca.dot(v, ca.mtimes(mass, v)), "J", owner,
                                        "kinetic energy of the moving nodes")
     outputs["potential_energy"] = Output(potential, "J", owner,

@@ -85,20 +85,20 @@ def point_contact(scene: Scene, name: str) -> tuple[float, float] | None:
     when the scene has no seabed. The contact is the lines' penalty law on the point's node,
     K ramp(-depth - z) (:func:`~symcable.models.terms.smooth_ramp`), with K such that what
     can press the point onto the bed (its own net weight and applied force and the whole
-    weight of the lines attached to it) sinks it no deeper than the heaviest of those lines
-    sinks under its own weight, |w| / (stiffness d); the smoothing width is those lines'."""
+    weight of the lines attached to it) sinks it no deeper than the most sinking section of
+    those lines under its own weight, max |w| / (stiffness d); the smoothing width is 1 % of
+    that (as the lines')."""
     sb = scene.seabed
     if sb is None:
         return None
     pt, env = scene.points[name], scene.environment
     secs = [s for ln in scene.lines if name in (ln.end_a, ln.end_b) for s in ln.sections]
-    w = max(abs(s.line_type.weight) for s in secs)
-    d = min(s.line_type.diameter for s in secs)
     weight, applied, _ = _point_loads(pt, env)
     press = max(weight, 0.0) + float(np.linalg.norm(applied)) \
         + sum(abs(s.line_type.weight) * s.length for s in secs)
-    sink = max(w / (sb.stiffness * d), 1e-6 * min(s.length for s in secs))
-    return max(press, 1e-6) / sink, terms.contact_smoothing(w, sb.stiffness, d)
+    sink = max(max(abs(s.line_type.weight) / (sb.stiffness * s.line_type.diameter) for s in secs),
+               1e-6 * min(s.length for s in secs))
+    return max(press, 1e-6) / sink, max(0.01 * sink, 1e-6)
 
 
 def point_part(pt: Point, env: Environment, seabed=None, contact=None) -> Mechanism:
@@ -171,7 +171,9 @@ def build_system(scene: Scene) -> Mechanism:
     env = scene.environment
     parts, joints = [], []
     for line in scene.lines:
-        parts.append(build_cable3d(line_scene(scene, line), part=line.name))
+        joined = tuple(isinstance(e, str) and scene.points[e].is_free
+                       for e in (line.end_a, line.end_b))
+        parts.append(build_cable3d(line_scene(scene, line), part=line.name, joined=joined))
     for name, pt in scene.points.items():
         if pt.is_free:
             parts.append(point_part(pt, env, scene.seabed, point_contact(scene, name)))

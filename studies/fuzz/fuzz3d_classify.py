@@ -14,7 +14,8 @@ forces, contact forces and node positions taken as the answer):
 - force balance at every node that moves (interior nodes, free ends) and at every free point
   (the attached lines' end nodes with the point's own loads): this is tension continuity
   along the line, at section joints and through points;
-- each held end's reported force is the pull of its segment plus the loads lumped on it;
+- each held end's reported force is the pull of its segment plus the loads lumped on it, and
+  a free end's is minus the force applied there;
 - the whole scene in balance: what the held ends carry equals the lines' and points' weight,
   buoyancy, drag and applied forces less what the seabed carries;
 - the same answer with the seabed friction and the vessel motions removed (statics apply
@@ -181,6 +182,11 @@ def physical_checks(info: Sys3, sol: dict) -> tuple[list[str], dict]:
                                f"{miss:.3g} N off its segment's pull plus the loads on the end")
             elif e["kind"] == "point":
                 at_points[e["point"]] = at_points[e["point"]] + nodal[i]
+            else:   # a free end: the line pulls on it against the applied force
+                miss = float(np.linalg.norm(np.asarray(s[rep], float) + e["force"]))
+                if miss > bal:
+                    bad.append(f"{ln['name']}: the force reported at free end {key.upper()} is "
+                               f"{miss:.3g} N off minus the applied force")
         free_nodes = [i for i in range(n + 1) if 0 < i < n
                       or (i == 0 and ln["ends"]["a"]["kind"] == "free")
                       or (i == n and ln["ends"]["b"]["kind"] == "free")]
@@ -392,3 +398,17 @@ def run_scene(item: dict, notify=None) -> dict:
         rec = classify(item["scene"], bundle, rec)
     rec.update(ref_time_s=t_ref, refs=r3.strip(bundle["refs"]), agreement=bundle["agreement"])
     return rec
+
+
+if __name__ == "__main__":  # replay: python fuzz3d_classify.py out/failures3d.json c11-0007
+    import json
+    import os
+    import sys
+    from pathlib import Path
+    if not os.environ.get("PYTHONPATH"):   # this tree's symcable, as run.py measures it
+        sys.path.insert(1, str(Path(__file__).resolve().parents[2]))
+    for it in json.load(open(sys.argv[1])):
+        if len(sys.argv) < 3 or it["id"] == sys.argv[2]:
+            item = {"id": it["id"], "class": it.get("class") or it.get("cls"),
+                    "variant": it.get("variant"), "scene": it["scene"]}
+            print(json.dumps(run_scene(item), indent=1, default=str)[:4000])

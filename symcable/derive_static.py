@@ -180,7 +180,10 @@ def _vm(F) -> StaticSolver:
     # the admissibility bounds' worst margin at the same point (inf without bounds)
     bm = F.bound_margins(m.q, ca.DM.zeros(m.n_v), m.z, 0.0, m.p)[0]
     worst = ca.mmin(bm) if bm.numel() else ca.DM(np.inf)
-    check = ca.Function("static_check", [x, m.p], [norm_inf(r), ca.sum1(x) + ca.sum1(r), worst],
+    # (a 0 appended: a mechanism with no unknowns, one segment between held ends, still
+    # gives scalars)
+    r0 = ca.vertcat(r, 0.0)
+    check = ca.Function("static_check", [x, m.p], [norm_inf(r0), ca.sum1(ca.vertcat(x, r0)), worst],
                         ["x", "p"], ["residual_norm", "probe", "bound_margin"], opts)
     return StaticSolver(residual=residual, jacobian=jacobian, step=step, solve=solve,
                         outputs=outputs, check=check)

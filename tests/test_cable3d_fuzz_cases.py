@@ -220,3 +220,20 @@ def test_light_line_at_a_clump_on_the_bed_against_moorpy():
         assert abs(line.fairlead_tension - np.linalg.norm(ref.fB)) < 0.03 * scale, k
         assert abs(line.anchor_tension - np.linalg.norm(ref.fA)) < 0.03 * scale, k
     assert np.linalg.norm(st.points["P"].position - ms.pointList[3].r) < 0.5
+
+
+def test_one_segment_between_held_ends_has_no_unknowns():
+    """A cable3d line of one segment between two held ends has no unknowns: its check still
+    gives scalars (an IndexError before, 7 fuzz scenes); a slack segment carries no tension,
+    so each end takes half its submerged weight (to 1e-8: the tension-only law leaves a slack
+    segment 1.3e-6 N of its smooth tail, measured)."""
+    import symcable as sc
+
+    d = {"model": "cable3d", "line_types": {"r": {"mass": 10.0, "diameter": 0.05, "EA": 1e7}},
+         "sections": [{"type": "r", "length": 10.0, "segments": 1}],
+         "end_a": {"condition": "pinned", "position": [0.0, 0.0, 0.0]},
+         "end_b": {"condition": "pinned", "position": [9.0, 0.0, -2.0]}}
+    st = sc.solve_static(d)
+    w = sc.load_scene(d).line_types["r"].weight
+    assert st.status == "converged"
+    assert abs(st.fairlead_tension - 0.5 * w * 10.0) < 1e-8 * w * 10.0

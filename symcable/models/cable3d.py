@@ -16,7 +16,8 @@ elements gives:
 - Morison drag on the water's velocity relative to the element (the current minus the
   mean of its nodes' velocities), split along and across t: 0.5 rho d Cd |u| u sqrt(1+e)
   per unstretched metre (the planar law), |u| smoothed as sqrt(|u|^2 + DRAG_SPEED^2) so the
-  force is differentiable at rest, half on each node;
+  force is differentiable at rest, half on each node; or, for a line type with ``drag_law =
+  "loading-functions"``, seed 003's loading functions (:mod:`.cable3d_drag`);
 - lumped mass: structural m L0 / 2 per node, and added mass rho A L0 / 2 (Ca_n (I - t t^T) +
   Ca_t t t^T) per node, rho A the displaced water per metre; or, with ``mass_matrix =
   "consistent"``, seed 003's L0 B / 6 [[2, 1], [1, 2]] per element (:func:`_consistent_mass`).
@@ -43,6 +44,7 @@ import numpy as np
 from ..errors import SymcableError
 from ..scene import EndCondition, Scene
 from . import terms
+from .cable3d_drag import law_table, loading_drag
 from .cable3d_starts import force_scale, starts_of
 from .relax import _ramp_integral
 from .mechanism import Bound, Layout, Mechanism, Output, ParamBlocks, PartLayout, Scales
@@ -65,14 +67,18 @@ P_NAMES = ("load", "end_a.position", "end_b.position", "current", "slack", "moti
 P_SIZES = (1, 3, 3, 3, 1, 1, 1)
 
 
-def _element_kernel() -> ca.Function:
+def _element_kernel(law_shape: tuple[int, int] | None = None) -> ca.Function:
     """Forces of one element on its two nodes (N, 3 each), its axial force T (N) and
     strain e, from its node positions and velocities and its properties (module docstring).
+    ``law_shape`` = (Kc, Ks): the drag is the loading functions of an extra input ``law``
+    (2 Kc + 2 Ks; :func:`~symcable.models.cable3d_drag.law_table`) instead of Morison's
+    law on ``cdn``, ``cdt`` (then not read).
     """
     xa, xb, va, vb, u = (ca.SX.sym(n, 3) for n in ("xa", "xb", "va", "vb", "u"))
     L0, EA, BA, EAs, delta, wall, w, d, cdn, cdt, rho, load = (
         ca.SX.sym(n) for n in ("L0", "EA", "BA", "EAs", "delta", "wall", "w", "d", "cdn", "cdt",
                                "rho", "load"))
+    law = ca.SX.sym("law", 2 * sum(law_shape)) if law_shape is not None else None
     dx = xb - xa
     ell = ca.sqrt(ca.dot(dx, dx))
     t = dx / ell
@@ -80,20 +86,23 @@ def _element_kernel() -> ca.Function:
     edot = ca.dot(t, vb - va) / L0
     T = terms.cable_axial_force(EA, e, delta, EAs, wall, 0.005) + BA * edot
     u_rel = u - 0.5 * (va + vb)
-    ut = ca.dot(u_rel, t)
-    un = u_rel - ut * t
     k = 0.5 * rho * d * L0 * ca.sqrt(ca.fmax(1.0 + e, 0.0))
-    drag = k * (cdt * ca.sqrt(ut * ut + DRAG_SPEED ** 2) * ut * t
-                + cdn * ca.sqrt(ca.dot(un, un) + DRAG_SPEED ** 2) * un)
+    if law is None:
+        ut = ca.dot(u_rel, t)
+        un = u_rel - ut * t
+        drag = k * (cdt * ca.sqrt(ut * ut + DRAG_SPEED ** 2) * ut * t
+                    + cdn * ca.sqrt(ca.dot(un, un) + DRAG_SPEED ** 2) * un)
+    else:
+        drag = k * loading_drag(u_rel, t, law, law_shape, DRAG_SPEED)
     gravity = ca.vertcat(0.0, 0.0, -load * w * L0)
     half = 0.5 * (drag + gravity)
     fa = T * t + half
     fb = -T * t + half
-    return ca.Function("cable3d_element",
-                       [xa, xb, va, vb, u, L0, EA, BA, EAs, delta, wall, w, d, cdn, cdt, rho, load],
-                       [fa, fb, T, e],
-                       ["xa", "xb", "va", "vb", "u", "L0", "EA", "BA", "EAs", "delta", "wall",
-                        "w", "d", "cdn", "cdt", "rho", "load"], ["fa", "fb", "T", "e"])
+    names = ["xa", "xb", "va", "vb", "u", "L0", "EA", "BA", "EAs", "delta", "wall", "w", "d",
+             "cdn", "cdt", "rho", "load"] + (["law"] if law is not None else [])
+    inputs = [xa, xb, va, vb, u, L0, EA, BA, EAs, delta, wall, w, d, cdn, cdt, rho, load]
+    return ca.Function("cable3d_element", inputs + ([law] if law is not None else []),
+                       [fa, fb, T, e], names, ["fa", "fb", "T", "e"])
 
 
 def _held(end, pos_p, motion_scale, t, ramp_on=1.0):
@@ -183,7 +192,10 @@ def build_cable3d(scene: Scene, part: str | None = None,
     law = slack_law(seg, F)
     width = ca.exp(math.log(SLACK_CONTINUATION) * (1.0 - sigma))
     rho = 0.0 if env.in_air else env.water_density
-    kernel = _element_kernel().map(N)
+    drag_law = law_table(scene)
+    if drag_law is not None:
+        seg["drag_law"] = dict(drag_law, eps=DRAG_SPEED)  # for the starts' frozen drag
+    kernel = _element_kernel(drag_law["shape"] if drag_law else None).map(N)
     row = lambda key: ca.DM(seg[key]).T  # noqa: E731  (1, N)
     BA = np.array([s.line_type.damping for s in scene.sections for _ in range(s.segments)])
     # negative: minus the damping ratio zeta of the line's highest axial mode (adjacent
@@ -197,7 +209,8 @@ def build_cable3d(scene: Scene, part: str | None = None,
     fa, fb, T, e = kernel(Xm[:, :-1], Xm[:, 1:], Vm[:, :-1], Vm[:, 1:], water,
                           row("ds"), row("EA"), ca.DM(BA).T, ca.DM(law["EA_slack"]).T,
                           width * ca.DM(law["delta"]).T, F, row("w"), row("d"), row("cdn"),
-                          row("cdt"), rho, load)
+                          row("cdt"), rho, load,
+                          *([ca.DM(drag_law["law"]).T] if drag_law else []))
     nodal = ca.horzcat(fa, ca.SX.zeros(3, 1)) + ca.horzcat(ca.SX.zeros(3, 1), fb)  # (3, N+1)
     contact = ca.SX.zeros(1, N + 1)
     term_names = ["elastic", "weight"] + (["material damping"] if np.any(BA) else [])
@@ -306,7 +319,8 @@ def build_cable3d(scene: Scene, part: str | None = None,
         press = float(np.sum(np.maximum(seg["w"], 0.0) * seg["ds"])) + float(np.abs(applied).sum())
         u2 = float(np.dot(env.current, env.current)) + max(
             (float(np.dot(r[1:], r[1:])) for r in env.current_profile), default=0.0) * 2.0
-        press += float(np.sum(0.5 * rho * seg["cdn"] * seg["d"] * seg["ds"])) * u2
+        cdn = seg["cdn"] if drag_law is None else drag_law["normal_bound"]
+        press += float(np.sum(0.5 * rho * cdn * seg["d"] * seg["ds"])) * u2
         bounds["seabed_reaction"] = Bound(ca.sum2(contact), upper=1.01 * press + 1e-6 * F,
                                           unit="N", scale=F, what="the seabed carries at most "
                                                                   "what presses the line onto it")

@@ -41,6 +41,7 @@ from ..scene.points import Point
 from . import terms
 from .assembly import Shared, assemble
 from .cable3d import DRAG_SPEED, _lumped, build_cable3d, force_scale
+from .cable3d_drag import law_table
 from .cable3d_starts import _catenary, _hanging
 from .mechanism import Layout, Mechanism, Output, ParamBlocks, PartLayout, Scales, Start
 from .planar import segment_table, slack_law
@@ -287,6 +288,9 @@ def _relaxed(scene: Scene, mech: Mechanism, shapes: dict[str, np.ndarray]) -> di
                              for i in idx])
         ls = line_scene(scene, line)
         seg = segment_table(ls)
+        table = law_table(ls)
+        if table is not None:  # loading functions: the frozen drag in their law
+            seg["drag_law"] = dict(table, eps=DRAG_SPEED)
         F = force_scale(ls, seg)
         scales.append(F)
         contact = None

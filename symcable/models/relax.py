@@ -27,6 +27,7 @@ import numpy as np
 
 from ..scene import EndCondition
 from . import terms
+from .cable3d_drag import law_drag_loads
 
 __all__ = ["drag_loads", "relax_line", "relaxed_network", "relaxed_positions"]
 
@@ -138,6 +139,8 @@ def drag_loads(env, seg: dict) -> Callable[[np.ndarray], np.ndarray]:
     (:func:`~symcable.models.terms.morison_drag`: 0.5 rho d Cd |u| u sqrt(1 + e) per
     unstretched metre, split along and across each segment) in numbers, each segment's half
     on each of its nodes. Planar or 3D (the current has the positions' dimension)."""
+    if "drag_law" in seg:  # a cable3d line with loading functions
+        return law_drag_loads(env, seg, seg["drag_law"])
     u = np.asarray(env.current, float)
     k = 0.5 * env.water_density * seg["d"] * seg["ds"]
 

@@ -13,9 +13,12 @@ import enum
 import math
 from dataclasses import dataclass, field
 from types import MappingProxyType
-from typing import Any, Mapping
+from typing import TYPE_CHECKING, Any, Mapping
 
 from .points import Line, Point, PointKind
+
+if TYPE_CHECKING:  # a field's type only
+    from .loading import LoadingFunctions
 
 __all__ = [
     "EndCondition", "Model", "LineType", "Section", "Motion", "End", "Environment", "Seabed",
@@ -27,6 +30,8 @@ _LINE_KEYS = ("EA", "EI", "mass", "diameter", "weight", "cd_normal", "cd_tangent
               "max_strain", "ca_tangential", "damping")
 #: the keys only cable3d reads (written only when set)
 _LINE_KEYS_3D = ("ca_tangential", "damping")
+#: the drag law's keys (cable3d; written only for a law other than Morison's)
+_LINE_KEYS_DRAG = ("drag_law", "loading")
 
 
 class EndCondition(str, enum.Enum):
@@ -80,6 +85,14 @@ class LineType:
         axial force gains BA de/dt. Negative: minus the damping ratio of the line's highest
         axial mode (adjacent nodes in opposition), BA = -damping x ds sqrt(EA mass), as
         MoorDyn's BA/-zeta. Default 0.
+    drag_law : str
+        cable3d: ``"morison"`` (default: ``cd_normal``, ``cd_tangential`` on the normal and
+        tangential relative speeds) or ``"loading-functions"`` (``loading``; then
+        ``cd_normal`` and ``cd_tangential`` are not read).
+    loading : LoadingFunctions or None
+        The loading functions (``[line_types.NAME.loading]``,
+        :class:`~symcable.scene.loading.LoadingFunctions`), with ``drag_law =
+        "loading-functions"`` only.
     """
 
     name: str
@@ -94,6 +107,8 @@ class LineType:
     max_strain: float = 0.1
     ca_tangential: float = 0.0
     damping: float = 0.0
+    drag_law: str = "morison"
+    loading: LoadingFunctions | None = None
 
 
 @dataclass(frozen=True)
@@ -382,6 +397,10 @@ def scene_to_dict(scene: Scene) -> dict:
     out["line_types"] = {name: {k: getattr(lt, k) for k in _LINE_KEYS
                                 if k not in _LINE_KEYS_3D or getattr(lt, k) != 0.0}
                          for name, lt in types.items()}
+    for name, lt in types.items():
+        if lt.drag_law != "morison":
+            out["line_types"][name]["drag_law"] = lt.drag_law
+            out["line_types"][name]["loading"] = lt.loading.to_dict()
     if scene.lines:
         out["points"] = {name: _point_dict(pt) for name, pt in scene.points.items()}
         out["lines"] = [{"name": ln.name, "end_a": _end_ref(ln.end_a), "end_b": _end_ref(ln.end_b),

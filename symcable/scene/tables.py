@@ -13,8 +13,9 @@ import numpy as np
 from ..errors import SceneError
 from .checks import (_choice, _err, _fmt, _for, _get, _integer, _key, _layout,
                      _number, _num_reader, _required, _suggest, _table, _vector)
-from .model import (_LINE_KEYS, End, EndCondition, Environment, LineType, Motion, Seabed,
-                    Section)
+from .drag import read_drag_law
+from .model import (_LINE_KEYS, _LINE_KEYS_DRAG, End, EndCondition, Environment, LineType,
+                    Motion, Seabed, Section)
 
 _ENV_KEYS = ("gravity", "water_density", "depth", "current", "current_profile")
 _SEABED_KEYS = ("stiffness", "friction", "damping", "friction_axial", "friction_lateral",
@@ -89,7 +90,8 @@ def _seabed(data: Mapping, env: Environment) -> Seabed | None:
 
 
 def _line_type(path: str, name: str, raw: Any, env: Environment, dim: int) -> LineType:
-    num = _num_reader(path, _table(path, raw, _LINE_KEYS))
+    t = _table(path, raw, _LINE_KEYS + _LINE_KEYS_DRAG)
+    num = _num_reader(path, t)
     mass = num("mass", "kg/m", gt=0)
     diameter = num("diameter", "m", gt=0)
     default_weight = (mass - env.water_density * math.pi * diameter**2 / 4.0) * env.gravity
@@ -97,6 +99,7 @@ def _line_type(path: str, name: str, raw: Any, env: Environment, dim: int) -> Li
     if dim == 3 and ei > 0:
         raise _err(_key(path, "EI"), ei, "N m^2",
                    'cable3d has no bending yet; EI = 0, or model = "planar"')
+    law, loading = read_drag_law(path, t, dim)
     return LineType(
         name=name, EA=num("EA", "N", gt=0), EI=ei, mass=mass,
         diameter=diameter, weight=num("weight", "N/m", default_weight),
@@ -107,6 +110,7 @@ def _line_type(path: str, name: str, raw: Any, env: Environment, dim: int) -> Li
         ca_tangential=_only_3d(path, "ca_tangential", num("ca_tangential", "", _LT.ca_tangential,
                                                           ge=0), dim),
         damping=_only_3d(path, "damping", num("damping", "N s", _LT.damping), dim),
+        drag_law=law, loading=loading,
     )
 
 

@@ -98,10 +98,13 @@ def _solution(scene, seg, out, q, status, stats, warnings) -> StaticSolution:
     grounded, _, touchdown = grounded_length(scene, seg, None, pos,
                                              contact if scene.seabed is not None else None, fa, fb)
     n = len(pos)
+    # |bending moment| at the nodes (N m; zero without bending: EI = 0)
+    moment = (np.linalg.norm(np.asarray(out["bending_moment"], float), axis=1)
+              if "bending_moment" in out else np.zeros(n))
     return StaticSolution(
         scene_name=scene.name, s=np.asarray(seg["s"]), positions=pos, angle=elevation,
         strain=np.ravel(out["strain"]), axial_force=axial, shear=np.zeros(n - 1),
-        moment=np.zeros(n), tension=tension, contact_force=contact, fairlead_force=fb,
+        moment=moment, tension=tension, contact_force=contact, fairlead_force=fb,
         anchor_force=fa, fairlead_tension=float(np.linalg.norm(fb)),
         anchor_tension=float(np.linalg.norm(fa)), grounded_length=grounded,
         touchdown=touchdown, status=status, stats=stats, warnings=warnings,

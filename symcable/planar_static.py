@@ -36,8 +36,8 @@ def solve_static(scene, *, tol: float | None = None, max_iter: int = 50,
     scene : Scene, dict or path
         Anything :func:`symcable.load_scene` takes. A ``model = "cable3d"`` scene is solved
         as the 3D cable (:mod:`symcable.cable3d_static`): the same StaticSolution, with
-        positions (n, 3), end forces (3,), ``angle`` the segments' elevation, no shear or
-        moment.
+        positions (n, 3), end forces (3,), ``angle`` the segments' elevation, no shear, and
+        ``moment`` the magnitude of the bending moment at the nodes (zero where EI = 0).
     tol : float, optional
         Residual tolerance, N (max-norm over all equations, each a force). Default
         ``1e-9`` times the scene's force scale (total submerged weight, applied forces),

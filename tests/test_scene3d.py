@@ -150,14 +150,30 @@ def _refused(d: dict, *fragments: str) -> str:
     return msg
 
 
-def test_clamped_end_refused():
+def test_clamped_end_takes_a_direction():
+    """cable3d clamps an end along a tangent vector (design.md: "3D: direction"), not the
+    planar angle; it needs EI > 0 in the section touching it (issue 12: bending landed, so
+    the first step's refusals of EI and clamped ends became these)."""
     _refused(changed(lambda d: d["end_a"].update(condition="clamped", angle_deg=30.0)),
-             "end_a.condition = 'clamped'", "cable3d has no bending yet", '"pinned" or "free"')
+             "end_a.angle_deg = 30.0 deg", "direction = [t_x, t_y, t_z]")
+    _refused(changed(lambda d: d["end_a"].update(condition="clamped")),
+             "end_a.direction: required key missing")
+    _refused(changed(lambda d: (d["end_a"].update(condition="clamped", direction=[0, 0, 0]),
+                                d["line_types"]["rope"].update(EI=10.0))),
+             "end_a.direction = [0, 0, 0]", "nonzero")
+    _refused(changed(lambda d: d["end_a"].update(condition="clamped", direction=[1, 0, 0])),
+             "end_a.condition = 'clamped'", "EI > 0")
+    _refused(changed(lambda d: d["end_a"].update(direction=[1, 0, 0])),
+             "end_a.direction = [1, 0, 0]", "only a clamped end")
+    s = load_scene(changed(lambda d: (d["end_a"].update(condition="clamped", direction=[0, 3, 4]),
+                                      d["line_types"]["rope"].update(EI=10.0))))
+    assert s.end_a.direction == pytest.approx((0.0, 0.6, 0.8), abs=1e-15)
+    assert load_scene(s.to_dict()) == s
 
 
-def test_bending_stiffness_refused():
-    _refused(changed(lambda d: d["line_types"]["rope"].update(EI=100.0)),
-             "line_types.rope.EI = 100.0 N m^2", 'EI = 0, or model = "planar"')
+def test_bending_stiffness_accepted():
+    s = load_scene(changed(lambda d: d["line_types"]["rope"].update(EI=100.0)))
+    assert s.line_types["rope"].EI == 100.0
 
 
 def test_zero_bending_stiffness_accepted():

@@ -18,6 +18,9 @@ elements gives:
   per unstretched metre (the planar law), |u| smoothed as sqrt(|u|^2 + DRAG_SPEED^2) so the
   force is differentiable at rest, half on each node; or, for a line type with ``drag_law =
   "loading-functions"``, seed 003's loading functions (:mod:`.cable3d_drag`);
+- bending where EI > 0 (:mod:`.cable3d_bending`: a discrete curvature energy on node
+  triplets; a clamped end's tangent held by a ghost node); such segments carry compression
+  (the linear law EA e, as the planar line's), cable segments (EI = 0) do not;
 - lumped mass: structural m L0 / 2 per node, and added mass rho A L0 / 2 (Ca_n (I - t t^T) +
   Ca_t t t^T) per node, rho A the displaced water per metre; or, with ``mass_matrix =
   "consistent"``, seed 003's L0 B / 6 [[2, 1], [1, 2]] per element (:func:`_consistent_mass`).
@@ -44,6 +47,7 @@ import numpy as np
 from ..errors import SymcableError
 from ..scene import EndCondition, Scene
 from . import terms
+from .cable3d_bending import bending_terms, linear_axial_law
 from .cable3d_drag import law_table, loading_drag
 from .cable3d_starts import force_scale, starts_of
 from .relax import _ramp_integral
@@ -189,7 +193,7 @@ def build_cable3d(scene: Scene, part: str | None = None,
     Xm, Vm = ca.horzcat(*X), ca.horzcat(*V)  # (3, N+1)
 
     F = force_scale(scene, seg)
-    law = slack_law(seg, F)
+    law = linear_axial_law(seg, slack_law(seg, F))
     width = ca.exp(math.log(SLACK_CONTINUATION) * (1.0 - sigma))
     rho = 0.0 if env.in_air else env.water_density
     drag_law = law_table(scene)
@@ -214,6 +218,10 @@ def build_cable3d(scene: Scene, part: str | None = None,
     nodal = ca.horzcat(fa, ca.SX.zeros(3, 1)) + ca.horzcat(ca.SX.zeros(3, 1), fb)  # (3, N+1)
     contact = ca.SX.zeros(1, N + 1)
     term_names = ["elastic", "weight"] + (["material damping"] if np.any(BA) else [])
+    bending = bending_terms(scene, seg, Xm)
+    if bending is not None:
+        term_names.append("bending")
+        nodal = nodal + bending[0]
     if not env.in_air and (any(env.current) or env.current_profile):
         term_names.append("drag")
     if sb is not None:
@@ -247,8 +255,8 @@ def build_cable3d(scene: Scene, part: str | None = None,
     # what the line exerts on each end (N): its element's pull and the loads lumped on the
     # end node, which the support takes (as the planar line's end forces); on a free end the
     # applied force is not the line's, and balances this
-    end_force_a = nodal[:, 0]
-    end_force_b = nodal[:, N]
+    end_force_a = nodal[:, 0] + (bending[1].get(0, 0.0) if bending else 0.0)
+    end_force_b = nodal[:, N] + (bending[1].get(N, 0.0) if bending else 0.0)
     applied = np.zeros((3, N + 1))
     for end, i in ((a, 0), (b, N)):
         if end.condition is EndCondition.FREE and end.force is not None:
@@ -304,17 +312,24 @@ def build_cable3d(scene: Scene, part: str | None = None,
     potential = ca.dot(ca.DM(seg["ds"]), U) + load * ca.dot(ca.DM(_lumped(seg)), Xm[2, :].T)
     if sb is not None:
         potential += ca.dot(ca.DM(trib * sb.stiffness), _ramp_integral(pen, dlt).T)
+    if bending is not None:
+        potential += bending[2]
+        outputs["bending_moment"] = Output(bending[3].T, "N m", owner, "bending moment vector "
+                                           "at each node (along the binormal)")
     outputs["kinetic_energy"] = Output(0.5 * ca.dot(v, ca.mtimes(mass, v)), "J", owner,
                                        "kinetic energy of the moving nodes")
-    outputs["potential_energy"] = Output(potential, "J", owner,
-                                         "elastic, gravity and contact potential energy")
+    outputs["potential_energy"] = Output(potential, "J", owner, "elastic, gravity, contact "
+                                         "and bending potential energy")
     L = scene.length
     cable = seg["EI"] <= 0.0
     push = np.maximum(CABLE_COMPRESSION * F, FOLD_PUSH * np.abs(seg["w"]) * seg["ds"])
     bounds = {"strain": Bound(e.T, lower=-1.0 + 1e-9, unit="1", scale=1.0,
-                              what="segments of positive length"),
-              "cable_axial_force": Bound(T.T, lower=-push, unit="N", scale=F,
-                                         what="a cable (EI = 0) carries no compression")}
+                              what="segments of positive length")}
+    cab = np.flatnonzero(cable)
+    if cab.size:  # segments with EI > 0 carry compression
+        bounds["cable_axial_force"] = Bound(T.T if cab.size == N else T.T[cab.tolist()],
+                                            lower=-push[cab], unit="N", scale=F,
+                                            what="a cable (EI = 0) carries no compression")
     if sb is not None:
         press = float(np.sum(np.maximum(seg["w"], 0.0) * seg["ds"])) + float(np.abs(applied).sum())
         u2 = float(np.dot(env.current, env.current)) + max(

@@ -1,6 +1,8 @@
 """Static starts of the cable3d line (:mod:`symcable.models.cable3d`), in order, each built
 only when the ones before it have failed:
 
+0. a clamped end and a free end: the line straight along the clamp's direction, unloaded
+   (an equilibrium at load = 0, continued in ``load``);
 1. two held ends: the planar line's closed-form elastic catenary (with seabed, piles and
    folds built segment by segment) in the vertical plane through the two ends;
 2. two held ends: the straight line between them;
@@ -86,6 +88,13 @@ def starts_of(scene, seg, params, moving):
 
     a, b = scene.end_a, scene.end_b
     first = None
+    for held, other, sign in ((a, b, 1.0), (b, a, -1.0)):
+        if held.condition is EndCondition.CLAMPED and other.condition is EndCondition.FREE:
+            s = seg["s"] if sign > 0 else seg["s"] - seg["s"][-1]
+            pos = np.asarray(held.position, float) + np.outer(s, held.direction)
+            yield Start(np.ascontiguousarray(pos[idx]).ravel(), np.zeros(0),
+                        params.with_values(p0, load=0.0), "straight along the clamp, unloaded",
+                        "load")
     if a.condition is not EndCondition.FREE and b.condition is not EndCondition.FREE:
         cat = _catenary(scene, seg)
         if cat is not None:

@@ -271,8 +271,9 @@ def _starts(scene: Scene, mech: Mechanism):
     sources = sorted({src.split(" (")[0] for _, src in shapes.values()})
     yield start({k: v[0] for k, v in shapes.items()},
                 f"each line's {' / '.join(sources)} between its end points")
-    relaxed = _relaxed(scene, mech, {k: v[0] for k, v in shapes.items()})
-    if relaxed is not None:
+    bent = any(s.line_type.EI > 0 for ln in scene.lines for s in ln.sections)
+    relaxed = None if bent else _relaxed(scene, mech, {k: v[0] for k, v in shapes.items()})
+    if relaxed is not None:  # (the relaxation's energy is a cable's: no bending)
         yield start(relaxed, "minimum of the potential energy")
 
 

@@ -38,7 +38,8 @@ class EndCondition(str, enum.Enum):
     """How an end of the line is held."""
 
     PINNED = "pinned"    #: position given, free to rotate, no moment
-    CLAMPED = "clamped"  #: position and tangent angle given (needs EI > 0 at that end)
+    #: position and tangent given (angle_deg planar, direction cable3d); needs EI > 0 there
+    CLAMPED = "clamped"
     FREE = "free"        #: external force given, position unknown, no moment
 
 
@@ -46,7 +47,7 @@ class Model(str, enum.Enum):
     """Formulations a scene can ask for (``model = ...``)."""
 
     PLANAR = "planar"    #: a line in the vertical x-z plane; vectors are [x, z]
-    CABLE3D = "cable3d"  #: a 3D position-vector cable, no bending yet; vectors are [x, y, z]
+    CABLE3D = "cable3d"  #: a 3D position-vector cable; vectors are [x, y, z]
 
 
 #: space dimensions of each model: the length of every vector in its scenes (z is up)
@@ -63,7 +64,8 @@ class LineType:
     EA : float
         Axial stiffness, N (> 0).
     EI : float
-        Bending stiffness, N m^2 (>= 0; 0 builds no bending term).
+        Bending stiffness, N m^2 (>= 0; 0 builds no bending term). Segments with EI > 0
+        carry compression (the linear law EA e); cable segments (EI = 0) are tension-only.
     mass : float
         Structural mass per unstretched length, kg/m (> 0).
     diameter : float
@@ -192,6 +194,10 @@ class End:
     angle_deg : float or None
         Clamped ends only (planar): angle of the line's tangent (direction of increasing arc length,
         i.e. pointing from A towards B) from +x, counter-clockwise, degrees.
+    direction : tuple of float or None
+        Clamped ends only (cable3d): the line's unit tangent at the end, pointing from A
+        towards B (the file's vector, normalised); it keeps its direction while the end
+        moves.
     force : tuple of float or None
         Free ends only: external force applied to the end, N, one component per coordinate
         (zero vector if not given).
@@ -204,6 +210,7 @@ class End:
     angle_deg: float | None = None
     force: tuple[float, ...] | None = None
     motion: Motion | None = None
+    direction: tuple[float, ...] | None = None
 
     @property
     def angle(self) -> float | None:
@@ -429,6 +436,8 @@ def _end_dict(end: End) -> dict:
         e["position"] = list(end.position)
     if end.angle_deg is not None:
         e["angle_deg"] = end.angle_deg
+    if end.direction is not None:
+        e["direction"] = list(end.direction)
     if end.force is not None:
         e["force"] = list(end.force)
     if end.motion is not None:

@@ -26,7 +26,8 @@ from .checks import (_BARE_KEY, _choice, _err, _fmt, _for, _get, _key, _num_read
                      _number, _required, _suggest, _table, _vector)
 from .model import End, EndCondition, Environment, LineType
 from .points import SPHERE_CA, Line, Point, PointKind
-from .tables import (_check_motion_speed, _check_stiffness, _end_table, _motion, _sections)
+from .tables import (_check_clamp, _check_motion_speed, _check_stiffness, _end_table, _motion,
+                     _sections)
 
 __all__ = ["read_system"]
 
@@ -179,6 +180,7 @@ def _check_system(env: Environment, lines: tuple[Line, ...], points: Mapping[str
                                   position=pt.position, force=pt.force)
                 continue
             ends[which] = end
+            _check_clamp(f"{path}.{which}", end, section.line_type)
             if end.position is not None and env.depth is not None \
                     and end.position[-1] < -env.depth * (1 + 1e-9):
                 raise _err(f"{path}.{which}.position", list(end.position), "m", "below the "

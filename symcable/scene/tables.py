@@ -21,7 +21,7 @@ _ENV_KEYS = ("gravity", "water_density", "depth", "current", "current_profile")
 _SEABED_KEYS = ("stiffness", "friction", "damping", "friction_axial", "friction_lateral",
                 "friction_velocity")
 _SECTION_KEYS = ("type", "length", "segments")
-_END_KEYS = ("condition", "position", "angle_deg", "force", "motion")
+_END_KEYS = ("condition", "position", "angle_deg", "force", "motion", "direction")
 _MOTION_KEYS = ("kind", "period", "amplitude", "phase_deg", "file")
 _MOTION_KINDS = ("harmonic", "table")
 _CONDITIONS = tuple(c.value for c in EndCondition)
@@ -96,9 +96,6 @@ def _line_type(path: str, name: str, raw: Any, env: Environment, dim: int) -> Li
     diameter = num("diameter", "m", gt=0)
     default_weight = (mass - env.water_density * math.pi * diameter**2 / 4.0) * env.gravity
     ei = num("EI", "N m^2", 0.0, ge=0)
-    if dim == 3 and ei > 0:
-        raise _err(_key(path, "EI"), ei, "N m^2",
-                   'cable3d has no bending yet; EI = 0, or model = "planar"')
     law, loading = read_drag_law(path, t, dim)
     return LineType(
         name=name, EA=num("EA", "N", gt=0), EI=ei, mass=mass,
@@ -216,7 +213,7 @@ def _end_table(path: str, raw: Any, dim: int, base: str = ".") -> End:
     cond = EndCondition(_choice(f"{path}.condition", _required(
         path, t, "condition", f"one of {', '.join(map(repr, _CONDITIONS))}"), _CONDITIONS,
         "end condition"))
-    position, angle, force, motion = (_get(t, k) for k in _END_KEYS[1:])
+    position, angle, force, motion = (_get(t, k) for k in _END_KEYS[1:5])
     this = f"(this end is {cond.value})"
     if cond is EndCondition.FREE:
         if position is not None:
@@ -230,24 +227,52 @@ def _end_table(path: str, raw: Any, dim: int, base: str = ".") -> End:
                              f"a {cond.value} end needs its position)")
         if force is not None:
             raise _err(f"{path}.force", force, "N", f"only a free end takes a force {this}")
-    if dim == 3 and cond is EndCondition.CLAMPED:
-        raise _err(f"{path}.condition", cond.value, "", "cable3d has no bending yet: "
-                   '"pinned" or "free"')
+    direction = _get(t, "direction")
     if dim == 3 and angle is not None:
-        raise _err(f"{path}.angle_deg", angle, "deg", "cable3d has no end angle (no bending "
-                   "yet): remove it")
-    if cond is EndCondition.CLAMPED:
+        raise _err(f"{path}.angle_deg", angle, "deg", "cable3d gives a clamped end its "
+                   "tangent as direction = [t_x, t_y, t_z], not an angle: remove angle_deg")
+    if dim != 3 and direction is not None:
+        raise _err(f"{path}.direction", direction, "", 'a clamped end\'s direction is read by '
+                   'model = "cable3d"; the planar line takes angle_deg')
+    if cond is EndCondition.CLAMPED and dim == 3:
+        direction = _direction(f"{path}.direction", _required(
+            path, t, "direction", "[t_x, t_y, t_z]; a clamped end needs the line's tangent "
+            "there, pointing from end A towards end B"))
+    elif cond is EndCondition.CLAMPED:
         angle = _number(f"{path}.angle_deg", _required(
             path, t, "angle_deg", "deg; a clamped end needs its tangent angle from +x"), "deg")
     elif angle is not None:
         raise _err(f"{path}.angle_deg", angle, "deg", f"only a clamped end takes angle_deg {this}")
+    elif direction is not None:
+        raise _err(f"{path}.direction", direction, "", f"only a clamped end takes a direction "
+                   f"{this}")
     if position is not None:
         position = _vector(f"{path}.position", position, dim, "m", _for(dim))
     if cond is EndCondition.FREE:
         force = _vector(f"{path}.force", _get(t, "force", (0.0,) * dim), dim, "N", _for(dim, "F_"))
     if motion is not None:
         motion = _motion(f"{path}.motion", motion, dim, base)
-    return End(condition=cond, position=position, angle_deg=angle, force=force, motion=motion)
+    return End(condition=cond, position=position, angle_deg=angle, force=force, motion=motion,
+               direction=direction)
+
+
+def _direction(path: str, raw: Any) -> tuple[float, ...]:
+    """A clamped end's tangent [t_x, t_y, t_z] (cable3d), normalised; not zero."""
+    v = np.asarray(_vector(path, raw, 3, "", _for(3, "t_")), float)
+    n = float(np.linalg.norm(v))
+    if not n > 0.0:
+        raise _err(path, raw, "", "must be a nonzero vector [t_x, t_y, t_z] (the line's "
+                   "tangent at the clamp, from end A towards end B; normalised)")
+    return tuple(float(x) for x in v / n)
+
+
+def _check_clamp(name: str, end: End, lt: LineType) -> None:
+    """A clamped end (key path ``name``) needs bending stiffness in its section's type."""
+    if end.condition is EndCondition.CLAMPED and not lt.EI > 0:
+        ei = _key(_key("line_types", lt.name), "EI")
+        raise _err(f"{name}.condition", "clamped", "", "a clamped end needs bending stiffness "
+                   f"EI > 0, but {ei} = {lt.EI!r} N m^2 in the section touching it "
+                   "(give EI > 0 or pin the end)")
 
 
 def _check_geometry(env: Environment, sections: tuple[Section, ...], ends: dict[str, End],
@@ -260,11 +285,7 @@ def _check_geometry(env: Environment, sections: tuple[Section, ...], ends: dict[
     for name, end in ends.items():
         section = sections[0] if name == "end_a" else sections[-1]
         lt = section.line_type
-        if end.condition is EndCondition.CLAMPED and not lt.EI > 0:
-            ei = _key(_key("line_types", lt.name), "EI")
-            raise _err(f"{name}.condition", "clamped", "", "a clamped end needs bending stiffness "
-                       f"EI > 0, but {ei} = {lt.EI!r} N m^2 in the section touching it "
-                       "(give EI > 0 or pin the end)")
+        _check_clamp(name, end, lt)
         if end.position is not None and env.depth is not None \
                 and end.position[-1] < -env.depth - 1e-9 * env.depth:
             raise _err(f"{name}.position", list(end.position), "m", "below the seabed at "

@@ -257,7 +257,9 @@ def sweep_periodic(scene, periods: Sequence[float], method="collocation", *,
     CasADi functions serves the sweep) and starts from the previous period's solution,
     falling back to the method's own start if that fails. ``scene``, ``method``,
     ``**options`` and the other arguments as in :func:`solve_periodic`; the model is built
-    once for the whole sweep.
+    once for the whole sweep. A cable3d scene: each period solved from its own start; with
+    several lines and points, ``line="NAME"`` picks the line whose tension at its moving end
+    is swept (default: the first line ending at a moving point; ``stats["swept"]`` says which).
 
     Returns
     -------

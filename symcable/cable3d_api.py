@@ -269,15 +269,44 @@ def _with_period(scene: Scene, period: float) -> Scene:
     return load_scene(d)
 
 
+def _swept_end(scene: Scene, line: str | None):
+    """``(pick, label)``: ``pick(periodic_result) -> tension series (N)`` of the swept end: end B of a one-line
+    scene; in a scene of several lines, the end of ``line`` (default: the first line with an
+    end at a point that moves) at the moving point (end B when neither end moves)."""
+    if scene.version != 2:
+        if line is not None:
+            raise SymcableError(f"line = {line!r}: a one-line scene has no named lines; "
+                                "leave it out")
+        return lambda per: per.fairlead_tension, "end B"
+    names = [ln.name for ln in scene.lines]
+    moving = {k for k, pt in scene.points.items() if pt.motion is not None}
+    if line is None:
+        at = [ln.name for ln in scene.lines if {ln.end_a, ln.end_b} & moving]
+        if not at:
+            raise SymcableError(f"scene {scene.name!r}: no line ends at a moving point; name "
+                                f"the line to sweep with line = one of {names}")
+        line = at[0]
+    if line not in names:
+        raise SymcableError(f"line = {line!r}: not a line of scene {scene.name!r}; one of {names}")
+    ln = scene.lines[names.index(line)]
+    end_a = isinstance(ln.end_a, str) and ln.end_a in moving and ln.end_b not in moving
+    if end_a:
+        return (lambda per: per.lines[line].anchor_tension), f"line {line}, end A"
+    return (lambda per: per.lines[line].fairlead_tension), f"line {line}, end B"
+
+
 def sweep_periodic_3d(scene: Scene, periods, method="collocation", *, resolution: int = 200,
-                      codegen: bool | None = None, **options) -> PeriodicSweep:
-    """The periodic fairlead tension of a one-line cable3d scene over excitation periods (a
+                      codegen: bool | None = None, line: str | None = None,
+                      **options) -> PeriodicSweep:
+    """The periodic tension at the moving end of a cable3d line over excitation periods (a
     tension RAO; see :func:`symcable.sweep_periodic`): the scene's harmonic motion at each
     period, each solved by :func:`solve_periodic_3d` from its own start (the period is part
-    of the line's Mechanism, so each period builds its own). A period that fails gives NaN
-    and a warning; every one failing raises."""
+    of the line's Mechanism, so each period builds its own). A one-line scene: end B's
+    tension (N); several lines and points: the tension of ``line`` (default the first line
+    ending at a moving point) at its moving end. A period that fails gives NaN and a
+    warning; every one failing raises."""
     started = time.perf_counter()
-    _one_line(scene, "sweep_periodic")
+    pick, swept = _swept_end(scene, line)
     periods = np.asarray(periods, dtype=float).ravel()
     if periods.size == 0 or not np.all(np.isfinite(periods)) or np.any(periods <= 0):
         raise SymcableError(f"periods = {periods.tolist()!r}: must be a non-empty list of "
@@ -301,8 +330,8 @@ def sweep_periodic_3d(scene: Scene, periods, method="collocation", *, resolution
             times.append(time.perf_counter() - t0)
             continue
         name = per.method
-        f = np.interp(tau * T, np.r_[per.time, T],
-                      np.r_[per.fairlead_tension, per.fairlead_tension[0]])
+        ten = pick(per)
+        f = np.interp(tau * T, np.r_[per.time, T], np.r_[ten, ten[0]])
         c = np.fft.rfft(f) / f.size
         series[i] = f
         rows["amp"][i], rows["phase"][i] = 2 * abs(c[1]), float(np.angle(c[1]))
@@ -321,7 +350,7 @@ def sweep_periodic_3d(scene: Scene, periods, method="collocation", *, resolution
         fairlead_tension_min=rows["min"], normalised_time=tau, fairlead_tension=series,
         statuses=tuple(statuses), status=status,
         stats={"wall_time": time.perf_counter() - started, "iterations": its,
-               "solve_time": times, "start": ["own start"] * periods.size},
+               "solve_time": times, "start": ["own start"] * periods.size, "swept": swept},
         warnings=tuple(warnings))
 
 

@@ -75,3 +75,25 @@ def test_system_modes_and_stiffness():
             f.append(np.asarray(sc.solve_static(dd).points["fair"].force))
         fd[:, j] = -(f[0] - f[1]) / (2 * h)
     assert np.max(np.abs(K - fd)) < 1e-4 * np.max(np.abs(K))
+
+
+def test_system_sweep_periodic_takes_the_moving_end():
+    """sweep_periodic on two ropes and a buoy: by default the line ending at the moving
+    point ("upper", end B); each period's series equals solve_periodic's at that period (the
+    same solve, to round-off on the sweep's grid); a line that is not in the scene is one
+    clear error."""
+    d = _scene()
+    for ln in d["lines"]:
+        ln["sections"][0]["segments"] = 4
+    opts = dict(intervals=40, solver="newton")
+    sw = sc.sweep_periodic(d, [8.0, 10.0], "collocation", **opts)
+    assert sw.status == "converged" and sw.stats["swept"] == "line upper, end B"
+    per = sc.solve_periodic(d, "collocation", **opts)
+    f = per.lines["upper"].fairlead_tension
+    g = np.interp(sw.normalised_time * T, np.r_[per.time, T], np.r_[f, f[0]])
+    np.testing.assert_allclose(sw.fairlead_tension[0], g, rtol=1e-8, atol=1e-6 * np.ptp(f))
+    low = sc.sweep_periodic(d, [8.0], "collocation", line="lower", **opts)
+    assert low.stats["swept"] == "line lower, end B"
+    assert np.ptp(low.fairlead_tension[0]) < np.ptp(sw.fairlead_tension[0])
+    with pytest.raises(sc.SymcableError, match="line = 'middle'"):
+        sc.sweep_periodic(d, [8.0], line="middle")

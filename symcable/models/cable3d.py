@@ -27,9 +27,9 @@ k d b ramp(-depth - z) (b its tributary length), a damper into the bed
 ``seabed.friction_law`` (:mod:`~symcable.models.seabed_friction`: regularised Coulomb, or an
 elastic bristle per node whose deflections (m, x and y) are first-order states: the last
 entries of q, node by node, their rates in the kinematics, zero at rest or, with
-``seabed.static_friction = "laid"``, the static spring's deflection from the as-laid shape). The free end carries its
-applied force. The lumped mass of an element next to a moving end turns with it, so the
-mass matrix depends on t as well as q.
+``seabed.static_friction = "laid"``, the static spring's deflection from the as-laid
+shape). The free end carries its applied force. The lumped mass of an element next to a
+moving end turns with it, so the mass matrix depends on t as well as q.
 
 Parameters (blocks): ``load`` (scales weight, buoyancy and applied forces; 1),
 ``end_a.position``, ``end_b.position`` (3 each, m), ``current`` (3, m/s), ``slack`` (the
@@ -301,7 +301,7 @@ def build_cable3d(scene: Scene, part: str | None = None,
         "strain": Output(e.T, "1", owner, "strain of each segment"),
         "contact_force": Output(contact.T, "N", owner, "seabed contact force on each node"),
         **({"friction_force": Output(fr.force.T, "N", owner, "seabed friction force on each "
-                                     "node (x, y)")} if sb is not None and rubs else {}),
+                                     "node (x, y)")} if rubs else {}),
         "end_force_a": Output(end_force_a, "N", owner, "force of the line on end A"),
         "end_force_b": Output(end_force_b, "N", owner, "force of the line on end B"),
     }

@@ -80,10 +80,19 @@ def solve_static_3d(scene: Scene, *, tol: float | None = None, max_iter: int = 5
     stats = dict(eq.stats)
     stats.update(wall_time=time.perf_counter() - t0, unknowns=mech.n_q, terms=list(mech.terms))
     warnings = list(eq.warnings)
-    if scene.seabed is not None and scene.seabed.friction > 0:
-        warnings.append("seabed friction is not applied in cable3d statics yet (frictionless "
-                        "contact)")
+    if _frictionless_statics(scene):
+        warnings.append(FRICTIONLESS)
     return _solution(scene, seg, eq.outputs, eq.q, "converged", stats, tuple(warnings))
+
+
+#: the warning of a static solve on a seabed with friction but without static friction
+FRICTIONLESS = ("seabed friction is not applied in cable3d statics (seabed.static_friction = "
+                "'none': frictionless contact; 'laid' holds the line from its as-laid shape)")
+
+
+def _frictionless_statics(scene: Scene) -> bool:
+    sb = scene.seabed
+    return sb is not None and max(sb.mu_axial, sb.mu_lateral) > 0 and sb.static_friction == "none"
 
 
 def _solution(scene, seg, out, q, status, stats, warnings) -> StaticSolution:
@@ -128,9 +137,8 @@ def _solve_system(scene: Scene, *, tol, max_iter, continuation, codegen) -> Syst
     stats = dict(eq.stats)
     stats.update(wall_time=time.perf_counter() - t0, unknowns=mech.n_q, terms=list(mech.terms))
     warnings = list(eq.warnings)
-    if scene.seabed is not None and scene.seabed.friction > 0:
-        warnings.append("seabed friction is not applied in cable3d statics yet (frictionless "
-                        "contact)")
+    if _frictionless_statics(scene):
+        warnings.append(FRICTIONLESS)
     return _system(scene, eq.outputs, eq.q, "converged", stats, tuple(warnings))
 
 

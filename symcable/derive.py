@@ -73,15 +73,30 @@ class MechanismFunctions:
         return m.v if m.kinematics is None else m.kinematics
 
     # -- static ---------------------------------------------------------------------------
+    def static_expr(self):
+        """The static residual as an expression of (q, z, p): (f, w_g g) at v = 0, t = 0,
+        and the mechanism's ``rest`` rows when it has first-order states, N."""
+        m = self.mech
+        rows = [m.force, self.g_weight * m.constraint] + ([] if m.rest is None else [m.rest])
+        return ca.substitute([ca.vertcat(*rows)], [m.v, m.t],
+                             [ca.DM.zeros(m.n_v), ca.DM(0.0)])[0]
+
     @cached_property
     def static_residual(self) -> ca.Function:
-        """``static_residual(x, p) -> r``: x = (q, z); r = (f(q, 0, z, 0; p), w_g g), N."""
+        """``static_residual(x, p) -> r``: x = (q, z); r = (f(q, 0, z, 0; p), w_g g[, rest]),
+        N (:meth:`static_expr`)."""
         m = self.mech
         x = ca.vertcat(m.q, m.z)
-        zero_v = ca.DM.zeros(m.n_v)
-        r = ca.vertcat(m.force, self.g_weight * m.constraint)
-        r = ca.substitute([r], [m.v, m.t], [zero_v, ca.DM(0.0)])[0]
+        r = self.static_expr()
         return ca.Function(f"{m.name}_static_residual", [x, m.p], [r], ["x", "p"], ["r"])
+
+    @cached_property
+    def static_parameter_jacobian(self) -> ca.Function:
+        """``static_parameter_jacobian(x, p) -> R_p``, dr/dp of the static residual, sparse."""
+        m = self.mech
+        x = ca.vertcat(m.q, m.z)
+        return ca.Function(f"{m.name}_static_dp", [x, m.p],
+                           [ca.jacobian(self.static_expr(), m.p)], ["x", "p"], ["R_p"])
 
     @cached_property
     def static_jacobian(self) -> ca.Function:

@@ -130,8 +130,7 @@ def _vm(F) -> StaticSolver:
     n, n_p = m.n_q + m.n_z, m.params.n
     # the static residual as an expression of fresh symbols (v = 0 and t = 0 substituted)
     x = ca.vertcat(m.q, m.z)
-    r = ca.substitute([ca.vertcat(m.force, F.g_weight * m.constraint)], [m.v, m.t],
-                      [ca.DM.zeros(m.n_v), ca.DM(0.0)])[0]
+    r = F.static_expr()
     # common subexpressions (a segment's cos and sin, built by two terms) merged where the
     # system is small: same values, fewer operations; above SXLU_MAX_UNKNOWNS the merge
     # itself costs more than it saves (seconds at 2000 segments)

@@ -26,19 +26,26 @@ elements gives:
   "consistent"``, seed 003's L0 B / 6 [[2, 1], [1, 2]] per element (:func:`_consistent_mass`).
 
 Each node on a flat seabed at z = -depth gets the planar line's smooth penalty contact
-k d b ramp(-depth - z) (b its tributary length), a damper into the bed and regularised
-Coulomb friction, axial and lateral (:func:`_seabed_dynamics`). The free end carries its
-applied force. The lumped mass of an element next to a moving end turns with it, so the
-mass matrix depends on t as well as q.
+k d b ramp(-depth - z) (b its tributary length), a damper into the bed
+(:func:`_seabed_damper`) and friction, axial and lateral, by the scene's
+``seabed.friction_law`` (:mod:`~symcable.models.seabed_friction`: regularised Coulomb, or an
+elastic bristle per node whose deflections (m, x and y) are first-order states: the last
+entries of q, node by node, their rates in the kinematics, zero at rest or, with
+``seabed.static_friction = "laid"``, the static spring's deflection from the as-laid
+shape). The free end carries its applied force. The lumped mass of an element next to a
+moving end turns with it, so the mass matrix depends on t as well as q.
 
 Parameters (blocks): ``load`` (scales weight, buoyancy and applied forces; 1),
 ``end_a.position``, ``end_b.position`` (3 each, m), ``current`` (3, m/s), ``slack`` (the
 tension-only law's continuation, as planar), ``motion`` (scales the prescribed motions; 0 in
 statics), ``ramp`` (1: a harmonic motion ramps in over its first period from t = 0; 0: at
-full amplitude throughout, as periodic solves take it).
+full amplitude throughout, as periodic solves take it); with static friction
+``static_friction`` (1 in statics, 0 in time) and ``laid`` (the as-laid horizontal positions
+of the nodes, m, node by node).
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import casadi as ca
@@ -49,9 +56,10 @@ from ..scene import EndCondition, Scene
 from . import terms
 from .cable3d_bending import bending_terms, linear_axial_law
 from .cable3d_drag import law_table, loading_drag
-from .cable3d_starts import force_scale, starts_of
+from .cable3d_starts import force_scale, laid_shape, starts_of
 from .relax import _ramp_integral
 from .mechanism import Bound, Layout, Mechanism, Output, ParamBlocks, PartLayout, Scales
+from .seabed_friction import friction
 from .planar import (CABLE_COMPRESSION, FOLD_PUSH, SLACK_CONTINUATION, segment_table,
                      slack_law)
 
@@ -173,17 +181,25 @@ def build_cable3d(scene: Scene, part: str | None = None,
     free = [a.condition is EndCondition.FREE, b.condition is EndCondition.FREE]
     if all(free) and part is None:
         raise SymcableError(f"scene {scene.name!r}: both ends free; hold one end")
-    params = ParamBlocks(P_NAMES, P_SIZES, np.concatenate([
+    rubs = sb is not None and (sb.mu_axial > 0 or sb.mu_lateral > 0)
+    bristle = rubs and sb.friction_law == "bristle"
+    laid = laid_shape(scene, seg) if rubs and sb.static_friction == "laid" else None
+    names, sizes = P_NAMES + (("static_friction", "laid") if laid is not None else ()), \
+        P_SIZES + ((1, laid.size) if laid is not None else ())
+    params = ParamBlocks(names, sizes, np.concatenate([
         [1.0], a.position if a.position is not None else np.zeros(3),
-        b.position if b.position is not None else np.zeros(3), env.current, [1.0], [1.0], [1.0]]))
+        b.position if b.position is not None else np.zeros(3), env.current, [1.0], [1.0], [1.0]]
+        + ([[0.0], laid] if laid is not None else [])))
     p = ca.SX.sym("p", params.n)
     load, pa, pb = p[0], p[1:4], p[4:7]
     current, sigma, motion, ramp_on = p[7:10], p[10], p[11], p[12]
     t = ca.SX.sym("t")
 
     moving = [i for i in range(N + 1) if (i == 0 and free[0]) or (i == N and free[1]) or 0 < i < N]
-    q = ca.SX.sym("q", 3 * len(moving))
-    v = ca.SX.sym("v", 3 * len(moving))
+    n_v = 3 * len(moving)
+    q_all = ca.SX.sym("q", n_v + (2 * (N + 1) if bristle else 0))
+    q, state = q_all[:n_v], q_all[n_v:]
+    v = ca.SX.sym("v", n_v)
     X, V = [None] * (N + 1), [None] * (N + 1)
     for k, i in enumerate(moving):
         X[i], V[i] = q[3 * k:3 * k + 3], v[3 * k:3 * k + 3]
@@ -251,7 +267,14 @@ def build_cable3d(scene: Scene, part: str | None = None,
                     1.0 + pen[i] / ca.sqrt(pen[i] * pen[i] + dlt * dlt))
         contact = ca.DM(trib * sb.stiffness).T * ca.horzcat(*ramp)
         nodal = nodal + ca.vertcat(ca.SX.zeros(2, N + 1), contact)
-        nodal = nodal + _seabed_dynamics(sb, Xm, Vm, contact, pen, dlt, trib, term_names)
+        nodal = nodal + _seabed_damper(sb, Vm, pen, dlt, trib, term_names)
+        if rubs:
+            term_names += ["seabed friction"] + (["friction bristles"] if bristle else []) \
+                + (["static friction"] if laid is not None else [])
+            fr = friction(sb, Xm, Vm, contact, trib, np.abs(_lumped(seg)), state,
+                          None if laid is None else p[params.slice("laid")],
+                          None if laid is None else p[params.slice("static_friction")])
+            nodal = nodal + ca.vertcat(fr.force, ca.SX.zeros(1, N + 1))
     # what the line exerts on each end (N): its element's pull and the loads lumped on the
     # end node, which the support takes (as the planar line's end forces); on a free end the
     # applied force is not the line's, and balances this
@@ -298,6 +321,8 @@ def build_cable3d(scene: Scene, part: str | None = None,
         "axial_force": Output(T.T, "N", owner, "axial force of each segment"),
         "strain": Output(e.T, "1", owner, "strain of each segment"),
         "contact_force": Output(contact.T, "N", owner, "seabed contact force on each node"),
+        **({"friction_force": Output(fr.force.T, "N", owner, "seabed friction force on each "
+                                     "node (x, y)")} if rubs else {}),
         "end_force_a": Output(end_force_a, "N", owner, "force of the line on end A"),
         "end_force_b": Output(end_force_b, "N", owner, "force of the line on end B"),
     }
@@ -344,50 +369,46 @@ def build_cable3d(scene: Scene, part: str | None = None,
     floor = 100.0 * np.finfo(float).eps * float(np.max(seg["EA"] / seg["ds"])) * coord
     n_q = 3 * len(moving)
     total_mass = float(np.sum(seg["mass"] * seg["ds"]))
-    scales = Scales(q=np.full(n_q, 0.1 * L), v=np.full(n_q, math.sqrt(env.gravity * L)),
+    q_scale = np.full(n_q, 0.1 * L)
+    if bristle:  # a bristle's deflection: up to its mobilisation length mu N / k
+        mob = max(sb.mu_axial, sb.mu_lateral) * np.abs(seg["w"]) / (sb.tangential_stiffness
+                                                                     * seg["d"])
+        q_scale = np.concatenate([q_scale, np.full(2 * (N + 1), float(np.median(mob)) or 1e-3)])
+    scales = Scales(q=q_scale, v=np.full(n_q, math.sqrt(env.gravity * L)),
                     z=np.zeros(0), force=F, mass=max(total_mass, 1e-6), residual_floor=floor)
+    static = {"motion": np.zeros(1)}
+    if laid is not None:
+        static["static_friction"] = np.ones(1)
+    p_static = params.with_values(**static)
+
+    def starts():
+        for st in starts_of(scene, seg, params, moving):
+            yield dataclasses.replace(st, q=np.concatenate([st.q, np.zeros(q_all.numel() - n_q)]),
+                                      p=p_static)
     layout = Layout(3, {owner: PartLayout(
         "line", seg["s"], _node_index(N, moving), _node_index(N, moving),
         {i: name for i, name in ((0, "end_a"), (N, "end_b")) if i not in moving})})
     return Mechanism(
-        name=part or "cable3d", q=q, v=v, z=ca.SX.sym("z", 0), t=t, p=p, params=params, mass=mass,
-        force=force, constraint=ca.SX.zeros(0, 1), scales=scales,
-        starts=(lambda: starts_of(scene, seg, params, moving)) if not all(free) else tuple,
-        outputs=outputs, layout=layout, terms=tuple(term_names),
-        static_params={"motion": np.zeros(1)}, bounds=bounds,
-        stability_when=ca.SX(1.0) if np.all(cable) else None)
+        name=part or "cable3d", q=q_all, v=v, z=ca.SX.sym("z", 0), t=t, p=p, params=params,
+        mass=mass, force=force, constraint=ca.SX.zeros(0, 1), scales=scales,
+        starts=starts if not all(free) else tuple, outputs=outputs, layout=layout,
+        terms=tuple(term_names), static_params=static, bounds=bounds,
+        stability_when=ca.SX(1.0) if np.all(cable) else None,
+        kinematics=ca.vertcat(v, fr.rate) if bristle else None,
+        rest=fr.rest if bristle else None,
+        stability_coordinates=np.arange(n_q) if bristle else None)
 
 
-def _seabed_dynamics(sb, Xm, Vm, contact, pen, dlt, area, term_names):
-    """Nodal forces (3, N+1) of the seabed's normal damper and regularised Coulomb friction,
-    N; zero at rest (so statics are frictionless) and built only where the scene asks.
-
-    - damper: -damping b v_z times the contact's smooth on-off factor
-      0.5 (1 + g / sqrt(g^2 + delta^2)) (b = ``area``, the node's contact width x length,
-      m^2; g the penetration, m);
-    - friction on the horizontal velocity v_h, split along the line's horizontal direction
-      tau at the node (central difference of the neighbours) and across it:
-      -N (mu_a (v_h . tau) tau + mu_l (v_h - (v_h . tau) tau)) / sqrt(|v_h|^2 + v_eps^2),
-      N the contact's normal force (the spring, not the damper), v_eps the scene's
-      ``friction_velocity``."""
-    n = Xm.shape[1]
-    out = ca.SX.zeros(3, n)
-    on = 0.5 * (1.0 + pen / ca.sqrt(pen * pen + dlt * dlt))
+def _seabed_damper(sb, Vm, pen, dlt, area, term_names):
+    """Nodal forces (3, N+1) of the seabed's normal damper, N: -damping b v_z times the
+    contact's smooth on-off factor 0.5 (1 + g / sqrt(g^2 + delta^2)) (b = ``area``, the node's
+    contact width x length, m^2; g the penetration, m); zero at rest, built only where the
+    scene asks."""
+    out = ca.SX.zeros(3, Vm.shape[1])
     if sb.damping > 0:
         term_names.append("seabed damping")
+        on = 0.5 * (1.0 + pen / ca.sqrt(pen * pen + dlt * dlt))
         out[2, :] = -sb.damping * ca.DM(area).T * Vm[2, :] * on
-    mu_a, mu_l = sb.mu_axial, sb.mu_lateral
-    if mu_a > 0 or mu_l > 0:
-        term_names.append("seabed friction")
-        nxt = ca.horzcat(Xm[:, 1:], Xm[:, -1])
-        prv = ca.horzcat(Xm[:, 0], Xm[:, :-1])
-        tau = (nxt - prv)[0:2, :]
-        tau = tau / ca.repmat(ca.sqrt(ca.sum1(tau * tau) + 1e-24), 2, 1)
-        vh = Vm[0:2, :]
-        va = ca.repmat(ca.sum1(vh * tau), 2, 1) * tau
-        speed = ca.sqrt(ca.sum1(vh * vh) + sb.friction_velocity ** 2)
-        f = -ca.repmat(contact / speed, 2, 1) * (mu_a * va + mu_l * (vh - va))
-        out[0:2, :] = f
     return out
 
 

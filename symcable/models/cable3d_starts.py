@@ -15,13 +15,13 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..errors import ConvergenceError
+from ..errors import ConvergenceError, SymcableError
 from ..scene import EndCondition, Scene
 from .mechanism import Start
 from .planar import _catenary_start, force_scale_of, slack_law
 from .relax import relax_line
 
-__all__ = ["force_scale", "starts_of"]
+__all__ = ["force_scale", "laid_shape", "starts_of"]
 
 
 def force_scale(scene: Scene, seg: dict) -> float:
@@ -76,6 +76,22 @@ def _hanging(scene, seg):
     direction = load / n if n > 0 else np.array([0.0, 0.0, -1.0])
     s = seg["s"] if not free_a else seg["s"][-1] - seg["s"]
     return held + np.outer(s, direction)
+
+
+def laid_shape(scene, seg) -> np.ndarray:
+    """The as-laid horizontal node positions (2 (N+1),), m, node by node: the closed-form
+    catenary in the ends' vertical plane (the static solve's first start), or the straight
+    line between the ends where it has none."""
+    if any(e.condition is EndCondition.FREE for e in (scene.end_a, scene.end_b)):
+        raise SymcableError(f"scene {scene.name!r}: seabed.static_friction = 'laid' needs both "
+                            "ends held")
+    cat = _catenary(scene, seg)
+    if cat is None:
+        pa, pb = np.asarray(scene.end_a.position, float), np.asarray(scene.end_b.position, float)
+        pos = pa + np.outer(seg["s"] / seg["s"][-1], pb - pa)
+    else:
+        pos = cat[0]
+    return np.ascontiguousarray(pos[:, :2]).ravel()
 
 
 def starts_of(scene, seg, params, moving):

@@ -23,6 +23,11 @@ p)``. The derived ``qdot`` Function takes ``(q, v, z, t, p)``.
 
 Prescribed coordinates are not unknowns: they enter ``f`` and the outputs as functions of
 ``t`` and ``p`` (see :mod:`symcable.models.assembly` for fixed and moving nodes).
+
+First-order states (coordinates without a velocity of their own, such as the seabed
+friction's bristle deflections of :mod:`symcable.models.seabed_friction`) are the last
+``n_q - n_v`` entries of ``q``; ``kinematics`` gives their rates, and ``rest`` the rows that
+fix them at rest, which the static residual appends to the force balance.
 """
 from __future__ import annotations
 
@@ -271,6 +276,12 @@ class Mechanism:
         Stability is judged only where this is negative (the planar line: its least axial
         force in sections with bending, since a tension-only cable under conservative loads
         cannot lose stability); None: always.
+    rest : expression (n_q - n_v, 1) of (q, z, t, p) or None
+        For a mechanism with first-order states (the last n_q - n_v entries of q, their
+        rates in ``kinematics``): the rows that fix them at rest, in N like the force rows;
+        the static residual is (f, g, rest) at v = 0, and stability is judged as for a
+        massless mechanism, on ``stability_coordinates`` (the first-order states follow
+        through their rows). None: no first-order states (statics need n_q = n_v).
     """
 
     name: str
@@ -293,11 +304,17 @@ class Mechanism:
     bounds: Mapping[str, Bound] = field(default_factory=dict)
     stability_coordinates: object = None
     stability_when: object = None
+    rest: object = None
 
     def __post_init__(self):
         n_q, n_v, n_z = self.n_q, self.n_v, self.n_z
         checks = [("mass", self.mass, (n_v, n_v)), ("force", self.force, (n_v, 1)),
                   ("constraint", self.constraint, (n_z, 1))]
+        if self.rest is not None:
+            if self.kinematics is None or n_q <= n_v:
+                raise SymcableError(f"mechanism {self.name!r}: rest rows are for first-order "
+                                    "states (n_q > n_v, their rates in kinematics)")
+            checks.append(("rest", self.rest, (n_q - n_v, 1)))
         if self.kinematics is not None:
             checks.append(("kinematics", self.kinematics, (n_q, 1)))
         elif n_q != n_v:

@@ -28,7 +28,7 @@ from .model import _DIMS, Model, Scene, scene_to_dict
 from .moordyn import MoorDynDeck, is_moordyn_deck, parse_moordyn
 from .system import read_system
 from .tables import (MAX_STIFFNESS_RATIO, _check_geometry, _end, _environment, _line_types,
-                     _seabed, _sections)
+                     _seabed, _sections, _check_friction_options)
 
 __all__ = ["MAX_STIFFNESS_RATIO", "load_scene", "moordyn_deck", "scene_to_dict", "scene_to_toml"]
 
@@ -143,6 +143,7 @@ def _build(data: Mapping, source: str, base: str = ".") -> Scene:
     seabed = _seabed(data, env)
     types = _line_types(data, env, dim)
     if _get(data, "lines") is not None:  # version 2: several lines and points
+        _check_friction_options(seabed, model.value, True, None)
         points, lines = read_system(data, env, types, dim, model.value, base)
         return Scene(name=name, model=model, environment=env, seabed=seabed,
                      line_types=MappingProxyType(types), sections=(), end_a=None, end_b=None,
@@ -153,6 +154,7 @@ def _build(data: Mapping, source: str, base: str = ".") -> Scene:
     sections = _sections(data, types)
     ends = {"end_a": _end("end_a", data, dim, base), "end_b": _end("end_b", data, dim, base)}
     _check_geometry(env, sections, ends, dim)
+    _check_friction_options(seabed, model.value, False, ends)
     return Scene(name=name, model=model, environment=env, seabed=seabed,
                  line_types=MappingProxyType(types), sections=sections,
                  end_a=ends["end_a"], end_b=ends["end_b"], source=source,

@@ -266,7 +266,8 @@ class Seabed:
         unstretched length is ``stiffness * diameter * penetration``. Default 1e5.
     friction : float
         Coulomb coefficient (>= 0). Statics treat the seabed as frictionless (friction is
-        statically indeterminate); the cable3d dynamics apply it.
+        statically indeterminate) unless ``static_friction`` says otherwise; the cable3d
+        dynamics apply it by ``friction_law``.
     damping : float
         Pa s/m (>= 0): the normal damper of the contact, pressure per m/s of the node's
         vertical speed while it is in contact (cable3d dynamics).
@@ -274,7 +275,18 @@ class Seabed:
         Coulomb coefficients along and across the line (cable3d dynamics); None: ``friction``.
     friction_velocity : float
         m/s (> 0): the speed over which the Coulomb law is regularised,
-        -mu N v / sqrt(|v|^2 + friction_velocity^2). Default 0.01.
+        -mu N v / sqrt(|v|^2 + friction_velocity^2). Default 0.01. Not used by the bristle law.
+    friction_law : str
+        cable3d dynamics (:mod:`symcable.models.seabed_friction`): ``"coulomb"`` (default,
+        the law above) or ``"bristle"`` (an elastic bristle per node that slips at mu N:
+        holds force at rest). One-line scenes.
+    friction_stiffness : float or None
+        Pa/m (> 0): tangential stiffness per unit contact area, of the bristle and of the
+        static spring (mobilisation length mu N / (stiffness x area)); None: ``stiffness``.
+    static_friction : str
+        cable3d statics: ``"none"`` (default, frictionless) or ``"laid"`` (a smooth capped
+        spring, at most mu N, from the as-laid shape: the catenary in the ends' vertical
+        plane). One-line scenes with both ends held.
     """
 
     stiffness: float = 1.0e5
@@ -283,6 +295,14 @@ class Seabed:
     friction_axial: float | None = None
     friction_lateral: float | None = None
     friction_velocity: float = 0.01
+    friction_law: str = "coulomb"
+    friction_stiffness: float | None = None
+    static_friction: str = "none"
+
+    @property
+    def tangential_stiffness(self) -> float:
+        """Pa/m: ``friction_stiffness``, or ``stiffness`` when not given."""
+        return self.stiffness if self.friction_stiffness is None else self.friction_stiffness
 
     @property
     def mu_axial(self) -> float:
@@ -398,6 +418,9 @@ def scene_to_dict(scene: Scene) -> dict:
                 out["seabed"][key] = getattr(sb, key)
         if sb.friction_velocity != Seabed.friction_velocity:
             out["seabed"]["friction_velocity"] = sb.friction_velocity
+        for key in ("friction_law", "friction_stiffness", "static_friction"):
+            if getattr(sb, key) != getattr(Seabed, key):
+                out["seabed"][key] = getattr(sb, key)
     types = dict(scene.line_types)
     for s in scene.sections + tuple(x for ln in scene.lines for x in ln.sections):
         types.setdefault(s.line_type.name, s.line_type)  # a hand-built Scene may miss some

@@ -19,7 +19,9 @@ from .model import (_LINE_KEYS, _LINE_KEYS_DRAG, End, EndCondition, Environment,
 
 _ENV_KEYS = ("gravity", "water_density", "depth", "current", "current_profile")
 _SEABED_KEYS = ("stiffness", "friction", "damping", "friction_axial", "friction_lateral",
-                "friction_velocity")
+                "friction_velocity", "friction_law", "friction_stiffness", "static_friction")
+FRICTION_LAWS = ("coulomb", "bristle")
+STATIC_FRICTION = ("none", "laid")
 _SECTION_KEYS = ("type", "length", "segments")
 _END_KEYS = ("condition", "position", "angle_deg", "force", "motion", "direction")
 _MOTION_KEYS = ("kind", "period", "amplitude", "phase_deg", "file")
@@ -86,7 +88,43 @@ def _seabed(data: Mapping, env: Environment) -> Seabed | None:
                   friction_lateral=None if _get(t, "friction_lateral") is None
                   else num("friction_lateral", "", ge=0),
                   friction_velocity=num("friction_velocity", "m/s", _SEABED.friction_velocity,
-                                        gt=0))
+                                        gt=0),
+                  friction_law=_choice("seabed.friction_law",
+                                       _get(t, "friction_law", _SEABED.friction_law),
+                                       FRICTION_LAWS, "friction law"),
+                  friction_stiffness=None if _get(t, "friction_stiffness") is None
+                  else num("friction_stiffness", "Pa/m", gt=0),
+                  static_friction=_choice("seabed.static_friction",
+                                          _get(t, "static_friction", _SEABED.static_friction),
+                                          STATIC_FRICTION, "static friction"))
+
+
+def _check_friction_options(seabed: Seabed | None, model: str, several: bool,
+                            ends: Mapping | None) -> None:
+    """The seabed's friction law and static friction where they apply: cable3d, one line
+    (``several``: scene version 2), both ends held for static friction; the bristle law with
+    both coefficients positive (its limit surface divides by each)."""
+    if seabed is None:
+        return
+    options = [(k, getattr(seabed, k), d) for k, d in (("friction_law", "coulomb"),
+                                                        ("static_friction", "none"))
+               if getattr(seabed, k) != d]
+    for key, value, _ in options:
+        if model != "cable3d":
+            raise _err(f"seabed.{key}", value, "", "a cable3d option (model = 'cable3d'); the "
+                                                   "planar line's seabed is frictionless")
+        if several:
+            raise _err(f"seabed.{key}", value, "", "runs on one-line scenes for now (scene "
+                                                   "version 1: [[sections]], end_a, end_b)")
+    mu_a, mu_l = seabed.mu_axial, seabed.mu_lateral
+    if seabed.friction_law == "bristle" and (mu_a > 0) != (mu_l > 0):
+        raise _err("seabed.friction_law", "bristle", "", f"needs friction_axial and "
+                   f"friction_lateral both > 0 (got {mu_a:g} and {mu_l:g}): its limit "
+                   "ellipse divides by each; use 'coulomb' for friction in one direction")
+    if seabed.static_friction == "laid" and ends is not None and any(
+            e.condition is EndCondition.FREE for e in ends.values()):
+        raise _err("seabed.static_friction", "laid", "", "needs both ends held (the as-laid "
+                   "shape is the catenary between them)")
 
 
 def _line_type(path: str, name: str, raw: Any, env: Environment, dim: int) -> LineType:

@@ -142,7 +142,7 @@ def _unstable_direction(F, mech, q, z, p):
         return None, None
     if mech.stability_when is not None and not float(F.stability_when(q, z, p)) < 0.0:
         return None, None
-    if F.massless:
+    if F.massless or mech.rest is not None:  # first-order states: eliminated as internal
         return _schur_direction(F, mech, q, z, p)
     K, _, _, B, *_ = F.tangents(q, np.zeros(mech.n_v), z, 0.0, p)
     K = np.asarray(K)
@@ -186,7 +186,7 @@ def _stability(F, mech, q, z, p):
         return None, float("nan")
     if not np.isfinite(lam):
         return True, lam
-    if F.massless:
+    if F.massless or mech.rest is not None:
         K = np.asarray(F.static_jacobian(q, p)[1])
     else:
         K = np.asarray(F.tangents(q, np.zeros(mech.n_v), z, 0.0, p)[0])
@@ -288,11 +288,13 @@ def solve_equilibrium(mech: Mechanism, p=None, *, tol: float | None = None,
     elif continuation not in (None, False):
         raise SymcableError(f"continuation = {continuation!r}: must be a parameter block name "
                             f"({', '.join(mech.params.names) or 'none'}), True, False or None")
-    if mech.n_v != mech.n_q:
+    n_rest = 0 if mech.rest is None else int(mech.rest.numel())
+    if mech.n_v + n_rest != mech.n_q:
         raise ConvergenceError(
             f"no static equilibrium of {mech.name!r} can be solved for: its static residual has "
             f"n_v + n_z = {mech.n_v + mech.n_z} rows for n_q + n_z = {mech.n_q + mech.n_z} "
-            "unknowns (kinematics q' = G(q) v with G not square); statics need n_q = n_v",
+            "unknowns (kinematics q' = G(q) v with G not square); statics need n_q = n_v, or "
+            "rest rows for the first-order states",
             diagnostics={"attempts": [], "best": {}, "iterations": 0})
     S = F.static_solver(codegen)
     if tol is None:

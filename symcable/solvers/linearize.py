@@ -312,8 +312,7 @@ def output_sensitivity(mech: Mechanism, eq: Equilibrium, output: str, block: str
     _, J = F.static_jacobian(x, eq.p)
     J = np.asarray(J)
     v0 = np.zeros(mech.n_v)
-    f_p, g_p = F.force_parameter_jacobian(eq.q, v0, eq.z, 0.0, eq.p)
-    R_p = np.vstack([np.asarray(f_p), F.g_weight * np.asarray(g_p)])[:, sl_p]
+    R_p = np.asarray(F.static_parameter_jacobian(x, eq.p))[:, sl_p]
     dx = -np.linalg.solve(J, R_p)
     y_q, y_z, y_p = (np.asarray(a) for a in F.output_parameter_jacobian(eq.q, v0, eq.z, 0.0, eq.p))
     sl_y = F.output_slices()[output]

@@ -83,15 +83,21 @@ def _edit_deck(text: str, drop, add=()) -> str:
     return "\n".join(out) + "\n"
 
 
-def run_moordyn(deck: Path, rows: np.ndarray, t_end: float, ic_dir: Path | None = None) -> dict:
+def run_moordyn(deck: Path, rows: np.ndarray, t_end: float, ic_dir: Path | None = None,
+                cfl: float | None = None) -> dict:
     """MoorDyn on ``deck`` driven by the table ``rows`` (t, x, y, z: the fairlead's
-    displacement, its deck position being the origin) from rows[0, 0] to ``t_end`` s.
+    displacement, its deck position being the origin) from rows[0, 0] to ``t_end`` s;
+    ``cfl`` (-) replaces the deck's ``cfl`` option (its step dtM is cfl times its estimate of
+    the segments' critical step) when given.
 
     Returns ``time`` (s), ``fairlead`` and ``anchor`` (kN: the end segments' tensions),
     ``wall`` (s), ``init`` (s: Create + Init), ``dtM`` (s, MoorDyn's step from its CFL)."""
     n = int(np.searchsorted(rows[:, 0], t_end + 1e-9))  # rows up to t_end
     keep_ic = ic_dir is not None and Path(ic_dir, deck.name + ".ic").is_file()
-    files = {deck.name: _edit_deck(deck.read_text(), ("writelog",) if keep_ic else _MOORDYN_DROP)}
+    text = deck.read_text()
+    if cfl is not None:
+        text = _edit_deck(text, ("cfl",), (f"{float(cfl)!r}   cfl",))
+    files = {deck.name: _edit_deck(text, ("writelog",) if keep_ic else _MOORDYN_DROP)}
     if keep_ic:  # MoorDyn resolves fileIC against the working directory: the session's
         files[deck.name + ".ic"] = Path(ic_dir, deck.name + ".ic").read_bytes()
 

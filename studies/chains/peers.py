@@ -29,14 +29,13 @@ static state; ``step(dt, q, v, a)`` advances with the coupled points' kinematics
   the table's position, with the central-difference velocity and acceleration of the rows
   (interpolated linearly between rows).
 
-Wall time (``time.perf_counter``): from reading the deck to the last step, i.e. MoorDyn's
+MoorDyn is driven by ``studies/moordyn_driver.py`` (its session: a temporary folder as the
+working directory, MoorDyn's output to a log). Wall time (``time.perf_counter``): from reading the deck to the last step, i.e. MoorDyn's
 Create + Init (its dynamic-relaxation start) + stepping, CableDyn's constructor (its static
 solve) + stepping; the tension reads inside the loop are counted (a few microseconds each).
 """
 from __future__ import annotations
 
-import contextlib
-import os
 import sys
 import tempfile
 import time
@@ -44,6 +43,10 @@ from importlib import metadata
 from pathlib import Path
 
 import numpy as np
+
+if str(Path(__file__).resolve().parents[1]) not in sys.path:
+    sys.path.append(str(Path(__file__).resolve().parents[1]))
+import moordyn_driver  # noqa: E402  (studies/moordyn_driver.py)
 
 #: options each peer must not see (lower case): MoorDyn's log and missing start file;
 #: CableDyn's refusals
@@ -80,71 +83,40 @@ def _edit_deck(text: str, drop, add=()) -> str:
     return "\n".join(out) + "\n"
 
 
-@contextlib.contextmanager
-def _quiet():
-    """The process's stdout/stderr (MoorDyn's banner and log lines, written by C) to nowhere."""
-    sys.stdout.flush()
-    sys.stderr.flush()
-    saved = [os.dup(1), os.dup(2)]
-    with open(os.devnull, "wb") as sink:
-        try:
-            os.dup2(sink.fileno(), 1)
-            os.dup2(sink.fileno(), 2)
-            yield
-        finally:
-            for fd, old in ((1, saved[0]), (2, saved[1])):
-                os.dup2(old, fd)
-                os.close(old)
-
-
-def run_moordyn(deck: Path, rows: np.ndarray, t_end: float, ic_dir: Path | None = None) -> dict:
+def run_moordyn(deck: Path, rows: np.ndarray, t_end: float, ic_dir: Path | None = None,
+                cfl: float | None = None) -> dict:
     """MoorDyn on ``deck`` driven by the table ``rows`` (t, x, y, z: the fairlead's
-    displacement, its deck position being the origin) from rows[0, 0] to ``t_end`` s.
+    displacement, its deck position being the origin) from rows[0, 0] to ``t_end`` s;
+    ``cfl`` (-) replaces the deck's ``cfl`` option (its step dtM is cfl times its estimate of
+    the segments' critical step) when given.
 
     Returns ``time`` (s), ``fairlead`` and ``anchor`` (kN: the end segments' tensions),
     ``wall`` (s), ``init`` (s: Create + Init), ``dtM`` (s, MoorDyn's step from its CFL)."""
-    import moordyn as md
-    import cmoordyn
-
     n = int(np.searchsorted(rows[:, 0], t_end + 1e-9))  # rows up to t_end
-    with tempfile.TemporaryDirectory(prefix="chains_md_") as tmp:
-        keep_ic = ic_dir is not None and Path(ic_dir, deck.name + ".ic").is_file()
-        drop = ("writelog",) if keep_ic else _MOORDYN_DROP
-        path = Path(tmp, deck.name)
-        path.write_text(_edit_deck(deck.read_text(), drop))
-        if keep_ic:
-            Path(tmp, deck.name + ".ic").write_bytes(Path(ic_dir, deck.name + ".ic").read_bytes())
-        cwd = os.getcwd()
-        os.chdir(tmp)  # MoorDyn resolves fileIC against the working directory
-        try:
-            with _quiet():
-                t0 = time.perf_counter()
-                system = md.Create(str(path))
-                if system is None:
-                    raise RuntimeError(f"moordyn.Create failed on {deck.name}")
-                try:
-                    md.SetVerbosity(system, md.LEVEL_ERR)
-                    # at rest where the table starts, as its test (and as symcable's statics)
-                    if md.Init(system, list(rows[0, 1:4]), [0.0] * 3) != md.ERRCODE_SUCCESS:
-                        raise RuntimeError(f"moordyn.Init failed on {deck.name}")
-                    t_init = time.perf_counter() - t0
-                    line = md.GetLine(system, 1)
-                    top = md.GetLineN(line)
-                    ten = md.GetLineNodeTen
-                    T = np.empty((n, 2))
-                    T[0] = np.linalg.norm(ten(line, top)), np.linalg.norm(ten(line, 0))
-                    for i in range(n - 1):
-                        h = rows[i + 1, 0] - rows[i, 0]
-                        x = rows[i, 1:4]
-                        v = (rows[i + 1, 1:4] - x) / h
-                        md.Step(system, list(x), list(v), rows[i, 0] - rows[0, 0], h)
-                        T[i + 1] = np.linalg.norm(ten(line, top)), np.linalg.norm(ten(line, 0))
-                    wall = time.perf_counter() - t0
-                    dtM = cmoordyn.get_dt(system)
-                finally:
-                    md.Close(system)
-        finally:
-            os.chdir(cwd)
+    keep_ic = ic_dir is not None and Path(ic_dir, deck.name + ".ic").is_file()
+    text = deck.read_text()
+    if cfl is not None:
+        text = _edit_deck(text, ("cfl",), (f"{float(cfl)!r}   cfl",))
+    files = {deck.name: _edit_deck(text, ("writelog",) if keep_ic else _MOORDYN_DROP)}
+    if keep_ic:  # MoorDyn resolves fileIC against the working directory: the session's
+        files[deck.name + ".ic"] = Path(ic_dir, deck.name + ".ic").read_bytes()
+
+    def calls():  # one Step per row, the velocity the forward difference to the next row
+        for i in range(n - 1):
+            h = rows[i + 1, 0] - rows[i, 0]
+            x = rows[i, 1:4]
+            yield list(x), list((rows[i + 1, 1:4] - x) / h), rows[i, 0] - rows[0, 0], h
+
+    # at rest where the table starts, as its test (and as symcable's statics)
+    with moordyn_driver.session(files, deck.name, rows[0, 1:4], [0.0] * 3, prefix="chains_md_") as s:
+        md = s.md
+        line = md.GetLine(s.system, 1)
+        top, ten = md.GetLineN(line), md.GetLineNodeTen
+        run = moordyn_driver.drive(s, calls(), read=lambda: (np.linalg.norm(ten(line, top)),
+                                                             np.linalg.norm(ten(line, 0))))
+        wall = time.perf_counter() - s.started
+        t_init, dtM = s.init_time, s.dt()
+    T = np.asarray(run.reads)
     return {"time": rows[:n, 0].copy(), "fairlead": T[:, 0] / 1e3, "anchor": T[:, 1] / 1e3,
             "wall": wall, "init": t_init, "dtM": dtM, "ic": "the deck's fileIC" if keep_ic else "its IC solve"}
 

@@ -49,16 +49,17 @@ its added mass with the element's tangent, half on each node.
 """
 from __future__ import annotations
 
-import contextlib
 import copy
 import math
-import os
 import sys
-import tempfile
 import time
 from pathlib import Path
 
 import numpy as np
+
+if str(Path(__file__).resolve().parents[1]) not in sys.path:
+    sys.path.append(str(Path(__file__).resolve().parents[1]))
+import moordyn_driver  # noqa: E402  (studies/moordyn_driver.py)
 
 DEPTH = 60.0  # m, water depth: the seabed at z = -60 m
 ANCHOR = (0.0, 0.0, -DEPTH)  # m, on the seabed
@@ -166,78 +167,41 @@ def fairlead_motion(t: float) -> tuple[np.ndarray, np.ndarray]:
     return np.asarray(FAIRLEAD) + r * c, dr * c + r * s
 
 
-@contextlib.contextmanager
-def _quiet(log: Path):
-    """The process's stdout and stderr (MoorDyn's banner and messages, written from C++)
-    into the file ``log``."""
-    sys.stdout.flush()
-    sys.stderr.flush()
-    saved = [os.dup(1), os.dup(2)]
-    with open(log, "ab") as sink:
-        try:
-            os.dup2(sink.fileno(), 1)
-            os.dup2(sink.fileno(), 2)
-            yield
-        finally:
-            for fd, old in ((1, saved[0]), (2, saved[1])):
-                os.dup2(old, fd)
-                os.close(old)
-
-
 def run_moordyn(segments: int = SEGMENTS, dtM: float = 1e-3, duration: float = 3 * PERIOD,
                 settle_max: float = 200.0, settle_tol: float = 1e-7) -> dict:
     """MoorDyn on the deck: Init (its IC solve, without the current), settling in the
     current with the fairlead held (1 s calls until the fairlead force changes by less than
     ``settle_tol`` of itself over 5 s, at most ``settle_max`` s), then the ramped motion
-    for ``duration`` s, one call per step ``dtM`` (s).
+    for ``duration`` s, one call per step ``dtM`` (s). Driven by ``studies/moordyn_driver.py``.
 
     Returns ``time`` (s, each sample's own time: RK2's last stage is half a step before
     the call's end), ``tension`` (N, ``|force on the fairlead|``), ``ic_tension`` (N, after
     Init), ``static_tension`` (N, settled), ``settled_after`` (s simulated),
     ``wall_time`` (s: Create + Init + settling + run), ``run_time`` (s, the motion's calls).
     """
-    import moordyn as md
-
     n = int(round(duration / dtM))
-    with tempfile.TemporaryDirectory(prefix="symcable_md_") as tmp:
-        deck = Path(tmp, "live3d.txt")
-        deck.write_text(deck_text(segments, dtM), encoding="utf-8")
-        Path(tmp, "current_profile.txt").write_text(current_profile_text(), encoding="utf-8")
-        log = Path(tmp, "moordyn.log")
-        with _quiet(log):
-            started = time.perf_counter()
-            system = md.Create(str(deck))
-            if system is None:
-                raise RuntimeError(f"moordyn.Create failed: {log.read_text()[-2000:]}")
-            try:
-                md.SetVerbosity(system, md.LEVEL_ERR)
-                held, rest = list(FAIRLEAD), [0.0, 0.0, 0.0]
-                if md.Init(system, held, rest) != md.ERRCODE_SUCCESS:
-                    raise RuntimeError(f"moordyn.Init failed: {log.read_text()[-2000:]}")
-                point = md.GetPoint(system, 2)
-                ic = float(np.linalg.norm(md.GetPointForce(point)))
-                history, t = [ic], -settle_max
-                while t < 0.0:
-                    history.append(float(np.linalg.norm(md.Step(system, held, rest, t, 1.0))))
-                    t += 1.0
-                    if len(history) > 5 and abs(history[-1] - history[-6]) < settle_tol * history[-1]:
-                        break
-                settled_after = len(history) - 1.0
-                static = history[-1]
-                run_started = time.perf_counter()
-                F = np.empty((n + 1, 3))
-                F[0] = md.GetPointForce(point)
-                for k in range(n):
-                    x, v = fairlead_motion(k * dtM)
-                    F[k + 1] = md.Step(system, x.tolist(), v.tolist(), k * dtM, dtM)
-                ended = time.perf_counter()
-            finally:
-                md.Close(system)
+    files = {"live3d.txt": deck_text(segments, dtM), "current_profile.txt": current_profile_text()}
+
+    def calls():  # the exact position and velocity of the ramped motion at each step's start
+        for k in range(n):
+            x, v = fairlead_motion(k * dtM)
+            yield x.tolist(), v.tolist(), k * dtM, dtM
+
+    held, rest = list(FAIRLEAD), [0.0, 0.0, 0.0]
+    with moordyn_driver.session(files, "live3d.txt", held, rest, prefix="symcable_md_") as s:
+        point = s.md.GetPoint(s.system, 2)
+        ic = float(np.linalg.norm(s.md.GetPointForce(point)))
+        settled_after, static = moordyn_driver.settle(
+            s, held, rest, max_time=settle_max, tol=settle_tol, window=5, t_start=-settle_max, first=ic)
+        F0 = s.md.GetPointForce(point)
+        run = moordyn_driver.drive(s, calls())
+        wall = time.perf_counter() - s.started
+    F = np.vstack([np.asarray(F0, float)[None, :], run.force])
     tk = np.arange(n + 1) * dtM
     tk[1:] -= 0.5 * dtM
     return {"time": tk, "tension": np.linalg.norm(F, axis=1), "force": F, "ic_tension": ic,
             "static_tension": static, "settled_after": settled_after, "dtM": dtM,
-            "wall_time": ended - started, "run_time": ended - run_started}
+            "wall_time": wall, "run_time": run.wall}
 
 
 def run_symcable(segments: int = SEGMENTS, dt: float = 0.025, duration: float = 3 * PERIOD,

@@ -23,28 +23,21 @@ MoorDyn behaviours that shape :func:`run` (read in MoorDyn's source, measured he
 """
 from __future__ import annotations
 
-import contextlib
 import math
-import os
 import sys
-import tempfile
 import time
 from pathlib import Path
 
 import numpy as np
 
+if str(Path(__file__).resolve().parents[1]) not in sys.path:
+    sys.path.append(str(Path(__file__).resolve().parents[1]))
+import moordyn_driver  # noqa: E402  (studies/moordyn_driver.py)
+
 SCENE = Path(__file__).resolve().parents[2] / "symcable" / "data" / "seed001.toml"
 DEPTH = 600.0  # m: water depth, far below the line's lowest point (-339 m): no seabed contact
 DT_LIMIT = {"RK2": 0.0222, "RK4": 0.036}  # s: measured stable dtM (RK2 with zeta = 1, RK4 zeta = 0)
 DT_DEFAULT = 0.02  # s: T/500, below RK2's limit, a whole number of steps per T/100
-
-
-def _moordyn():
-    try:
-        import moordyn
-    except ImportError as exc:  # pragma: no cover - depends on the environment
-        raise ImportError('MoorDyn is missing: pip install "symcable[bench]" (moordyn==2.7.2)') from exc
-    return moordyn
 
 
 def scene_parameters(scene=SCENE) -> dict:
@@ -99,10 +92,9 @@ def cfl_dt(p: dict | None = None, cfl: float = 0.5) -> float:
     return cfl * 2.0 * math.pi * p["length"] / p["segments"] * math.sqrt(p["mass"] / p["EA"])
 
 
-def write_input(folder, dtM: float | None, *, p: dict | None = None, zeta: float = 1.0,
-                tscheme: str = "RK2", current: float | None = None, tmax_ic: float = 10.0) -> Path:
-    """Write ``line.txt`` (MoorDyn v2 input) and ``current_profile.txt`` into ``folder``; return
-    the input's path. ``dtM`` (s; None: MoorDyn's ``CFL`` 0.5, :func:`cfl_dt`); ``p`` the
+def input_files(dtM: float | None, *, p: dict | None = None, zeta: float = 1.0,
+                tscheme: str = "RK2", current: float | None = None, tmax_ic: float = 10.0) -> dict:
+    """{"line.txt": the MoorDyn v2 input, "current_profile.txt": its current}. ``dtM`` (s; None: MoorDyn's ``CFL`` 0.5, :func:`cfl_dt`); ``p`` the
     :func:`scene_parameters` (default seed 001); ``zeta`` the internal axial damping as a
     fraction of a segment's critical damping (``BA/-zeta``; symcable has none, RK2 needs some:
     1 is MoorDyn's advice, RK4 runs with 0); ``tscheme`` (``RK2`` is MoorDyn's default);
@@ -112,11 +104,9 @@ def write_input(folder, dtM: float | None, *, p: dict | None = None, zeta: float
     p = p or scene_parameters()
     lt, U = line_type(p), p["current"][0] if current is None else current
     (xa, za), (xb, zb) = p["anchor"], p["fairlead"]
-    Path(folder, "current_profile.txt").write_text(
-        f"current profile\nuniform\nz ux uy uz\n{-DEPTH!r} {U!r} 0 0\n0.0 {U!r} 0 0\n")
+    profile = f"current profile\nuniform\nz ux uy uz\n{-DEPTH!r} {U!r} 0 0\n0.0 {U!r} 0 0\n"
     step = "0.5 CFL" if dtM is None else f"{dtM!r} dtM"
-    path = Path(folder, "line.txt")
-    path.write_text(f"""--------------------- MoorDyn Input File ---------------------
+    deck = f"""--------------------- MoorDyn Input File ---------------------
 seed 001 line, written by studies/performance/moordyn_line.py
 ---------------------- LINE TYPES ----------------------
 TypeName Diam MassDen EA BA/-zeta EI Cd Ca CdAx CaAx
@@ -141,25 +131,15 @@ ID LineType AttachA AttachB UnstrLen NumSegs Outputs
 {tmax_ic!r} TmaxIC
 1 disableOutput
 --------------------- need this line ------------------
-""")
-    return path
+"""
+    return {"line.txt": deck, "current_profile.txt": profile}
 
 
-@contextlib.contextmanager
-def _quiet(log):
-    """Send the process's stdout/stderr (MoorDyn's banner, progress, errors) to the file ``log``."""
-    sys.stdout.flush()
-    sys.stderr.flush()
-    with open(log, "ab") as sink:
-        saved = [os.dup(1), os.dup(2)]
-        try:
-            os.dup2(sink.fileno(), 1)
-            os.dup2(sink.fileno(), 2)
-            yield
-        finally:
-            for fd, old in ((1, saved[0]), (2, saved[1])):
-                os.dup2(old, fd)
-                os.close(old)
+def write_input(folder, dtM: float | None, **kw) -> Path:
+    """Write :func:`input_files` into ``folder``; return the input's path (``line.txt``)."""
+    for name, text in input_files(dtM, **kw).items():
+        Path(folder, name).write_text(text)
+    return Path(folder, "line.txt")
 
 
 def run(duration: float = 300.0, dtM: float | None = None, dt_coupling: float | None = None, *,
@@ -207,76 +187,54 @@ def run(duration: float = 300.0, dtM: float | None = None, dt_coupling: float | 
     RuntimeError
         MoorDyn failed (e.g. above its stability limit); the message ends with its output.
     """
-    md, p = _moordyn(), (params or scene_parameters(scene))
+    p = params or scene_parameters(scene)
     dtM = DT_DEFAULT if dtM is None else dtM
     dt_coupling = dtM if dt_coupling is None else dt_coupling
     n_sub = max(1, math.ceil(dt_coupling / dtM - 1e-9))
     dtM = dt_coupling / n_sub * (1.0 + 1e-9)  # the last sub-step takes the exact remainder
-    with tempfile.TemporaryDirectory(prefix="moordyn_") as tmp:
-        path, log = write_input(tmp, dtM, p=p, zeta=zeta, tscheme=tscheme, current=current), Path(tmp, "log")
-        try:
-            with _quiet(log):
-                out = _simulate(md, path, p, duration, dt_coupling, settle, settle_tol, velocity == "secant")
-        except RuntimeError as exc:
-            raise RuntimeError(f"{exc}; MoorDyn printed:\n{log.read_text()[-1500:]}") from exc
+    files = input_files(dtM, p=p, zeta=zeta, tscheme=tscheme, current=current)
+    x0, v0, _ = fairlead_motion(0.0, p)
+    with moordyn_driver.session(files, "line.txt", x0, v0) as s:
+        out = _simulate(s, p, duration, dt_coupling, settle, settle_tol, velocity == "secant")
     return dict(out, dtM=dtM, substeps=n_sub, lag=0.5 * dtM if tscheme.upper() == "RK2" else 0.0)
 
 
-def _simulate(md, path, p, duration, dt_c, settle, settle_tol, secant):
-    t0 = time.perf_counter()
-    system = md.Create(str(path))
-    if system is None:
-        raise RuntimeError("moordyn.Create failed")
-    try:
-        md.SetVerbosity(system, md.LEVEL_ERR)
-        x0, v0, _ = fairlead_motion(0.0, p)
-        t1 = time.perf_counter()
-        if md.Init(system, x0, v0) != md.ERRCODE_SUCCESS:
-            raise RuntimeError("moordyn.Init failed")
-        ic_time = time.perf_counter() - t1
-        line, point = md.GetLine(system, 1), md.GetPoint(system, 2)
-        M = np.asarray(md.GetPointM(point))
-        hist, ts = [], 0.0  # Init ignored the current: settle in it, fairlead held
-        while ts < settle and not (len(hist) > 10 and abs(hist[-1] - hist[-11]) < settle_tol * hist[-1]):
-            f = md.Step(system, x0, v0, ts, 1.0)
-            ts += 1.0
-            hist.append(math.hypot(f[0], f[2]))
-        init_time = time.perf_counter() - t0
-        n = int(round(duration / dt_c))
-        F, Tseg = np.empty((n + 1, 3)), np.empty(n + 1)
-        F[0], Tseg[0] = md.GetPointForce(point), md.GetLineFairTen(line)
-        step, fair_ten, motion = md.Step, md.GetLineFairTen, fairlead_motion
-        t1 = time.perf_counter()
+def _simulate(s, p, duration, dt_c, settle, settle_tol, secant):
+    md, motion = s.md, fairlead_motion
+    x0, v0, _ = motion(0.0, p)
+    line, point = md.GetLine(s.system, 1), md.GetPoint(s.system, 2)
+    M = np.asarray(md.GetPointM(point))
+    # Init ignored the current: settle in it, fairlead held
+    ts, _ = moordyn_driver.settle(s, x0, v0, max_time=settle, tol=settle_tol, window=10)
+    init_time = time.perf_counter() - s.started
+    n = int(round(duration / dt_c))
+    F0 = md.GetPointForce(point)
+
+    def calls():
         x, v, _ = motion(0.0, p)
         for k in range(n):
             t = k * dt_c
             xn, vn, _ = motion(t + dt_c, p)
             if secant:
                 v = [(b - a) / dt_c for a, b in zip(x, xn)]
-            F[k + 1] = step(system, x, v, t, dt_c)
-            Tseg[k + 1] = fair_ten(line)
+            yield x, v, t, dt_c
             x, v = xn, vn
-        wall = time.perf_counter() - t1
-    finally:
-        md.Close(system)
+
+    run = moordyn_driver.drive(s, calls(), read=lambda: md.GetLineFairTen(line))
+    F = np.vstack([np.asarray(F0, float)[None, :], run.force])
+    Tseg = np.asarray(run.reads, float)
     tt = np.arange(n + 1) * dt_c
     Fl = (F - np.array([motion(t, p)[2] for t in tt]) @ M.T)[:, ::2]  # less the end node's inertia
     return dict(time=tt, fairlead_tension=np.hypot(Fl[:, 0], Fl[:, 1]), segment_tension=Tseg,
-                fairlead_force=Fl, static_tension=float(np.hypot(*F[0, ::2])), wall_time=wall,
-                init_time=init_time, ic_time=ic_time, settle_time=ts, n_calls=n)
+                fairlead_force=Fl, static_tension=float(np.hypot(*F[0, ::2])), wall_time=run.wall,
+                init_time=init_time, ic_time=s.ic_time, settle_time=ts, n_calls=n)
 
 
 def moordyn_time_step(dtM: float | None = None, **kw) -> tuple:
     """MoorDyn's own (dtM s, CFL) after ``Init`` for an input with ``dtM`` (None: CFL 0.5 only)."""
-    md = _moordyn()
-    import cmoordyn  # moordyn.GetDt / GetCFL return None in 2.7.2 (no return statement)
-    with tempfile.TemporaryDirectory(prefix="moordyn_") as tmp, _quiet(Path(tmp, "log")):
-        system = md.Create(str(write_input(tmp, dtM, **kw)))
-        try:
-            md.Init(system, *fairlead_motion(0.0, kw.get("p") or scene_parameters())[:2])
-            return cmoordyn.get_dt(system), cmoordyn.get_cfl(system)
-        finally:
-            md.Close(system)
+    p = kw.get("p") or scene_parameters()
+    with moordyn_driver.session(input_files(dtM, **kw), "line.txt", *fairlead_motion(0.0, p)[:2]) as s:
+        return s.dt(), s.cfl()
 
 
 def last_period(res: dict, period: float = 10.0, samples: int = 100, key: str = "fairlead_tension",

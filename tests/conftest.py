@@ -117,13 +117,14 @@ def planar_rates(model):
     return rate, jacobian
 
 
-def load_study(name: str):
-    """Import studies/<name>/run.py by file path (studies/ is not a package)."""
+def load_study(name: str, script: str = "run.py"):
+    """Import studies/<name>/<script> by file path (studies/ is not a package)."""
     import importlib.util
     from pathlib import Path
 
-    path = Path(__file__).resolve().parents[1] / "studies" / name / "run.py"
-    spec = importlib.util.spec_from_file_location(f"study_{name}", path)
+    path = Path(__file__).resolve().parents[1] / "studies" / name / script
+    stem = "" if script == "run.py" else "_" + Path(script).stem
+    spec = importlib.util.spec_from_file_location(f"study_{name}{stem}", path)
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     return module

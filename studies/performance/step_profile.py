@@ -26,9 +26,12 @@ at the same state (its remainder: the loop's norms, branches and copies).
 Timing: each Function compiled to C (``symcable.codegen``, the cache), called through
 ``FastCall`` at the state of a run 5 s after the start (t = -5 s: the fairlead at full heave
 speed, the chain on the bed), ``repeats`` interleaved rounds of blocks of calls, medians per
-call (us). ``--quick``: WD0050 only, in the CasADi virtual machine (no compiling), 3 rounds.
-Also measured (full mode): the Newton iterations per step at tol 1e-10 (the default) and
-1e-8 over the 80 s run of WD0050 at the equal-accuracy step of ``cable3d_peers.py``.
+call (us of CPU time). ``--quick``: WD0050 only, in the CasADi virtual machine (no
+compiling), 3 rounds. Also measured: the element forces and their Jacobian written out
+straight-line (as now) against the element kernel kept as a loop (:func:`kernel_loops`),
+and with ``--tol-dt DT`` the Newton iterations per step at tol 1e-10 (the default) and 1e-8
+over the 80 s run of WD0050 at the step DT (``cable3d_moordyn.py``'s equal-accuracy step:
+0.05 s).
 
 Run: ``python studies/performance/step_profile.py [--quick] [--out DIR]`` (full: compiling
 WD0600's Jacobian takes minutes). Writes ``step_profile.json`` and ``step_profile.md``.
@@ -54,9 +57,21 @@ from symcable.solvers.integrate import integrate
 from symcable.solvers.options import GeneralizedAlphaFirstOrder
 
 HERE = Path(__file__).resolve().parent
-_spec = importlib.util.spec_from_file_location("chains_cases", HERE.parent / "chains" / "cases.py")
-cases = importlib.util.module_from_spec(_spec)
-_spec.loader.exec_module(cases)
+
+
+def _load(path: Path, name: str):
+    """A study module by its file path (studies/ is not a package)."""
+    spec = importlib.util.spec_from_file_location(name, path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def _load_sibling(name: str):
+    return _load(HERE / f"{name}.py", f"performance_{name}")
+
+
+cases = _load(HERE.parent / "chains" / "cases.py", "chains_cases")
 
 DT = 0.1  # s
 RHO = 0.0  # simulate's rho_inf for cable3d
@@ -89,20 +104,22 @@ def state(mech, eq, t_run: float, codegen) -> tuple:
 
 
 def _median_times(calls: dict, repeats: int, block_s: float = 0.02) -> dict:
-    """Median seconds per call of each callable: ``repeats`` interleaved rounds, each a block
-    of back-to-back calls lasting about ``block_s`` s (sized from a first call)."""
+    """Median seconds per call of each callable, CPU time of this thread
+    (``time.thread_time``: the machine is shared, and a descheduled process's wall time
+    counts its neighbours' work): ``repeats`` interleaved rounds, each a block of
+    back-to-back calls lasting about ``block_s`` s (sized from a first call)."""
     blocks = {}
     for k, f in calls.items():
-        t0 = time.perf_counter()
+        t0 = time.thread_time()
         f()
-        blocks[k] = max(1, int(block_s / max(time.perf_counter() - t0, 1e-7)))
+        blocks[k] = max(1, int(block_s / max(time.thread_time() - t0, 1e-6)))
     out = {k: [] for k in calls}
     for _ in range(repeats):
         for k, f in calls.items():
-            t0 = time.perf_counter()
+            t0 = time.thread_time()
             for _ in range(blocks[k]):
                 f()
-            out[k].append((time.perf_counter() - t0) / blocks[k])
+            out[k].append((time.thread_time() - t0) / blocks[k])
     return {k: statistics.median(v) for k, v in out.items()}
 
 
@@ -147,36 +164,60 @@ def profile(deck: str, out: Path, codegen: bool, repeats: int) -> dict:
         "solve": lambda: S(f, r),
         "step": lambda: K(x, t, DT, p, settings, scales)}, repeats)
     us = {key: 1e6 * v for key, v in med.items()}
+    seq = in_sequence(R, Ff, S, x, t, p, settings, scales, ny, 3 * repeats)
     spent = {key: n[key] * us[key] for key in ("residual", "factor", "solve")}
     parts_sum = sum(spent.values())
     return {"deck": deck, "states": ny, "solver": "block LU (SX)" if lu else "sparse QR",
             "compiled": bool(codegen), "instructions": sizes, "compile_s": compile_s,
             "t": t, "iterations": int(round(float(its[0]))), "failed": float(failed[0]),
             "calls": n, "replica_vs_step": agree, "us": us, "parts_sum_us": parts_sum,
+            "in_sequence_us": seq,
             "shares": dict({key: v / us["step"] for key, v in spent.items()},
                            rest=1.0 - parts_sum / us["step"])}
 
 
-def newton(R, F, S, x, t, p, settings, scales, ny) -> tuple:
+def newton(R, F, S, x, t, p, settings, scales, ny, spent: dict | None = None) -> tuple:
     """The step's Newton loop (``galpha1._unrolled``) replayed on the parts: the iterate y'1
-    and how many times each part was called {"residual", "factor", "solve"}."""
+    and how many times each part was called {"residual", "factor", "solve"}; with ``spent``,
+    each part's CPU time (s) in this replay is added to it (the parts called in the step's
+    order, each after the others: as the step meets them in the caches)."""
     tol, gamma = settings[1], ga.coefficients(settings[0])[2]
     z, f = x[ny:].copy(), None
     n = {"residual": 0, "factor": 0, "solve": 0}
+    clock = time.thread_time
+
+    def call(part, fn, *args):
+        t0 = clock()
+        out = fn(*args)[0]
+        if spent is not None:
+            spent[part] = spent.get(part, 0.0) + clock() - t0
+        n[part] += 1
+        return out
+
     for i in range(ga.CHORD_ITERATIONS + 50):
-        rv = R(z, x, t, DT, p, settings)[0]
-        n["residual"] += 1
+        rv = call("residual", R, z, x, t, DT, p, settings)
         if np.max(np.abs(DT * rv * scales[ny:])) <= tol:
             break
         if i == 0 or i >= ga.CHORD_ITERATIONS:
-            f = F(z, x, t, DT, p, settings)[0]
-            n["factor"] += 1
-        dz = -S(f, rv)[0]
-        n["solve"] += 1
+            f = call("factor", F, z, x, t, DT, p, settings)
+        dz = -call("solve", S, f, rv)
         z = z + dz
         if np.max(np.abs(gamma * DT * dz / scales[:ny])) <= tol:
             break
     return z, n
+
+
+def in_sequence(R, F, S, x, t, p, settings, scales, ny, repeats: int) -> dict:
+    """Median CPU time (us) each part takes per step when called in the step's sequence
+    (:func:`newton` replayed ``repeats`` times), and the whole replay's."""
+    rounds = []
+    for _ in range(repeats):
+        spent = {}
+        t0 = time.thread_time()
+        newton(R, F, S, x, t, p, settings, scales, ny, spent)
+        spent["replay"] = time.thread_time() - t0
+        rounds.append(spent)
+    return {k: 1e6 * statistics.median(r[k] for r in rounds) for k in rounds[0]}
 
 
 def kernel_loops(N: int, codegen: bool, repeats: int) -> dict:
@@ -209,8 +250,8 @@ def kernel_loops(N: int, codegen: bool, repeats: int) -> dict:
         if way == "straight":
             jac = ca.jacobian(ca.vec(nodal), z).nz[:]
         else:
-            e = [S.sym(n, 3) for n in ("xa", "xb", "va", "vb")]
-            ins = kern.mx_in()
+            e = [ca.SX.sym(n, 3) for n in ("xa", "xb", "va", "vb")]
+            ins = kern.sx_in()  # one element written out in SX, its Jacobian too
             fa1, fb1, _, _ = kern(*e, *ins[4:])
             ej = ca.Function("elem_jac", [*e, *ins[4:]],
                              [ca.jacobian(ca.vertcat(fa1, fb1), ca.vertcat(*e))])
@@ -237,27 +278,32 @@ def newton_tolerance(out: Path, dt: float) -> dict:
     """Newton iterations per step and the top-segment tension's change over WD0050's 80 s
     run at ``dt`` s: tol 1e-10 (the default) against 1e-8."""
     import symcable as sc
-    scene = cases.chain_scene("WD0050", Path(out) / "ZZP1_A1_to90.txt")
+    cm = _load_sibling("cable3d_moordyn")
+    scene = cases.chain_scene("WD0050", cm.periodic_table(out, 90.0))
     res = {}
+    sc.simulate(scene, 90.0, dt=dt, codegen=True, progress=False)  # builds, loads: untimed
     for tol in (1e-10, 1e-8):
+        c0 = time.process_time()
         tr = sc.simulate(scene, 90.0, dt=dt, codegen=True, progress=False, newton_tol=tol)
-        res[tol] = (tr.stats["newton_iterations"] / tr.stats["steps"], tr.stats["step_time"],
+        res[tol] = (tr.stats["newton_iterations"] / tr.stats["steps"], time.process_time() - c0,
                     np.asarray(tr.axial_force)[:, -1])
     (i10, s10, T10), (i8, s8, T8) = res[1e-10], res[1e-8]
-    return {"dt": dt, "iterations_1e-10": i10, "iterations_1e-8": i8, "step_time_1e-10": s10,
-            "step_time_1e-8": s8, "tension_change_of_range": float(np.max(np.abs(T8 - T10)) / np.ptp(T10))}
+    return {"dt": dt, "iterations_1e-10": i10, "iterations_1e-8": i8, "cpu_1e-10": s10,
+            "cpu_1e-8": s8, "tension_change_of_range": float(np.max(np.abs(T8 - T10)) / np.ptp(T10))}
 
 
 def table(rows: list) -> str:
     lines = ["| case | states | solver | calls R / F / S | residual us (instr.) | "
-             "Jacobian us (instr.) | factor us | solve us | parts summed us | step us | "
-             "residual / factor / solve / rest |", "|---|---|---|---|---|---|---|---|---|---|---|"]
+             "Jacobian us (instr.) | factor us | solve us | parts summed us | in the step's "
+             "order us: R / F / S | step us | residual / factor / solve / rest |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
-        u, n, s, c = r["us"], r["instructions"], r["shares"], r["calls"]
+        u, n, s, c, q = r["us"], r["instructions"], r["shares"], r["calls"], r["in_sequence_us"]
         lines.append(
             f"| {r['deck']}{'' if r['compiled'] else ' (VM)'} | {r['states']} | {r['solver']} | "
             f"{c['residual']} / {c['factor']} / {c['solve']} | {u['residual']:.0f} ({n['residual']:,}) | {u['jacobian']:.0f} "
             f"({n['jacobian']:,}) | {u['factor']:.0f} | {u['solve']:.0f} | {r['parts_sum_us']:.0f} | "
+            f"{q['residual']:.0f} / {q['factor']:.0f} / {q['solve']:.0f} | "
             f"{u['step']:.0f} | {100 * s['residual']:.0f} / {100 * s['factor']:.0f} / "
             f"{100 * s['solve']:.0f} / {100 * s['rest']:.0f} % |")
     return "\n".join(lines) + "\n"
@@ -291,7 +337,7 @@ def main(argv=None) -> dict:
         res["newton_tol"] = nt = newton_tolerance(args.out, args.tol_dt)
         text += (f"\nWD0050, 80 s at dt = {nt['dt']} s: Newton iterations per step "
                  f"{nt['iterations_1e-10']:.2f} at tol 1e-10, {nt['iterations_1e-8']:.2f} at 1e-8; "
-                 f"step calls {nt['step_time_1e-10']:.2f} / {nt['step_time_1e-8']:.2f} s; top-segment "
+                 f"CPU time of the run {nt['cpu_1e-10']:.2f} / {nt['cpu_1e-8']:.2f} s; top-segment "
                  f"tension changed by {nt['tension_change_of_range']:.1e} of its range.\n")
     (args.out / "step_profile.json").write_text(json.dumps(res, indent=1, default=float))
     (args.out / "step_profile.md").write_text(text)

@@ -99,6 +99,7 @@ def test_fuzz_solves_what_moorpy_solves(fuzz):
 
 # ----------------------------------------------------------------------------- cable3d
 
+
 def test_fuzz3d_writes_outputs(fuzz):
     out, res = fuzz
     r3 = res["cable3d"]

@@ -22,7 +22,8 @@ build cache is run again, warm, for its time.
 
 Run
 ---
-    python -u studies/stability/run3d.py            # full: about 12 minutes on 2 shared cores
+    python -u studies/stability/run3d.py            # full: 50 min on 2 shared cores (measured;
+                                                    # mostly failing periodic solves)
     python -u studies/stability/run3d.py --quick    # base and dt = 30 x CFL rows (the test)
     options: --out DIR (default studies/stability/out/cable3d/), --timeout S (per cell)
 
@@ -42,6 +43,7 @@ import numpy as np
 import symcable as sc
 from symcable.cable3d_static import static_equilibrium
 from symcable.codegen import cache_info
+from symcable.errors import ConvergenceError
 from symcable.scene import load_scene
 from symcable.solvers.integrate import integrate
 from symcable.solvers.options import GeneralizedAlpha
@@ -101,7 +103,13 @@ def _time_cell(d: dict, scheme: str, dt, periods: int, codegen) -> dict:
 
 
 def _periodic_cell(d: dict, method: str, **kw) -> dict:
-    sol = sc.solve_periodic(d, method, **kw)
+    try:
+        sol = sc.solve_periodic(d, method, **kw)
+    except ConvergenceError as exc:  # a failed cell, with where the solver started from
+        diag = exc.diagnostics or {}
+        return {"ok": False, "exc_type": type(exc).__name__,
+                "message": str(exc).strip().splitlines()[0], "reason": "convergence",
+                "start": diag.get("start"), "iterations": diag.get("iterations")}
     s = sol.stats
     m = case3d.period_metrics(np.interp(np.arange(SAMPLES) / SAMPLES * T, np.r_[sol.time, T],
                                         np.r_[sol.fairlead_tension, sol.fairlead_tension[0]]))
@@ -138,12 +146,35 @@ def run_cell(fn, timeout: float) -> dict:
 
 
 # --------------------------------------------------------------------------- rows
-def run_row(row, timeout: float, log=print) -> dict:
+def estimates(row, segments: int, done: dict) -> dict:
+    """{method: "not run" cell} for the methods of the rows ``row.estimate_from`` that this
+    row leaves out: the wall time extrapolated as segments^a, a from those two rows."""
+    if not row.estimate_from:
+        return {}
+    a, b = (done.get(n) for n in row.estimate_from)
+    out = {}
+    for key in (b or {}).get("cells", {}):
+        if key in row.methods:
+            continue
+        ca, cb = a["cells"].get(key), b["cells"].get(key)
+        if not (ca and cb and ca.get("ok") and cb.get("ok")):
+            continue
+        alpha = np.log(cb["wall_s"] / ca["wall_s"]) / np.log(b["segments"] / a["segments"])
+        est = cb["wall_s"] * (segments / b["segments"]) ** alpha
+        out[key] = {"ok": False, "skipped": True, "exc_type": "NotRun", "estimate_s": est,
+                    "message": f"not run: ~{est:.0f} s expected ({ca['wall_s']:.3g} s at "
+                               f"{a['segments']}, {cb['wall_s']:.3g} s at {b['segments']} "
+                               f"segments: ~segments^{alpha:.2f})"}
+    return out
+
+
+def run_row(row, timeout: float, done: dict | None = None, log=print) -> dict:
     t0 = time.perf_counter()
     d = row.make()
     out = {"row": row.name, "group": row.group, "param": row.param, "periods": row.periods,
            "segments": sum(s["segments"] for s in d["sections"]),
            "cfl_dt_s": case3d.moordyn_cfl_step(d), "cells": {}}
+    out["cells"].update(estimates(row, out["segments"], done or {}))
     for key in row.methods:
         c = run_cell(cell_fn(key, d, row), timeout)
         out["cells"][key] = c
@@ -204,9 +235,10 @@ def main(argv=None) -> dict:
     t0 = time.perf_counter()
     slack = None if args.quick else slack_search()
     cfl = case3d.moordyn_cfl_step(cases.base())
-    results = []
+    results, done = [], {}
     for row in cases.rows(args.quick, slack, cfl):
-        results.append(run_row(row, timeout))
+        results.append(run_row(row, timeout, done))
+        done[row.name] = results[-1]
         print(f"{row.name}: {results[-1]['wall_s']:.1f} s", flush=True)
     res = {"quick": args.quick, "rows": results, "slack": slack, "cfl_dt_s": cfl,
            "timeout_s": timeout, "wall_s": time.perf_counter() - t0, "out": str(args.out)}

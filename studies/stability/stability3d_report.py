@@ -12,8 +12,11 @@ def _num(v, spec="{:.3g}") -> str:
 def cell_text(c: dict | None, notes: list) -> str:
     if c is None:
         return "—"
+    if c.get("skipped"):
+        return c["message"]
     if not c["ok"]:
-        notes.append(f"{c.get('exc_type')}: {c.get('message')}")
+        start = f" [started from: {c['start']}]" if c.get("start") else ""
+        notes.append(f"{c.get('exc_type')}: {c.get('message')}{start}")
         return f"FAILED [F{len(notes)}] {c.get('wall_s', 0):.3g} s"
     err = c.get("error")
     word = "ok" if c["status"] == "converged" else c["status"]
@@ -88,9 +91,10 @@ def csv_rows(res: dict) -> list:
         items = list(r["cells"].items()) + ([("reference", r["reference"])] if r["reference"] else [])
         for key, c in items:
             last = c["per_period"][-1] if c.get("ok") else {}
+            status = c.get("status") if c.get("ok") else ("not run" if c.get("skipped") else "FAILED")
             out.append({"row": r["row"], "group": r["group"], "param": r["param"],
                         "segments": r["segments"], "cfl_dt_s": r["cfl_dt_s"], "method": key,
-                        "status": c.get("status") if c.get("ok") else "FAILED",
+                        "status": status,
                         "error_rel": c.get("error"), "wall_s": c.get("wall_s"),
                         "dt_s": c.get("dt"), "steps": c.get("steps"),
                         "newton_iterations": c.get("iterations"), "newton_max": c.get("iter_max"),

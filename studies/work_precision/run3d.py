@@ -21,7 +21,7 @@ Methods (``sc.simulate`` / ``sc.solve_periodic``, each with its defaults but the
   generalized-alpha period map, rho_inf 0.8, its default) over its steps per period;
   harmonic balance over H. The periodic methods run in the VM (their cable3d default).
 
-Reference: a fine run, RK4 at T/4096 (0.37 of its stability limit) for 128 periods; its last
+Reference: a fine run, RK4 at T/8192 (0.19 of its stability limit) for 128 periods; its last
 period is the periodic state (checked against the finest collocation, an independent route).
 The time runs last P periods, P the first period after which the reference's periods all
 stay within 1e-4 of the range of its last one. Two errors per time run: against the
@@ -89,7 +89,7 @@ FULL = Grid(ga1_steps=(50, 100, 200, 400, 800, 1600, 3200), ga2_steps=(50, 100, 
             collocation=((20, 3), (40, 3), (80, 3), (160, 3), (20, 2), (40, 2), (80, 2),
                          (20, 4), (40, 4)),
             shoot_steps=(50, 100, 200, 400, 800), hb_harmonics=(3, 5, 10, 20),
-            ref_steps=4096, ref_periods=128, repeats=3)
+            ref_steps=8192, ref_periods=128, repeats=3)
 QUICK = Grid(ga1_steps=(100, 200, 400), ga2_steps=(100, 200), rk4_factors=(0.8,),
              collocation=((20, 3),), shoot_steps=(100,), hb_harmonics=(5,),
              ref_steps=2048, ref_periods=4, repeats=1)
@@ -167,7 +167,7 @@ def reference(d: dict, T: float, grid: Grid, log=print) -> dict:
     """RK4 at T/ref_steps over ref_periods: every period's metrics; the last is the periodic
     state (checked in the tables by the finest collocation, an independent route)."""
     n, P = grid.ref_steps, grid.ref_periods
-    every = max(1, n // 512)
+    every = max(1, n // 512)  # 512 samples a period
     t0 = time.perf_counter()
     tr = sc.simulate(d, P * T, dt=T / n, method="rk4", save_every=every)
     wall = time.perf_counter() - t0

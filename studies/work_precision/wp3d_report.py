@@ -92,6 +92,14 @@ def summary_markdown(res: dict) -> str:
     return "\n".join(L) + "\n"
 
 
+def _resolutions(meth: str, rs: list) -> str:
+    """A line's resolutions in order, for its legend entry: "T/50 ... T/3200", "K = 20, 40"."""
+    v = [r["resolution"] for r in rs]
+    if meth in ("ga1", "ga2", "rk4", "shooting"):
+        return "dt = " + ", ".join(f"T/{n}" for n in v)
+    return ("K" if meth == "collocation" else "H") + " = " + ", ".join(str(n) for n in v)
+
+
 def plot(res: dict, path) -> None:
     """Error (% of the range) against wall time, one line per family in order of resolution."""
     markers = {"ga1": "s", "ga2": "D", "rk4": "o", "collocation": "v", "shooting": "P",
@@ -110,8 +118,7 @@ def plot(res: dict, path) -> None:
             col = cmaps[meth](0.6 + 0.35 * i / max(len(fams) - 1, 1))
             name = LABELS[meth] + (f" ({fam.split(' ', 1)[1]})" if " " in fam else "")
             ax.loglog([r["wall_s"] for r in rs], [100 * r["error"] for r in rs], marker=markers[meth],
-                      color=col, ms=5, lw=1.2, label=f"{name}: " + ", ".join(r["config"].split(" (")[0]
-                                                                           for r in rs))
+                      color=col, ms=5, lw=1.2, label=f"{name}: {_resolutions(meth, rs)}")
     for lev in LEVELS:
         ax.axhline(100 * lev, color="0.5", lw=0.8, ls=":")
     ax.yaxis.set_major_formatter(ticker.FuncFormatter(lambda v, _: f"{v:g} %"))

@@ -243,14 +243,31 @@ def solve_periodic_3d(scene: Scene, method="collocation", *, codegen: bool | Non
     name, opts = method_options(method, options)
     mech, eq = static_equilibrium(scene, codegen=codegen)
     p = np.array(mech.params.values, float)
+    ramped = p.copy()  # the start's first period: the motion ramped in from rest
     for block in mech.params.names:  # every line's "ramp" (namespaced in a scene of several)
         if block.split(".")[-1] == "ramp":
             p[mech.params.slice(block)] = 0.0
+            ramped[mech.params.slice(block)] = 1.0
     # the virtual machine by default: compiling a collocation system of a 10-segment line
-    # took minutes, longer than the solve (a few seconds) it would speed up
-    res = solve_periodic_mech(mech, period, opts, p=p, start=eq,
-                              codegen=False if codegen is None else codegen,
-                              **({} if tol is None else {"tol": float(tol)}))
+    # took minutes, longer than the solve (a few seconds) it would speed up. If the solve
+    # from the method's own start fails, again from a short run whose first period ramps the
+    # motion in (at full amplitude from t = 0 a fairlead moved by its amplitude jerked a 3D
+    # line with seabed friction to 78 times its static tension at the first step, and the
+    # start-up run or shooting failed there; studies/stability, cable3d rows)
+    kw = dict(p=p, start=eq, codegen=False if codegen is None else codegen,
+              **({} if tol is None else {"tol": float(tol)}))
+    try:
+        res = solve_periodic_mech(mech, period, opts, **kw)
+    except ConvergenceError as first:
+        try:
+            res = solve_periodic_mech(mech, period, opts, start_p=ramped, **kw)
+        except ConvergenceError as second:
+            raise ConvergenceError(f"{str(first).splitlines()[0]}; again from a start with the "
+                                   f"motion ramped in: {str(second).splitlines()[0]}",
+                                   diagnostics=getattr(second, "diagnostics", None)) from None
+        res = dataclasses.replace(res, warnings=tuple(res.warnings) + (
+            f"the solve from the method's own start failed ({str(first).splitlines()[0]}); "
+            "solved from a start with the motion ramped in over its first period",))
     stats = dict(res.stats, period=period, wall_time=time.perf_counter() - started)
     n_t = len(res.time)
     return _line_result(scene, mech, res, name, period / max(n_t, 1), stats, res.warnings)

@@ -30,7 +30,7 @@ from .equilibrium import solve_equilibrium
 from .hbalance_mech import solve_hbalance
 from .options import Collocation, HarmonicBalance, Shooting
 from .periodic_common import rest_start, start_from_samples
-from .shooting_mech import solve_shooting, transient_start
+from .shooting_mech import START_PERIODS, solve_shooting, transient_start
 
 __all__ = ["solve_periodic_mech", "DEFAULT_TOL", "DEFAULT_DEFECT_TOL"]
 
@@ -67,7 +67,7 @@ def solve_periodic_mech(mech: Mechanism, period: float, method=None, *, p=None, 
                         ipopt_options: Mapping | None = None, tol: float = DEFAULT_TOL,
                         defect_tol: float = DEFAULT_DEFECT_TOL,
                         max_iter: int | None = None,
-                        codegen: bool | None = False) -> MechanismPeriodic:
+                        codegen: bool | None = False, start_p=None) -> MechanismPeriodic:
     """The periodic response of ``mech`` with period ``period``.
 
     Parameters
@@ -81,6 +81,10 @@ def solve_periodic_mech(mech: Mechanism, period: float, method=None, *, p=None, 
     start : MechanismPeriodic | Equilibrium | None
         A periodic solution of the same period to start from, or the static state the
         start's short time run begins at (default: solved by ``solve_equilibrium``).
+    start_p : ndarray (n_p,), optional
+        With a static start: the parameters of that time run's first period (the motion
+        ramped in from rest, where ``p`` holds it at full amplitude from t = 0); shooting
+        then also starts from that run (two periods) instead of from rest.
     ipopt_options : mapping, optional
         Passed to IPOPT (collocation with ``solver="ipopt"``), over the defaults.
     tol : float
@@ -141,7 +145,16 @@ def solve_periodic_mech(mech: Mechanism, period: float, method=None, *, p=None, 
         info = {"start": f"periodic solution by {start.method}", "start_iterations": 0}
     elif start is None or isinstance(start, Equilibrium):
         q0, z0, base = _static_base(mech, start)
-        if isinstance(method, Shooting):  # its own first periods are the transient
+        if start_p is not None:  # a first period with the motion ramped in from rest
+            p_first = np.asarray(start_p, dtype=float).ravel()
+            if p_first.size != mech.params.n:
+                raise SymcableError(f"start_p has {p_first.size} entries, the mechanism "
+                                    f"{mech.name!r} {mech.params.n}")
+            n = 2 if isinstance(method, Shooting) else START_PERIODS
+            start_fn, info = transient_start(mech, period, p, q0, z0, codegen=codegen,
+                                             periods=n, p_first=p_first)
+            info["start"] = f"{info['start']} about the {base}, the first period ramped"
+        elif isinstance(method, Shooting):  # its own first periods are the transient
             start_fn = rest_start(q0, z0, mech.n_v)
             info = {"start": f"the {base} at rest", "start_periods": 0}
         else:

@@ -235,17 +235,19 @@ START_STEPS = 64
 
 def transient_start(mech: Mechanism, period: float, p, q0, z0, *,
                     periods: int = START_PERIODS, steps: int = START_STEPS,
-                    codegen: bool | None = False) -> tuple:
+                    codegen: bool | None = False, p_first=None) -> tuple:
     """(StartFn, info): the last of ``periods`` periods of generalized-alpha (``steps`` per
     period, rho_inf 0.8; first order where the mechanism has kinematics) marched from the
-    static state ``(q0, z0)`` at rest, interpolated trigonometrically. If a step fails, the
-    static state itself (constant)."""
+    static state ``(q0, z0)`` at rest, interpolated trigonometrically; the first period with
+    the parameters ``p_first`` when given (a motion ramped in from rest: a held end that
+    starts displaced at full amplitude jerks the line at its first step). If a step fails,
+    the static state itself (constant)."""
     pm = period_map(mech, Shooting(steps=steps, rho_inf=0.8), codegen)
     nv = mech.n_v
     q0, z0 = np.asarray(q0, float), np.asarray(z0, float)
     x, _ = pm.initial_state(q0, np.zeros(nv), z0, 0.0, p)
     for k in range(periods):
-        X, E = pm.march(x, period, p)
+        X, E = pm.march(x, period, p_first if k == 0 and p_first is not None else p)
         X, E = np.asarray(X), np.asarray(E).ravel()
         if not (np.all(E <= pm.method.tol) and np.all(np.isfinite(X))):
             return rest_start(q0, z0, nv), {"start": f"static state (the start's time run failed in period "

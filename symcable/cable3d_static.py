@@ -18,8 +18,9 @@ from .models.planar import grounded_length, segment_table
 from .results import PointState, StaticSolution, SystemStaticSolution
 from .scene import Scene
 from .solvers.equilibrium import solve_equilibrium
+from .solvers.periodic_mech import check_periodic
 
-__all__ = ["cable3d_mechanism", "solve_static_3d", "static_equilibrium"]
+__all__ = ["cable3d_mechanism", "check_periodic_3d", "solve_static_3d", "static_equilibrium"]
 
 #: default residual tolerance, relative to the scene's force scale (as the planar line)
 RTOL = 1e-9
@@ -41,6 +42,14 @@ def cable3d_mechanism(scene: Scene) -> Mechanism:
     else:
         _CACHE.move_to_end(key)
     return mech
+
+
+def check_periodic_3d(scene: Scene) -> None:
+    """Refuse, before any solve, a scene whose Mechanism a periodic solve cannot take (one
+    with first-order states, such as ``seabed.friction_law = "bristle"``): the
+    :class:`~symcable.errors.SymcableError` of
+    :func:`~symcable.solvers.periodic_mech.check_periodic`, naming the setting."""
+    check_periodic(cable3d_mechanism(scene))
 
 
 def static_equilibrium(scene: Scene, *, tol: float | None = None, max_iter: int = 50,

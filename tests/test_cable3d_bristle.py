@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 import symcable as sc
-from symcable.cable3d_static import cable3d_mechanism, static_equilibrium
+from symcable.cable3d_static import cable3d_mechanism, check_periodic_3d, static_equilibrium
 from symcable.errors import SceneError
 from symcable.scene import load_scene
 from symcable.solvers.equilibrium import solve_equilibrium
@@ -202,3 +202,49 @@ def test_modes_with_the_bed_holding():
         d = {**_across(law, U=0.0).to_dict(), **hang}
         f[law] = sc.modal_analysis(load_scene(d), 2).frequencies
     assert f["bristle"][0] > 1.5 * f["coulomb"][0]
+
+
+def _small_moving(law="bristle"):
+    """The line across the current, 5 segments, still water, end B moved harmonically."""
+    d = _across(law, U=0.0).to_dict()
+    d["sections"][0]["segments"] = 5
+    d["end_b"]["motion"] = {"kind": "harmonic", "period": 10.0, "amplitude": [1.0, 0.0, 0.0],
+                            "phase_deg": [0.0, 0.0, 0.0]}
+    return load_scene(d)
+
+
+def test_periodic_solves_refuse_the_bristle():
+    """A bristle that never slips keeps any deflection, so the periodic states form a
+    family: every periodic method refuses a bristle scene with one message naming the key,
+    its value, why and what to use instead; a sweep fails with it on every period."""
+    s = _small_moving()
+    expected = r'seabed\.friction_law = "bristle".*family.*friction_law = "coulomb"'
+    for method in ("collocation", "harmonic_balance", "shooting"):
+        with pytest.raises(sc.SymcableError, match=expected):
+            sc.solve_periodic(s, method)
+    with pytest.raises(sc.SymcableError, match=expected):
+        sc.sweep_periodic(s, [8.0, 10.0])
+    with pytest.raises(sc.SymcableError, match=expected):
+        check_periodic_3d(s)
+    check_periodic_3d(_small_moving("coulomb"))  # no first-order states: accepted
+
+
+def test_bristle_states_named():
+    """The bristle deflections are named after their node and direction (m), after the
+    nodes' coordinates; the velocities are the nodes' alone."""
+    mech = cable3d_mechanism(_small_moving())
+    q, v = mech.coordinate_names()
+    assert len(q) == mech.n_q and len(v) == mech.n_v == 12
+    assert q[:3] == v[:3] == ("node1.x", "node1.y", "node1.z") and q[:12] == v
+    assert q[12:] == tuple(f"node{i}.bristle.{c}" for i in range(6) for c in "xy")
+    assert mech.layout.states.unit == "m"
+    assert cable3d_mechanism(_small_moving("coulomb")).layout.states is None
+
+
+@pytest.mark.xfail(strict=True, reason="needs linearize_3d (symcable/cable3d_api.py) to take "
+                   "its names from Mechanism.coordinate_names")
+def test_linearize_names_bristle_states():
+    """sc.linearize labels the bristle states, and names only the velocities in v_kinds."""
+    lin = sc.linearize(_small_moving())
+    assert lin.q_kinds[-2:] == ("node5.bristle.x", "node5.bristle.y")
+    assert len(lin.v_kinds) == lin.M.shape[0] == 12

@@ -58,7 +58,8 @@ from .cable3d_bending import bending_terms, linear_axial_law
 from .cable3d_drag import law_table, loading_drag
 from .cable3d_starts import force_scale, laid_shape, starts_of
 from .relax import _ramp_integral
-from .mechanism import Bound, Layout, Mechanism, Output, ParamBlocks, PartLayout, Scales
+from .mechanism import (Bound, Layout, Mechanism, Output, ParamBlocks, PartLayout, Scales,
+                        StateNames)
 from .seabed_friction import friction
 from .planar import (CABLE_COMPRESSION, FOLD_PUSH, SLACK_CONTINUATION, segment_table,
                      slack_law)
@@ -385,9 +386,14 @@ def build_cable3d(scene: Scene, part: str | None = None,
         for st in starts_of(scene, seg, params, moving):
             yield dataclasses.replace(st, q=np.concatenate([st.q, np.zeros(q_all.numel() - n_q)]),
                                       p=p_static)
+    states = None
+    if bristle:  # node by node, x then y (see seabed_friction.friction)
+        states = StateNames(tuple(f"node{i}.bristle.{c}" for i in range(N + 1) for c in "xy"),
+                            "m", 'seabed.friction_law = "bristle"',
+                            'seabed.friction_law = "coulomb"')
     layout = Layout(3, {owner: PartLayout(
         "line", seg["s"], _node_index(N, moving), _node_index(N, moving),
-        {i: name for i, name in ((0, "end_a"), (N, "end_b")) if i not in moving})})
+        {i: name for i, name in ((0, "end_a"), (N, "end_b")) if i not in moving})}, states)
     return Mechanism(
         name=part or "cable3d", q=q_all, v=v, z=ca.SX.sym("z", 0), t=t, p=p, params=params,
         mass=mass, force=force, constraint=ca.SX.zeros(0, 1), scales=scales,

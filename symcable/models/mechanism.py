@@ -27,7 +27,9 @@ Prescribed coordinates are not unknowns: they enter ``f`` and the outputs as fun
 First-order states (coordinates without a velocity of their own, such as the seabed
 friction's bristle deflections of :mod:`symcable.models.seabed_friction`) are the last
 ``n_q - n_v`` entries of ``q``; ``kinematics`` gives their rates, and ``rest`` the rows that
-fix them at rest, which the static residual appends to the force balance.
+fix them at rest, which the static residual appends to the force balance; ``layout.states``
+names them (:class:`StateNames`), for labels (:meth:`Mechanism.coordinate_names`) and for the
+message of the periodic solvers, which refuse them.
 """
 from __future__ import annotations
 
@@ -233,11 +235,39 @@ class PartLayout:
 
 
 @dataclass(frozen=True)
+class StateNames:
+    """What a mechanism's first-order states are (the last ``n_q - n_v`` entries of q, which
+    no part's nodes hold): names for labels, and for messages where they come from and
+    what does without them.
+
+    Attributes
+    ----------
+    names : tuple of str
+        One per state, in the order of q (``"node3.bristle.x"``).
+    unit : str
+        SI unit of every state (``"m"``).
+    source : str
+        The setting that adds them, as a message names it
+        (``'seabed.friction_law = "bristle"'``).
+    without : str
+        The setting that models the same without them (``'seabed.friction_law =
+        "coulomb"'``); "" when there is none.
+    """
+
+    names: tuple[str, ...]
+    unit: str
+    source: str = ""
+    without: str = ""
+
+
+@dataclass(frozen=True)
 class Layout:
-    """Dimension and parts of a mechanism."""
+    """Dimension and parts of a mechanism, and the names of its first-order states
+    (``states``, None when it has none or leaves them unnamed)."""
 
     dim: int
     parts: Mapping[str, PartLayout] = field(default_factory=dict)
+    states: StateNames | None = None
 
 
 @dataclass(frozen=True, eq=False)
@@ -315,6 +345,10 @@ class Mechanism:
                 raise SymcableError(f"mechanism {self.name!r}: rest rows are for first-order "
                                     "states (n_q > n_v, their rates in kinematics)")
             checks.append(("rest", self.rest, (n_q - n_v, 1)))
+        names = self.layout.states
+        if names is not None and len(names.names) != n_q - n_v:
+            raise SymcableError(f"mechanism {self.name!r}: layout.states names "
+                                f"{len(names.names)} states, it has n_q - n_v = {n_q - n_v}")
         if self.kinematics is not None:
             checks.append(("kinematics", self.kinematics, (n_q, 1)))
         elif n_q != n_v:
@@ -363,6 +397,29 @@ class Mechanism:
     def static_p(self) -> np.ndarray:
         """The parameters of the static problem: the scene's, with ``static_params`` applied."""
         return self.params.with_values(**dict(self.static_params))
+
+    def coordinate_names(self, tagged: bool = False) -> tuple[tuple[str, ...], tuple[str, ...]]:
+        """``(q names, v names)``, one string per entry: a line's node i in direction x
+        ``"node{i}.x"`` (``tagged``: ``"{part}.node{i}.x"``, for mechanisms of several
+        parts), any other part's ``"{part}.x"`` (a node shared by a line and a point goes
+        by the point's name), the first-order states by ``layout.states``; "" for an entry
+        nothing names."""
+        out = []
+        for n, key in ((self.n_q, "node_q"), (self.n_v, "node_v")):
+            names = [""] * n
+            parts = sorted(self.layout.parts.items(), key=lambda kv: kv[1].kind == "line")
+            for part_name, part in parts:
+                tag = f"{part_name}." if tagged else ""
+                for i, row in enumerate(np.asarray(getattr(part, key))):
+                    for c, j in enumerate(row):
+                        axis = "xyz"[c] if len(row) <= 3 else str(c)
+                        if 0 <= j < n and not names[j]:
+                            names[j] = (f"{tag}node{i}.{axis}" if part.kind == "line"
+                                        else f"{part_name}.{axis}")
+            if key == "node_q" and self.layout.states is not None:
+                names[self.n_v:] = self.layout.states.names
+            out.append(tuple(names))
+        return out[0], out[1]
 
     def output_names(self, owner: str | None = None) -> tuple[str, ...]:
         return tuple(k for k, o in self.outputs.items() if owner is None or o.owner == owner)

@@ -32,7 +32,7 @@ from .options import Collocation, HarmonicBalance, Shooting
 from .periodic_common import rest_start, start_from_samples
 from .shooting_mech import START_PERIODS, solve_shooting, transient_start
 
-__all__ = ["solve_periodic_mech", "DEFAULT_TOL", "DEFAULT_DEFECT_TOL"]
+__all__ = ["solve_periodic_mech", "check_periodic", "DEFAULT_TOL", "DEFAULT_DEFECT_TOL"]
 
 #: scaled residual every method solves its system to (states at their scale, forces at the
 #: force scale): well above the round-off of a few hundred unknowns, well below any
@@ -45,6 +45,35 @@ DEFAULT_TOL = 1e-9
 #: collocation degree 2 at 20 intervals 0.086 for 5e-3; degree 3 at 40 intervals 8e-4 for
 #: 2.5e-6; 5 harmonics 1.3e-3 for 2e-5; shooting at T/100 2e-3 for 9e-4)
 DEFAULT_DEFECT_TOL = 0.1
+
+
+def check_periodic(mech: Mechanism) -> None:
+    """Refuse a mechanism with first-order states fixed only by rest rows
+    (``Mechanism.rest``), with one message naming them (``layout.states``: what they are,
+    the setting that adds them and the one that does without).
+
+    Their rates vanish at rest whatever their value (statics fixes them by the rest rows
+    alone): the seabed friction's bristle, for one, keeps any deflection while it sticks. A
+    periodic motion in which such a state never slips is periodic for every value of it, so
+    the periodic states form a family and each method's system is singular (near-singular
+    under a smooth slip law)."""
+    if mech.rest is None:
+        return
+    n = mech.n_q - mech.n_v
+    st = mech.layout.states
+    what, head, instead = f"{n} first-order states", "", ("solve the periodic response of a "
+                                                          "mechanism without them, or run it "
+                                                          "in time")
+    if st is not None:
+        shown = ", ".join(st.names[:2]) + (f", ..., {st.names[-1]}" if n > 2 else "")
+        what += f" ({shown}; {st.unit})"
+        head = f"{st.source}: " if st.source else ""
+        instead = f"use {st.without} for periodic solves" if st.without else instead
+    raise SymcableError(
+        f"{head}not for a periodic solve: the {what} of mechanism {mech.name!r} are fixed at "
+        "rest only by their rest rows, and one whose rate vanishes at rest (a bristle that "
+        "never slips) keeps any value, so the periodic states form a family and the solve is "
+        f"singular; {instead}")
 
 
 def _static_base(mech: Mechanism, start) -> tuple:
@@ -109,7 +138,8 @@ def solve_periodic_mech(mech: Mechanism, period: float, method=None, *, p=None, 
     Raises
     ------
     SymcableError
-        Bad arguments (period <= 0, unknown method, wrong sizes).
+        Bad arguments (period <= 0, unknown method, wrong sizes); a mechanism with
+        first-order states held only by rest rows (:func:`check_periodic`).
     ConvergenceError
         The solver failed or the solution failed the checks; ``partial`` is the result with
         status ``"failed"``, ``diagnostics`` its stats.
@@ -132,6 +162,7 @@ def solve_periodic_mech(mech: Mechanism, period: float, method=None, *, p=None, 
     if ipopt_options is not None and not isinstance(ipopt_options, Mapping):
         raise SymcableError(f"ipopt_options = {ipopt_options!r}: must be a mapping of IPOPT "
                             "option names to values")
+    check_periodic(mech)
     p = mech.params.values if p is None else np.asarray(p, dtype=float).ravel()
     if p.size != mech.params.n:
         raise SymcableError(f"p has {p.size} entries, the mechanism {mech.name!r} "

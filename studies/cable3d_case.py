@@ -29,6 +29,8 @@ import math
 
 import numpy as np
 
+from study_io import trig_interp  # studies/study_io.py: this folder is on sys.path
+
 PERIOD = 8.0              # s
 DEPTH = 60.0              # m
 HEAVES = {"smooth": 0.5, "landing": 1.5}  # m, the fairlead's vertical amplitude
@@ -71,18 +73,6 @@ def moordyn_cfl_step(d: dict, cfl: float = CFL) -> float:
         c = math.sqrt(lt["EA"] / lt["mass"])
         dts.append(cfl * (s["length"] / s["segments"]) / c)
     return min(dts)
-
-
-def trig_interp(x: np.ndarray, m: int) -> np.ndarray:
-    """Trigonometric interpolant of one period of uniform samples x at m uniform points."""
-    n = x.size
-    c = np.fft.rfft(x)
-    cf = np.zeros(m // 2 + 1, dtype=complex)
-    k = min(c.size, cf.size)
-    cf[:k] = c[:k]
-    if n % 2 == 0 and n // 2 < m // 2:
-        cf[n // 2] *= 0.5
-    return np.fft.irfft(cf, m) * (m / n)
 
 
 def period_metrics(f) -> dict:

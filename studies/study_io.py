@@ -1,6 +1,9 @@
 """What every study's ``main`` does after its run: the command line, and the outputs written
 side by side (``results.csv`` one row per measurement, ``summary.md`` the tables printed, the
-figure, and optionally a copy of the figure elsewhere, e.g. into the study's README folder).
+figure, and optionally a copy of the figure elsewhere, e.g. into the study's README folder);
+and two helpers several studies share: importing a study module by its file path
+(:func:`load_module`) and the trigonometric interpolant of one period of samples
+(:func:`trig_interp`).
 
 Studies are scripts, not a package; each puts this folder on ``sys.path`` (after its own) to
 import this one module, whose name shadows nothing installed."""
@@ -8,8 +11,33 @@ from __future__ import annotations
 
 import argparse
 import csv
+import importlib.util
 from pathlib import Path
 from typing import Callable
+
+import numpy as np
+
+
+def load_module(path: Path, name: str):
+    """The study module at ``path``, imported by its file path under the module name
+    ``name`` (studies/ is not a package, and putting a study's folder on ``sys.path`` would
+    let its modules, run.py and the like, shadow installed ones)."""
+    spec = importlib.util.spec_from_file_location(name, path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def trig_interp(x: np.ndarray, m: int) -> np.ndarray:
+    """Trigonometric interpolant of one period of uniform samples x (n,) at m uniform points."""
+    n = x.size
+    c = np.fft.rfft(x)
+    cf = np.zeros(m // 2 + 1, dtype=complex)
+    k = min(c.size, cf.size)
+    cf[:k] = c[:k]
+    if n % 2 == 0 and n // 2 < m // 2:
+        cf[n // 2] *= 0.5  # the Nyquist term of n samples is split between +-n/2
+    return np.fft.irfft(cf, m) * (m / n)
 
 
 def parse(doc: str, quick_help: str, default_out: Path, argv=None,

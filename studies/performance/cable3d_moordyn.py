@@ -44,9 +44,9 @@ Run: ``python studies/performance/cable3d_moordyn.py [--quick] [--out DIR]``; wr
 from __future__ import annotations
 
 import argparse
-import importlib.util
 import json
 import math
+import sys
 import time
 from pathlib import Path
 from typing import NamedTuple
@@ -57,19 +57,14 @@ import symcable as sc
 from symcable.scene import load_scene
 
 HERE = Path(__file__).resolve().parent
+if str(HERE.parent) not in sys.path:
+    sys.path.append(str(HERE.parent))
+from study_io import load_module  # noqa: E402  (studies/study_io.py)
 
 
-def _load(path: Path, name: str):
-    """A study module by its file path (studies/ is not a package)."""
-    spec = importlib.util.spec_from_file_location(name, path)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
-cases = _load(HERE.parent / "chains" / "cases.py", "chains_cases")
-peers = _load(HERE.parent / "chains" / "peers.py", "chains_peers")
-mdl = _load(HERE / "moordyn_line.py", "performance_moordyn_line")
+cases = load_module(HERE.parent / "chains" / "cases.py", "chains_cases")
+peers = load_module(HERE.parent / "chains" / "peers.py", "chains_peers")
+mdl = load_module(HERE / "moordyn_line.py", "performance_moordyn_line")
 
 #: MoorDyn's CFL numbers asked for, and the largest found stable on each case (RK2; found by
 #: runs at steps of 0.01-0.02 in CFL: WD0050 runs at 0.16 and fails at 0.18, seed001 runs at

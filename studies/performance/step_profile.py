@@ -39,10 +39,10 @@ WD0600's Jacobian takes minutes). Writes ``step_profile.json`` and ``step_profil
 from __future__ import annotations
 
 import argparse
-import importlib.util
 import json
 import math
 import statistics
+import sys
 import time
 from pathlib import Path
 
@@ -57,21 +57,16 @@ from symcable.solvers.integrate import integrate
 from symcable.solvers.options import GeneralizedAlphaFirstOrder
 
 HERE = Path(__file__).resolve().parent
-
-
-def _load(path: Path, name: str):
-    """A study module by its file path (studies/ is not a package)."""
-    spec = importlib.util.spec_from_file_location(name, path)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+if str(HERE.parent) not in sys.path:
+    sys.path.append(str(HERE.parent))
+from study_io import load_module  # noqa: E402  (studies/study_io.py)
 
 
 def _load_sibling(name: str):
-    return _load(HERE / f"{name}.py", f"performance_{name}")
+    return load_module(HERE / f"{name}.py", f"performance_{name}")
 
 
-cases = _load(HERE.parent / "chains" / "cases.py", "chains_cases")
+cases = load_module(HERE.parent / "chains" / "cases.py", "chains_cases")
 
 DT = 0.1  # s
 RHO = 0.0  # simulate's rho_inf for cable3d

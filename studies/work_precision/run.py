@@ -131,18 +131,6 @@ QUICK = Grid(rk4_periods=(1, 2, 3), rk4_factors=(0.8,), ga_steps=(25, 50),
 
 
 # --------------------------------------------------------------------------- measuring
-def trig_interp(x: np.ndarray, m: int) -> np.ndarray:
-    """Trigonometric interpolant of one period of uniform samples x (n,) at m uniform points."""
-    n = x.size
-    c = np.fft.rfft(x)
-    cf = np.zeros(m // 2 + 1, dtype=complex)
-    k = min(c.size, cf.size)
-    cf[:k] = c[:k]
-    if n % 2 == 0 and n // 2 < m // 2:
-        cf[n // 2] *= 0.5  # the Nyquist term of n samples is split between +-n/2
-    return np.fft.irfft(cf, m) * (m / n)
-
-
 QUANTITIES = ("t_max_N", "t_min_N", "a1_N")
 
 
@@ -151,7 +139,7 @@ def metrics(series) -> dict:
     period of fairlead tension sampled uniformly from t = 0 (mod T); ``fine`` is that
     interpolant (for the waveform error, not written out)."""
     x = np.asarray(series, dtype=float)
-    fine = trig_interp(x, FINE) if x.size != FINE else x
+    fine = study_io.trig_interp(x, FINE) if x.size != FINE else x
     return {"t_max_N": float(fine.max()), "t_min_N": float(fine.min()),
             "a1_N": float(2.0 * abs(np.fft.rfft(x)[1]) / x.size), "fine": fine}
 

@@ -26,8 +26,6 @@ from __future__ import annotations
 import copy
 import math
 import time
-import traceback
-import warnings
 
 import numpy as np
 
@@ -36,50 +34,29 @@ import fuzz3d_refs as r3
 from fuzz3d_compare import deviations, largest_of, penalties
 from fuzz3d_info import DRAG_SPEED, Sys3
 from fuzz_classify import (BALANCE_REL, COMPRESSION_REL, FOLD_PUSH, PENETRATION_FACTOR,
-                           REFINE_FACTORS, REFINE_FALL, captured_output)
+                           REFINE_FACTORS, REFINE_FALL, captured_output, solve_recorded)
 
 TWIN_REL = 1e-6      # friction and motion must change nothing beyond this (of L, of the tension)
 
 
+def _solution(st) -> dict:
+    """The arrays the checks need of a static solution, per line and point."""
+    lines = st.lines if hasattr(st, "points") and st.points else {"line": st}
+    return {
+        "lines": {name: {"positions": ln.positions, "axial_force": ln.axial_force,
+                         "strain": ln.strain, "contact_force": ln.contact_force,
+                         "F_A": ln.anchor_force, "F_B": ln.fairlead_force,
+                         "T_A": ln.anchor_tension, "T_B": ln.fairlead_tension,
+                         "grounded": ln.grounded_length} for name, ln in lines.items()},
+        "points": {name: {"position": p.position, "force": p.force}
+                   for name, p in (getattr(st, "points", None) or {}).items()},
+        "tolerance": st.stats.get("tolerance", 0.0)}
+
+
 def solve(scene: dict) -> dict:
-    """``solve_static`` (VM, no generated C) and the arrays the checks need, per line."""
-    import symcable as sc
-    from symcable.errors import ConvergenceError, SceneError, SymcableError
-    rec = {"outcome": None}
-    t0 = time.perf_counter()
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        try:
-            st = sc.solve_static(scene, codegen=False)
-        except SceneError as exc:
-            rec.update(outcome="rejected", error=str(exc))
-        except ConvergenceError as exc:
-            rec.update(outcome="clean error", error=f"ConvergenceError: {exc}")
-            stats = getattr(exc.partial, "stats", None) or {}
-            rec["path"], rec["start"] = stats.get("path"), stats.get("start")
-        except SymcableError as exc:
-            rec.update(outcome="clean error", error=f"{type(exc).__name__}: {exc}")
-        except Exception as exc:  # noqa: BLE001 - what we are counting
-            tb = traceback.format_exception(type(exc), exc, exc.__traceback__)
-            rec.update(outcome="ugly error", error=f"{type(exc).__name__}: {exc}"[:500],
-                       traceback_last=tb[-2].strip().splitlines()[0] if len(tb) > 1 else "",
-                       traceback="".join(tb[-4:])[-1500:])
-        else:
-            lines = st.lines if hasattr(st, "points") and st.points else {"line": st}
-            rec["solution"] = {
-                "lines": {name: {"positions": ln.positions, "axial_force": ln.axial_force,
-                                 "strain": ln.strain, "contact_force": ln.contact_force,
-                                 "F_A": ln.anchor_force, "F_B": ln.fairlead_force,
-                                 "T_A": ln.anchor_tension, "T_B": ln.fairlead_tension,
-                                 "grounded": ln.grounded_length} for name, ln in lines.items()},
-                "points": {name: {"position": p.position, "force": p.force}
-                           for name, p in (getattr(st, "points", None) or {}).items()},
-                "tolerance": st.stats.get("tolerance", 0.0)}
-            rec.update(status=st.status, path=st.stats.get("path"), start=st.stats.get("start"),
-                       iterations=st.stats.get("iterations"), sc_warnings=list(st.warnings))
-    rec["time_s"] = time.perf_counter() - t0
-    rec["py_warnings"] = sorted({f"{w.category.__name__}: {w.message}"[:200] for w in caught})
-    return rec
+    """``solve_static`` (VM, no generated C) and the arrays the checks need, per line
+    (:func:`fuzz_classify.solve_recorded`)."""
+    return solve_recorded(scene, _solution)
 
 
 # ----------------------------------------------------------------------------- checks

@@ -61,9 +61,3 @@ def one_line(types, secs, a, b, **extra) -> dict:
         else:
             scene[k] = v
     return scene
-
-
-def flip(scene: dict) -> dict:
-    scene["sections"] = scene["sections"][::-1]
-    scene["end_a"], scene["end_b"] = scene["end_b"], scene["end_a"]
-    return scene

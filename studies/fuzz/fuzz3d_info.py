@@ -10,6 +10,7 @@ import math
 
 import numpy as np
 
+from fuzz_refs import curve_distance
 from fuzz_tolerance import TOL, UNRESOLVED_TURN
 
 #: the speed below which the model smooths |u| in its drag laws (symcable.models.cable3d)
@@ -91,18 +92,6 @@ class Sys3:
                 for c in ("EA", "w", "d", "cdn", "cdt"):
                     cols[c].append(x[c])
         return {c: np.asarray(v, float) for c, v in cols.items()}
-
-
-def curve_distance(points: np.ndarray, curve: np.ndarray) -> np.ndarray:
-    """Distance of each point (n x 3) to the polyline ``curve`` (m x 3)."""
-    a, b = curve[:-1], curve[1:]
-    ab = b - a
-    l2 = np.einsum("ij,ij->i", ab, ab)
-    out = np.empty(len(points))
-    for k, p in enumerate(points):
-        t = np.clip(np.einsum("ij,ij->i", p - a, ab) / np.where(l2 > 0, l2, 1.0), 0.0, 1.0)
-        out[k] = np.sqrt(np.min(np.sum((a + t[:, None] * ab - p) ** 2, axis=1)))
-    return out
 
 
 def tension_scale(ln: dict, ref: dict) -> float:

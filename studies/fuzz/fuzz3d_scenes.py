@@ -27,11 +27,12 @@ import math
 
 import numpy as np
 
-from fuzz3d_draws import current3, flip, horizontal, one_line, origin3, pinned3, seabed3, sphere
+from fuzz3d_draws import current3, horizontal, one_line, origin3, pinned3, seabed3, sphere
 from fuzz3d_systems import gen_buoy, gen_clump, gen_system_current, gen_three_lines
-from fuzz_draws import (EA_RANGE, Redraw, drag_coefficients, finish_types, line_type,
-                        log_uniform, segments, taut_ratio, weight_of, weight_strain)
-from fuzz_scenes import _plain
+from fuzz_draws import (EA_RANGE, Redraw, drag_coefficients, draw_sections, finish_types,
+                        flip_ends, line_type, log_uniform, segments, taut_ratio, weight_of,
+                        weight_strain)
+from fuzz_scenes import _plain, stratified
 
 #: class -> share of the scenes (sums to 1); the c3_ classes of one line, the s3_ ones systems
 CLASSES3D = {
@@ -112,7 +113,7 @@ def gen_seabed(rng, cls: str):
     scene = one_line(types, [{"type": fam, "length": L, "segments": segments(rng)}],
                      pinned3(a), pinned3(b), **seabed3(rng, depth))
     if rng.uniform() < 0.3:
-        flip(scene)
+        flip_ends(scene)
         variant += ", reversed"
     return variant, scene
 
@@ -122,12 +123,7 @@ def gen_multi_section(rng):
     variant = str(rng.choice(["mooring on the bed", "mooring on the bed", "suspended", "lazy wave"]))
     fams = ["chain", "buoyant", "wire"] if variant == "lazy wave" else (
         ["chain", "wire", "chain"] if rng.uniform() < 0.7 else ["chain", "wire"])
-    types, lengths, secs = {}, {}, []
-    for k, fam in enumerate(fams):
-        name = f"{fam}{k}"
-        types[name] = line_type(rng, fam)
-        lengths[name] = log_uniform(rng, 10.0, 600.0)
-        secs.append({"type": name, "length": lengths[name], "segments": segments(rng)})
+    types, lengths, secs = draw_sections(rng, fams, 10.0, 600.0)
     finish_types(rng, types, lengths)
     L = sum(lengths.values())
     extra = {}
@@ -143,7 +139,7 @@ def gen_multi_section(rng):
         extra = seabed3(rng, depth)
     scene = one_line(types, secs, pinned3(a), pinned3(b), **extra)
     if rng.uniform() < 0.3:
-        flip(scene)
+        flip_ends(scene)
         variant += ", reversed"
     return f"{variant}, {len(fams)} sections", scene
 
@@ -207,7 +203,7 @@ def gen_free_end(rng):
     scene = one_line(types, [{"type": fam, "length": L, "segments": segments(rng)}],
                      pinned3(a), free, **extra)
     if rng.uniform() < 0.3:
-        flip(scene)
+        flip_ends(scene)
         variant += ", end A free"
     return variant, scene
 
@@ -225,14 +221,7 @@ def generate_one(rng, cls: str):
 # ----------------------------------------------------------------------------- the set
 def schedule(n: int, seed: int) -> list[str]:
     """Classes of n scenes in CLASSES3D's proportions (largest remainder), shuffled by seed."""
-    quota = {c: p * n for c, p in CLASSES3D.items()}
-    counts = {c: int(q) for c, q in quota.items()}
-    rest = sorted(CLASSES3D, key=lambda c: quota[c] - counts[c], reverse=True)
-    for c in rest[: n - sum(counts.values())]:
-        counts[c] += 1
-    order = [c for c in CLASSES3D for _ in range(counts[c])]
-    np.random.default_rng([seed, 3]).shuffle(order)
-    return order
+    return stratified(CLASSES3D, n, np.random.default_rng([seed, 3]))
 
 
 def make_scene(i: int, cls: str, seed: int) -> dict:

@@ -53,8 +53,13 @@ PENETRATION_FACTOR = 3.0   # penetration allowed, times the one that carries the
 BALANCE_REL = 1e-6
 
 
-def solve(scene: dict) -> dict:
-    """Call ``solve_static`` (VM, no generated C) and keep what the checks need."""
+def solve_recorded(scene: dict, keep) -> dict:
+    """Call ``solve_static`` (VM, no generated C) and record what came of it: the outcome
+    ``rejected`` (SceneError), ``clean error`` (any other SymcableError; a ConvergenceError's
+    path and start kept) or ``ugly error`` (anything else, with its traceback's tail) and the
+    error; or, solved, ``solution = keep(static solution)`` (what the checks need), status,
+    path, start, iterations and symcable's warnings. Always ``time_s`` and the Python
+    warnings raised."""
     import symcable as sc
     from symcable.errors import ConvergenceError, SceneError, SymcableError
     rec = {"outcome": None}
@@ -67,8 +72,7 @@ def solve(scene: dict) -> dict:
             rec.update(outcome="rejected", error=str(exc))
         except ConvergenceError as exc:
             rec.update(outcome="clean error", error=f"ConvergenceError: {exc}")
-            part = exc.partial
-            stats = getattr(part, "stats", None) or {}
+            stats = getattr(exc.partial, "stats", None) or {}
             rec["path"], rec["start"] = stats.get("path"), stats.get("start")
         except SymcableError as exc:
             rec.update(outcome="clean error", error=f"{type(exc).__name__}: {exc}")
@@ -78,17 +82,26 @@ def solve(scene: dict) -> dict:
                        traceback_last=tb[-2].strip().splitlines()[0] if len(tb) > 1 else "",
                        traceback=("".join(tb[-4:]))[-1500:])
         else:
-            rec.update(solution={
-                "s": st.s, "positions": st.positions, "angle": st.angle, "strain": st.strain,
-                "axial_force": st.axial_force, "contact_force": st.contact_force,
-                "anchor_force": st.anchor_force, "fairlead_force": st.fairlead_force,
-                "T_A": st.anchor_tension, "T_B": st.fairlead_tension,
-                "grounded": st.grounded_length, "tolerance": st.stats.get("tolerance", 0.0)},
-                status=st.status, path=st.stats.get("path"), start=st.stats.get("start"),
-                iterations=st.stats.get("iterations"), sc_warnings=list(st.warnings))
+            rec.update(solution=keep(st), status=st.status, path=st.stats.get("path"),
+                       start=st.stats.get("start"), iterations=st.stats.get("iterations"),
+                       sc_warnings=list(st.warnings))
     rec["time_s"] = time.perf_counter() - t0
     rec["py_warnings"] = sorted({f"{w.category.__name__}: {w.message}"[:200] for w in caught})
     return rec
+
+
+def _solution(st) -> dict:
+    """What the planar checks need of a static solution."""
+    return {"s": st.s, "positions": st.positions, "angle": st.angle, "strain": st.strain,
+            "axial_force": st.axial_force, "contact_force": st.contact_force,
+            "anchor_force": st.anchor_force, "fairlead_force": st.fairlead_force,
+            "T_A": st.anchor_tension, "T_B": st.fairlead_tension,
+            "grounded": st.grounded_length, "tolerance": st.stats.get("tolerance", 0.0)}
+
+
+def solve(scene: dict) -> dict:
+    """Call ``solve_static`` (VM, no generated C) and keep what the checks need."""
+    return solve_recorded(scene, _solution)
 
 
 # ----------------------------------------------------------------------------- checks

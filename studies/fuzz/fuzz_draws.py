@@ -86,6 +86,22 @@ def finish_types(rng, types: dict, lengths: dict, extra_load: float = 0.0,
         lt["EA"] = ea
 
 
+def draw_sections(rng, fams, lo: float, hi: float, drag: bool = False) -> tuple[dict, dict, list]:
+    """``(types, lengths, sections)`` of one section per family in ``fams`` (from end A),
+    section k's type named ``f"{fam}{k}"``: its line type (with drag coefficients if
+    ``drag``), its length log-uniform in [lo, hi] m and its segment count; EA is left to
+    :func:`finish_types`."""
+    types, lengths, secs = {}, {}, []
+    for k, fam in enumerate(fams):
+        name = f"{fam}{k}"
+        types[name] = line_type(rng, fam)
+        if drag:
+            drag_coefficients(rng, types[name])
+        lengths[name] = log_uniform(rng, lo, hi)
+        secs.append({"type": name, "length": lengths[name], "segments": segments(rng)})
+    return types, lengths, secs
+
+
 def polar(d: float, theta: float) -> np.ndarray:
     return np.array([d * math.cos(theta), d * math.sin(theta)])
 

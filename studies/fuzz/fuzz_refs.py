@@ -268,7 +268,7 @@ def primary(refs: dict):
 
 # ----------------------------------------------------------------------------- comparing
 def curve_distance(points: np.ndarray, curve: np.ndarray) -> np.ndarray:
-    """Distance of each point (n x 2) to the polyline ``curve`` (m x 2)."""
+    """Distance of each point (n x dim) to the polyline ``curve`` (m x dim), in 2D or 3D."""
     a, b = curve[:-1], curve[1:]
     ab = b - a
     l2 = np.einsum("ij,ij->i", ab, ab)

@@ -26,7 +26,8 @@ import math
 import numpy as np
 
 from fuzz_draws import (EA_RANGE, MAX_STRAIN, RHO, Redraw, bending_stiffness, current_env,
-                        drag_coefficients, end_force, env_seabed, finish_types, flip_ends,
+                        draw_sections, drag_coefficients, end_force, env_seabed, finish_types,
+                        flip_ends,
                         line_type, log_uniform, origin, pinned, polar, segments, single,
                         taut_ratio, weight_of, weight_strain)
 
@@ -141,13 +142,7 @@ def gen_current(rng) -> tuple[str, dict]:
     """Suspended lines (one to three sections) in a current, pinned-pinned, no seabed."""
     n_sec = int(rng.choice([1, 1, 2, 3]))
     fams = [str(rng.choice(["chain", "wire", "rope"])) for _ in range(n_sec)]
-    types, lengths, secs = {}, {}, []
-    for k, fam in enumerate(fams):
-        name = f"{fam}{k}"
-        types[name] = line_type(rng, fam)
-        drag_coefficients(rng, types[name])
-        lengths[name] = log_uniform(rng, 5.0, 600.0)
-        secs.append({"type": name, "length": lengths[name], "segments": segments(rng)})
+    types, lengths, secs = draw_sections(rng, fams, 5.0, 600.0, drag=True)
     finish_types(rng, types, lengths)
     L = sum(lengths.values())
     r = rng.uniform(0.3, 0.99)
@@ -249,12 +244,7 @@ def gen_multi_section(rng) -> tuple[str, dict]:
         fams = ["chain", "buoyant", "wire"]
     else:
         fams = ["chain", "wire", "chain"] if rng.uniform() < 0.7 else ["chain", "wire"]
-    types, lengths, secs = {}, {}, []
-    for k, fam in enumerate(fams):
-        name = f"{fam}{k}"
-        types[name] = line_type(rng, fam)
-        lengths[name] = log_uniform(rng, 10.0, 600.0)
-        secs.append({"type": name, "length": lengths[name], "segments": segments(rng)})
+    types, lengths, secs = draw_sections(rng, fams, 10.0, 600.0)
     finish_types(rng, types, lengths)
     L = sum(lengths.values())
     extra = {}
@@ -286,16 +276,22 @@ def generate_one(rng, cls: str) -> tuple[str, dict]:
 
 
 # ----------------------------------------------------------------------------- the set
-def schedule(n: int, seed: int) -> list[str]:
-    """Classes of n scenes in CLASSES' proportions (largest remainder), shuffled by seed."""
-    quota = {c: p * n for c, p in CLASSES.items()}
+def stratified(classes: dict, n: int, rng) -> list[str]:
+    """Classes of n scenes in the proportions ``classes`` (class -> share, summing to 1) by
+    largest remainder, shuffled by ``rng``."""
+    quota = {c: p * n for c, p in classes.items()}
     counts = {c: int(q) for c, q in quota.items()}
-    rest = sorted(CLASSES, key=lambda c: quota[c] - counts[c], reverse=True)
+    rest = sorted(classes, key=lambda c: quota[c] - counts[c], reverse=True)
     for c in rest[: n - sum(counts.values())]:
         counts[c] += 1
-    order = [c for c in CLASSES for _ in range(counts[c])]
-    np.random.default_rng(seed).shuffle(order)
+    order = [c for c in classes for _ in range(counts[c])]
+    rng.shuffle(order)
     return order
+
+
+def schedule(n: int, seed: int) -> list[str]:
+    """Classes of n scenes in CLASSES' proportions (largest remainder), shuffled by seed."""
+    return stratified(CLASSES, n, np.random.default_rng(seed))
 
 
 def _plain(x):

@@ -34,7 +34,8 @@ import fuzz3d_refs as r3
 from fuzz3d_compare import deviations, largest_of, penalties
 from fuzz3d_info import DRAG_SPEED, Sys3
 from fuzz_classify import (BALANCE_REL, COMPRESSION_REL, FOLD_PUSH, PENETRATION_FACTOR,
-                           REFINE_FACTORS, REFINE_FALL, captured_output, solve_recorded)
+                           REFINE_FACTORS, REFINE_FALL, captured_output, first_solve,
+                           solve_recorded)
 
 TWIN_REL = 1e-6      # friction and motion must change nothing beyond this (of L, of the tension)
 
@@ -357,16 +358,11 @@ def classify(scene: dict, bundle: dict, rec: dict) -> dict:
 
 
 def run_scene(item: dict, notify=None) -> dict:
-    """The solve, then the references, then the classification of one cable3d scene."""
-    with captured_output() as printed:
-        rec = solve(item["scene"])
-    rec["printed"] = printed.text[-500:]
-    if notify:
-        notify("refs", {k: v for k, v in rec.items() if k != "solution"})
-    rec.update(id=item["id"], cls=item["class"], variant=item["variant"])
+    """The solve, then the references, then the classification of one cable3d scene
+    (:func:`fuzz_classify.first_solve`)."""
+    rec = first_solve(item, notify, solve)
     if rec["outcome"] == "rejected":
-        rec.pop("solution", None)
-        return dict(rec, refs={}, agreement={"names": [], "pairs": [], "ok": True})
+        return rec
     t0 = time.perf_counter()
     with captured_output():
         bundle = r3.references(item["scene"])

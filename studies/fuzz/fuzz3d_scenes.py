@@ -30,7 +30,7 @@ import numpy as np
 from fuzz3d_draws import current3, horizontal, one_line, origin3, pinned3, seabed3, sphere
 from fuzz3d_systems import gen_buoy, gen_clump, gen_system_current, gen_three_lines
 from fuzz_draws import (EA_RANGE, Redraw, drag_coefficients, draw_sections, finish_types,
-                        flip_ends, line_type, log_uniform, segments, taut_ratio, weight_of,
+                        flip_ends, free_end_line, line_type, log_uniform, segments, taut_ratio, weight_of,
                         weight_strain)
 from fuzz_scenes import _plain, stratified
 
@@ -171,12 +171,7 @@ def gen_current(rng):
 def gen_free_end(rng):
     """A free end: hanging, with a 3D end force, in an oblique current, onto the bed,
     weightless with a force and with none (undetermined: refused as input)."""
-    variant = str(rng.choice(["hanging", "end force", "end force", "current", "seabed",
-                              "weightless, end force", "weightless, no end force"]))
-    L = log_uniform(rng, 5.0, 1000.0)
-    fam = "weightless" if variant.startswith("weightless") else str(rng.choice(["chain", "wire", "rope"]))
-    types = {fam: line_type(rng, fam)}
-    w_l = abs(weight_of(types[fam])) * L
+    variant, L, fam, types, w_l = free_end_line(rng)
     force = None
     if variant in ("end force", "weightless, end force"):
         force = max(w_l, 1e3) * log_uniform(rng, 0.1, 10.0) * sphere(rng)

@@ -288,18 +288,29 @@ def converges(dev: dict, tol: dict, refined: list) -> bool:
     return falling and _within(refined[-1]["deviation"], refined[-1]["tolerance"])
 
 
-def run_scene(item: dict, notify=None) -> dict:
-    """The solve, then the references, then the classification of one generated scene
-    (``notify("refs", partial)`` between the two, for the runner's time limits)."""
+def first_solve(item: dict, notify, solve_scene) -> dict:
+    """The record of ``solve_scene(item["scene"])`` (what C code printed captured), with the
+    item's id, class and variant, ``notify("refs", partial)`` after it (for the runner's time
+    limits); a scene refused as input has nothing to compare: its record is final, with no
+    references (and no solution)."""
     with captured_output() as printed:
-        rec = solve(item["scene"])
+        rec = solve_scene(item["scene"])
     rec["printed"] = printed.text[-500:]
     if notify:
         notify("refs", {k: v for k, v in rec.items() if k != "solution"})
     rec.update(id=item["id"], cls=item["class"], variant=item["variant"])
-    if rec["outcome"] == "rejected":   # refused as input: nothing to compare
+    if rec["outcome"] == "rejected":
         rec.pop("solution", None)
-        return dict(rec, refs={}, agreement={"names": [], "pairs": [], "ok": True})
+        rec.update(refs={}, agreement={"names": [], "pairs": [], "ok": True})
+    return rec
+
+
+def run_scene(item: dict, notify=None) -> dict:
+    """The solve, then the references, then the classification of one generated scene
+    (``notify("refs", partial)`` between the two, for the runner's time limits)."""
+    rec = first_solve(item, notify, solve)
+    if rec["outcome"] == "rejected":
+        return rec
     t0 = time.perf_counter()
     refs = fr.references(item["scene"])
     refs["refs"]["penalty"] = penalty_effect(item["scene"], refs["refs"])

@@ -102,6 +102,18 @@ def draw_sections(rng, fams, lo: float, hi: float, drag: bool = False) -> tuple[
     return types, lengths, secs
 
 
+def free_end_line(rng) -> tuple[str, float, str, dict, float]:
+    """The draws a free-end scene starts with: ``(variant, L m, family, types, |w| L N)``; the
+    variant one of hanging, end force (twice as likely), current, seabed, weightless with an
+    end force and weightless with none."""
+    variant = str(rng.choice(["hanging", "end force", "end force", "current", "seabed",
+                              "weightless, end force", "weightless, no end force"]))
+    L = log_uniform(rng, 5.0, 1000.0)
+    fam = "weightless" if variant.startswith("weightless") else str(rng.choice(["chain", "wire", "rope"]))
+    types = {fam: line_type(rng, fam)}
+    return variant, L, fam, types, abs(weight_of(types[fam])) * L
+
+
 def polar(d: float, theta: float) -> np.ndarray:
     return np.array([d * math.cos(theta), d * math.sin(theta)])
 

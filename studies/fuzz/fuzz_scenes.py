@@ -27,7 +27,7 @@ import numpy as np
 
 from fuzz_draws import (EA_RANGE, MAX_STRAIN, RHO, Redraw, bending_stiffness, current_env,
                         draw_sections, drag_coefficients, end_force, env_seabed, finish_types,
-                        flip_ends,
+                        flip_ends, free_end_line,
                         line_type, log_uniform, origin, pinned, polar, segments, single,
                         taut_ratio, weight_of, weight_strain)
 
@@ -202,12 +202,7 @@ def gen_free_end(rng) -> tuple[str, dict]:
     """Hanging lines with a free end: no force, an end force, in a current, onto a seabed,
     weightless with a force, and weightless with none (no load at all: any shape balances, so
     the right answer is a clean error)."""
-    variant = str(rng.choice(["hanging", "end force", "end force", "current", "seabed",
-                              "weightless, end force", "weightless, no end force"]))
-    L = log_uniform(rng, 5.0, 1000.0)
-    fam = "weightless" if variant.startswith("weightless") else str(rng.choice(["chain", "wire", "rope"]))
-    types = {fam: line_type(rng, fam)}
-    w_l = abs(weight_of(types[fam])) * L
+    variant, L, fam, types, w_l = free_end_line(rng)
     force = None
     if variant in ("end force", "weightless, end force"):
         force = end_force(rng, max(w_l, 1e3))

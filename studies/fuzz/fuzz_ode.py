@@ -32,12 +32,16 @@ RTOL, ATOL_REL = 1e-11, 1e-12
 
 
 class Cable:
-    """Sections (from end A) with weight, stiffness and drag, and the current."""
+    """Sections (from end A) with weight, stiffness and drag, and the current; in the plane
+    (``DIM`` = 2: x, z), or in 3D by :class:`fuzz_ode3d.Cable3`, which gives its own
+    :meth:`load` and :meth:`norm`."""
+
+    DIM = 2
 
     def __init__(self, secs: list[dict], rho: float, current):
         self.secs = secs          # each: length, w, EA, d, cdn, cdt
         self.rho = rho
-        self.U = np.asarray(current, float) if rho > 0 else np.zeros(2)
+        self.U = np.asarray(current, float) if rho > 0 else np.zeros(self.DIM)
         self.start = np.concatenate([[0.0], np.cumsum([s["length"] for s in secs])])
         self.L = float(self.start[-1])
         self.W = float(sum(abs(s["w"]) * s["length"] for s in secs))
@@ -53,23 +57,31 @@ class Cable:
             f = f + k * (sec["cdt"] * abs(ut) * ut * t + sec["cdn"] * abs(un) * un * n)
         return f
 
+    @staticmethod
+    def norm(v) -> float:
+        """|v| of a vector of DIM entries."""
+        return math.hypot(v[0], v[1])
+
     def rhs(self, sec: dict):
         def f(_s, y):
-            N = y[2:]
-            T = math.hypot(N[0], N[1])
+            N = y[self.DIM:]
+            T = self.norm(N)
             if T <= 0.0:
                 raise NoReference("zero tension inside the line")
             t = N / T
             return np.concatenate([(1.0 + T / sec["EA"]) * t, -self.load(sec, t, T)])
         return f
 
-    def integrate(self, N0, r0=(0.0, 0.0), forward=True, dense=False, s_skip=0.0):
+    def integrate(self, N0, r0=None, forward=True, dense=False, s_skip=0.0):
         """Integrate from end A (forward) or end B (backward) with the given internal force
-        there; returns the (x, z, Nx, Nz) at the other end, and the profile if ``dense``."""
+        there; returns (r, N) at the other end ((x, z, Nx, Nz) in the plane), and the profile
+        (points, s) if ``dense``."""
+        n = self.DIM
+        r0 = np.zeros(n) if r0 is None else r0
         y = np.concatenate([np.asarray(r0, float), np.asarray(N0, float)])
         order = range(len(self.secs)) if forward else range(len(self.secs) - 1, -1, -1)
-        scale = max(self.W, float(np.hypot(*N0)), 1.0)
-        atol = np.array([ATOL_REL * self.L] * 2 + [ATOL_REL * scale] * 2)
+        scale = max(self.W, self.norm(N0), 1.0)
+        atol = np.array([ATOL_REL * self.L] * n + [ATOL_REL * scale] * n)
         pts, ss = [], []
         for k in order:
             a, b = self.start[k], self.start[k + 1]
@@ -86,7 +98,7 @@ class Cable:
                 raise NoReference(f"solve_ivp: {sol.message}")
             if dense:
                 grid = np.linspace(span[0], span[1], max(3, int(N_PROFILE * abs(b - a) / self.L)))
-                pts.append(sol.sol(grid)[:2].T)
+                pts.append(sol.sol(grid)[:n].T)
                 ss.append(grid)
             y = sol.y[:, -1]
         prof = (np.concatenate(pts), np.concatenate(ss)) if dense else None

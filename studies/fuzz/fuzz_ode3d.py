@@ -21,28 +21,26 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy.integrate import solve_ivp
 from scipy.optimize import root
 
-from fuzz_catenary import N_PROFILE, NoReference
+from fuzz_catenary import NoReference
+from fuzz_ode import Cable
 
-RTOL, ATOL_REL = 1e-11, 1e-12
 RAMP = (0.25, 0.5, 0.75, 1.0)   # fractions of the current, pinned-pinned continuation
 
 
-class Cable3:
-    """Sections (from end A: length, w, EA, d, cdn, cdt) and the current (3, m/s)."""
+class Cable3(Cable):
+    """Sections (from end A: length, w, EA, d, cdn, cdt) and the current (3, m/s); the
+    integration along the line is :class:`fuzz_ode.Cable`'s."""
 
-    def __init__(self, secs: list[dict], rho: float, current):
-        self.secs = secs
-        self.rho = rho
-        self.U = np.asarray(current, float) if rho > 0 else np.zeros(3)
-        self.start = np.concatenate([[0.0], np.cumsum([s["length"] for s in secs])])
-        self.L = float(self.start[-1])
-        self.W = float(sum(abs(s["w"]) * s["length"] for s in secs))
+    DIM = 3
 
     def scaled(self, k: float) -> "Cable3":
         return Cable3(self.secs, self.rho, k * self.U)
+
+    @staticmethod
+    def norm(v) -> float:
+        return float(np.linalg.norm(v))
 
     def load(self, sec: dict, t: np.ndarray, T: float) -> np.ndarray:
         f = np.array([0.0, 0.0, -sec["w"]])
@@ -52,44 +50,6 @@ class Cable3:
             k = 0.5 * self.rho * sec["d"] * math.sqrt(1.0 + T / sec["EA"])
             f = f + k * (sec["cdt"] * abs(ut) * ut * t + sec["cdn"] * float(np.linalg.norm(un)) * un)
         return f
-
-    def rhs(self, sec: dict):
-        def f(_s, y):
-            N = y[3:]
-            T = float(np.linalg.norm(N))
-            if T <= 0.0:
-                raise NoReference("zero tension inside the line")
-            t = N / T
-            return np.concatenate([(1.0 + T / sec["EA"]) * t, -self.load(sec, t, T)])
-        return f
-
-    def integrate(self, N0, r0, forward=True, dense=False, s_skip=0.0):
-        """(r, N) at the other end, and the profile (points, s) if ``dense``."""
-        y = np.concatenate([np.asarray(r0, float), np.asarray(N0, float)])
-        order = range(len(self.secs)) if forward else range(len(self.secs) - 1, -1, -1)
-        scale = max(self.W, float(np.linalg.norm(N0)), 1.0)
-        atol = np.array([ATOL_REL * self.L] * 3 + [ATOL_REL * scale] * 3)
-        pts, ss = [], []
-        for k in order:
-            a, b = self.start[k], self.start[k + 1]
-            if forward:
-                a = max(a, s_skip)
-            else:
-                b = min(b, self.L - s_skip)
-            if b <= a:
-                continue
-            span = (a, b) if forward else (b, a)
-            sol = solve_ivp(self.rhs(self.secs[k]), span, y, method="DOP853", rtol=RTOL,
-                            atol=atol, dense_output=dense)
-            if not sol.success:
-                raise NoReference(f"solve_ivp: {sol.message}")
-            if dense:
-                grid = np.linspace(span[0], span[1], max(3, int(N_PROFILE * abs(b - a) / self.L)))
-                pts.append(sol.sol(grid)[:3].T)
-                ss.append(grid)
-            y = sol.y[:, -1]
-        prof = (np.concatenate(pts), np.concatenate(ss)) if dense else None
-        return y, prof
 
 
 def _shoot(cable: Cable3, pa, pb, u0, scale):

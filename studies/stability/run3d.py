@@ -33,7 +33,6 @@ from __future__ import annotations
 
 import argparse
 import csv
-import importlib.util
 import sys
 import time
 from pathlib import Path
@@ -55,17 +54,10 @@ for _p in (HERE, HERE.parent):
 import cable3d_case as case3d  # noqa: E402
 import stability3d_cases as cases  # noqa: E402
 import stability3d_report as report  # noqa: E402
+from study_io import load_module  # noqa: E402  (studies/study_io.py)
 
-
-def _planar_study():
-    """studies/stability/run.py (its forked-cell runner), by path: studies are not a package."""
-    spec = importlib.util.spec_from_file_location("stability_planar_run", HERE / "run.py")
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
-
-
-isolated = _planar_study().isolated
+#: studies/stability/run.py's forked-cell runner
+isolated = load_module(HERE / "run.py", "stability_planar_run").isolated
 T = case3d.PERIOD
 TIMEOUT_FULL, TIMEOUT_QUICK = 240.0, 120.0
 SAMPLES = 256                       # tension samples per period (linear interpolation)

@@ -22,7 +22,7 @@ from .results_periodic import PeriodicSweep
 from .results_line3d import LineTrajectory, SystemTrajectory, line_from_outputs
 from .results_mechanism import SceneLinearization
 from .scene import EndCondition, Scene
-from .cable3d_static import static_equilibrium
+from .cable3d_static import check_periodic_3d, static_equilibrium
 from .solvers.integrate import ERROR_TARGET, accurate_dt, error_warning, integrate
 from .solvers.march import leaky_sum
 from .solvers.linearize import MAX_DENSE, mechanism_modes, output_sensitivity
@@ -239,6 +239,7 @@ def solve_periodic_3d(scene: Scene, method="collocation", *, codegen: bool | Non
         raise SymcableError(f"scene {scene.name!r}: a periodic response needs a harmonic end "
                             "motion ([end_b.motion] kind = 'harmonic'), not "
                             + ("a table" if _motions(scene) else "none"))
+    check_periodic_3d(scene)
     tol = options.pop("tol", None)
     name, opts = method_options(method, options)
     mech, eq = static_equilibrium(scene, codegen=codegen)
@@ -323,6 +324,7 @@ def sweep_periodic_3d(scene: Scene, periods, method="collocation", *, resolution
     ending at a moving point) at its moving end. A period that fails gives NaN and a
     warning; every one failing raises."""
     started = time.perf_counter()
+    check_periodic_3d(scene)
     pick, swept = _swept_end(scene, line)
     periods = np.asarray(periods, dtype=float).ravel()
     if periods.size == 0 or not np.all(np.isfinite(periods)) or np.any(periods <= 0):
@@ -448,14 +450,7 @@ def linearize_3d(scene: Scene, *, undamped: bool = False) -> SceneLinearization:
     H, G = (np.asarray(a) for a in F.kinematics_jacobian(q0, v0, z0, 0.0, p))
     if undamped:
         C = np.zeros_like(C)
-    kinds = [""] * mech.n_q
-    # points first: a free point's node, shared with its lines' ends, goes by its name
-    for name, part in sorted(mech.layout.parts.items(), key=lambda kv: kv[1].kind == "line"):
-        tag = "" if scene.version == 1 else f"{name}."
-        for i, row in enumerate(np.asarray(part.node_q)):
-            for c, j in zip("xyz", row):
-                if j >= 0 and not kinds[j]:
-                    kinds[j] = f"{tag}node{i}.{c}" if part.kind == "line" else f"{name}.{c}"
+    q_kinds, v_kinds = mech.coordinate_names(tagged=scene.version == 2)
     ends = {}
     if scene.version == 1:
         for end in ("a", "b"):
@@ -472,4 +467,4 @@ def linearize_3d(scene: Scene, *, undamped: bool = False) -> SceneLinearization:
                         K_pt -= output_sensitivity(mech, eq, f"{pname}.force",
                                                    f"{ln.name}.end_{end}.position")
             ends[pname] = K_pt
-    return SceneLinearization(scene.name, K, C, M, G, H, tuple(kinds), tuple(kinds), ends, undamped)
+    return SceneLinearization(scene.name, K, C, M, G, H, q_kinds, v_kinds, ends, undamped)

@@ -241,8 +241,6 @@ def test_bristle_states_named():
     assert cable3d_mechanism(_small_moving("coulomb")).layout.states is None
 
 
-@pytest.mark.xfail(strict=True, reason="needs linearize_3d (symcable/cable3d_api.py) to take "
-                   "its names from Mechanism.coordinate_names")
 def test_linearize_names_bristle_states():
     """sc.linearize labels the bristle states, and names only the velocities in v_kinds."""
     lin = sc.linearize(_small_moving())

@@ -115,7 +115,8 @@ def simulate(scene, duration: float, dt: float | None = None, method: str = "gen
     newton_tol : float, optional
         Generalized-α Newton tolerance on the max-norm of the step residual times
         dt / y_scale (momentum rows over their masses), or of the last Newton correction of
-        y_{n+1} over y_scale (default 1e-10).
+        y_{n+1} over y_scale (default 1e-10; a cable3d scene:
+        :data:`symcable.cable3d_api.NEWTON_TOL`, 1e-8).
     codegen : bool, optional
         Run the step in generated C (compiled once per model structure and method, then
         loaded from the build cache); the loop over steps runs inside CasADi's ``mapaccum``,

@@ -28,6 +28,7 @@ from pathlib import Path
 
 import numpy as np
 
+from symcable.cable3d_api import NEWTON_TOL, RHO_INF
 from symcable.cable3d_static import cable3d_mechanism
 from symcable.scene import load_scene
 from symcable.solvers.equilibrium import solve_equilibrium
@@ -93,9 +94,11 @@ SCHEMES = {
             "second-order generalized-alpha (integrate's default scheme; its equations hold at "
             "the step's end), rho_inf = 0; always the CasADi virtual machine (its step is a "
             "CasADi rootfinder, which symcable does not generate C for)"),
-    "GA1": (lambda: GeneralizedAlphaFirstOrder(rho_inf=0.5, max_iter=MAX_ITER_GA1),
-            "first-order generalized-alpha (simulate's scheme; its equations hold at "
-            "t + alpha_f h), rho_inf = 0.5; generated C when the study's codegen is on"),
+    "GA1": (lambda: GeneralizedAlphaFirstOrder(rho_inf=RHO_INF, tol=NEWTON_TOL,
+                                               max_iter=MAX_ITER_GA1),
+            "first-order generalized-alpha (simulate's scheme and defaults: rho_inf = 0, "
+            "Newton tolerance 1e-8; its equations hold at t + alpha_f h); generated C when "
+            "the study's codegen is on"),
 }
 
 

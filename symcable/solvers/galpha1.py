@@ -17,8 +17,11 @@ alpha_m dF/dy' + alpha_f gamma h dF/dy, in one of two ways (:class:`~.options.Ne
   iteration. The factorisation is the block LU of :mod:`symcable.linalg.sxlu` written out in
   SX, on the matrix permuted to a fill-reducing order (approximate minimum degree of its
   pattern: it depends on the pattern alone), for at most SXLU_MAX_STATES unknowns (up to
-  SXLU_MAX_STATES_C when generated C is asked for explicitly, ``codegen=True``); above,
-  CasADi's sparse QR (:func:`symcable.linalg.sparse.sparse_solve`). Compiled to C through
+  SXLU_MAX_STATES_C when generated C is asked for explicitly, ``codegen=True``); above, the
+  banded LU of :mod:`symcable.linalg.banded` (loops whose C compiles in seconds at any
+  size; on the Schur complement of the kinematic rows where their block is diagonal) where
+  the matrix is banded in reverse Cuthill-McKee order (a line's nodes: BANDED_MAX_WIDTH),
+  else CasADi's sparse QR (:func:`symcable.linalg.sparse.sparse_solve`). Compiled to C through
   :mod:`symcable.codegen` when asked (or, by default, when it pays). Its derivative with
   respect to the step's inputs is that of the iterations taken: near the exact one (the
   chord iterations contract fast) but not equal to it;
@@ -43,6 +46,8 @@ import numpy as np
 from ..codegen import use_codegen
 from ..derive import functions
 from ..errors import SymcableError
+from ..linalg.banded import (BandedLU, SchurBandedLU, bandwidths, leading_diagonal,
+                             reverse_cuthill)
 from ..linalg.sparse import jacobian as _jacobian, norm_inf, sparse_solve
 from ..linalg.sxlu import block_lu, block_plan
 from ..models.mechanism import Mechanism
@@ -69,6 +74,11 @@ SXLU_MAX_STATES_C = 1000
 #: machine at 200 segments (798 states, 0.7 s more to build), but CasADi's elimination grows
 #: faster than the graph (8 s for 8,000 states)
 CSE_MAX_STATES = SXLU_MAX_STATES_C
+#: widest band (l + u + 1, in reverse Cuthill-McKee order) that the banded LU takes above
+#: SXLU_MAX_STATES; wider patterns go to sparse QR. On the WD0600 chain (1014 states, band
+#: 11 on the Schur complement) a step costs 0.86 of the sparse QR's, which refactorises at
+#: every solve (studies/chains, dt 0.1 s: 1803 against 2093 us per step)
+BANDED_MAX_WIDTH = 40
 #: the sparse linear solver above SXLU_MAX_STATES (CasADi's QR generates C; CSparse's LU does not)
 LINSOL = "qr"
 
@@ -156,10 +166,12 @@ def _fill_order(sp: ca.Sparsity) -> np.ndarray:
     return np.asarray((sp + sp.T).amd(), dtype=int)
 
 
-def _linear_solver(J: ca.SX, args: list, cache: dict, lu: bool):
-    """``(factor, solve, n_factors)`` for the iteration matrix ``J`` (SX in ``args``):
-    ``factor(*args) -> f``, ``solve(f, b) -> J^-1 b`` (see the module docstring); the block
-    LU when ``lu`` and the pattern allows it, else sparse QR."""
+def _linear_solver(J: ca.SX, args: list, cache: dict, lu: bool, n_lead: int = 0):
+    """``(factor, solve, n_factors, kind)`` for the iteration matrix ``J`` (SX in ``args``):
+    ``factor(*args) -> f``, ``solve(f, b) -> J^-1 b`` (see the module docstring), ``kind``
+    "block-lu", "banded" or "qr"; the block LU when ``lu`` and the pattern allows it, else
+    the banded LU (Schur on the ``n_lead`` leading kinematic rows where they are diagonal)
+    when the band is narrow enough, else sparse QR."""
     sp = J.sparsity()
     n = sp.size1()
     opts = {"cse": n <= CSE_MAX_STATES}
@@ -174,11 +186,34 @@ def _linear_solver(J: ca.SX, args: list, cache: dict, lu: bool):
             f, b = ca.SX.sym("f", lu.n_factors), ca.SX.sym("b", n)
             xp = lu.apply(f, b[perm.tolist()])
             solve = ca.Function("ga1_solve", [f, b], [xp[np.argsort(perm).tolist()]], opts)
-            return factor, solve, lu.n_factors
-    factor = ca.Function("ga1_factor", args, [J.nz[:]], opts)
+            return factor, solve, lu.n_factors, "block-lu"
+    jac = ca.Function("ga1_jacobian", args, [J.nz[:]], opts)
+    band = _banded(sp, n_lead, cache)
+    if band is not None:
+        margs = [ca.MX.sym(f"a{i}", a.sparsity()) for i, a in enumerate(args)]
+        factor = ca.Function("ga1_band_factor", margs, [band.factor(jac(*margs))])
+        f, b = ca.MX.sym("f", band.n_factors), ca.MX.sym("b", n)
+        return factor, ca.Function("ga1_band_solve", [f, b], [band.solve(f, b)]), \
+            band.n_factors, "banded"
     f, b = ca.MX.sym("f", sp.nnz()), ca.MX.sym("b", n)
     solve = ca.Function("ga1_qr_solve", [f, b], [sparse_solve(ca.MX(sp, f), b, LINSOL)])
-    return factor, solve, sp.nnz()
+    return jac, solve, sp.nnz(), "qr"
+
+
+def _banded(sp: ca.Sparsity, n_lead: int, cache: dict):
+    """The banded LU of the pattern ``sp`` (on the Schur complement of its ``n_lead``
+    leading rows where their block is diagonal), or None when its band is wider than
+    BANDED_MAX_WIDTH; kept in ``cache``."""
+    key = ("banded", n_lead, sp.size1(), sp.nnz())
+    if key not in cache:
+        solver = SchurBandedLU(sp, n_lead, "ga1") if leading_diagonal(sp, n_lead) else None
+        if solver is None or solver.l + solver.u + 1 > BANDED_MAX_WIDTH:
+            solver = None
+            l, u = bandwidths(sp, reverse_cuthill(sp))
+            if l + u + 1 <= BANDED_MAX_WIDTH:
+                solver = BandedLU(sp, "ga1")
+        cache[key] = solver
+    return cache[key]
 
 
 def _taylor_jet(mech: Mechanism) -> ca.Function:
@@ -224,7 +259,7 @@ def _unrolled(mech: Mechanism, max_iter: int, with_lte: bool, lu: bool) -> ca.Fu
     args = [w, x, t, h, p, st]
     R = ca.Function(f"{name}_res", args, [r], {"cse": ny <= CSE_MAX_STATES})
     cache = STEP_CACHE.get(mech, ("block_lu",), dict)
-    factor, solve, n_f = _linear_solver(_jacobian(r, w), args, cache, lu)
+    factor, solve, n_f, _ = _linear_solver(_jacobian(r, w), args, cache, lu, mech.n_q)
 
     # one iteration: (z, done, it, measure, f; x, t, h, p, settings, scales) -> ...
     z, done, it, meas = ca.MX.sym("z", ny), ca.MX.sym("done"), ca.MX.sym("it"), ca.MX.sym("measure")

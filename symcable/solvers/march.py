@@ -181,43 +181,77 @@ class _Stepper:
         # what a trajectory keeps of x: (q, v), and with GeneralizedAlpha also z (last)
         self.n_keep = mech.n_q + mech.n_v if self.full or isinstance(method, RK4) else None
         self.compiled = bool(self.fn.is_a("External"))
+        #: the size of the method's state x; the batches carry x and a flag, 1 once a step
+        #: failed, after which the rest of the batch is skipped (``extend``)
+        self.n_x = self.fn.size1_in(0)
+        self.n_carry = self.n_x + 1
+        self._guarded = None
         self.est = EstimatePlan.of(mech, method)
         self._batches: OrderedDict = OrderedDict()
         #: seconds per step of the first batch of several samples (sizes later batches)
         self.sec_per_step: float | None = None
+
+    def extend(self, x: np.ndarray) -> np.ndarray:
+        """The state ``x`` as the batches carry it (the failure flag 0 appended)."""
+        return np.append(np.asarray(x, dtype=float).ravel()[:self.n_x], 0.0)
+
+    def guarded(self) -> ca.Function:
+        """The step on the carried state (x, failed): once a step has failed (its Newton
+        iteration, or a state that is not finite), the later steps of a batch return at
+        once instead of iterating from a bad state (the batch is replayed from its last
+        good sample: :func:`run_fixed`)."""
+        if self._guarded is None:
+            f, n = self.fn, self.n_x
+            ins = [ca.MX.sym(f.name_in(i), f.sparsity_in(i)) for i in range(f.n_in())]
+            xe = ca.MX.sym("x", n + 1)
+            rest = ins[1:]
+            out = f(xe[:n], *rest)
+            bad = out[4] if self.full else 1 - (out[1] <= self.tol)
+            total = ca.sum1(out[0])
+            bad = ca.logic_or(bad, ca.logic_not(total - total == 0))  # NaN or inf
+            go = ca.Function("go", [xe] + rest, [ca.vertcat(out[0], bad)] + list(out[1:]))
+            nan = ca.MX(np.nan)
+            skip_out = [xe, nan, nan] + ([ca.MX(0), ca.MX(1)] if self.full else [])
+            skip = ca.Function("skip", [xe] + rest, skip_out + [ca.MX(0)] * (len(out) - len(skip_out)))
+            cond = ca.Function.if_else(f"{f.name()}_guard", go, skip)
+            self._guarded = ca.Function(f"{f.name()}_guarded", [xe] + rest,
+                                        cond(xe[n] == 0, xe, *rest))
+        return self._guarded
 
     def batch(self, S: int, m: int) -> FastCall:
         fn = self._batches.get((S, m))
         if fn is not None:
             self._batches.move_to_end((S, m))
             return fn
-        f = self.fn
+        f = self.guarded()
         x, t0, h = ca.MX.sym("x", f.size1_in(0)), ca.MX.sym("t0"), ca.MX.sym("h")
         p = ca.MX.sym("p", f.size1_in(3))
         inner = f.mapaccum(f"{f.name()}_x{S}", S, [0], [0])
         out = inner(x, t0 + h * ca.DM(np.arange(S)).T, h, p, *self.consts)
         X, E, L = out[:3]
         IT, FL = (out[3], out[4]) if self.full else (ca.MX.zeros(1, S), 1 - (E <= self.tol))
-        sample = ca.Function(f"{f.name()}_sample{S}", [x, t0, h, p], [X[:, S - 1], X, E, L, IT, FL])
+        sample = ca.Function(f"{f.name()}_sample{S}", [x, t0, h, p],
+                             [X[:, S - 1], X[:self.n_x, :], E, L, IT, FL])
         outer = sample.mapaccum(f"{f.name()}_sample{S}_x{m}", m, [0], [0])
         fn = FastCall(ca.Function(f"batch{S}x{m}", [x, t0, h, p],
-                                  outer(x, t0 + (S * h) * ca.DM(np.arange(m)).T, h, p)[1:]))
+                                  outer(x, t0 + (S * h) * ca.DM(np.arange(m)).T, h, p)))
         self._batches[(S, m)] = fn
         if len(self._batches) > 64:
             self._batches.popitem(last=False)
         return fn
 
     def run(self, S, m, x, t0, h, p) -> tuple:
-        """``batch(S, m)`` evaluated: numpy arrays, X (m, n_x) (a sample per row) and the
+        """``batch(S, m)`` evaluated from the carried state ``x`` (:meth:`extend`): numpy
+        arrays, X (m, n_x + 1) (the carried state at each sample, a row each) and the
         per-sample values (m,): the largest err and lte over its S steps, the Newton
         iterations summed and largest, the failed steps; then every step's states
         (S m, n_x) and lte (S m,)."""
-        Xs, E, L, IT, FL = self.batch(S, m)(x, t0, h, p)
+        Xc, Xs, E, L, IT, FL = self.batch(S, m)(x, t0, h, p)
         Xs = Xs.reshape(S * m, -1)
         per = [a.reshape(m, S) for a in (E, L, IT, FL)]
         E, Lm = (np.fmax.reduce(a, axis=1) for a in per[:2])  # NaN skipped, as CasADi's mmax
         IT, FL = per[2], per[3]
-        return (Xs[S - 1::S], E, Lm, IT.sum(axis=1), IT.max(axis=1), FL.sum(axis=1), Xs, L)
+        return (Xc.reshape(m, -1), E, Lm, IT.sum(axis=1), IT.max(axis=1), FL.sum(axis=1), Xs, L)
 
 
 def get_stepper(mech, method, codegen, lte) -> _Stepper:
@@ -243,7 +277,8 @@ def run_fixed(stepper, x, t0, h, p, idx, scale, progress, label, tau):
     (its stats: :meth:`RunningEstimate.stats`)."""
     inv_scale = 1.0 / scale
     track = RunningEstimate(stepper.est, x, tau)
-    keep_cols = slice(0, stepper.n_keep)
+    x = stepper.extend(x)
+    keep_cols = slice(0, stepper.n_keep if stepper.n_keep is not None else stepper.n_x)
     saved_x, saved_k = ([x[None, keep_cols]], [np.zeros(1, int)]) if idx[0] == 0 else ([], [])
     k, iters, iters_max, worst, lte_max, step_time = 0, 0.0, 0.0, 0.0, -np.inf, 0.0
     # the cost per step measured by this stepper's first run sizes every later batch, so
@@ -279,14 +314,18 @@ def run_fixed(stepper, x, t0, h, p, idx, scale, progress, label, tau):
                     worst = max(worst, float(np.nanmax(np.r_[E[:n_good], 0.0])))
                     lte_max = max(lte_max, float(np.nanmax(np.r_[L[:n_good], -np.inf])))
                 if n_good < m:
+                    k_bad, t_replay = k, time.perf_counter()
                     failure, x, k, extra, it_good = _replay(
                         stepper, x, k, t0, h, p, (m - n_good) * S, set(idx.tolist()), inv_scale,
-                        track, sub)
+                        track, sub, S)
+                    step_time += time.perf_counter() - t_replay
                     for kk, xx in extra:
                         saved_k.append(np.array([kk]))
                         saved_x.append(xx[None, keep_cols])
                     iters += it_good
-                    count -= m
+                    # the samples of this call that were stepped (the replay returns on a
+                    # sample once the bad step is through, and batches resume from there)
+                    count -= n_good + (k - k_bad) // S
                     if failure is not None:
                         break
                     continue
@@ -321,14 +360,18 @@ def run_fixed(stepper, x, t0, h, p, idx, scale, progress, label, tau):
     return ks.astype(float), Xs, failure, extra
 
 
-def _replay(stepper, x, k, t0, h, p, n_max, save_set, inv_scale, track, sub):
+def _replay(stepper, x, k, t0, h, p, n_max, save_set, inv_scale, track, sub, S=None):
     """Step one at a time from a good state to find the first bad step: (failure or None,
     x, k of the last good step, the (k, x) of saved steps passed, Newton iterations); the
     good steps update ``track``. A step whose Newton iteration fails (or whose matrix is
     singular) is retried as 2, 4, ... MAX_SUBSTEPS substeps (:func:`_substeps`) before it
-    counts as failed; ``sub`` counts such steps."""
-    saved, good_iters = [], 0.0
+    counts as failed; ``sub`` counts such steps. With ``S``, it returns at the first
+    multiple of S steps after such a step is through (the caller's batches of S-step
+    samples take over again), else after ``n_max`` steps."""
+    saved, good_iters, k0, through = [], 0.0, k, False
     for _ in range(n_max):
+        if through and S and (k - k0) % S == 0:
+            break
         diag = {"time_last_good": t0 + k * h, "time": t0 + (k + 1) * h, "step": k + 1,
                 "method": method_name(stepper.method)}
         try:
@@ -339,7 +382,7 @@ def _replay(stepper, x, k, t0, h, p, n_max, save_set, inv_scale, track, sub):
         if failed and isinstance(stepper.method, IMPLICIT):
             done = _substeps(stepper, x, t0 + k * h, h, p, inv_scale, track, sub)
             if done is not None:
-                x, k = done[0], k + 1
+                x, k, through = done[0], k + 1, True
                 good_iters += done[1]
                 if k in save_set:
                     saved.append((k, x.copy()))
@@ -401,7 +444,7 @@ def _residual_of_failure(stepper, failure, h, p):
         return
     mech, ny = stepper.mech, stepper.mech.n_q + stepper.mech.n_v
     st = [stepper.method.rho_inf, stepper.method.tol]
-    r = np.asarray(galpha1_residual(mech)(x_fail[ny:], x_prev, failure["time_last_good"], h, p,
+    r = np.asarray(galpha1_residual(mech)(x_fail[ny:2 * ny], x_prev[:2 * ny], failure["time_last_good"], h, p,
                                           st)[0], dtype=float).ravel()
     with np.errstate(invalid="ignore", over="ignore"):
         failure["residual"] = float(np.max(np.abs(h * r * step_scales(mech)[ny:])))
@@ -413,7 +456,8 @@ def run_adaptive(stepper, x, t0, h, duration, p, method, tol, batch, tau):
     or None, stats, with the running error estimate of :meth:`RunningEstimate.stats`)."""
     t_end = t0 + duration
     track = RunningEstimate(stepper.est, x, tau)
-    times, Xs = [t0], [x.copy()]
+    times, Xs, n_x = [t0], [np.asarray(x, float).copy()], stepper.n_x
+    x = stepper.extend(x)
     t, steps, rejected = t0, 0, 0
     h_min, h_max, worst_lte = np.inf, 0.0, 0.0
     k_batch = max(1, min(batch, 32))
@@ -441,7 +485,7 @@ def run_adaptive(stepper, x, t0, h, duration, p, method, tol, batch, tau):
             continue
         for i in range(k):
             times.append(t + (i + 1) * h)
-            Xs.append(X[i])
+            Xs.append(X[i, :n_x])
         steps += k
         h_min, h_max = min(h_min, h), max(h_max, h)
         worst_lte = max(worst_lte, est)

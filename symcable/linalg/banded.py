@@ -1,0 +1,216 @@
+"""Banded LU without pivoting as CasADi loops (``mapaccum``), for large banded systems in
+generated C.
+
+Generic: it sees a square sparsity pattern, nothing about cables.
+
+Why: the iteration matrix of a long line is banded once its unknowns are ordered along the
+line (half-bandwidth 5 for a cable's node velocities), but CasADi's sparse QR spends about a
+millisecond on 500 such rows (studies/chains, WD0600), refactorises at every solve, and the
+block LU written out in SX (:mod:`symcable.linalg.sxlu`) is fast but straight-line: its C
+takes minutes to compile above a few hundred unknowns. Here the elimination is one small
+kernel applied row after row (``Function.mapaccum``): generated C is a loop around a few
+hundred flops, compiles in seconds whatever the size, and costs O(n l u) to factorise and
+O(n (l + u)) to solve, the factors kept between solves (chord iterations reuse them).
+
+Order: reverse Cuthill-McKee of the pattern plus its transpose (SciPy), which depends on the
+pattern alone; ``l`` and ``u`` are the lower and upper bandwidths in that order. No pivot
+search (as in :mod:`symcable.linalg.sxlu`): for the dominant-diagonal iteration matrices of
+mechanical systems elimination in order is stable; a zero pivot gives inf/NaN, which the
+caller's residual check catches.
+
+Storage: row i of the band holds columns i - l .. i + u (``w = l + u + 1`` entries). The
+elimination carries a window of the rows k .. k + l, columns k .. k + l + u, and takes in
+row k + l + 1 of the band at step k; it puts out, per step, the inverse pivot, row k of U
+right of the diagonal (u) and column k of L below it (l): the factors, w per row.
+"""
+from __future__ import annotations
+
+import casadi as ca
+import numpy as np
+from scipy.sparse import csr_matrix
+from scipy.sparse.csgraph import reverse_cuthill_mckee
+
+__all__ = ["BandedLU", "SchurBandedLU", "bandwidths", "leading_diagonal", "reverse_cuthill"]
+
+#: rows eliminated per call of the loop body (the body written out for this many rows):
+#: fewer calls, less copying of the carried window
+ROWS_PER_CALL = 8
+
+
+def reverse_cuthill(sp: ca.Sparsity) -> np.ndarray:
+    """Reverse Cuthill-McKee order of the square pattern ``sp`` plus its transpose."""
+    n = sp.size1()
+    r, c = (np.asarray(v, dtype=int) for v in sp.get_triplet())
+    A = csr_matrix((np.ones(r.size), (r, c)), shape=(n, n))
+    return np.asarray(reverse_cuthill_mckee(csr_matrix(A + A.T), symmetric_mode=True), int)
+
+
+def bandwidths(sp: ca.Sparsity, perm=None) -> tuple[int, int]:
+    """``(l, u)``: lower and upper bandwidth of the square pattern ``sp`` with rows and
+    columns in the order ``perm`` (default: as given)."""
+    r, c = (np.asarray(v, dtype=int) for v in sp.get_triplet())
+    if perm is not None:
+        inv = np.argsort(np.asarray(perm, int))
+        r, c = inv[r], inv[c]
+    d = c - r
+    return (int(max(0, -d.min())) if d.size else 0), (int(max(0, d.max())) if d.size else 0)
+
+
+class BandedLU:
+    """Banded LU of square matrices with the pattern ``sp`` (see the module docstring).
+
+    Attributes: ``n``, ``perm`` (the order), ``l``, ``u``, ``n_factors`` (= n (l + u + 1)).
+    Methods: ``factor(a) -> f`` (MX: ``a`` the matrix's nonzeros in CasADi's column-major
+    order), ``solve(f, b) -> x`` (MX, ``b`` an n-vector)."""
+
+    def __init__(self, sp: ca.Sparsity, name: str = "band", rows: int | None = None):
+        self.n = n = sp.size1()
+        self.perm = reverse_cuthill(sp)
+        self.l, self.u = bandwidths(sp, self.perm)
+        l, u = self.l, self.u
+        self.w = w = l + u + 1
+        self.rows = R = int(rows or ROWS_PER_CALL)
+        self.calls = -(-n // R)
+        self.n_pad = N = self.calls * R  # padded with identity rows
+        self.n_factors = N * w
+        inv = np.argsort(self.perm)
+        r, c = (np.asarray(v, dtype=int) for v in sp.get_triplet())
+        pr, pc = inv[r], inv[c]
+        self._band_index = (pr * w + pc - pr + l).tolist()
+        self._pad_index = (np.arange(n, N) * w + l).tolist()
+        # the first window (rows 0..l, columns 0..l+u) gathered from the band; N w + l + 1
+        # rows of zeros follow the band (incoming rows past the end)
+        idx = np.full((l + 1, w), N * w, dtype=int)
+        for row in range(min(l + 1, N)):
+            for col in range(w):
+                j = col - row + l
+                if 0 <= j < w:
+                    idx[row, col] = row * w + j
+        self._window0 = idx.ravel().tolist()
+        opts = {"base": max(self.calls, 2)}
+        self._eliminate = self._elimination_kernel(name).mapaccum(f"{name}_factor", self.calls, 1, opts)
+        self._forward = self._forward_kernel(name).mapaccum(f"{name}_forward", self.calls, 1, opts)
+        self._backward = self._backward_kernel(name).mapaccum(f"{name}_backward", self.calls, 1, opts)
+
+    # kernels (SX, small: ``rows`` rows per call) ------------------------------------------
+    def _elimination_kernel(self, name):
+        l, u, w, R = self.l, self.u, self.w, self.rows
+        W = ca.SX.sym("W", (l + 1) * w)
+        inc = ca.SX.sym("inc", w, R)
+        rows = [[W[r * w + c] for c in range(w)] for r in range(l + 1)]
+        out = []
+        for k in range(R):
+            inv_piv = 1.0 / rows[0][0]
+            mult = [rows[r][0] * inv_piv for r in range(1, l + 1)]
+            new = []
+            for r in range(1, l + 1):
+                new.append([rows[r][c] - mult[r - 1] * rows[0][c] if c <= u else rows[r][c]
+                            for c in range(1, w)] + [ca.SX(0)])
+            new.append([inc[c, k] for c in range(w)])
+            out += [inv_piv] + [rows[0][c] for c in range(1, u + 1)] + mult
+            rows = new
+        flat = [e for row in rows for e in row]
+        return ca.Function(f"{name}_eliminate", [W, inc],
+                           [ca.vertcat(*flat), ca.reshape(ca.vertcat(*out), w, R)])
+
+    def _forward_kernel(self, name):
+        l, u, R = self.l, self.u, self.rows
+        s = ca.SX.sym("s", l + 1)
+        f = ca.SX.sym("f", self.w, R)
+        b_in = ca.SX.sym("b_in", 1, R)
+        st, ys = [s[r] for r in range(l + 1)], []
+        for k in range(R):
+            y = st[0]
+            st = [st[r] - f[1 + u + r - 1, k] * y for r in range(1, l + 1)] + [b_in[k]]
+            ys.append(y)
+        return ca.Function(f"{name}_fwd", [s, f, b_in], [ca.vertcat(*st), ca.horzcat(*ys)])
+
+    def _backward_kernel(self, name):
+        u, R = self.u, self.rows
+        s = ca.SX.sym("s", max(u, 1))
+        f = ca.SX.sym("f", self.w, R)  # rows in reverse order
+        y = ca.SX.sym("y", 1, R)
+        st, xs = [s[c] for c in range(max(u, 1))], []
+        for k in range(R):
+            acc = y[k]
+            for c in range(1, u + 1):
+                acc = acc - f[c, k] * st[c - 1]
+            x = acc * f[0, k]
+            st = ([x] + st[:u - 1]) if u else st
+            xs.append(x)
+        return ca.Function(f"{name}_bwd", [s, f, y], [ca.vertcat(*st), ca.horzcat(*xs)])
+
+    # expressions --------------------------------------------------------------------------
+    def factor(self, a):
+        """The packed factors (MX, n_pad w) of the matrix with nonzeros ``a``."""
+        N, w, l, R = self.n_pad, self.w, self.l, self.rows
+        band = ca.MX.zeros(N * w + (l + 1) * w + 1, 1)
+        band[self._band_index] = a
+        if self._pad_index:
+            band[self._pad_index] = ca.MX.ones(len(self._pad_index))
+        W0 = band[self._window0]
+        rows_in = ca.reshape(band[(l + 1) * w:(l + 1) * w + N * w], w * R, self.calls)
+        _, F = self._eliminate(W0, ca.reshape(rows_in, w, N))
+        return ca.vec(F)
+
+    def solve(self, f, b):
+        """x = A^-1 b for the factors ``f`` of A (MX) and the n-vector ``b``."""
+        n, N, w, l, u = self.n, self.n_pad, self.w, self.l, self.u
+        F = ca.reshape(f, w, N)
+        bp = ca.vertcat(b[self.perm.tolist()], ca.MX.zeros(N - n + l + 1, 1))
+        _, y = self._forward(bp[:l + 1], F, ca.reshape(bp[l + 1:l + 1 + N], 1, N))
+        rev = list(range(N - 1, -1, -1))
+        _, xr = self._backward(ca.MX.zeros(max(u, 1), 1), F[:, rev], y[:, rev])
+        x = ca.reshape(xr[:, rev], N, 1)
+        return x[np.argsort(self.perm).tolist()]
+
+
+def leading_diagonal(sp: ca.Sparsity, k: int) -> bool:
+    """Whether the leading k x k block of ``sp`` is structurally diagonal (every diagonal
+    entry present, nothing else)."""
+    if k <= 0 or k >= sp.size1():
+        return False
+    r, c = (np.asarray(v, dtype=int) for v in sp.get_triplet())
+    inside = (r < k) & (c < k)
+    return bool(np.all(r[inside] == c[inside]) and np.count_nonzero(inside) == k)
+
+
+class SchurBandedLU:
+    """``A = [[diag(d), B], [C, D]]`` (the leading k x k block structurally diagonal, as in
+    the kinematic rows q' - v of a mechanical system's iteration matrix) solved by
+    eliminating the leading block, S = D - C diag(d)^-1 B, and :class:`BandedLU` on S: half
+    the unknowns, and for a cable's nodes half-bandwidth 5 instead of 13.
+
+    ``factor(a) -> f`` packs S's banded factors, d, and the nonzeros of B and C;
+    ``solve(f, b) -> x``."""
+
+    def __init__(self, sp: ca.Sparsity, k: int, name: str = "band"):
+        self.k, self.n = k, sp.size1()
+        a = ca.MX.sym("a", sp.nnz())
+        d, B, C, S = self._blocks(sp, a)
+        self.sp, self.sp_B, self.sp_C = sp, B.sparsity(), C.sparsity()
+        self.lu = BandedLU(S.sparsity(), name)
+        self.l, self.u = self.lu.l, self.lu.u
+        self.n_factors = self.lu.n_factors + k + B.nnz() + C.nnz()
+
+    def _blocks(self, sp, a):
+        k = self.k
+        M = ca.MX(sp, a)
+        d = ca.diag(M[:k, :k])
+        B, C = M[:k, k:], M[k:, :k]
+        S = M[k:, k:] - ca.mtimes(C, ca.mtimes(ca.diag(1.0 / d), B))
+        return d, B, C, S
+
+    def factor(self, a):
+        d, B, C, S = self._blocks(self.sp, a)
+        return ca.vertcat(self.lu.factor(S.nz[:]), d, B.nz[:], C.nz[:])
+
+    def solve(self, f, b):
+        k, nf = self.k, self.lu.n_factors
+        nb = self.sp_B.nnz()
+        d = f[nf:nf + k]
+        B = ca.MX(self.sp_B, f[nf + k:nf + k + nb])
+        C = ca.MX(self.sp_C, f[nf + k + nb:])
+        bq, bv = b[:k], b[k:]
+        xv = self.lu.solve(f[:nf], bv - ca.mtimes(C, bq / d))
+        return ca.vertcat((bq - ca.mtimes(B, xv)) / d, xv)

@@ -13,9 +13,10 @@ called, so the graphs are the step's own):
   out straight-line), evaluated at every iteration;
 * ``jacobian``: the nonzeros of dF/dw (SX), the iteration matrix;
 * ``factor``: what the step evaluates to refactorise (at the first iteration and from the
-  CHORD_ITERATIONS-th on): the Jacobian alone where the solve is sparse QR (above
-  SXLU_MAX_STATES_C states: WD0600), the Jacobian and its block LU written out in SX below
-  (WD0050);
+  CHORD_ITERATIONS-th on): the Jacobian and its block LU written out in SX up to
+  SXLU_MAX_STATES_C states (WD0050), above it (WD0600) the Jacobian and its banded LU (loops,
+  :mod:`symcable.linalg.banded`), or the Jacobian alone where the solve is sparse QR (a
+  pattern with no narrow band);
 * ``solve``: J^-1 b from the factor's output: the two triangular solves of the LU, or the
   sparse QR (CasADi's, with dense rows split off), which factorises at each call.
 
@@ -72,9 +73,10 @@ DT = 0.1  # s
 RHO = 0.0  # simulate's rho_inf for cable3d
 
 
-def parts(mech, lu: bool) -> dict:
-    """{name: Function} of the step's parts (module docstring), with inputs
-    (w, x, t, h, p, settings) for residual / jacobian / factor and (f, b) for solve."""
+def parts(mech, lu: bool) -> tuple[dict, str]:
+    """({name: Function} of the step's parts (module docstring), with inputs
+    (w, x, t, h, p, settings) for residual / jacobian / factor and (f, b) for solve; the
+    linear solver's kind: "block-lu", "banded" or "qr")."""
     ny = mech.n_q + mech.n_v
     x, t, h, p, st, _ = ga._symbols(mech, ca.SX)
     w = ca.SX.sym("w", ny)
@@ -82,11 +84,11 @@ def parts(mech, lu: bool) -> dict:
     args = [w, x, t, h, p, st]
     opts = {"cse": ny <= ga.CSE_MAX_STATES}
     J = ga._jacobian(r, w)
-    factor, solve, _ = ga._linear_solver(J, args, {}, lu)
+    factor, solve, _, kind = ga._linear_solver(J, args, {}, lu, mech.n_q)
     # with sparse QR the factor is the Jacobian's nonzeros: the same graph, timed once
-    jac = ca.Function("prof_jacobian", args, [J.nz[:]], opts) if lu else factor
+    jac = factor if kind == "qr" else ca.Function("prof_jacobian", args, [J.nz[:]], opts)
     return {"residual": ca.Function("prof_residual", args, [r], opts), "jacobian": jac,
-            "factor": factor, "solve": solve}
+            "factor": factor, "solve": solve}, kind
 
 
 def state(mech, eq, t_run: float, codegen) -> tuple:
@@ -126,7 +128,7 @@ def profile(deck: str, out: Path, codegen: bool, repeats: int) -> dict:
     eq = solve_equilibrium(mech, codegen=codegen)
     opts = GeneralizedAlphaFirstOrder(rho_inf=RHO)
     lu = ny <= ga.SXLU_MAX_STATES or (codegen and ny <= ga.SXLU_MAX_STATES_C)
-    fns = parts(mech, lu)
+    fns, kind = parts(mech, lu)
     sizes = {k: int(f.n_instructions()) for k, f in fns.items()}
     compile_s = {}
     if codegen:
@@ -162,7 +164,8 @@ def profile(deck: str, out: Path, codegen: bool, repeats: int) -> dict:
     seq = in_sequence(R, Ff, S, x, t, p, settings, scales, ny, 3 * repeats)
     spent = {key: n[key] * us[key] for key in ("residual", "factor", "solve")}
     parts_sum = sum(spent.values())
-    return {"deck": deck, "states": ny, "solver": "block LU (SX)" if lu else "sparse QR",
+    return {"deck": deck, "states": ny, "solver": {"block-lu": "block LU (SX)", "banded": "banded LU (loops)",
+                                                 "qr": "sparse QR"}[kind],
             "compiled": bool(codegen), "instructions": sizes, "compile_s": compile_s,
             "t": t, "iterations": int(round(float(its[0]))), "failed": float(failed[0]),
             "calls": n, "replica_vs_step": agree, "us": us, "parts_sum_us": parts_sum,

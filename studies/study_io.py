@@ -54,17 +54,23 @@ def parse(doc: str, quick_help: str, default_out: Path, argv=None,
     return args
 
 
+def write_tables(out: Path, rows: list[dict], text: str, stem: tuple = ("results", "summary")):
+    """Write ``rows`` to ``out / <stem[0]>.csv`` (one row per measurement) and ``text`` to
+    ``out / <stem[1]>.md``, then print the text."""
+    with open(out / f"{stem[0]}.csv", "w", newline="") as f:
+        writer = csv.DictWriter(f, fieldnames=list(rows[0]))
+        writer.writeheader()
+        writer.writerows(rows)
+    (out / f"{stem[1]}.md").write_text(text)
+    print(text)
+
+
 def write(args: argparse.Namespace, rows: list[dict], text: str,
           plot: Callable[[Path], None], figure_name: str) -> None:
     """Write results.csv, summary.md and the figure into ``args.out`` (and the figure to
     ``args.figure`` if given), then print the summary."""
-    with open(args.out / "results.csv", "w", newline="") as f:
-        writer = csv.DictWriter(f, fieldnames=list(rows[0]))
-        writer.writeheader()
-        writer.writerows(rows)
-    (args.out / "summary.md").write_text(text)
     plot(args.out / figure_name)
     if args.figure is not None:
         args.figure.parent.mkdir(parents=True, exist_ok=True)
         plot(args.figure)
-    print(text)
+    write_tables(args.out, rows, text)

@@ -22,7 +22,6 @@ Writes ``out/chains.csv`` (one row per run) and ``out/chains.md`` (the table).
 """
 from __future__ import annotations
 
-import csv
 import sys
 import time
 from pathlib import Path
@@ -32,7 +31,7 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 if str(HERE.parent) not in sys.path:
     sys.path.append(str(HERE.parent))
-from study_io import load_module, parse  # noqa: E402  (studies/study_io.py)
+from study_io import load_module, parse, write_tables  # noqa: E402  (studies/study_io.py)
 
 from symcable.cable3d_static import cable3d_mechanism  # noqa: E402
 from symcable.scene import load_scene  # noqa: E402
@@ -103,13 +102,7 @@ def table(rows: list[dict]) -> str:
 def main(argv=None) -> list[dict]:
     args = parse(__doc__, "WD0050 A1 at 0.1 s, the virtual machine", HERE / "out", argv)
     rows = run(QUICK if args.quick else FULL, args.out)
-    with open(args.out / "chains.csv", "w", newline="") as f:
-        writer = csv.DictWriter(f, fieldnames=list(rows[0]))
-        writer.writeheader()
-        writer.writerows(rows)
-    text = table(rows)
-    (args.out / "chains.md").write_text(text)
-    print(text)
+    write_tables(args.out, rows, table(rows), ("chains", "chains"))
     return rows
 
 

@@ -22,7 +22,7 @@ from .results_periodic import PeriodicSweep
 from .results_line3d import LineTrajectory, SystemTrajectory, line_from_outputs
 from .results_mechanism import SceneLinearization
 from .scene import EndCondition, Scene
-from .cable3d_static import check_periodic_3d, static_equilibrium
+from .cable3d_static import body_stiffness, check_periodic_3d, dynamic_p, static_equilibrium
 from .solvers.integrate import ERROR_TARGET, accurate_dt, error_warning, integrate
 from .solvers.march import leaky_sum
 from .solvers.linearize import MAX_DENSE, mechanism_modes, output_sensitivity
@@ -443,9 +443,13 @@ def linearize_3d(scene: Scene, *, undamped: bool = False) -> SceneLinearization:
     material damping and the drag linearised about the current (none with ``undamped``,
     which also switches the current off); and the exact (3, 3) stiffness of each pinned
     end (a scene of several lines: of each fixed or vessel point, by name, every line
-    attached to it moved with it; q named ``"line.node3.y"``, a free point's ``"buoy.x"``)."""
+    attached to it moved with it; q named ``"line.node3.y"``, a free point's ``"buoy.x"``),
+    and the (6, 6) mooring stiffness of each free body (``body_stiffness``, global axes:
+    :func:`~symcable.cable3d_static.body_stiffness`; its q named ``"tow.x"``, ``"tow.e1"``,
+    its v ``"tow.rx"`` ...). A free body's statics-only spring is off (K of the lines and
+    bodies alone)."""
     mech, eq = static_equilibrium(scene)
-    p = np.array(eq.p, float)
+    p = dynamic_p(scene, mech, eq.p)
     if undamped:
         for block in mech.params.names:
             if block.split(".")[-1] == "current":
@@ -474,4 +478,7 @@ def linearize_3d(scene: Scene, *, undamped: bool = False) -> SceneLinearization:
                         K_pt -= output_sensitivity(mech, eq, f"{pname}.force",
                                                    f"{ln.name}.end_{end}.position")
             ends[pname] = K_pt
-    return SceneLinearization(scene.name, K, C, M, G, H, q_kinds, v_kinds, ends, undamped)
+    bodies = {name: body_stiffness(scene, mech, eq, name, p)
+              for name, b in scene.bodies.items() if b.is_free}
+    return SceneLinearization(scene.name, K, C, M, G, H, q_kinds, v_kinds, ends, undamped,
+                              bodies)

@@ -1,6 +1,7 @@
 """Rigid bodies in scene files (issue 13, part 1; scene version 2, ``[bodies.NAME]``): the
-keys, line ends ``"NAME"`` / ``"NAME@[x, y, z]"``, the round trip through dict and TOML, and
-one SceneError per bad key (naming the key, the value and what is allowed)."""
+keys, line ends ``"NAME"`` / ``"NAME@[x, y, z]"``, the round trip through dict and TOML,
+one SceneError per bad key (naming the key, the value and what is allowed), and the static
+solve of the scene from a start far from its equilibrium."""
 from __future__ import annotations
 
 import numpy as np
@@ -153,3 +154,31 @@ def test_bodies_in_a_one_line_scene_are_refused():
          "bodies": {"b": {"mass": 1.0, "inertia": [1, 1, 1], "position": [0, 0, -1]}}}
     with pytest.raises(SceneError, match=r"bodies = .*attached to \[\[lines\]\]"):
         load_scene(d)
+
+
+def test_a_body_started_far_from_its_equilibrium():
+    """The scene above puts the buoy 28 m above its equilibrium and turned 30 degrees in yaw
+    and 5 in pitch from it: Newton from the lines' starts fails (the out-of-plane stiffness of
+    slack catenaries is zero), and the static solve gets there by releasing the body from
+    stiff springs at the scene's pose (models/body.py, ``pull``); started at zero
+    orientation it reaches the same equilibrium (position within 1e-6 m, roll, pitch and yaw
+    within 1e-6 degree: the static tolerance over the body's softest stiffness), where its
+    net force and moment vanish (to 10 times the tolerance)."""
+    import symcable as sc
+
+    a = sc.solve_static(_scene(), codegen=False)
+    d = _scene()
+    d["bodies"]["buoy"]["orientation"] = [0.0, 0.0, 0.0]
+    b = sc.solve_static(d, codegen=False)
+    assert a.stats["path"] == "continuation in the bodies' pull"
+    for st in (a, b):
+        assert np.max(np.abs(st.bodies["buoy"].net_force)) < 10 * st.stats["tolerance"]
+    np.testing.assert_allclose(a.bodies["buoy"].position, b.bodies["buoy"].position, atol=1e-6)
+    np.testing.assert_allclose(a.bodies["buoy"].roll_pitch_yaw, b.bodies["buoy"].roll_pitch_yaw,
+                               atol=1e-6)
+    assert a.bodies["buoy"].position[2] < -60.0 and abs(a.bodies["buoy"].roll_pitch_yaw[2]) < 1e-6
+    # the fixed pile carries the north line's pull at its padeye
+    np.testing.assert_allclose(a.bodies["pile"].force, a.lines["north"].anchor_force)
+    arm = a.lines["north"].positions[0] - a.bodies["pile"].position
+    np.testing.assert_allclose(a.bodies["pile"].moment, np.cross(arm, a.lines["north"].anchor_force),
+                               atol=1e-9 * np.linalg.norm(a.lines["north"].anchor_force))

@@ -41,14 +41,22 @@ gravity and b the centre of buoyancy (body axes, from O), [a] the cross-product 
   (``hold_to``): a body on one line is free to spin about it, and the spring picks the
   scene's spin angle out of that family; its moment, at most pi x 1e-10 of the force scale
   (N m), stays below the static tolerance (1e-9 of it), so where the lines do hold the
-  orientation the equilibrium is theirs.
+  orientation the equilibrium is theirs;
+- for a static start only (parameter ``pull``, 0 otherwise), stiff springs towards the
+  scene's pose, :data:`PULL_STIFFNESS` x (force scale) per length (translation) and x
+  (force scale) x (body size) per radian, times (r^pull - 1) / (r - 1) with r =
+  :data:`PULL_RANGE`: from lines relaxed with the body held where the scene puts it, the
+  static solve continues ``pull`` from 1 to 0, releasing the body
+  (:func:`~symcable.models.cable3d_system.build_system`'s starts); the factor falls
+  geometrically along most of the way (1e-4 at pull = 0.5), so no part of the release is
+  crowded into the last steps of the continuation.
 
 A line's end on the body (:func:`attachment`, an :class:`~.assembly.Attached` joint) is the
 body point x_O + R r, moving at v_O + R (w x r): the line's end node, its lumped mass
 included, becomes a point of the body, and its force acts there (virtual work).
 
-Parameter blocks: ``load`` (1), ``current`` (3, m/s), ``hold`` (1), ``hold_to`` (4: the
-scene's quaternion, (e1, e2, e3, e0)).
+Parameter blocks: ``load`` (1), ``current`` (3, m/s), ``hold`` (1), ``pull`` (1),
+``hold_to`` (7: the scene's pose, the position (m) and the quaternion (e1, e2, e3, e0)).
 """
 from __future__ import annotations
 
@@ -63,12 +71,17 @@ from .assembly import Attached
 from .cable3d import DRAG_SPEED
 from .mechanism import Layout, Mechanism, Output, ParamBlocks, PartLayout, Scales, StateNames
 
-__all__ = ["HOLD_STIFFNESS", "attachment", "body_outputs", "body_part", "quaternion_rpy",
+__all__ = ["HOLD_STIFFNESS", "PULL_STIFFNESS", "attachment", "body_outputs", "body_part", "quaternion_rpy",
            "rotation", "roll_pitch_yaw", "start_q"]
 
 #: the statics' spring towards the scene's orientation, N m per radian per N of force scale
 #: (module docstring)
 HOLD_STIFFNESS = 1e-10
+#: the static start's springs (module docstring): the force scale moves the body by 1e-3 of
+#: the length scale, or turns it by 1e-3 rad
+PULL_STIFFNESS = 1e3
+#: the ratio over which the start's springs fall geometrically (module docstring)
+PULL_RANGE = 1e8
 
 
 def quaternion_rpy(roll_pitch_yaw_deg) -> np.ndarray:
@@ -128,11 +141,10 @@ def body_part(body: Body, env: Environment, length: float = 1.0) -> Mechanism:
     g = env.gravity
     m, V = body.mass, body.volume
     c, b = ca.DM(body.center_of_gravity), ca.DM(body.center_of_buoyancy)
-    e_ref = quaternion_rpy(body.orientation_deg)
-    params = ParamBlocks(("load", "current", "hold", "hold_to"), (1, 3, 1, 4),
-                         np.concatenate([[1.0], env.current, [0.0], e_ref]))
+    params = ParamBlocks(("load", "current", "hold", "pull", "hold_to"), (1, 3, 1, 1, 7),
+                         np.concatenate([[1.0], env.current, [0.0, 0.0], start_q(body)]))
     q, v, t, p = ca.SX.sym("q", 7), ca.SX.sym("v", 6), ca.SX.sym("t"), ca.SX.sym("p", params.n)
-    load, current, hold, e_to = p[0], p[1:4], p[4], p[5:9]
+    load, current, hold, pull, x_to, e_to = p[0], p[1:4], p[4], p[5], p[6:9], p[9:13]
     x, e, vO, w = q[0:3], q[3:7], v[0:3], v[3:6]
     R = rotation(e)
     I3 = ca.DM.eye(3)
@@ -159,17 +171,22 @@ def body_part(body: Body, env: Environment, length: float = 1.0) -> Mechanism:
     own_moment_body = ca.cross(c, ca.mtimes(R.T, weight)) + ca.cross(b, ca.mtimes(R.T, at_b))
     terms += ["body weight"] + (["body drag"] if rho > 0 and any(body.cd_area) else [])
     F_scale = max(m * g, rho * g * V, 1e-6)
-    k_hold = HOLD_STIFFNESS * F_scale * 1.0
+    size = max(1.0, float(np.max(np.abs(np.r_[body.center_of_gravity,
+                                              body.center_of_buoyancy]))))
+    released = (ca.exp(pull * math.log(PULL_RANGE)) - 1.0) / (PULL_RANGE - 1.0)
+    k_turn = hold * HOLD_STIFFNESS * F_scale * 1.0 + released * PULL_STIFFNESS * F_scale * size
+    k_move = released * PULL_STIFFNESS * F_scale / max(length, 1.0)
     n_to = e_to / ca.sqrt(ca.dot(e_to, e_to))
     n = e / ca.sqrt(ca.dot(e, e))
     # the rotation from hold_to to e in body axes, delta = conj(hold_to) (x) n
     d0 = ca.dot(n_to, n)
     dv = n_to[3] * n[0:3] - n[3] * n_to[0:3] - ca.cross(n_to[0:3], n[0:3])
-    spring = -hold * 2.0 * k_hold * d0 * dv
-    force = force + ca.vertcat(weight + at_b, own_moment_body + spring)
+    force = force + ca.vertcat(weight + at_b - k_move * (x - x_to),
+                               own_moment_body - 2.0 * k_turn * d0 * dv)
 
     xG, xB = x + ca.mtimes(R, c), x + ca.mtimes(R, b)
-    potential = -ca.dot(weight, xG) - ca.dot(buoyancy, xB) + hold * 2.0 * k_hold * (1 - d0 * d0)
+    potential = -ca.dot(weight, xG) - ca.dot(buoyancy, xB) + 2.0 * k_turn * (1 - d0 * d0) \
+        + 0.5 * k_move * ca.dot(x - x_to, x - x_to)
     outputs = {
         "position": Output(x, "m", body.name, "position of the reference point"),
         "orientation": Output(ca.vertcat(n[3], n[0:3]), "1", body.name,
@@ -188,8 +205,6 @@ def body_part(body: Body, env: Environment, length: float = 1.0) -> Mechanism:
                                  "kinetic energy, added mass included"),
     }
     rest = F_scale * (ca.dot(e, e) - 1.0)
-    size = max(1.0, float(np.max(np.abs(np.r_[body.center_of_gravity,
-                                              body.center_of_buoyancy]))))
     vel = math.sqrt(g * max(length, 1.0))
     scales = Scales(q=np.r_[np.full(3, 0.1 * max(length, 1.0)), np.full(4, 0.25)],
                     v=np.r_[np.full(3, vel), np.full(3, vel / size)], z=np.zeros(0),

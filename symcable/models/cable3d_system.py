@@ -40,7 +40,8 @@ Static starts, in order: each line's closed-form elastic catenary between its en
 (free points and bodies where the scene puts them; a line with a free inline end hangs
 straight from its other end), then the minimum of the whole network's potential energy from
 there (:func:`~symcable.models.relax.relaxed_network`), the bodies held where the scene
-puts them.
+puts them; with free bodies, that again with the bodies pulled there by stiff springs
+(their parameter ``pull`` = 1), continued to their release (``pull`` = 0).
 """
 from __future__ import annotations
 
@@ -323,6 +324,12 @@ def _starts(scene: Scene, mech: Mechanism):
     relaxed = None if bent else _relaxed(scene, mech, {k: v[0] for k, v in shapes.items()})
     if relaxed is not None:  # (the relaxation's energy is a cable's: no bending)
         yield start(relaxed, "minimum of the potential energy")
+    free = [name for name, b in scene.bodies.items() if b.is_free]
+    if free:  # the lines there hold the bodies pulled to the scene's pose, then release them
+        st = start(relaxed if relaxed is not None else {k: v[0] for k, v in shapes.items()},
+                   "the lines relaxed with the bodies pulled to where the scene puts them")
+        pulled = mech.params.with_values(p0, **{f"{name}.pull": 1.0 for name in free})
+        yield dataclasses.replace(st, p=pulled, homotopy="the bodies' pull")
 
 
 def _relaxed(scene: Scene, mech: Mechanism, shapes: dict[str, np.ndarray]) -> dict | None:

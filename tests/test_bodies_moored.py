@@ -168,7 +168,8 @@ def test_time_run_of_the_moored_body():
     pulled by a fourth line from a vessel point moving harmonically: a SystemTrajectory whose
     .bodies give the pose, velocities and the lines' force; at t = 0 the static solution (the
     run starts at rest from it); the body moves; the force on it is the sum of its lines'
-    end forces at every sample."""
+    end forces at every sample. A periodic solve refuses the free body up front (its
+    quaternion's norm is free in time: the periodic states would form a family)."""
     d = _moored(8)
     d["environment"]["current"] = [0.5, 0.0, 0.0]
     d["bodies"]["spar"].update(cd_area=[20.0, 20.0, 10.0], ca_volume=[100.0, 100.0, 150.0])
@@ -193,3 +194,5 @@ def test_time_run_of_the_moored_body():
     np.testing.assert_allclose(b["force"], ends, atol=1e-9 * np.max(np.abs(ends)))
     np.testing.assert_allclose(np.linalg.norm(b["orientation"], axis=1), 1.0, atol=1e-12)
     assert "body spar" in tr.summary()
+    with pytest.raises(sc.SymcableError, match="bodies.spar: not for a periodic solve"):
+        sc.solve_periodic(d)

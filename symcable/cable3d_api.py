@@ -21,8 +21,8 @@ from .results import ModalSolution
 from .results_periodic import PeriodicSweep
 from .results_line3d import LineTrajectory, SystemTrajectory, line_from_outputs
 from .results_mechanism import SceneLinearization
-from .scene import BodyEnd, End, EndCondition, Scene
-from .cable3d_static import (_rotation, body_stiffness, check_periodic_3d, dynamic_p,
+from .scene import End, EndCondition, Scene
+from .cable3d_static import (body_stiffness, check_periodic_3d, dynamic_p, node_shapes,
                              static_equilibrium)
 from .solvers.integrate import ERROR_TARGET, accurate_dt, error_warning, integrate
 from .solvers.march import leaky_sum
@@ -172,7 +172,8 @@ def _line_result(scene, mech, tr, method: str, dt: float, stats: dict, warnings,
     out = SystemTrajectory(scene.name, t, {k: np.asarray(v, float) for k, v in tr.outputs.items()},
                            tuple(lines), tuple(scene.points),
                            {n: np.asarray(mech.layout.parts[n].s, float) for n in lines},
-                           warnings=tuple(warnings), body_names=tuple(scene.bodies), **common)
+                           warnings=tuple(warnings), body_names=tuple(scene.bodies),
+                           **common)
     notes = [f"line {n}: {w}" for n, ln in out.lines.items() for w in ln.warnings]
     return dataclasses.replace(out, warnings=out.warnings + tuple(notes)) if notes else out
 
@@ -399,7 +400,7 @@ def modal_analysis_3d(scene: Scene, n_modes: int = 10, *, max_dense: int = MAX_D
     eq = dataclasses.replace(eq, p=dynamic_p(scene, mech, eq.p))
     modes = mechanism_modes(mech, eq, int(n_modes), damped=damped, max_dense=max_dense)
     lines = _line_parts(mech)
-    shapes = np.stack([_node_shapes(scene, mech, eq, lines, u)
+    shapes = np.stack([node_shapes(scene, mech, eq, lines, u)
                        for u in np.asarray(modes.velocity_shapes, float).reshape(-1, mech.n_v)])
     freq = np.asarray(modes.frequencies, float)
     st = dict(modes.stats)
@@ -422,29 +423,6 @@ def modal_analysis_3d(scene: Scene, n_modes: int = 10, *, max_dense: int = MAX_D
         periods=1.0 / freq, real_parts=np.asarray(modes.real_parts if modes.real_parts is not None
                                                   else np.zeros_like(freq), float),
         shapes=shapes, status="converged", stats=stats, warnings=tuple(modes.warnings))
-
-
-def _node_shapes(scene: Scene, mech, eq, lines, u) -> np.ndarray:
-    """(n, 3) the lines' node displacements of a mode whose velocity-coordinate shape is
-    ``u`` (n_v,), scaled to a largest node displacement of 1 (its largest entry positive):
-    zero at held ends; a node on a free body moves with it, u_O + R (theta x r) (u_O, theta
-    the body's entries of u, theta in body axes)."""
-    rows = []
-    for n in lines:
-        part = mech.layout.parts[n]
-        idx = np.asarray(part.node_v)
-        rows.append(np.where(idx < 0, 0.0, u[np.where(idx < 0, 0, idx)]))
-        line = next((ln for ln in scene.lines if ln.name == n), None)
-        for key, i in (() if line is None else (("a", 0), ("b", len(part.s) - 1))):
-            end = line.end(key)
-            if isinstance(end, BodyEnd) and scene.bodies[end.body].is_free:
-                b = np.asarray(mech.layout.parts[end.body].node_v)
-                e = np.ravel(eq.outputs[f"{end.body}.orientation"])
-                rows[-1][i] = u[b[0]] + _rotation(e) @ np.cross(u[b[1]], end.offset)
-    out = np.vstack(rows)
-    peak = np.max(np.linalg.norm(out, axis=1))
-    j = int(np.argmax(np.abs(out)))
-    return out * (math.copysign(1.0, out.flat[j]) / peak if peak > 0 else 1.0)
 
 
 def end_stiffness_3d(scene: Scene, end: str = "b", *, equilibrium=None) -> np.ndarray:

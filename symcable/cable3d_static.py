@@ -4,6 +4,7 @@
 :class:`~symcable.results.StaticSolution` with 3D positions and forces."""
 from __future__ import annotations
 
+import math
 import time
 from collections import OrderedDict
 from types import MappingProxyType
@@ -16,12 +17,12 @@ from .models.cable3d_system import build_system, line_scene
 from .models.mechanism import Mechanism
 from .models.planar import grounded_length, segment_table
 from .results import BodyState, PointState, StaticSolution, SystemStaticSolution
-from .scene import Scene
+from .scene import BodyEnd, Scene
 from .solvers.equilibrium import solve_equilibrium
 from .solvers.periodic_mech import check_periodic
 
 __all__ = ["body_stiffness", "cable3d_mechanism", "check_periodic_3d", "dynamic_p",
-           "solve_static_3d", "static_equilibrium"]
+           "node_shapes", "solve_static_3d", "static_equilibrium"]
 
 #: default residual tolerance, relative to the scene's force scale (as the planar line)
 RTOL = 1e-9
@@ -240,3 +241,26 @@ def _rotation(e) -> np.ndarray:
     return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
                      [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
                      [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]])
+
+
+def node_shapes(scene: Scene, mech, eq, lines, u) -> np.ndarray:
+    """(n, 3) the lines' node displacements of a mode whose velocity-coordinate shape is
+    ``u`` (n_v,), scaled to a largest node displacement of 1 (its largest entry positive):
+    zero at held ends; a node on a free body moves with it, u_O + R (theta x r) (u_O, theta
+    the body's entries of u, theta in body axes)."""
+    rows = []
+    for n in lines:
+        part = mech.layout.parts[n]
+        idx = np.asarray(part.node_v)
+        rows.append(np.where(idx < 0, 0.0, u[np.where(idx < 0, 0, idx)]))
+        line = next((ln for ln in scene.lines if ln.name == n), None)
+        for key, i in (() if line is None else (("a", 0), ("b", len(part.s) - 1))):
+            end = line.end(key)
+            if isinstance(end, BodyEnd) and scene.bodies[end.body].is_free:
+                b = np.asarray(mech.layout.parts[end.body].node_v)
+                e = np.ravel(eq.outputs[f"{end.body}.orientation"])
+                rows[-1][i] = u[b[0]] + _rotation(e) @ np.cross(u[b[1]], end.offset)
+    out = np.vstack(rows)
+    peak = np.max(np.linalg.norm(out, axis=1))
+    j = int(np.argmax(np.abs(out)))
+    return out * (math.copysign(1.0, out.flat[j]) / peak if peak > 0 else 1.0)

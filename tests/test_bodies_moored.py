@@ -114,7 +114,8 @@ def test_stiffness_against_central_differences():
         b = sc.solve_static(dd, codegen=False).bodies["spar"]
         R = rotation_rpy(drpy)
         f = np.r_[b.force, b.moment]
-        for load, at in ((np.array([0, 0, -MASS * G]), CG), (np.array([0, 0, RHO * G * VOLUME]), CB)):
+        for load, at in ((np.array([0, 0, -MASS * G]), CG),
+                         (np.array([0, 0, RHO * G * VOLUME]), CB)):
             f += np.r_[load, np.cross(R @ np.asarray(at), load)]
         return f
 
@@ -156,8 +157,8 @@ def test_rotated_scene_gives_the_rotated_equilibrium():
     pa, pb = a.bodies["spar"], b.bodies["spar"]
     assert np.linalg.norm(pa.roll_pitch_yaw[:2]) > 0.1  # the offset centre of gravity tilts it
     np.testing.assert_allclose(pb.position, Rz @ pa.position, atol=1e-6)
-    np.testing.assert_allclose(rotation_rpy(pb.roll_pitch_yaw), Rz @ rotation_rpy(pa.roll_pitch_yaw),
-                               atol=1e-8)
+    np.testing.assert_allclose(rotation_rpy(pb.roll_pitch_yaw),
+                               Rz @ rotation_rpy(pa.roll_pitch_yaw), atol=1e-8)
     for k in range(3):
         assert b.lines[f"chain{k}"].fairlead_tension == pytest.approx(
             a.lines[f"chain{k}"].fairlead_tension, rel=1e-8)

@@ -160,7 +160,8 @@ def assemble(parts: Iterable[Mechanism], joints: Iterable = (), *, name: str = "
         elif isinstance(j, (Prescribed, Attached)):
             if isinstance(j, Attached) and j.body not in by_name:
                 raise SymcableError(f"Attached({j.name!r}).body = {j.body!r}: no such part")
-            for k, d in enumerate(_node_dofs(by_name, j.node, f"{type(j).__name__}({j.name!r}).node")):
+            what = f"{type(j).__name__}({j.name!r}).node"
+            for k, d in enumerate(_node_dofs(by_name, j.node, what)):
                 prescribed[d] = (j, k)
         else:
             raise SymcableError(f"assemble: joint {j!r} is not Shared, Prescribed or Attached")
@@ -168,8 +169,8 @@ def assemble(parts: Iterable[Mechanism], joints: Iterable = (), *, name: str = "
     for d, jk in prescribed.items():
         r = dof.find(d)
         if r in roots_prescribed and roots_prescribed[r][0].name != jk[0].name:
-            raise SymcableError(f"assemble: a node is prescribed by both {roots_prescribed[r][0].name!r} "
-                                f"and {jk[0].name!r}")
+            raise SymcableError(f"assemble: a node is prescribed by both "
+                                f"{roots_prescribed[r][0].name!r} and {jk[0].name!r}")
         roots_prescribed[r] = jk
     global_index: dict = {}
     n_v = 0
@@ -254,7 +255,8 @@ def assemble(parts: Iterable[Mechanism], joints: Iterable = (), *, name: str = "
         out = fn(qb, vb, z_at[m.name], t, p_at[m.name])
         out = list(out) if isinstance(out, (list, tuple)) else [out]
         for jloc in range(m.n_q):
-            gi = global_index[dof.find((m.name, jloc))] if jloc < m.n_v else tail_index[(m.name, jloc)]
+            gi = (global_index[dof.find((m.name, jloc))] if jloc < m.n_v
+                  else tail_index[(m.name, jloc)])
             qdot[gi] = out[0][jloc]
         if m.rest is not None:
             rest_rows.append(out[1])

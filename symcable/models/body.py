@@ -71,8 +71,8 @@ from .assembly import Attached
 from .cable3d import DRAG_SPEED
 from .mechanism import Layout, Mechanism, Output, ParamBlocks, PartLayout, Scales, StateNames
 
-__all__ = ["HOLD_STIFFNESS", "PULL_STIFFNESS", "attachment", "body_outputs", "body_part", "quaternion_rpy",
-           "rotation", "roll_pitch_yaw", "start_q"]
+__all__ = ["HOLD_STIFFNESS", "PULL_STIFFNESS", "attachment", "body_outputs", "body_part",
+           "quaternion_rpy", "rotation", "roll_pitch_yaw", "start_q"]
 
 #: the statics' spring towards the scene's orientation, N m per radian per N of force scale
 #: (module docstring)

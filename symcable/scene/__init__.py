@@ -14,5 +14,6 @@ from .points import Line, Point, PointKind
 
 __all__ = [
     "EndCondition", "Model", "LineType", "Section", "Motion", "End", "Environment", "Seabed",
-    "Scene", "Point", "PointKind", "Line", "Body", "BodyEnd", "BodyKind", "load_scene", "moordyn_deck", "scene_to_dict", "scene_to_toml",
+    "Scene", "Point", "PointKind", "Line", "Body", "BodyEnd", "BodyKind", "load_scene",
+    "moordyn_deck", "scene_to_dict", "scene_to_toml",
 ]

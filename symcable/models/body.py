@@ -31,8 +31,8 @@ gravity and b the centre of buoyancy (body axes, from O), [a] the cross-product 
   sqrt(|u|^2 + DRAG_SPEED^2)); no rotational drag;
 - added mass rho ca_volume_i along body axis i, at b, on b's acceleration (a uniform steady
   current U: the relative acceleration is the body's): M gains J_b^T R D R^T J_b with
-  J_b = [I, -R [b]] (v_b = J_b v) and f gains -J_b^T R D R^T R (w x (w x b)). This is the
-  point-mass form MoorDyn uses, not Kirchhoff's equations: with ca_volume not the same along
+  J_b = [I, -R [b]] (v_b = J_b v) and f gains -J_b^T R D R^T R (w x (w x b)). This is a
+  point mass's form, not Kirchhoff's equations: with ca_volume not the same along
   every axis, the Munk moment of potential flow and the rate of the rotating added-mass
   tensor are left out (the body's energy is then conserved only for an isotropic
   ca_volume); no added inertia of rotation;
@@ -54,6 +54,11 @@ gravity and b the centre of buoyancy (body axes, from O), [a] the cross-product 
 A line's end on the body (:func:`attachment`, an :class:`~.assembly.Attached` joint) is the
 body point x_O + R r, moving at v_O + R (w x r): the line's end node, its lumped mass
 included, becomes a point of the body, and its force acts there (virtual work).
+
+The static solver judges no stability of an equilibrium with a free body: the body's rest
+row takes the mechanism to the solver's branch for first-order states, which needs
+``stability_coordinates`` (the quaternion's entries are not the rotation's, so none are
+given); an equilibrium is returned stable or not (``stats["stable"]`` None).
 
 Parameter blocks: ``load`` (1), ``current`` (3, m/s), ``hold`` (1), ``pull`` (1),
 ``hold_to`` (7: the scene's pose, the position (m) and the quaternion (e1, e2, e3, e0)).

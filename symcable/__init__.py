@@ -14,7 +14,7 @@ from .api import (build_dynamic_model, end_stiffness, linearize, modal_analysis,
                   solve_periodic, sweep_periodic)
 from .errors import ConvergenceError, SceneError, SymcableError
 from .models import build_model
-from .results import ModalSolution, PointState, StaticSolution, SystemStaticSolution
+from .results import BodyState, ModalSolution, PointState, StaticSolution, SystemStaticSolution
 from .results_periodic import PeriodicSolution, PeriodicSweep
 from .results_time import Trajectory
 from .scene import Scene, load_scene
@@ -49,6 +49,7 @@ __all__ = [
     "StaticSolution",
     "SystemStaticSolution",
     "PointState",
+    "BodyState",
     "Trajectory",
     "LineTrajectory",
     "cable3d_mechanism",

@@ -422,9 +422,10 @@ def end_stiffness(scene, end: str = "b", *, static=None) -> np.ndarray:
 
 def linearize(scene, *, undamped: bool = False, static=None) -> SceneLinearization:
     """The exact linearisation of a scene's dynamics about its static state: K, C, M and the
-    kinematics G, H of its dynamics Mechanism (see :class:`SceneLinearization`), and the
-    exact end stiffness at each pinned end. From CasADi's derivatives of the same
-    expressions the solvers integrate (no finite differences).
+    kinematics G, H of its dynamics Mechanism (see :class:`SceneLinearization`), the
+    exact end stiffness at each pinned end, and (cable3d scenes with free bodies) each
+    body's 6 x 6 mooring stiffness, ``body_stiffness``. From CasADi's derivatives of the
+    same expressions the solvers integrate (no finite differences).
 
     Parameters
     ----------

@@ -21,8 +21,9 @@ from .results import ModalSolution
 from .results_periodic import PeriodicSweep
 from .results_line3d import LineTrajectory, SystemTrajectory, line_from_outputs
 from .results_mechanism import SceneLinearization
-from .scene import EndCondition, Scene
-from .cable3d_static import check_periodic_3d, static_equilibrium
+from .scene import End, EndCondition, Scene
+from .cable3d_static import (body_stiffness, check_periodic_3d, dynamic_p, node_shapes,
+                             static_equilibrium)
 from .solvers.integrate import ERROR_TARGET, accurate_dt, error_warning, integrate
 from .solvers.march import leaky_sum
 from .solvers.linearize import MAX_DENSE, mechanism_modes, output_sensitivity
@@ -61,7 +62,7 @@ def _motions(scene: Scene) -> list:
     """Every prescribed motion: of the ends (one line) or of the vessel points (version 2)."""
     ends = [e for e in (scene.end_a, scene.end_b) if e is not None]
     ends += [ln_end for ln in scene.lines for ln_end in (ln.end_a, ln.end_b)
-             if not isinstance(ln_end, str)]
+             if isinstance(ln_end, End)]
     return [e.motion for e in ends if e.motion is not None] + [
         pt.motion for pt in scene.points.values() if pt.motion is not None]
 
@@ -171,7 +172,8 @@ def _line_result(scene, mech, tr, method: str, dt: float, stats: dict, warnings,
     out = SystemTrajectory(scene.name, t, {k: np.asarray(v, float) for k, v in tr.outputs.items()},
                            tuple(lines), tuple(scene.points),
                            {n: np.asarray(mech.layout.parts[n].s, float) for n in lines},
-                           warnings=tuple(warnings), **common)
+                           warnings=tuple(warnings), body_names=tuple(scene.bodies),
+                           **common)
     notes = [f"line {n}: {w}" for n, ln in out.lines.items() for w in ln.warnings]
     return dataclasses.replace(out, warnings=out.warnings + tuple(notes)) if notes else out
 
@@ -395,16 +397,11 @@ def modal_analysis_3d(scene: Scene, n_modes: int = 10, *, max_dense: int = MAX_D
         raise SymcableError(f"n_modes = {n_modes!r}: must be an integer >= 1")
     mech, eq = static_equilibrium(scene)
     t_static = time.perf_counter() - started
+    eq = dataclasses.replace(eq, p=dynamic_p(scene, mech, eq.p))
     modes = mechanism_modes(mech, eq, int(n_modes), damped=damped, max_dense=max_dense)
     lines = _line_parts(mech)
-    idx = np.vstack([np.asarray(mech.layout.parts[n].node_q) for n in lines])
-    shapes = np.zeros((len(modes.frequencies),) + idx.shape)
-    held = idx < 0
-    for k, phi in enumerate(np.asarray(modes.shapes, float)):
-        u = np.where(held, 0.0, phi[np.where(held, 0, idx)])
-        peak = np.max(np.linalg.norm(u, axis=1))
-        j = int(np.argmax(np.abs(u)))
-        shapes[k] = u * (math.copysign(1.0, u.flat[j]) / peak if peak > 0 else 1.0)
+    shapes = np.stack([node_shapes(scene, mech, eq, lines, u)
+                       for u in np.asarray(modes.velocity_shapes, float).reshape(-1, mech.n_v)])
     freq = np.asarray(modes.frequencies, float)
     st = dict(modes.stats)
     stats = {"n_y": st.get("state_size"), "method": f"dense {st.get('method')}",
@@ -443,9 +440,13 @@ def linearize_3d(scene: Scene, *, undamped: bool = False) -> SceneLinearization:
     material damping and the drag linearised about the current (none with ``undamped``,
     which also switches the current off); and the exact (3, 3) stiffness of each pinned
     end (a scene of several lines: of each fixed or vessel point, by name, every line
-    attached to it moved with it; q named ``"line.node3.y"``, a free point's ``"buoy.x"``)."""
+    attached to it moved with it; q named ``"line.node3.y"``, a free point's ``"buoy.x"``),
+    and the (6, 6) mooring stiffness of each free body (``body_stiffness``, global axes:
+    :func:`~symcable.cable3d_static.body_stiffness`; its q named ``"tow.x"``, ``"tow.e1"``,
+    its v ``"tow.rx"`` ...). A free body's statics-only spring is off (K of the lines and
+    bodies alone)."""
     mech, eq = static_equilibrium(scene)
-    p = np.array(eq.p, float)
+    p = dynamic_p(scene, mech, eq.p)
     if undamped:
         for block in mech.params.names:
             if block.split(".")[-1] == "current":
@@ -474,4 +475,7 @@ def linearize_3d(scene: Scene, *, undamped: bool = False) -> SceneLinearization:
                         K_pt -= output_sensitivity(mech, eq, f"{pname}.force",
                                                    f"{ln.name}.end_{end}.position")
             ends[pname] = K_pt
-    return SceneLinearization(scene.name, K, C, M, G, H, q_kinds, v_kinds, ends, undamped)
+    bodies = {name: body_stiffness(scene, mech, eq, name, p)
+              for name, b in scene.bodies.items() if b.is_free}
+    return SceneLinearization(scene.name, K, C, M, G, H, q_kinds, v_kinds, ends, undamped,
+                              bodies)

@@ -4,23 +4,25 @@
 :class:`~symcable.results.StaticSolution` with 3D positions and forces."""
 from __future__ import annotations
 
+import math
 import time
 from collections import OrderedDict
 from types import MappingProxyType
 
 import numpy as np
 
-from .errors import ConvergenceError
+from .errors import ConvergenceError, SymcableError
 from .models.cable3d import build_cable3d, force_scale
 from .models.cable3d_system import build_system, line_scene
 from .models.mechanism import Mechanism
 from .models.planar import grounded_length, segment_table
-from .results import PointState, StaticSolution, SystemStaticSolution
-from .scene import Scene
+from .results import BodyState, PointState, StaticSolution, SystemStaticSolution
+from .scene import BodyEnd, Scene
 from .solvers.equilibrium import solve_equilibrium
 from .solvers.periodic_mech import check_periodic
 
-__all__ = ["cable3d_mechanism", "check_periodic_3d", "solve_static_3d", "static_equilibrium"]
+__all__ = ["body_stiffness", "cable3d_mechanism", "check_periodic_3d", "dynamic_p",
+           "node_shapes", "solve_static_3d", "static_equilibrium"]
 
 #: default residual tolerance, relative to the scene's force scale (as the planar line)
 RTOL = 1e-9
@@ -48,7 +50,15 @@ def check_periodic_3d(scene: Scene) -> None:
     """Refuse, before any solve, a scene whose Mechanism a periodic solve cannot take (one
     with first-order states, such as ``seabed.friction_law = "bristle"``): the
     :class:`~symcable.errors.SymcableError` of
-    :func:`~symcable.solvers.periodic_mech.check_periodic`, naming the setting."""
+    :func:`~symcable.solvers.periodic_mech.check_periodic`, naming the setting; or with a
+    free body (its quaternion's norm is fixed in statics only, so the periodic states
+    form a family)."""
+    free = [name for name, b in scene.bodies.items() if b.is_free]
+    if free:
+        raise SymcableError(f"bodies.{free[0]}: not for a periodic solve yet: a free body's "
+                            "orientation quaternion keeps any norm in time (its rotation is "
+                            "that of e / |e|), so its periodic states form a family and the "
+                            "solve is singular; run it in time (simulate) instead")
     check_periodic(cable3d_mechanism(scene))
 
 
@@ -163,5 +173,94 @@ def _system(scene, out, q, status, stats, warnings) -> SystemStaticSolution:
         points[name] = PointState(name, pt.kind.value, np.ravel(out[f"{name}.position"]),
                                   np.ravel(out[f"{name}.force"]),
                                   None if net is None else np.ravel(net))
+    bodies = {}
+    for name, body in scene.bodies.items():
+        get = lambda key: np.ravel(out[f"{name}.{key}"])  # noqa: E731
+        bodies[name] = BodyState(name, body.kind.value, get("position"), get("orientation"),
+                                 get("roll_pitch_yaw"), get("force"), get("moment"),
+                                 get("net_force") if body.is_free else None)
     return SystemStaticSolution(scene.name, MappingProxyType(lines), MappingProxyType(points),
-                                status, stats, warnings, np.array(q, float))
+                                status, stats, warnings, np.array(q, float),
+                                MappingProxyType(bodies))
+
+
+def dynamic_p(scene: Scene, mech: Mechanism, p) -> np.ndarray:
+    """``p`` with every free body's statics-only spring off (``NAME.hold`` = 0,
+    :mod:`~symcable.models.body`): the parameters a linearisation about a static state
+    takes."""
+    p = np.array(p, float)
+    for name, body in scene.bodies.items():
+        if body.is_free:
+            p[mech.params.slice(f"{name}.hold")] = 0.0
+    return p
+
+
+def body_stiffness(scene: Scene, mech: Mechanism, eq, name: str, p=None) -> np.ndarray:
+    """(6, 6) the mooring stiffness of free body ``name`` about the equilibrium ``eq`` (see
+    :class:`~symcable.results_mechanism.SceneLinearization`): K_v = (-df/dq) G in the
+    velocity coordinates (translation, rotation in body axes), every coordinate but the
+    body's condensed out (K_bb - K_bi K_ii^-1 K_ib: the rest in static equilibrium as the
+    body moves, sparse LU), then turned to global axes, T K T^T with T = diag(I, R). Exact
+    at an equilibrium (there the turn of the moment with R adds nothing). ``p`` default the
+    equilibrium's, with the statics-only spring off (:func:`dynamic_p`)."""
+    import scipy.sparse.linalg as spla
+
+    from .derive import functions
+
+    F = functions(mech)
+    p = dynamic_p(scene, mech, eq.p) if p is None else np.asarray(p, float)
+    args = (eq.q, np.zeros(mech.n_v), eq.z, 0.0, p)
+    K = _csc(F.tangents(*args)[0])
+    G = _csc(F.kinematics_jacobian(*args)[1])
+    Kv = (K @ G).tocsc()
+    b = np.asarray(mech.layout.parts[name].node_v, int).ravel()
+    i = np.setdiff1d(np.arange(mech.n_v), b)
+    Kbb = Kv[b][:, b].toarray()
+    if i.size:
+        try:
+            X = spla.splu(Kv[i][:, i].tocsc()).solve(Kv[i][:, b].toarray())
+        except RuntimeError as exc:
+            raise SymcableError(f"bodies.{name}: no mooring stiffness: the rest of the system "
+                                f"is not held when the body is ({exc})") from None
+        Kbb = Kbb - Kv[b][:, i] @ X
+    e = np.ravel(eq.outputs[f"{name}.orientation"])  # (e0, e1, e2, e3)
+    T = np.eye(6)
+    T[3:, 3:] = _rotation(e)
+    return T @ np.asarray(Kbb) @ T.T
+
+
+def _csc(m):
+    import scipy.sparse as sp
+    rows, cols = m.sparsity().get_triplet()
+    return sp.csc_matrix((np.asarray(m.nonzeros(), float), (rows, cols)), shape=m.shape)
+
+
+def _rotation(e) -> np.ndarray:
+    """(3, 3) body to global axes of the unit quaternion (e0, e1, e2, e3)."""
+    w, x, y, z = e / np.linalg.norm(e)
+    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+                     [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+                     [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]])
+
+
+def node_shapes(scene: Scene, mech, eq, lines, u) -> np.ndarray:
+    """(n, 3) the lines' node displacements of a mode whose velocity-coordinate shape is
+    ``u`` (n_v,), scaled to a largest node displacement of 1 (its largest entry positive):
+    zero at held ends; a node on a free body moves with it, u_O + R (theta x r) (u_O, theta
+    the body's entries of u, theta in body axes)."""
+    rows = []
+    for n in lines:
+        part = mech.layout.parts[n]
+        idx = np.asarray(part.node_v)
+        rows.append(np.where(idx < 0, 0.0, u[np.where(idx < 0, 0, idx)]))
+        line = next((ln for ln in scene.lines if ln.name == n), None)
+        for key, i in (() if line is None else (("a", 0), ("b", len(part.s) - 1))):
+            end = line.end(key)
+            if isinstance(end, BodyEnd) and scene.bodies[end.body].is_free:
+                b = np.asarray(mech.layout.parts[end.body].node_v)
+                e = np.ravel(eq.outputs[f"{end.body}.orientation"])
+                rows[-1][i] = u[b[0]] + _rotation(e) @ np.cross(u[b[1]], end.offset)
+    out = np.vstack(rows)
+    peak = np.max(np.linalg.norm(out, axis=1))
+    j = int(np.argmax(np.abs(out)))
+    return out * (math.copysign(1.0, out.flat[j]) / peak if peak > 0 else 1.0)

@@ -44,6 +44,8 @@ def _scene_summary(scene, n_unknowns: int, terms) -> str:
 def _end_text(end) -> str:
     if isinstance(end, str):
         return f"point '{end}'"
+    if hasattr(end, "body"):
+        return f"body point '{end.text}'"
     return end.condition.value + (f" at ({', '.join(f'{v:.3f}' for v in end.position)}) m"
                                   if end.position is not None else "")
 
@@ -57,6 +59,11 @@ def _system_summary(scene) -> list:
         extra += ", moving" if pt.motion is not None else ""
         out.append(f"point      {name}: {pt.kind.value} at "
                    f"({', '.join(f'{v:.3f}' for v in pt.position)}) m{extra}")
+    for name, b in scene.bodies.items():
+        extra = f", mass {b.mass:g} kg, volume {b.volume:g} m^3" if b.is_free else ""
+        out.append(f"body       {name}: {b.kind.value} at "
+                   f"({', '.join(f'{v:.3f}' for v in b.position)}) m, roll/pitch/yaw "
+                   f"({', '.join(f'{v:g}' for v in b.orientation_deg)}) deg{extra}")
     for ln in scene.lines:
         out.append(f"line       {ln.name}: {ln.length:.3f} m in {ln.n_segments} segments, from "
                    f"{_end_text(ln.end_a)} to {_end_text(ln.end_b)}")

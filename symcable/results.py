@@ -5,6 +5,7 @@ import json
 import math
 from dataclasses import dataclass, field, fields
 from pathlib import Path
+from types import MappingProxyType
 
 import numpy as np
 
@@ -335,6 +336,34 @@ class PointState:
 
 
 @dataclass(frozen=True)
+class BodyState:
+    """A rigid body of a scene of several lines, in a solution (:class:`SystemStaticSolution`).
+
+    Attributes
+    ----------
+    name, kind : str  (``"free"`` or ``"fixed"``)
+    position : ndarray (3,)  m, the reference point
+    orientation : ndarray (4,)  unit quaternion (e0, e1, e2, e3), body to global axes
+    roll_pitch_yaw : ndarray (3,)  deg, R = Rz(yaw) Ry(pitch) Rx(roll)
+    force, moment : ndarray (3,)
+        N and N m: the force of the attached lines on the body and its moment about the
+        reference point, global axes (on a fixed body: what holds it takes their opposite).
+    net_force : ndarray (6,) or None
+        Free bodies: ``force``, ``moment`` plus the body's weight, buoyancy and drag (zero in
+        equilibrium, to the solver's tolerance); None for fixed bodies.
+    """
+
+    name: str
+    kind: str
+    position: np.ndarray
+    orientation: np.ndarray
+    roll_pitch_yaw: np.ndarray
+    force: np.ndarray
+    moment: np.ndarray
+    net_force: np.ndarray | None = None
+
+
+@dataclass(frozen=True)
 class SystemStaticSolution:
     """Static configuration of a scene of several lines and points (scene version 2).
 
@@ -354,6 +383,8 @@ class SystemStaticSolution:
     warnings : tuple of str
     unknowns : ndarray
         The solver's unknown vector (to restart from).
+    bodies : Mapping[str, BodyState]
+        Every body's pose and the lines' force and moment on it, by body name.
     """
 
     scene_name: str
@@ -363,11 +394,7 @@ class SystemStaticSolution:
     stats: dict = field(default_factory=dict)
     warnings: tuple = ()
     unknowns: np.ndarray | None = None
-
-    @property
-    def bodies(self):
-        from types import MappingProxyType
-        return MappingProxyType({})
+    bodies: object = field(default_factory=lambda: MappingProxyType({}))
 
     def __repr__(self) -> str:
         return (f"SystemStaticSolution(status={self.status!r}, scene_name={self.scene_name!r}, "
@@ -387,6 +414,11 @@ class SystemStaticSolution:
             x = ", ".join(f"{v:.3f}" for v in pt.position)
             out.append(f"point {name:11s} {pt.kind:6s} at ({x}) m, lines' force "
                        f"{_components(pt.force)}")
+        for name, b in self.bodies.items():
+            x = ", ".join(f"{v:.3f}" for v in b.position)
+            a = ", ".join(f"{v:.3f}" for v in b.roll_pitch_yaw)
+            out.append(f"body {name:12s} {b.kind:6s} at ({x}) m, roll/pitch/yaw ({a}) deg, "
+                       f"lines' force {_components(b.force)}")
         out.append(f"solver            {st.get('iterations', '?')} iterations, residual "
                    f"{st.get('residual_norm', float('nan')):.3g} N (tol "
                    f"{st.get('tolerance', float('nan')):.3g} N)")
@@ -400,6 +432,8 @@ class SystemStaticSolution:
                 "lines": {k: v.to_dict() for k, v in self.lines.items()},
                 "points": {k: {f.name: _jsonable(getattr(v, f.name)) for f in fields(v)}
                            for k, v in self.points.items()},
+                "bodies": {k: {f.name: _jsonable(getattr(v, f.name)) for f in fields(v)}
+                           for k, v in self.bodies.items()},
                 "status": self.status, "stats": _jsonable(self.stats),
                 "warnings": list(self.warnings),
                 "unknowns": _jsonable(self.unknowns)}

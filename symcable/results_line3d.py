@@ -220,7 +220,11 @@ class SystemTrajectory(Exportable):
 
     ``lines[name]`` is each line's :class:`LineTrajectory` (with its own slack report);
     ``points[name]`` a dict of ``position`` (n_t, 3) m and ``force`` (n_t, 3) N, the force
-    the lines exert on the point.
+    the lines exert on the point; ``bodies[name]`` (``body_names``) a dict of ``position``
+    (n_t, 3) m, ``orientation`` (n_t, 4) (unit quaternion, scalar first),
+    ``roll_pitch_yaw`` (n_t, 3) deg, ``force`` (n_t, 3) N and ``moment`` (n_t, 3) N m (the
+    lines' on the body, global axes, about its reference point), and for a free body
+    ``velocity`` (n_t, 3) m/s and ``angular_velocity`` (n_t, 3) rad/s (body axes).
     """
 
     scene_name: str
@@ -234,11 +238,13 @@ class SystemTrajectory(Exportable):
     status: str
     stats: dict = field(default_factory=dict)
     warnings: tuple = ()
+    body_names: tuple = ()
 
     def __repr__(self) -> str:
         return (f"SystemTrajectory(status={self.status!r}, scene_name={self.scene_name!r}, "
                 f"lines={list(self.line_names)}, points={list(self.point_names)}, "
-                f"{self.time.size} samples)")
+                + (f"bodies={list(self.body_names)}, " if self.body_names else "")
+                + f"{self.time.size} samples)")
 
     @property
     def lines(self):
@@ -261,7 +267,13 @@ class SystemTrajectory(Exportable):
     @property
     def bodies(self):
         from types import MappingProxyType
-        return MappingProxyType({})
+        n_t = self.time.size
+        keys = {"position": 3, "orientation": 4, "roll_pitch_yaw": 3, "velocity": 3,
+                "angular_velocity": 3, "force": 3, "moment": 3}
+        return MappingProxyType({
+            name: {k: np.asarray(self.outputs[f"{name}.{k}"], float).reshape(n_t, n)
+                   for k, n in keys.items() if f"{name}.{k}" in self.outputs}
+            for name in self.body_names})
 
     def summary(self) -> str:
         """The run, each line's end tensions (range, kN) and each point's excursion (m)."""
@@ -276,6 +288,10 @@ class SystemTrajectory(Exportable):
         for name, pt in self.points.items():
             x = pt["position"]
             out.append(f"point {name:11s} excursion {np.max(np.linalg.norm(x - x[0], axis=1)):.4g} m")
+        for name, b in self.bodies.items():
+            x, a = b["position"], b["roll_pitch_yaw"]
+            out.append(f"body {name:12s} excursion {np.max(np.linalg.norm(x - x[0], axis=1)):.4g} "
+                       f"m, largest roll/pitch/yaw change {np.max(np.abs(a - a[0])):.4g} deg")
         if st.get("error_estimate") is not None:
             out.append(f"error estimate    {100 * st['error_estimate']:.2g} % of the range")
         out.append(f"wall time         {st.get('wall_time', float('nan')):.3g} s")
@@ -295,4 +311,5 @@ class SystemTrajectory(Exportable):
         object.__setattr__(obj, "line_s", {k: np.asarray(v, float) for k, v in obj.line_s.items()})
         object.__setattr__(obj, "line_names", tuple(obj.line_names))
         object.__setattr__(obj, "point_names", tuple(obj.point_names))
+        object.__setattr__(obj, "body_names", tuple(obj.body_names))
         return obj

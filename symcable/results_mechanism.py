@@ -220,6 +220,12 @@ class SceneLinearization(Exportable):
         on that pinned end against its position, exact (statics)
     undamped : bool  True when current, excitation and stabilisation were off (as in
         ``modal_analysis``)
+    body_stiffness : dict  body name -> (6, 6): the mooring stiffness of each free body, in
+        (translation of its reference point, m; small rotation about global axes, rad)
+        against (force, N; moment about the reference point, N m), global axes: -d(net
+        force and moment)/d(pose) with everything else in static equilibrium (the lines and
+        other free parts condensed out), the body's own weight and buoyancy included; exact
+        (:func:`symcable.cable3d_static.body_stiffness`)
     """
 
     scene_name: str
@@ -232,6 +238,7 @@ class SceneLinearization(Exportable):
     v_kinds: tuple
     end_stiffness: dict
     undamped: bool = False
+    body_stiffness: dict = field(default_factory=dict)
 
     def state_matrix(self) -> np.ndarray:
         """A (n_q + n_v, n_q + n_v): d(q, v)/dt = A (q, v), 1/s."""

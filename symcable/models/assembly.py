@@ -14,11 +14,23 @@ the rest. Joints:
 - :class:`Prescribed`: a node's coordinates are a given position plus an optional harmonic
   motion, in parameter blocks ``NAME.position``, ``NAME.amplitude``, ``NAME.phase`` (rad) and
   ``NAME.omega`` (rad/s); its outputs ``NAME.force`` (N, the force the parts exert on the
-  node: f_part - M_part a_part at its rows) and ``NAME.position`` (m).
+  node: f_part - M_part a_part at its rows) and ``NAME.position`` (m);
+- :class:`Attached`: a node is a point of another part, a rigid body (:mod:`.body`): its
+  position x(q_b) and velocity x'(q_b, v_b) = J(q_b) v_b are the body's; output
+  ``NAME.position`` (m). The part's velocities are then ``v_part = T(q) v`` with T the
+  selection plus J, so, by virtual work, ``M += T^T M_part T`` and ``f += T^T (f_part -
+  M_part (E x'' + a_c))``, a_c = (dJ/dt) v_b the attached node's acceleration at v_b' = 0
+  (CasADi's directional derivative of x' along q' = G(q) v): exact, the node's mass and its
+  coupling (consistent mass) carried by the body.
+
+Parts may have kinematics q' = G(q) v (a body's quaternion) and first-order states with
+``rest`` rows (the entries of q past n_v): the assembled q is every part's first n_v
+entries (joined as above; entry i of q goes with entry i of v), then every part's extra
+entries in part order, their rates and rest rows the parts' own.
 
 Parameters, outputs, admissibility bounds and layout parts are namespaced ``part.name``;
 stability is judged where any part's ``stability_when`` is negative (always, when a part has
-none). Attaching a node to a rigid body (a constraint joint) arrives with the bodies.
+none).
 """
 from __future__ import annotations
 
@@ -30,9 +42,10 @@ import casadi as ca
 import numpy as np
 
 from ..errors import SymcableError
-from .mechanism import Layout, Mechanism, Output, ParamBlocks, PartLayout, Scales, Start
+from .mechanism import (Layout, Mechanism, Output, ParamBlocks, PartLayout, Scales, Start,
+                        StateNames)
 
-__all__ = ["Prescribed", "Shared", "assemble"]
+__all__ = ["Attached", "Prescribed", "Shared", "assemble"]
 
 
 @dataclass(frozen=True)
@@ -56,6 +69,19 @@ class Prescribed:
     omega: float = 0.0
 
 
+@dataclass(frozen=True)
+class Attached:
+    """Node ``node`` (part name, node index) is a point of part ``body``: its position is
+    ``position(q_body)`` (m) and its velocity ``velocity(q_body, v_body)`` (m/s, linear in
+    v_body), CasADi Functions of that part's own q and v (:func:`.body.attachment`)."""
+
+    name: str
+    node: tuple[str, int]
+    body: str
+    position: object
+    velocity: object
+
+
 def _sym(kind, name, n):
     return kind.sym(name, n)
 
@@ -66,7 +92,7 @@ class _DofMap:
     def __init__(self, parts: dict[str, Mechanism]):
         self.parent: dict = {}
         for name, m in parts.items():
-            for j in range(m.n_q):
+            for j in range(m.n_v):  # the extra entries (past n_v) are each their own
                 self.parent[(name, j)] = (name, j)
 
     def find(self, k):
@@ -106,7 +132,7 @@ def assemble(parts: Iterable[Mechanism], joints: Iterable = (), *, name: str = "
     parts : iterable of Mechanism
         Each with a layout part of its own name (``mech.layout.parts[mech.name]``) listing its
         nodes; names must be unique.
-    joints : iterable of Shared | Prescribed
+    joints : iterable of Shared | Prescribed | Attached
     name : str
     starts : callable, optional
         Static starts of the whole; by default the parts' first starts, put together.
@@ -116,9 +142,6 @@ def assemble(parts: Iterable[Mechanism], joints: Iterable = (), *, name: str = "
     for m in parts:
         if m.name in by_name:
             raise SymcableError(f"assemble: two parts are named {m.name!r}")
-        if m.kinematics is not None:
-            raise SymcableError(f"assemble: part {m.name!r} has kinematics q' = G(q) v; "
-                                "assembling such parts arrives with rigid bodies")
         by_name[m.name] = m
     joints = list(joints)
     dims = {m.layout.dim for m in parts}
@@ -127,34 +150,47 @@ def assemble(parts: Iterable[Mechanism], joints: Iterable = (), *, name: str = "
     dim = dims.pop()
     kind = ca.MX if any(isinstance(m.q, ca.MX) for m in parts) else ca.SX
 
-    # which local coordinates are one, which are prescribed
+    # which local coordinates are one, which are prescribed or attached to a body
     dof = _DofMap(by_name)
     prescribed: dict = {}
     for j in joints:
         if isinstance(j, Shared):
             for a, b in zip(_node_dofs(by_name, j.a, "Shared.a"), _node_dofs(by_name, j.b, "Shared.b")):
                 dof.union(a, b)
-        elif isinstance(j, Prescribed):
-            for k, d in enumerate(_node_dofs(by_name, j.node, f"Prescribed({j.name!r}).node")):
+        elif isinstance(j, (Prescribed, Attached)):
+            if isinstance(j, Attached) and j.body not in by_name:
+                raise SymcableError(f"Attached({j.name!r}).body = {j.body!r}: no such part")
+            what = f"{type(j).__name__}({j.name!r}).node"
+            for k, d in enumerate(_node_dofs(by_name, j.node, what)):
                 prescribed[d] = (j, k)
         else:
-            raise SymcableError(f"assemble: joint {j!r} is not Shared or Prescribed")
+            raise SymcableError(f"assemble: joint {j!r} is not Shared, Prescribed or Attached")
     roots_prescribed: dict = {}
     for d, jk in prescribed.items():
         r = dof.find(d)
         if r in roots_prescribed and roots_prescribed[r][0].name != jk[0].name:
-            raise SymcableError(f"assemble: a node is prescribed by both {roots_prescribed[r][0].name!r} "
-                                f"and {jk[0].name!r}")
+            raise SymcableError(f"assemble: a node is prescribed by both "
+                                f"{roots_prescribed[r][0].name!r} and {jk[0].name!r}")
         roots_prescribed[r] = jk
     global_index: dict = {}
-    n_q = 0
+    n_v = 0
     for m in parts:
-        for jloc in range(m.n_q):
+        for jloc in range(m.n_v):
             r = dof.find((m.name, jloc))
             if r in roots_prescribed or r in global_index:
                 continue
-            global_index[r] = n_q
-            n_q += 1
+            global_index[r] = n_v
+            n_v += 1
+    tail_index = {}  # (part, local j >= its n_v) -> index in q
+    for m in parts:
+        for jloc in range(m.n_v, m.n_q):
+            tail_index[(m.name, jloc)] = n_v + len(tail_index)
+    n_q = n_v + len(tail_index)
+    for j in joints:
+        if isinstance(j, Attached) and any(dof.find((j.body, i)) in roots_prescribed
+                                           for i in range(by_name[j.body].n_v)):
+            raise SymcableError(f"Attached({j.name!r}): its body {j.body!r} is itself "
+                                "prescribed or attached")
 
     # parameters: the parts' blocks, then the joints'
     names, sizes, values = [], [], []
@@ -180,11 +216,17 @@ def assemble(parts: Iterable[Mechanism], joints: Iterable = (), *, name: str = "
     params = ParamBlocks(tuple(names), tuple(sizes), np.concatenate(values) if values else np.zeros(0))
 
     q = _sym(kind, "q", n_q)
-    v = _sym(kind, "v", n_q)
+    v = _sym(kind, "v", n_v)
     t = _sym(kind, "t", 1)
     p = _sym(kind, "p", params.n)
     n_z_total = sum(m.n_z for m in parts)
     z = _sym(kind, "z", n_z_total)
+    z_at, p_at, off_z, off_p = {}, {}, 0, 0
+    for m in parts:
+        z_at[m.name] = z[off_z:off_z + m.n_z]
+        p_at[m.name] = p[off_p:off_p + m.params.n]
+        off_z += m.n_z
+        off_p += m.params.n
 
     # prescribed motion: x, x', x'' per joint
     motion = {}
@@ -196,49 +238,82 @@ def assemble(parts: Iterable[Mechanism], joints: Iterable = (), *, name: str = "
         xdd = -P["amplitude"] * P["omega"] ** 2 * ca.cos(arg)
         motion[j.name] = (x, xd, xdd)
 
-    M = kind.zeros(n_q, n_q)
-    f = kind.zeros(n_q, 1)
+    def free_of(m):
+        """The part's own q and v in the assembled symbols, where its entries are free."""
+        return (ca.vertcat(*[q[global_index[dof.find((m.name, j))]] for j in range(m.n_v)],
+                           *[q[tail_index[(m.name, j)]] for j in range(m.n_v, m.n_q)]),
+                ca.vertcat(*[v[global_index[dof.find((m.name, j))]] for j in range(m.n_v)]))
+
+    # the kinematics of the whole, q' = G(q) v: each part's rows, v where it has none
+    kinematic = [m for m in parts if m.kinematics is not None]
+    qdot = ca.vertcat(v, kind.zeros(n_q - n_v, 1))
+    rest_rows = []
+    for m in kinematic:
+        qb, vb = free_of(m)
+        fn = ca.Function(f"part_{m.name}_kin", [m.q, m.v, m.z, m.t, m.p],
+                         [m.kinematics] + ([] if m.rest is None else [m.rest]))
+        out = fn(qb, vb, z_at[m.name], t, p_at[m.name])
+        out = list(out) if isinstance(out, (list, tuple)) else [out]
+        for jloc in range(m.n_q):
+            gi = (global_index[dof.find((m.name, jloc))] if jloc < m.n_v
+                  else tail_index[(m.name, jloc)])
+            qdot[gi] = out[0][jloc]
+        if m.rest is not None:
+            rest_rows.append(out[1])
+    # a node on a body: its position, velocity and the acceleration at v' = 0
+    for j in joints:
+        if isinstance(j, Attached):
+            qb, vb = free_of(by_name[j.body])
+            xd = j.velocity(qb, vb)
+            motion[j.name] = (j.position(qb), xd, ca.jtimes(xd, q, qdot))
+
+    M = kind.zeros(n_v, n_v)
+    f = kind.zeros(n_v, 1)
     g_rows, outputs, bounds, when = [], {}, {}, []
-    z_off = 0
-    p_off = 0
     part_layouts = {}
     q_scale = np.zeros(n_q)
-    v_scale = np.zeros(n_q)
+    v_scale = np.zeros(n_v)
     joint_force = {j.name: [kind(0)] * dim for j in presc_joints}
     for m in parts:
-        rows_free, cols_free = [], []  # local -> global for free entries
+        rows_free, cols_free, rows_att = [], [], []  # local -> global for free entries
         qp, vp, ap = [], [], []
-        for jloc in range(m.n_q):
+        for jloc in range(m.n_v):
             r = dof.find((m.name, jloc))
             if r in roots_prescribed:
                 jt, k = roots_prescribed[r]
                 x, xd, xdd = motion[jt.name]
                 qp.append(x[k]); vp.append(xd[k]); ap.append(xdd[k])
+                if isinstance(jt, Attached):
+                    rows_att.append(jloc)
             else:
                 gi = global_index[r]
                 rows_free.append(jloc); cols_free.append(gi)
                 qp.append(q[gi]); vp.append(v[gi]); ap.append(kind(0))
                 q_scale[gi] = max(q_scale[gi], m.scales.q[jloc])
                 v_scale[gi] = max(v_scale[gi], m.scales.v[jloc])
+        for jloc in range(m.n_v, m.n_q):
+            qp.append(q[tail_index[(m.name, jloc)]])
+            q_scale[tail_index[(m.name, jloc)]] = m.scales.q[jloc]
         q_loc, v_loc, a_pres = ca.vertcat(*qp), ca.vertcat(*vp), ca.vertcat(*ap)
-        z_loc = z[z_off:z_off + m.n_z]
-        p_loc = p[p_off:p_off + m.params.n]
-        z_off += m.n_z
-        p_off += m.params.n
+        z_loc, p_loc = z_at[m.name], p_at[m.name]
         args = [m.q, m.v, m.z, m.t, m.p]
         fn = ca.Function(f"part_{m.name}", args, [m.mass, m.force, m.constraint])
         Mp, fp, gp = fn(q_loc, v_loc, z_loc, t, p_loc)
-        fp_eff = fp - ca.mtimes(Mp, a_pres)  # prescribed accelerations' inertia
-        Psel = ca.DM(ca.Sparsity.triplet(m.n_q, n_q, rows_free, cols_free), 1.0)
-        M = M + ca.mtimes([Psel.T, Mp, Psel])
-        f = f + ca.mtimes(Psel.T, fp_eff)
+        fp_eff = fp - ca.mtimes(Mp, a_pres)  # prescribed and attached accelerations' inertia
+        T = ca.DM(ca.Sparsity.triplet(m.n_v, n_v, rows_free, cols_free), 1.0)
+        if rows_att:  # v_part = T(q) v: the selection plus the attached nodes' J
+            S = ca.DM(ca.Sparsity.triplet(m.n_v, len(rows_att), rows_att,
+                                          list(range(len(rows_att)))), 1.0)
+            T = T + ca.mtimes(S, ca.jacobian(ca.vertcat(*[v_loc[i] for i in rows_att]), v))
+        M = M + ca.mtimes([T.T, Mp, T])
+        f = f + ca.mtimes(T.T, fp_eff)
         g_rows.append(gp)
         # the force this part exerts on each prescribed node, f_part - M_part a_part at its
         # rows, with the prescribed accelerations only: exact in statics, and in dynamics for
         # a mass matrix that does not couple the node to free ones (lumped mass)
-        for jloc in range(m.n_q):
+        for jloc in range(m.n_v):
             r = dof.find((m.name, jloc))
-            if r in roots_prescribed:
+            if r in roots_prescribed and isinstance(roots_prescribed[r][0], Prescribed):
                 jt, k = roots_prescribed[r]
                 joint_force[jt.name][k] = joint_force[jt.name][k] + fp_eff[jloc]
         # outputs, namespaced
@@ -276,10 +351,12 @@ def assemble(parts: Iterable[Mechanism], joints: Iterable = (), *, name: str = "
                         node_q[ii] = global_index[r]
             part_layouts[pname] = PartLayout(lay.kind, lay.s, node_q, node_q.copy(), moved_by)
     for j in presc_joints:
-        x, _, _ = motion[j.name]
         outputs[f"{j.name}.force"] = Output(ca.vertcat(*joint_force[j.name]), "N", j.name,
                                             f"force the parts exert on {j.name}")
-        outputs[f"{j.name}.position"] = Output(x, "m", j.name, f"position of {j.name}")
+    for j in joints:
+        if isinstance(j, (Prescribed, Attached)):
+            outputs[f"{j.name}.position"] = Output(motion[j.name][0], "m", j.name,
+                                                   f"position of {j.name}")
     g = ca.vertcat(*g_rows) if g_rows else kind.zeros(0, 1)
     if n_z_total == 0:
         g = kind.zeros(0, 1)
@@ -303,6 +380,9 @@ def assemble(parts: Iterable[Mechanism], joints: Iterable = (), *, name: str = "
             ql = np.zeros(m.n_q) if st is None else np.asarray(st.q, float)
             z0.append(np.zeros(m.n_z) if st is None else np.asarray(st.z, float))
             for jloc in range(m.n_q):
+                if jloc >= m.n_v:
+                    q0[tail_index[(m.name, jloc)]] = ql[jloc]
+                    continue
                 r = dof.find((m.name, jloc))
                 if r in roots_prescribed:
                     continue
@@ -314,9 +394,28 @@ def assemble(parts: Iterable[Mechanism], joints: Iterable = (), *, name: str = "
 
     return Mechanism(name=name, q=q, v=v, z=z, t=t, p=p, params=params, mass=M, force=f,
                      constraint=g, scales=scales, starts=starts or default_starts,
-                     outputs=outputs, layout=Layout(dim, part_layouts), terms=terms,
-                     static_params=static_params, bounds=bounds,
-                     stability_when=_least(when) if len(when) == len(parts) else None)
+                     outputs=outputs, layout=Layout(dim, part_layouts, _states(parts)),
+                     terms=terms, static_params=static_params, bounds=bounds,
+                     stability_when=_least(when) if len(when) == len(parts) else None,
+                     kinematics=qdot if kinematic else None,
+                     rest=ca.vertcat(*rest_rows) if rest_rows else None)
+
+
+def _states(parts) -> StateNames | None:
+    """The names of the assembled first-order states (every part's entries past its n_v),
+    in part order: each part's own (``layout.states``) or ``"{part}.state{i}"``; the unit,
+    source and the setting without them of the first part that names its own."""
+    named = [m.layout.states for m in parts if m.n_q > m.n_v and m.layout.states is not None]
+    if not any(m.n_q > m.n_v for m in parts):
+        return None
+    names = []
+    for m in parts:
+        if m.n_q > m.n_v:
+            own = m.layout.states
+            names += list(own.names) if own is not None else \
+                [f"{m.name}.state{i}" for i in range(m.n_q - m.n_v)]
+    first = named[0] if named else StateNames((), "")
+    return StateNames(tuple(names), first.unit, first.source, first.without)
 
 
 def _least(exprs):

@@ -1,5 +1,5 @@
-"""Several cable3d lines and points as ONE Mechanism (scene version 2: ``[points.NAME]``,
-``[[lines]]``).
+"""Several cable3d lines, points and bodies as ONE Mechanism (scene version 2:
+``[points.NAME]``, ``[bodies.NAME]``, ``[[lines]]``).
 
 Each line is a part built by :func:`~symcable.models.cable3d.build_cable3d` from a one-line
 scene (:func:`line_scene`): an end at a fixed or vessel point is held there by the line
@@ -12,7 +12,11 @@ the bed as the lines do, instead of sinking into it through the contact of the f
 nodes beside it). The parts are
 assembled (:func:`~symcable.models.assembly.assemble`) with a :class:`Shared` joint between
 every free point's node and each line end attached to it, so the lines' end forces and the
-point's loads add up there by virtual work.
+point's loads add up there by virtual work. Each free body is a part of six degrees of
+freedom (:func:`~symcable.models.body.body_part`), and a line's end on it is made a point of
+the body by an :class:`~symcable.models.assembly.Attached` joint named ``"LINE.end_a"`` /
+``"LINE.end_b"`` (:func:`~symcable.models.body.attachment`); a line's end on a fixed body
+is held at the body's point, as at a fixed point.
 
 Outputs, beside each part's own (namespaced: ``"line1.axial_force"``, ``"line1.end_force_b"``,
 ``"buoy.own_force"``, ...):
@@ -22,12 +26,22 @@ Outputs, beside each part's own (namespaced: ``"line1.axial_force"``, ``"line1.e
   forces there);
 - ``"P.net_force"`` (3,), N, free points only: that plus the point's own loads (zero in
   equilibrium; its mass times its acceleration in motion);
+- ``"B.position"`` (3,), m, ``"B.orientation"`` (4,) (unit quaternion, scalar first),
+  ``"B.roll_pitch_yaw"`` (3,), deg, ``"B.force"`` (3,), N, and ``"B.moment"`` (3,), N m, of
+  every body B: the force of the lines attached to it (the sum of their end forces there)
+  and its moment about B's reference point, global axes
+  (:func:`~symcable.models.body.body_outputs`); free bodies also ``"B.velocity"``,
+  ``"B.angular_velocity"`` (body axes), ``"B.own_force"``, ``"B.own_moment"`` and
+  ``"B.net_force"`` (6,), the lines' force and moment plus the body's own (zero in
+  equilibrium);
 - ``"kinetic_energy"``, ``"potential_energy"``, J, of the whole system.
 
 Static starts, in order: each line's closed-form elastic catenary between its end points
-(free points where the scene puts them; a line with a free inline end hangs straight from
-its other end), then the minimum of the whole network's potential energy from there
-(:func:`~symcable.models.relax.relaxed_network`).
+(free points and bodies where the scene puts them; a line with a free inline end hangs
+straight from its other end), then the minimum of the whole network's potential energy from
+there (:func:`~symcable.models.relax.relaxed_network`), the bodies held where the scene
+puts them; with free bodies, that again with the bodies pulled there by stiff springs
+(their parameter ``pull`` = 1), continued to their release (``pull`` = 0).
 """
 from __future__ import annotations
 
@@ -36,10 +50,11 @@ import dataclasses
 import casadi as ca
 import numpy as np
 
-from ..scene import End, EndCondition, Environment, Scene
+from ..scene import BodyEnd, End, EndCondition, Environment, Scene
 from ..scene.points import Point
 from . import terms
 from .assembly import Shared, assemble
+from .body import attachment, body_outputs, body_part, start_q
 from .cable3d import DRAG_SPEED, _lumped, build_cable3d, force_scale
 from .cable3d_drag import law_table
 from .cable3d_starts import _catenary, _hanging
@@ -53,7 +68,13 @@ __all__ = ["build_system", "line_scene", "point_contact", "point_part"]
 def _end_of(scene: Scene, end, pinned_free: bool = False) -> End:
     """A line's end as a version-1 End: a fixed or vessel point pinned (with its motion), a
     free point a free end with no force (or, with ``pinned_free``, pinned where the scene
-    puts it: for the starts), an inline end as it is."""
+    puts it: for the starts), likewise on a free body (pinned at its point as the scene
+    places the body) and on a fixed body (pinned at its point), an inline end as it is."""
+    if isinstance(end, BodyEnd):
+        body = scene.bodies[end.body]
+        if body.is_free and not pinned_free:
+            return End(EndCondition.FREE)
+        return End(EndCondition.PINNED, position=tuple(body.world(end.offset)))
     if not isinstance(end, str):
         return end
     pt = scene.points[end]
@@ -167,7 +188,7 @@ def point_part(pt: Point, env: Environment, seabed=None, contact=None) -> Mechan
 
 
 def build_system(scene: Scene) -> Mechanism:
-    """The lines and points of a version-2 cable3d scene as one Mechanism (module
+    """The lines, points and bodies of a version-2 cable3d scene as one Mechanism (module
     docstring)."""
     env = scene.environment
     parts, joints = [], []
@@ -178,6 +199,20 @@ def build_system(scene: Scene) -> Mechanism:
     for name, pt in scene.points.items():
         if pt.is_free:
             parts.append(point_part(pt, env, scene.seabed, point_contact(scene, name)))
+    on_body: dict[str, list] = {name: [] for name in scene.bodies}
+    for line in scene.lines:
+        for key, node in (("a", 0), ("b", line.n_segments)):
+            end = line.end(key)
+            if isinstance(end, BodyEnd):
+                on_body[end.body].append((line.name, key, node, end.offset))
+                if scene.bodies[end.body].is_free:
+                    joints.append(attachment(f"{line.name}.end_{key}", end.body,
+                                             (line.name, node), end.offset))
+    for name, body in scene.bodies.items():
+        if body.is_free:
+            length = max(ln.length for ln in scene.lines if ln.name in
+                         {a[0] for a in on_body[name]})
+            parts.append(body_part(body, env, length))
     attached: dict[str, list] = {name: [] for name in scene.points}
     for line in scene.lines:
         for key, node in (("a", 0), ("b", line.n_segments)):
@@ -198,6 +233,8 @@ def build_system(scene: Scene) -> Mechanism:
         if pt.is_free:
             out[f"{name}.net_force"] = Output(force + out[f"{name}.own_force"].expr, "N", name,
                                               "net force on the point (zero in equilibrium)")
+    for name, body in scene.bodies.items():
+        out.update(body_outputs(body, out, on_body[name]))
     potential = sum(out[f"{p.name}.potential_energy"].expr for p in parts)
     out["kinetic_energy"] = Output(0.5 * ca.dot(mech.v, ca.mtimes(mech.mass, mech.v)), "J", "",
                                    "kinetic energy of the system")
@@ -224,6 +261,12 @@ def _bounds(scene: Scene, mech: Mechanism) -> dict:
                 u = float(np.linalg.norm(env.current))
                 press += max(w, 0.0) + float(np.linalg.norm(applied)) \
                     + 0.5 * rho * float(np.max(pt.drag_area)) * u * u
+        for body in scene.bodies.values():  # a free body hanging on lines that rest on it
+            if body.is_free:
+                rho = 0.0 if env.in_air else env.water_density
+                u = float(np.linalg.norm(env.current))
+                press += max((body.mass - rho * body.volume) * env.gravity, 0.0) \
+                    + 0.5 * rho * float(np.max(body.cd_area)) * u * u
         bounds["seabed_reaction"] = dataclasses.replace(
             parts[0], expr=sum(b.expr for b in parts) + sum(points),
             upper=sum(float(b.upper) for b in parts) + 1.01 * press,
@@ -265,7 +308,13 @@ def _starts(scene: Scene, mech: Mechanism):
             idx = _node_q(mech, line.name)
             held = idx[:, 0] < 0
             q[idx[~held].ravel()] = positions[line.name][~held].ravel()
-        # every free point is some line's end node: placed with that line
+        # every free point is some line's end node: placed with that line; every free body
+        # where the scene puts it
+        for name, body in scene.bodies.items():
+            if body.is_free:
+                q0 = start_q(body)
+                q[_node_q(mech, name).ravel()] = q0[:6]
+                q[mech.n_v + mech.layout.states.names.index(f"{name}.e0")] = q0[6]
         return Start(q, np.zeros(0), p0, source)
 
     sources = sorted({src.split(" (")[0] for _, src in shapes.values()})
@@ -275,6 +324,12 @@ def _starts(scene: Scene, mech: Mechanism):
     relaxed = None if bent else _relaxed(scene, mech, {k: v[0] for k, v in shapes.items()})
     if relaxed is not None:  # (the relaxation's energy is a cable's: no bending)
         yield start(relaxed, "minimum of the potential energy")
+    free = [name for name, b in scene.bodies.items() if b.is_free]
+    if free:  # the lines there hold the bodies pulled to the scene's pose, then release them
+        st = start(relaxed if relaxed is not None else {k: v[0] for k, v in shapes.items()},
+                   "the lines relaxed with the bodies pulled to where the scene puts them")
+        pulled = mech.params.with_values(p0, **{f"{name}.pull": 1.0 for name in free})
+        yield dataclasses.replace(st, p=pulled, homotopy="the bodies' pull")
 
 
 def _relaxed(scene: Scene, mech: Mechanism, shapes: dict[str, np.ndarray]) -> dict | None:

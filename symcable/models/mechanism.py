@@ -402,7 +402,9 @@ class Mechanism:
         """``(q names, v names)``, one string per entry: a line's node i in direction x
         ``"node{i}.x"`` (``tagged``: ``"{part}.node{i}.x"``, for mechanisms of several
         parts), any other part's ``"{part}.x"`` (a node shared by a line and a point goes
-        by the point's name), the first-order states by ``layout.states``; "" for an entry
+        by the point's name; a body's rotation: ``"{part}.e1"`` ... in q, the quaternion's
+        vector part, ``"{part}.rx"`` ... in v, its angular velocity in body axes), the
+        first-order states by ``layout.states`` (a body's ``"{part}.e0"``); "" for an entry
         nothing names."""
         out = []
         for n, key in ((self.n_q, "node_q"), (self.n_v, "node_v")):
@@ -413,6 +415,8 @@ class Mechanism:
                 for i, row in enumerate(np.asarray(getattr(part, key))):
                     for c, j in enumerate(row):
                         axis = "xyz"[c] if len(row) <= 3 else str(c)
+                        if part.kind == "body" and i == 1:  # its rotation's row
+                            axis = f"e{c + 1}" if key == "node_q" else f"r{axis}"
                         if 0 <= j < n and not names[j]:
                             names[j] = (f"{tag}node{i}.{axis}" if part.kind == "line"
                                         else f"{part_name}.{axis}")

@@ -9,9 +9,11 @@ from __future__ import annotations
 from .load import load_scene, moordyn_deck, scene_to_toml
 from .model import (End, EndCondition, Environment, LineType, Model, Motion, Scene, Seabed, Section,
                     scene_to_dict)
+from .bodies import Body, BodyEnd, BodyKind
 from .points import Line, Point, PointKind
 
 __all__ = [
     "EndCondition", "Model", "LineType", "Section", "Motion", "End", "Environment", "Seabed",
-    "Scene", "Point", "PointKind", "Line", "load_scene", "moordyn_deck", "scene_to_dict", "scene_to_toml",
+    "Scene", "Point", "PointKind", "Line", "Body", "BodyEnd", "BodyKind", "load_scene",
+    "moordyn_deck", "scene_to_dict", "scene_to_toml",
 ]

@@ -33,7 +33,7 @@ from .tables import (MAX_STIFFNESS_RATIO, _check_geometry, _end, _environment, _
 __all__ = ["MAX_STIFFNESS_RATIO", "load_scene", "moordyn_deck", "scene_to_dict", "scene_to_toml"]
 
 _TOP_KEYS = ("name", "model", "environment", "seabed", "line_types", "sections", "end_a", "end_b",
-             "points", "lines", "mass_matrix")
+             "points", "lines", "mass_matrix", "bodies")
 _MASS_MATRICES = ("lumped", "consistent")
 _MODELS = tuple(m.value for m in Model)
 
@@ -144,13 +144,15 @@ def _build(data: Mapping, source: str, base: str = ".") -> Scene:
     types = _line_types(data, env, dim)
     if _get(data, "lines") is not None:  # version 2: several lines and points
         _check_friction_options(seabed, model.value, True, None)
-        points, lines = read_system(data, env, types, dim, model.value, base)
+        points, lines, bodies = read_system(data, env, types, dim, model.value, base)
         return Scene(name=name, model=model, environment=env, seabed=seabed,
                      line_types=MappingProxyType(types), sections=(), end_a=None, end_b=None,
-                     source=source, points=points, lines=lines, mass_matrix=mass_matrix)
-    if _get(data, "points") is not None:
-        raise _err("points", "{...}", "", "points are the ends of [[lines]] (scene version 2): "
-                   "give [[lines]] with end_a / end_b naming them, or remove [points]")
+                     source=source, points=points, lines=lines, mass_matrix=mass_matrix,
+                     bodies=bodies)
+    for key in ("points", "bodies"):
+        if _get(data, key) is not None:
+            raise _err(key, "{...}", "", f"{key} are attached to [[lines]] (scene version 2): "
+                       f"give [[lines]] with end_a / end_b naming them, or remove [{key}]")
     sections = _sections(data, types)
     ends = {"end_a": _end("end_a", data, dim, base), "end_b": _end("end_b", data, dim, base)}
     _check_geometry(env, sections, ends, dim)

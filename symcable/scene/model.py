@@ -15,6 +15,7 @@ from dataclasses import dataclass, field
 from types import MappingProxyType
 from typing import TYPE_CHECKING, Any, Mapping
 
+from .bodies import Body, BodyEnd, body_dict
 from .points import Line, Point, PointKind
 
 if TYPE_CHECKING:  # a field's type only
@@ -22,7 +23,7 @@ if TYPE_CHECKING:  # a field's type only
 
 __all__ = [
     "EndCondition", "Model", "LineType", "Section", "Motion", "End", "Environment", "Seabed",
-    "Scene", "scene_to_dict", "Point", "PointKind", "Line",
+    "Scene", "scene_to_dict", "Point", "PointKind", "Line", "Body", "BodyEnd",
 ]
 
 #: keys of a line type (``[line_types.NAME]``) in the file, in the order they are written
@@ -342,6 +343,9 @@ class Scene:
         cable3d: ``"lumped"`` (default: half of each element's mass, structural and added,
         on each of its nodes) or ``"consistent"`` (seed 003's linear-interpolation mass,
         L0/6 [[2, 1], [1, 2]] per element, coupling neighbours).
+    bodies : Mapping[str, Body]
+        Version 2 (``[bodies.NAME]``, :mod:`.bodies`): read-only mapping, name -> rigid
+        body; lines attach to them (a line end :class:`BodyEnd`); empty without.
     """
 
     name: str
@@ -356,6 +360,7 @@ class Scene:
     points: Mapping[str, Point] = field(default_factory=lambda: MappingProxyType({}))
     lines: tuple[Line, ...] = ()
     mass_matrix: str = "lumped"
+    bodies: Mapping[str, Body] = field(default_factory=lambda: MappingProxyType({}))
 
     @property
     def version(self) -> int:
@@ -433,6 +438,8 @@ def scene_to_dict(scene: Scene) -> dict:
             out["line_types"][name]["loading"] = lt.loading.to_dict()
     if scene.lines:
         out["points"] = {name: _point_dict(pt) for name, pt in scene.points.items()}
+        if scene.bodies:
+            out["bodies"] = {name: body_dict(b) for name, b in scene.bodies.items()}
         out["lines"] = [{"name": ln.name, "end_a": _end_ref(ln.end_a), "end_b": _end_ref(ln.end_b),
                          "sections": _sections_list(ln.sections)} for ln in scene.lines]
         return out
@@ -469,7 +476,9 @@ def _end_dict(end: End) -> dict:
 
 
 def _end_ref(end) -> str | dict:
-    """A line's end: a point's name, or an inline end table."""
+    """A line's end: a point's name, a body's point, or an inline end table."""
+    if isinstance(end, BodyEnd):
+        return end.text
     return end if isinstance(end, str) else _end_dict(end)
 
 

@@ -104,8 +104,9 @@ class Line:
     name : str
     sections : tuple of Section
         From end A to end B.
-    end_a, end_b : str or End
-        A point's name, or an inline end (as version 1's ``[end_a]``).
+    end_a, end_b : str, BodyEnd or End
+        A point's name, a body's point (:class:`~symcable.scene.bodies.BodyEnd`), or an
+        inline end (as version 1's ``[end_a]``).
     """
 
     name: str

@@ -23,7 +23,7 @@ from .results_line3d import LineTrajectory, SystemTrajectory, line_from_outputs
 from .results_mechanism import SceneLinearization
 from .scene import End, EndCondition, Scene
 from .cable3d_static import (body_stiffness, check_periodic_3d, dynamic_p, node_shapes,
-                             static_equilibrium)
+                             run_start_state, static_equilibrium)
 from .solvers.integrate import ERROR_TARGET, accurate_dt, error_warning, integrate
 from .solvers.march import leaky_sum
 from .solvers.linearize import MAX_DENSE, mechanism_modes, output_sensitivity
@@ -56,6 +56,9 @@ NEWTON_TOL = 1e-8
 #: seabed contact at rho_inf = 0.5 (true errors 12, 3.2 and 0.76 % of the range, against
 #: dt = T/3200); with the factor, 1.3 to 1.4 times the true error at rho_inf = 0
 TENSION_ESTIMATE_FACTOR = 2.0
+#: rad, a tow's default step turns it through at most this on its tightest turn (a 90 degree
+#: turn in 31 steps)
+TOW_TURN_STEP = 0.05
 
 
 def _motions(scene: Scene) -> list:
@@ -76,14 +79,17 @@ def run_start(scene: Scene) -> float:
 
 def default_dt(scene: Scene, duration: float) -> float:
     """The default step, s: a harmonic motion's period / STEPS_PER_PERIOD; a table's smallest
-    row spacing (the table resolves its motion no finer), at most duration / 100; with no
-    motion duration / 100."""
+    row spacing (the table resolves its motion no finer); a tow's time to turn through
+    TOW_TURN_STEP rad on its tightest turn; at most duration / 100; with no motion
+    duration / 100."""
     dts = [duration / 100.0]
     for m in _motions(scene):
         if m.kind == "table":
             tk = np.array([r[0] for r in m.samples])
             if tk.size > 1:
                 dts.append(float(np.min(np.diff(tk))))
+        elif m.kind == "tow":
+            dts += [TOW_TURN_STEP * radius / m.speed for _, radius, _ in m.turns]
         else:
             dts.append(m.period / STEPS_PER_PERIOD)
     return min(dts)
@@ -110,7 +116,7 @@ def _one_line(scene: Scene, what: str) -> None:
 
 
 def _period(scene: Scene):
-    per = [m.period for m in _motions(scene) if m.kind != "table"]
+    per = [m.period for m in _motions(scene) if m.kind == "harmonic"]
     return min(per) if per else None
 
 
@@ -182,11 +188,17 @@ def simulate_3d(scene: Scene, duration: float, dt: float | None = None,
                 method: str = "generalized-alpha", *, rho_inf: float | None = None,
                 save_every: int | None = None, save_times=None, progress: bool | None = None,
                 newton_tol: float | None = None, codegen: bool | None = None,
-                t_start: float | None = None) -> LineTrajectory | SystemTrajectory:
+                t_start: float | None = None,
+                start: str | None = None) -> LineTrajectory | SystemTrajectory:
     """Time response of a cable3d line from its static state (see :func:`symcable.simulate`).
 
     The run starts at ``t_start`` s (default :func:`run_start`: a motion table's first row
     when before 0, else 0) and lasts ``duration`` s; ``dt`` default :func:`default_dt`.
+    ``start``: ``"steady"`` (the default when the scene tows: the steady tow, the static
+    solution in the frame moving with the towpoints, everything moving with them), or
+    ``"rest"`` (:func:`~symcable.cable3d_static.run_start_state`); ``stats["start"]`` says
+    which was used (``"steady tow"`` or ``"rest"``), ``stats["tow_velocity"]`` the tow's
+    velocity at the start (m/s).
     ``rho_inf`` (default :data:`RHO_INF` = 0) is generalized-alpha's numerical damping: on a
     slack rope jerked taut (tests/test_cable3d_snap.py) rho_inf = 0.8 at dt = 0.05 s returned
     a snap peak 500 times the converged one, 0.5 within 20 %, 0 within 5 % (second-order
@@ -213,12 +225,12 @@ def simulate_3d(scene: Scene, duration: float, dt: float | None = None,
         opts = GeneralizedAlphaFirstOrder(rho_inf=float(rho_inf), tol=NEWTON_TOL)
         if newton_tol is not None:
             opts = dataclasses.replace(opts, tol=float(newton_tol))
-    mech, eq = static_equilibrium(scene, codegen=codegen)
-    t_static = time.perf_counter() - started
     t0 = run_start(scene) if t_start is None else float(t_start)
+    mech, eq, v0, how, notes = run_start_state(scene, t0, start, codegen=codegen)
+    t_static = time.perf_counter() - started
     if dt is None and name != "rk4":
         dt = default_dt(scene, duration)
-    kw = dict(method=opts, t0=t0, start=eq, p=mech.params.values, save_every=save_every,
+    kw = dict(method=opts, t0=t0, start=eq, v0=v0, p=mech.params.values, save_every=save_every,
               save_times=save_times, progress=progress, codegen=codegen, label=name,
               period=_period(scene))
     try:
@@ -230,9 +242,9 @@ def simulate_3d(scene: Scene, duration: float, dt: float | None = None,
                                 dict(part.stats), part.warnings)
         raise ConvergenceError(str(exc), partial=part, diagnostics=exc.diagnostics) from None
     stats = dict(tr.stats, static_time=t_static, wall_time=time.perf_counter() - started,
-                 rho_inf=float(rho_inf) if name != "rk4" else None)
-    return _line_result(scene, mech, tr, name, tr.stats["dt"], stats, tr.warnings, opts,
-                        _period(scene))
+                 rho_inf=float(rho_inf) if name != "rk4" else None, **how)
+    return _line_result(scene, mech, tr, name, tr.stats["dt"], stats,
+                        tuple(notes) + tuple(tr.warnings), opts, _period(scene))
 
 
 def solve_periodic_3d(scene: Scene, method="collocation", *, codegen: bool | None = None,

@@ -15,14 +15,19 @@ from .errors import ConvergenceError, SymcableError
 from .models.cable3d import build_cable3d, force_scale
 from .models.cable3d_system import build_system, line_scene
 from .models.mechanism import Mechanism
+from .models.tow import held_motions, held_tows, moved_scene, tow_velocities
 from .models.planar import grounded_length, segment_table
 from .results import BodyState, PointState, StaticSolution, SystemStaticSolution
 from .scene import BodyEnd, Scene
 from .solvers.equilibrium import solve_equilibrium
 from .solvers.periodic_mech import check_periodic
 
-__all__ = ["body_stiffness", "cable3d_mechanism", "check_periodic_3d", "dynamic_p",
-           "node_shapes", "solve_static_3d", "static_equilibrium"]
+__all__ = ["START_MODES", "body_stiffness", "cable3d_mechanism", "check_periodic_3d",
+           "dynamic_p", "node_shapes", "run_start_state", "solve_static_3d",
+           "static_equilibrium"]
+
+#: how a time run of a cable3d scene may start (:func:`run_start_state`)
+START_MODES = ("steady", "rest")
 
 #: default residual tolerance, relative to the scene's force scale (as the planar line)
 RTOL = 1e-9
@@ -53,6 +58,10 @@ def check_periodic_3d(scene: Scene) -> None:
     :func:`~symcable.solvers.periodic_mech.check_periodic`, naming the setting; or with a
     free body (its quaternion's norm is fixed in statics only, so the periodic states
     form a family)."""
+    towing = [label for label, m in held_motions(scene) if m is not None and m.kind == "tow"]
+    if towing:
+        raise SymcableError(f"{towing[0]}.motion: kind = 'tow' is not periodic (the towpoint "
+                            "travels on); run it in time (simulate)")
     free = [name for name, b in scene.bodies.items() if b.is_free]
     if free:
         raise SymcableError(f"bodies.{free[0]}: not for a periodic solve yet: a free body's "
@@ -74,6 +83,61 @@ def static_equilibrium(scene: Scene, *, tol: float | None = None, max_iter: int 
     eq = solve_equilibrium(mech, tol=tol, max_iter=max_iter,
                            continuation=None if continuation else False, codegen=codegen)
     return mech, eq
+
+
+def run_start_state(scene: Scene, t0: float, start: str | None = None, *,
+                    codegen: bool | None = None):
+    """Where a time run of ``scene`` from ``t0`` s starts: ``(mech, eq, v0, info, warnings)``,
+    ``mech`` the scene's Mechanism (the one to step), ``eq`` the static state to start from
+    (its q), ``v0`` (n_v,) the start's velocities, ``info`` a dict for the run's stats
+    (``start``: ``"steady tow"`` or ``"rest"``; a steady tow adds ``tow_velocity``, m/s).
+
+    ``start``:
+
+    - ``"steady"``: the steady tow. Every held point (pinned end, fixed or vessel point,
+      fixed body) must tow (``kind = "tow"``) at one velocity u at t0; the start is the
+      static solution in the frame moving at u (the water flowing past at the current
+      minus u, :func:`~symcable.models.tow.moved_scene`), the towpoints where their paths
+      put them at t0, and every free node, free point and free body moving at u (a body's
+      angular velocity zero). Before any turn this is an exact solution of the dynamics
+      (no acceleration anywhere): a run from it stays in it;
+    - ``"rest"``: the static state in still (or the scene's) water, at rest, with each
+      towpoint where its path puts it at t0 (it then sets off at full speed);
+    - None: ``"steady"`` when the scene tows and the steady tow exists, else ``"rest"`` (a
+      scene that tows but whose held points do not all tow at one velocity starts at rest,
+      with a warning saying why).
+
+    A scene with no tow starts as before, from :func:`static_equilibrium` at rest."""
+    if start is not None and start not in START_MODES:
+        raise SymcableError(f"start = {start!r}: must be one of {', '.join(map(repr, START_MODES))} "
+                            "(or None: 'steady' for a scene that tows, else 'rest')")
+    tows, why = held_tows(scene, t0)
+    warnings = []
+    if start == "steady" and why is not None:
+        raise SymcableError(f"start = 'steady': scene {scene.name!r} has no steady tow at "
+                            f"t = {t0:g} s: {why}; every held point must tow (kind = 'tow') at "
+                            "one velocity (or start = 'rest')")
+    steady = why is None and start != "rest"
+    if start is None and tows and why is not None:
+        warnings.append(f"started from rest, not from a steady tow: {why}")
+    mech = cable3d_mechanism(scene)
+    if not tows:
+        _, eq = static_equilibrium(scene, codegen=codegen)
+        return mech, eq, np.zeros(mech.n_v), {"start": "rest"}, warnings
+    u = next(iter(tows.values()))[1]
+    moved = any(np.any(st[0]) for st in tows.values())
+    there = moved_scene(scene, tows, u if steady else None) if (steady or moved) else scene
+    _, eq = static_equilibrium(there, codegen=codegen)
+    if not steady:
+        return mech, eq, np.zeros(mech.n_v), {"start": "rest"}, warnings
+    if any(np.any(np.abs(st[2]) > 0) for st in tows.values()):
+        warnings.append(f"the run starts inside a turn (t = {t0:g} s): its start is the "
+                        "straight tow at the towpoint's velocity then, not a steady turn")
+    if _frictionless_statics(scene):
+        warnings.append("the steady tow's static solve has no seabed friction: the line "
+                        "sliding on the bed starts without it")
+    return mech, eq, tow_velocities(mech, u), {"start": "steady tow",
+                                               "tow_velocity": [float(c) for c in u]}, warnings
 
 
 def solve_static_3d(scene: Scene, *, tol: float | None = None, max_iter: int = 50,

@@ -37,11 +37,11 @@ moving end turns with it, so the mass matrix depends on t as well as q.
 
 Parameters (blocks): ``load`` (scales weight, buoyancy and applied forces; 1),
 ``end_a.position``, ``end_b.position`` (3 each, m), ``current`` (3, m/s), ``slack`` (the
-tension-only law's continuation, as planar), ``motion`` (scales the prescribed motions; 0 in
-statics), ``ramp`` (1: a harmonic motion ramps in over its first period from t = 0; 0: at
-full amplitude throughout, as periodic solves take it); with static friction
-``static_friction`` (1 in statics, 0 in time) and ``laid`` (the as-laid horizontal positions
-of the nodes, m, node by node).
+tension-only law's continuation, as planar), ``motion`` (scales the prescribed motions, a
+tow's included; 0 in statics), ``ramp`` (1: a harmonic motion ramps in over its first
+period from t = 0; 0: at full amplitude throughout, as periodic solves take it); with
+static friction ``static_friction`` (1 in statics, 0 in time) and ``laid`` (the as-laid
+horizontal positions of the nodes, m, node by node).
 """
 from __future__ import annotations
 
@@ -58,6 +58,7 @@ from .cable3d_bending import bending_terms, linear_axial_law
 from .cable3d_drag import law_table, loading_drag
 from .cable3d_starts import force_scale, laid_shape, starts_of
 from .relax import _ramp_integral
+from .tow import tow_path
 from .mechanism import (Bound, Layout, Mechanism, Output, ParamBlocks, PartLayout, Scales,
                         StateNames)
 from .seabed_friction import friction
@@ -134,10 +135,15 @@ def _held(end, pos_p, motion_scale, t, ramp_on=1.0):
       r = (1 - cos(pi t / period)) / 2 (0 before t = 0, 1 after one period), so that a run
       from the static state at any t <= 0 starts without a jump in the end's position or
       velocity; ``ramp_on`` = 0 (the parameter ``ramp``: periodic solves) takes r = 1
-      throughout. Its velocity is the derivative."""
+      throughout. Its velocity is the derivative;
+    - or a tow's path (:func:`~symcable.models.tow.tow_path`), neither ramped nor changed by
+      ``ramp_on`` (scaled by ``motion_scale``: held at its scene position in statics)."""
     m = end.motion
     if m is None:
         return pos_p, ca.SX.zeros(3, 1)
+    if m.kind == "tow":
+        x, v = tow_path(m, t)
+        return pos_p + motion_scale * x, motion_scale * v
     if m.kind == "table":  # piecewise linear through the rows, held outside them
         r = np.asarray(m.samples, float)
         tk, X = r[:, 0], r[:, 1:4]

@@ -146,13 +146,17 @@ class Motion:
     ``"table"`` (cable3d): the displacement read from a file of rows ``t x y z [rx ry rz]``,
     linearly interpolated, held at its first and last rows outside it (rotations ignored:
     an end is a point).
+    ``"tow"`` (cable3d): a towpoint moving at constant ``speed`` in the x-y plane, straight
+    on ``heading`` and through the circular ``turns`` (:mod:`symcable.scene.tow`; the path
+    is :func:`symcable.models.tow.tow_path`).
 
     Attributes
     ----------
     kind : str
-        ``"harmonic"`` or ``"table"``.
+        ``"harmonic"``, ``"table"`` or ``"tow"``.
     period : float
-        s (> 0); for a table, its time span.
+        s (> 0); for a table, its time span; for a tow, the time from ``start`` to the end
+        of its last turn (0 without turns): a tow has no period.
     amplitude : tuple of float
         m, one per coordinate: (x, z) planar, (x, y, z) cable3d; for a table, the largest
         |displacement| per coordinate.
@@ -162,6 +166,18 @@ class Motion:
         The table's file, resolved (absolute).
     samples : tuple of (t, dx, dy, dz) or None
         The table's rows, s and m.
+    speed : float or None
+        A tow's speed, m/s (> 0).
+    heading_deg : float or None
+        A tow's first heading, degrees: its direction of travel in the x-y plane from +x,
+        counter-clockwise.
+    start : float
+        A tow: the time (s) at which the point passes its scene position; the first turn's
+        ``after`` counts from it. The tow runs at ``speed`` from t = -inf.
+    turns : tuple of (after, radius, angle_deg)
+        A tow's turns, in order: after a straight run of ``after`` s (>= 0), a circular turn
+        of ``radius`` m (> 0) through ``angle_deg`` degrees (positive: to port, i.e.
+        counter-clockwise seen from above), then straight on the new heading.
     """
 
     kind: str
@@ -170,6 +186,10 @@ class Motion:
     phase_deg: tuple[float, ...]
     file: str | None = None
     samples: tuple | None = None
+    speed: float | None = None
+    heading_deg: float | None = None
+    start: float = 0.0
+    turns: tuple = ()
 
     @property
     def omega(self) -> float:
@@ -455,6 +475,9 @@ def _sections_list(sections) -> list:
 
 
 def _motion_dict(m: Motion) -> dict:
+    if m.kind == "tow":
+        return {"kind": "tow", "speed": m.speed, "heading": m.heading_deg, "start": m.start,
+                "turns": [{"after": a, "radius": r, "angle": g} for a, r, g in m.turns]}
     return ({"kind": "table", "file": m.file} if m.kind == "table" else
             {"kind": m.kind, "period": m.period, "amplitude": list(m.amplitude),
              "phase_deg": list(m.phase_deg)})

@@ -14,6 +14,7 @@ from ..errors import SceneError
 from .checks import (_choice, _err, _fmt, _for, _get, _integer, _key, _layout,
                      _number, _num_reader, _required, _suggest, _table, _vector)
 from .drag import read_drag_law
+from .tow import TOW_KEYS, read_tow
 from .model import (_LINE_KEYS, _LINE_KEYS_DRAG, End, EndCondition, Environment, LineType,
                     Motion, Seabed, Section)
 
@@ -24,8 +25,8 @@ FRICTION_LAWS = ("coulomb", "bristle")
 STATIC_FRICTION = ("none", "laid")
 _SECTION_KEYS = ("type", "length", "segments")
 _END_KEYS = ("condition", "position", "angle_deg", "force", "motion", "direction")
-_MOTION_KEYS = ("kind", "period", "amplitude", "phase_deg", "file")
-_MOTION_KINDS = ("harmonic", "table")
+_MOTION_KEYS = ("kind", "period", "amplitude", "phase_deg", "file") + TOW_KEYS
+_MOTION_KINDS = ("harmonic", "table", "tow")
 _CONDITIONS = tuple(c.value for c in EndCondition)
 
 # Defaults come from the dataclasses, so the file and the code cannot disagree.
@@ -198,6 +199,11 @@ def _motion(path: str, raw: Any, dim: int, base: str = ".") -> Motion:
     kind = _choice(f"{path}.kind", _get(t, "kind", "harmonic"), _MOTION_KINDS, "motion kind")
     if kind == "table":
         return _table_motion(path, t, dim, base)
+    if kind == "tow":
+        return read_tow(path, t, dim)
+    for key in TOW_KEYS:
+        if _get(t, key) is not None:
+            raise _err(f"{path}.{key}", _get(t, key), "", 'only kind = "tow" reads it')
     if _get(t, "file") is not None:
         raise _err(f"{path}.file", _get(t, "file"), "", 'only kind = "table" reads a file')
     amplitude = _required(path, t, "amplitude", f"{_layout(dim, 'A_')}, m")
@@ -215,7 +221,7 @@ def _table_motion(path: str, t: Mapping, dim: int, base: str) -> Motion:
     if dim != 3:
         raise _err(f"{path}.kind", "table", "", 'table motions are read by model = "cable3d" '
                    'only (the planar dynamics take "harmonic")')
-    for key in ("period", "amplitude", "phase_deg"):
+    for key in ("period", "amplitude", "phase_deg") + TOW_KEYS:
         if _get(t, key) is not None:
             raise _err(f"{path}.{key}", _get(t, key), "", 'a table motion takes only "file"')
     name = _required(path, t, "file", "a file of rows t x y z [rx ry rz] (s, m; displacement "
@@ -434,6 +440,14 @@ def _check_motion_speed(name: str, motion: Motion, lt: LineType) -> None:
             raise _err(f"{name}.motion.file", motion.file, "",
                        f"the end would move at up to {float(v.max()):.3g} m/s, faster than "
                        f"max_strain * sqrt(EA / mass) = {limit:.3g} m/s of line type {lt.name!r}")
+        return
+    if motion.kind == "tow":  # set off at full speed by a start from rest
+        limit = lt.max_strain * math.sqrt(lt.EA / lt.mass)
+        if motion.speed > limit:
+            raise _err(f"{name}.motion.speed", motion.speed, "m/s",
+                       f"faster than max_strain * sqrt(EA / mass) = {limit:.3g} m/s of line "
+                       f"type {lt.name!r} (a line set off at this speed takes an axial wave "
+                       "of strain speed / sqrt(EA / mass), beyond its max_strain)")
         return
     if motion.kind != "harmonic":
         return

@@ -72,7 +72,8 @@ def build_dynamic_model(scene, static=None) -> DynamicModel:
 def simulate(scene, duration: float, dt: float | None = None, method: str = "generalized-alpha", *,
              rho_inf: float | None = None, save_every: int | None = None, save_times=None,
              progress: bool | None = None, model: DynamicModel | None = None, params=None,
-             newton_tol: float | None = None, codegen: bool | None = None) -> Trajectory:
+             newton_tol: float | None = None, codegen: bool | None = None,
+             start: str | None = None) -> Trajectory:
     """Time response of a line from rest at t = 0 (where its excitation starts): its
     dynamics Mechanism (:func:`~symcable.models.planar_mechanism.mechanism_of`) marched by
     :func:`symcable.integrate`.
@@ -124,6 +125,12 @@ def simulate(scene, duration: float, dt: float | None = None, method: str = "gen
         is small enough for compiling to pay (see :mod:`symcable.codegen`); True without a
         compiler warns once and uses the virtual machine. Results agree with the virtual
         machine's to round-off.
+    start : {"steady", "rest"}, optional
+        cable3d scenes: where the run starts. "steady" (the default for a scene whose held
+        points all tow at one velocity, ``kind = "tow"``): the steady tow, the static
+        solution in the frame moving with the towpoints, every node moving with them;
+        "rest": the static state at rest (the default otherwise). The planar line starts
+        from rest (None only).
 
     Returns
     -------
@@ -155,7 +162,10 @@ def simulate(scene, duration: float, dt: float | None = None, method: str = "gen
                                rho_inf=_c3.RHO_INF if rho_inf is None else rho_inf,
                                save_every=save_every,
                                save_times=save_times, progress=progress, newton_tol=newton_tol,
-                               codegen=codegen)
+                               codegen=codegen, start=start)
+    if start is not None:
+        raise SymcableError(f"start = {start!r}: the planar line's dynamics start from rest "
+                            "(start applies to cable3d scenes)")
     if model is None and scene is not None:
         scene = load_scene(scene)
         model = build_dynamic_model(scene)

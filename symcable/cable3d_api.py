@@ -56,6 +56,10 @@ NEWTON_TOL = 1e-8
 #: seabed contact at rho_inf = 0.5 (true errors 12, 3.2 and 0.76 % of the range, against
 #: dt = T/3200); with the factor, 1.3 to 1.4 times the true error at rho_inf = 0
 TENSION_ESTIMATE_FACTOR = 2.0
+#: the least range an end tension's error is relative to, as a fraction of the largest end
+#: tension of the run: a steady tow's tensions vary by round-off only (a free end's is zero
+#: to 2e-4 N), and measured against that the estimate said 66-219 %
+TENSION_RANGE_FLOOR = 1e-3
 #: rad, a tow's default step turns it through at most this on its tightest turn (a 90 degree
 #: turn in 31 steps)
 TOW_TURN_STEP = 0.05
@@ -120,7 +124,8 @@ def _period(scene: Scene):
     return min(per) if per else None
 
 
-def tension_error_estimate(time, series, h: float, tau: float, constant: float) -> float:
+def tension_error_estimate(time, series, h: float, tau: float, constant: float,
+                           floor: float = 0.0) -> float:
     """The time-stepping error of a sampled series (an end tension) relative to its range,
     by generalized-alpha's local error C h^3 |f'''| per step (``constant`` C, step ``h`` s)
     summed with a memory of ``tau`` s (one radian of the excitation), as
@@ -128,9 +133,10 @@ def tension_error_estimate(time, series, h: float, tau: float, constant: float) 
     from the samples (``time`` s). The state's own estimate measures positions against their
     range, and a tension is EA times a small difference of positions: on a taut line the
     tension's error was 25 times the positions' (each relative to its range). Times
-    TENSION_ESTIMATE_FACTOR."""
+    TENSION_ESTIMATE_FACTOR. The range is at least ``floor`` (N): a steady tension (a
+    steady tow, a free end's zero) has no range, and its round-off is no motion."""
     t, f = np.asarray(time, float), np.asarray(series, float)
-    rng = float(np.ptp(f)) if f.size else 0.0
+    rng = max(float(np.ptp(f)), floor) if f.size else 0.0
     if t.size < 5 or not rng > 0:
         return 0.0
     f3 = np.gradient(np.gradient(np.gradient(f, t), t), t)
@@ -147,8 +153,10 @@ def _with_tension_estimate(stats: dict, warnings, tr, ends, opts, period, label)
         return stats, warnings
     h = stats["dt"]
     tau = stats.get("error_memory") or (tr.time[-1] - tr.time[0]) / (2 * math.pi)
-    est = max(tension_error_estimate(tr.time, np.linalg.norm(f, axis=1), h, tau,
-                                     opts.error_constant) for f in ends)
+    series = [np.linalg.norm(f, axis=1) for f in ends]
+    floor = TENSION_RANGE_FLOOR * max(float(np.max(f)) if f.size else 0.0 for f in series)
+    est = max(tension_error_estimate(tr.time, f, h, tau, opts.error_constant, floor)
+              for f in series)
     stats = dict(stats, error_estimate_states=stats["error_estimate"], tension_error_estimate=est)
     stats["error_estimate"] = max(est, stats["error_estimate"])
     stats["dt_accurate"] = accurate_dt(h, stats["error_estimate"])

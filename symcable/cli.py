@@ -36,7 +36,10 @@ def _scene_summary(scene, n_unknowns: int, terms) -> str:
         if end.motion is not None:
             m = end.motion
             extra += (f", motion from {m.file} ({len(m.samples)} rows over {m.period:g} s)"
-                      if m.kind == "table" else f", harmonic motion of period {m.period:g} s")
+                      if m.kind == "table" else
+                      f", towed at {m.speed:g} m/s heading {m.heading_deg:g} deg"
+                      + (f", {len(m.turns)} turn(s) over {m.period:g} s" if m.turns else "")
+                      if m.kind == "tow" else f", harmonic motion of period {m.period:g} s")
         lines.append(f"{label}      {end.condition.value}{extra}")
     return "\n".join(lines)
 
@@ -171,11 +174,15 @@ def _simulate(args) -> int:
     from .plotting import plot_trajectory
 
     scene = load_scene(args.scene)
-    motions = [e.motion for e in (scene.end_a, scene.end_b) if e is not None and e.motion]
-    period = next((m.period for m in motions), None)
-    # a table runs over its rows; a harmonic motion ten periods
+    motions = [e.motion for e in (scene.end_a, scene.end_b) if e is not None and e.motion] \
+        + [pt.motion for pt in (scene.points or {}).values() if getattr(pt, "motion", None)]
+    period = next((m.period for m in motions if m.kind == "harmonic"), None)
+    # a table runs over its rows, a tow over its turns (and a minute more), a harmonic
+    # motion ten periods
     table = next((m for m in motions if m.kind == "table"), None)
-    duration = args.duration or (table.period if table else 10.0 * period if period else 60.0)
+    tow = next((m for m in motions if m.kind == "tow"), None)
+    duration = args.duration or (table.period if table else tow.period + 60.0 if tow
+                                 else 10.0 * period if period else 60.0)
     traj = simulate(scene, duration, dt=args.dt, method=args.method)
     _emit(traj, args, lambda path: (traj.plot(path) if scene.model.value == "cable3d"
                                     else plot_trajectory(traj, path)))
@@ -273,7 +280,8 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("simulate", help="time response to the scene's end motion")
     p.add_argument("scene")
     _output_options(p, "trajectory")
-    p.add_argument("--duration", type=float, help="s (default 10 excitation periods)")
+    p.add_argument("--duration", type=float, help="s (default 10 excitation periods; a table's "
+                   "span; a tow's turns plus 60 s)")
     p.add_argument("--dt", type=float, help="time step, s (default: chosen by the method)")
     p.add_argument("--method", default="generalized-alpha", choices=["generalized-alpha", "rk4"])
     p = sub.add_parser("periodic", help="periodic steady state over one excitation period")

@@ -265,3 +265,20 @@ def test_circle_with_a_heavy_end_cuts_inside_the_tow_circle():
     assert r_end[-1] < 60.0 - 1.0
     assert abs(r_end[-1] - r_end[k]) < 1e-4
     assert tr.positions[-1, -1, 2] < tr.positions[0, -1, 2]
+
+
+def test_cli_checks_and_simulates_a_tow(tmp_path, capsys):
+    """`symcable check` names the tow, and `symcable simulate` runs it from its steady tow
+    (the default duration: a tow without turns runs 60 s; here 2 s are asked)."""
+    import json
+
+    import tomli_w
+
+    from symcable.cli import main
+    path = tmp_path / "tow.toml"
+    path.write_text(tomli_w.dumps(_pode()))
+    assert main(["check", str(path)]) == 0
+    assert "towed at 1.5 m/s heading 0 deg" in capsys.readouterr().out
+    assert main(["simulate", str(path), "--duration", "2", "--dt", "0.1", "--json"]) == 0
+    d = json.loads(capsys.readouterr().out)
+    assert d["stats"]["start"] == "steady tow"

@@ -34,6 +34,7 @@ from .planar_periodic import solve_model, sweep_model
 from .results_mechanism import Equilibrium, SceneLinearization
 from .planar_static import solve_static
 from . import cable3d_api as _c3
+from . import cable3d_periodic as _c3p
 from .scene import Model
 
 __all__ = ["build_dynamic_model", "modal_analysis", "simulate", "solve_periodic", "sweep_periodic"]
@@ -249,7 +250,7 @@ def solve_periodic(scene, method="shooting", *, model: DynamicModel | None = Non
     started = time.perf_counter()
     s3 = _cable3d(scene, model=model, params=params, initial=initial, ipopt_options=ipopt_options)
     if s3 is not None:
-        return _c3.solve_periodic_3d(s3, method, codegen=codegen, tol=tol, **options)
+        return _c3p.solve_periodic_3d(s3, method, codegen=codegen, tol=tol, **options)
     if model is None:
         scene = load_scene(scene)
         model = build_dynamic_model(scene)
@@ -286,7 +287,7 @@ def sweep_periodic(scene, periods: Sequence[float], method="collocation", *,
     started = time.perf_counter()
     s3 = _cable3d(scene, model=model, ipopt_options=ipopt_options)
     if s3 is not None:
-        return _c3.sweep_periodic_3d(s3, periods, method, resolution=resolution, codegen=codegen,
+        return _c3p.sweep_periodic_3d(s3, periods, method, resolution=resolution, codegen=codegen,
                                      tol=tol, **options)
     if model is None:
         scene = load_scene(scene)

@@ -1,10 +1,10 @@
 """The analyses of a ``cable3d`` scene, fully nonlinear: its Mechanism
 (:func:`~symcable.cable3d_static.cable3d_mechanism`) at rest
 (:func:`~symcable.cable3d_static.static_equilibrium`), then the generic solvers: time
-stepping (:func:`~symcable.solvers.integrate.integrate`), periodic steady states
-(:func:`~symcable.solvers.periodic_mech.solve_periodic_mech`), modes
+stepping (:func:`~symcable.solvers.integrate.integrate`), modes
 (:func:`~symcable.solvers.linearize.mechanism_modes`) and the exact linearisation.
-:mod:`symcable.api` sends a cable3d scene here; the arguments are the same.
+:mod:`symcable.api` sends a cable3d scene here; the arguments are the same. Periodic
+steady states: :mod:`symcable.cable3d_periodic`.
 """
 from __future__ import annotations
 
@@ -16,22 +16,18 @@ import numpy as np
 
 from .derive import functions
 from .errors import ConvergenceError, SymcableError
-from .planar_periodic import method_options
 from .results import ModalSolution
-from .results_periodic import PeriodicSweep
 from .results_line3d import LineTrajectory, SystemTrajectory, line_from_outputs
 from .results_mechanism import SceneLinearization
 from .scene import End, EndCondition, Scene
-from .cable3d_static import (body_stiffness, check_periodic_3d, dynamic_p, node_shapes,
-                             run_start_state, static_equilibrium)
+from .cable3d_static import (body_stiffness, dynamic_p, node_shapes, run_start_state,
+                             static_equilibrium)
 from .solvers.integrate import ERROR_TARGET, accurate_dt, error_warning, integrate
 from .solvers.march import leaky_sum
 from .solvers.linearize import MAX_DENSE, mechanism_modes, output_sensitivity
 from .solvers.options import RK4, GeneralizedAlphaFirstOrder
-from .solvers.periodic_mech import solve_periodic_mech
 
-__all__ = ["linearize_3d", "modal_analysis_3d", "simulate_3d", "solve_periodic_3d",
-           "sweep_periodic_3d"]
+__all__ = ["linearize_3d", "modal_analysis_3d", "simulate_3d"]
 
 #: steps per excitation period by default (as the planar line's generalized-alpha default)
 STEPS_PER_PERIOD = 100
@@ -253,153 +249,6 @@ def simulate_3d(scene: Scene, duration: float, dt: float | None = None,
                  rho_inf=float(rho_inf) if name != "rk4" else None, **how)
     return _line_result(scene, mech, tr, name, tr.stats["dt"], stats,
                         tuple(notes) + tuple(tr.warnings), opts, _period(scene))
-
-
-def solve_periodic_3d(scene: Scene, method="collocation", *, codegen: bool | None = None,
-                      **options) -> LineTrajectory:
-    """The periodic response of a cable3d line to its harmonic end motion, fully nonlinear
-    (see :func:`symcable.solve_periodic`): one period, the motion at full amplitude (no
-    ramp), as a :class:`LineTrajectory` over ``[0, T)`` whose ``method`` names the periodic
-    method and whose ``stats`` hold ``period`` (s), the method's iterations and its own
-    ``error_estimate`` (the largest scaled equation defect on a grid 4 times the solver's)."""
-    started = time.perf_counter()
-    period = _period(scene)
-    if period is None or any(m.kind == "table" for m in _motions(scene)):
-        raise SymcableError(f"scene {scene.name!r}: a periodic response needs a harmonic end "
-                            "motion ([end_b.motion] kind = 'harmonic'), not "
-                            + ("a table" if _motions(scene) else "none"))
-    check_periodic_3d(scene)
-    tol = options.pop("tol", None)
-    name, opts = method_options(method, options)
-    mech, eq = static_equilibrium(scene, codegen=codegen)
-    p = np.array(mech.params.values, float)
-    ramped = p.copy()  # the start's first period: the motion ramped in from rest
-    for block in mech.params.names:  # every line's "ramp" (namespaced in a scene of several)
-        if block.split(".")[-1] == "ramp":
-            p[mech.params.slice(block)] = 0.0
-            ramped[mech.params.slice(block)] = 1.0
-    # the virtual machine by default: compiling a collocation system of a 10-segment line
-    # took minutes, longer than the solve (a few seconds) it would speed up. If the solve
-    # from the method's own start fails, again from a short run whose first period ramps the
-    # motion in (at full amplitude from t = 0 a fairlead moved by its amplitude jerked a 3D
-    # line with seabed friction to 78 times its static tension at the first step, and the
-    # start-up run or shooting failed there; studies/stability, cable3d rows)
-    kw = dict(p=p, start=eq, codegen=False if codegen is None else codegen,
-              **({} if tol is None else {"tol": float(tol)}))
-    try:
-        res = solve_periodic_mech(mech, period, opts, **kw)
-    except ConvergenceError as first:
-        try:
-            res = solve_periodic_mech(mech, period, opts, start_p=ramped, **kw)
-        except ConvergenceError as second:
-            raise ConvergenceError(f"{str(first).splitlines()[0]}; again from a start with the "
-                                   f"motion ramped in: {str(second).splitlines()[0]}",
-                                   diagnostics=getattr(second, "diagnostics", None)) from None
-        res = dataclasses.replace(res, warnings=tuple(res.warnings) + (
-            f"the solve from the method's own start failed ({str(first).splitlines()[0]}); "
-            "solved from a start with the motion ramped in over its first period",))
-    stats = dict(res.stats, period=period, wall_time=time.perf_counter() - started)
-    n_t = len(res.time)
-    return _line_result(scene, mech, res, name, period / max(n_t, 1), stats, res.warnings)
-
-
-def _with_period(scene: Scene, period: float) -> Scene:
-    """The scene with every harmonic motion at ``period`` s."""
-    from .scene import load_scene
-    d = scene.to_dict()
-    tables = [d.get("end_a"), d.get("end_b")] + [ln.get(k) for ln in d.get("lines", [])
-                                                 for k in ("end_a", "end_b")]
-    tables += list(d.get("points", {}).values())
-    for t in tables:
-        if isinstance(t, dict) and isinstance(t.get("motion"), dict):
-            t["motion"]["period"] = period
-    return load_scene(d)
-
-
-def _swept_end(scene: Scene, line: str | None):
-    """``(pick, label)``: ``pick(periodic_result) -> tension series (N)`` of the swept end: end B of a one-line
-    scene; in a scene of several lines, the end of ``line`` (default: the first line with an
-    end at a point that moves) at the moving point (end B when neither end moves)."""
-    if scene.version != 2:
-        if line is not None:
-            raise SymcableError(f"line = {line!r}: a one-line scene has no named lines; "
-                                "leave it out")
-        return lambda per: per.fairlead_tension, "end B"
-    names = [ln.name for ln in scene.lines]
-    moving = {k for k, pt in scene.points.items() if pt.motion is not None}
-    if line is None:
-        at = [ln.name for ln in scene.lines if {ln.end_a, ln.end_b} & moving]
-        if not at:
-            raise SymcableError(f"scene {scene.name!r}: no line ends at a moving point; name "
-                                f"the line to sweep with line = one of {names}")
-        line = at[0]
-    if line not in names:
-        raise SymcableError(f"line = {line!r}: not a line of scene {scene.name!r}; one of {names}")
-    ln = scene.lines[names.index(line)]
-    end_a = isinstance(ln.end_a, str) and ln.end_a in moving and ln.end_b not in moving
-    if end_a:
-        return (lambda per: per.lines[line].anchor_tension), f"line {line}, end A"
-    return (lambda per: per.lines[line].fairlead_tension), f"line {line}, end B"
-
-
-def sweep_periodic_3d(scene: Scene, periods, method="collocation", *, resolution: int = 200,
-                      codegen: bool | None = None, line: str | None = None,
-                      **options) -> PeriodicSweep:
-    """The periodic tension at the moving end of a cable3d line over excitation periods (a
-    tension RAO; see :func:`symcable.sweep_periodic`): the scene's harmonic motion at each
-    period, each solved by :func:`solve_periodic_3d` from its own start (the period is part
-    of the line's Mechanism, so each period builds its own). A one-line scene: end B's
-    tension (N); several lines and points: the tension of ``line`` (default the first line
-    ending at a moving point) at its moving end. A period that fails gives NaN and a
-    warning; every one failing raises."""
-    started = time.perf_counter()
-    check_periodic_3d(scene)
-    pick, swept = _swept_end(scene, line)
-    periods = np.asarray(periods, dtype=float).ravel()
-    if periods.size == 0 or not np.all(np.isfinite(periods)) or np.any(periods <= 0):
-        raise SymcableError(f"periods = {periods.tolist()!r}: must be a non-empty list of "
-                            "periods > 0 s")
-    if isinstance(resolution, bool) or int(resolution) != resolution or resolution < 8:
-        raise SymcableError(f"resolution = {resolution!r}: must be an integer >= 8")
-    tau = np.arange(int(resolution)) / int(resolution)
-    rows = {k: np.full(periods.size, np.nan) for k in ("amp", "phase", "mean", "max", "min")}
-    series = np.full((periods.size, tau.size), np.nan)
-    statuses, warnings, its, times = [], [], [], []
-    name = method if isinstance(method, str) else type(method).__name__
-    for i, T in enumerate(periods):
-        t0 = time.perf_counter()
-        try:
-            per = solve_periodic_3d(_with_period(scene, float(T)), method, codegen=codegen,
-                                    **options)
-        except (ConvergenceError, SymcableError) as exc:
-            statuses.append("failed")
-            warnings.append(f"period {T:g} s: {str(exc).splitlines()[0]}")
-            its.append(None)
-            times.append(time.perf_counter() - t0)
-            continue
-        name = per.method
-        ten = pick(per)
-        f = np.interp(tau * T, np.r_[per.time, T], np.r_[ten, ten[0]])
-        c = np.fft.rfft(f) / f.size
-        series[i] = f
-        rows["amp"][i], rows["phase"][i] = 2 * abs(c[1]), float(np.angle(c[1]))
-        rows["mean"][i], rows["max"][i], rows["min"][i] = f.mean(), f.max(), f.min()
-        statuses.append(per.status)
-        its.append(per.stats.get("iterations"))
-        times.append(time.perf_counter() - t0)
-    if all(st == "failed" for st in statuses):
-        raise ConvergenceError(f"sweep_periodic of {scene.name!r}: every period failed; first: "
-                               f"{warnings[0]}", diagnostics={"warnings": warnings})
-    status = "converged" if all(st == "converged" for st in statuses) else "partial"
-    return PeriodicSweep(
-        scene_name=scene.name, method=name, periods=periods,
-        fairlead_tension_amplitude=rows["amp"], fairlead_tension_phase=rows["phase"],
-        fairlead_tension_mean=rows["mean"], fairlead_tension_max=rows["max"],
-        fairlead_tension_min=rows["min"], normalised_time=tau, fairlead_tension=series,
-        statuses=tuple(statuses), status=status,
-        stats={"wall_time": time.perf_counter() - started, "iterations": its,
-               "solve_time": times, "start": ["own start"] * periods.size, "swept": swept},
-        warnings=tuple(warnings))
 
 
 def modal_analysis_3d(scene: Scene, n_modes: int = 10, *, max_dense: int = MAX_DENSE,

@@ -65,6 +65,7 @@ LAYERS = {
     "symcable.api": 6,
     "symcable.planar_static": 6,
     "symcable.cable3d_api": 6,
+    "symcable.cable3d_periodic": 6,
     "symcable.cable3d_static": 6,
     "symcable.planar_periodic": 6,
     "symcable.planar_time": 6,

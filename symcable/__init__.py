@@ -28,6 +28,8 @@ from .models import toys
 from .results_mechanism import (Equilibrium, Linearization, MechanismModes, MechanismTrajectory,
                                 SceneLinearization)
 from .results_periodic_mech import MechanismPeriodic
+from .results_sweep import CaseResult, SweepResult
+from .sweep import read_sweep, run_sweep
 from .solvers.equilibrium import solve_equilibrium
 from .solvers.integrate import integrate
 from .solvers.linearize import linearize_mechanism, mechanism_modes, output_sensitivity
@@ -66,6 +68,11 @@ __all__ = [
     "end_stiffness",
     "linearize",
     "SceneLinearization",
+    # sweeps: a table of cases on Dask (pip install "symcable[sweep]")
+    "run_sweep",
+    "read_sweep",
+    "SweepResult",
+    "CaseResult",
     # the Mechanism core: any formulation, assembled parts, generic solvers
     "Mechanism",
     "Bound",

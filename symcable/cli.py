@@ -300,6 +300,8 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("demo", help="the built-in scenes: OC3 statics, seed-001 periodic response")
     p.add_argument("--plot", metavar="FILE", help="figure path (default symcable-demo.png)")
     p.add_argument("--save", metavar="FILE", help="save the static solution (.npz or .json)")
+    from .sweep.command import add_parser as add_sweep
+    add_sweep(sub)
     return ap
 
 
@@ -324,6 +326,9 @@ def main(argv: list[str] | None = None) -> int:
             return _codegen(args)
         if args.command == "cache":
             return _cache(args)
+        if args.command == "sweep":
+            from .sweep.command import main as sweep
+            return sweep(args)
     except SymcableError as exc:
         print(f"symcable: {type(exc).__name__}: {exc}", file=sys.stderr)
         return 2

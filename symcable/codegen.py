@@ -34,6 +34,7 @@ import tempfile
 import threading
 import time
 import warnings
+from contextlib import contextmanager
 from pathlib import Path
 from typing import Sequence
 
@@ -43,8 +44,9 @@ import numpy as np
 from .errors import SymcableError
 from .progress import notice
 
-__all__ = ["CodegenWarning", "FastCall", "cache_dir", "cache_info", "clear_cache", "compile_functions",
-           "compiler", "export_sources", "graph_size", "use_codegen", "DEFAULT_MAX_SIZE", "FLAGS"]
+__all__ = ["CodegenWarning", "FastCall", "cache_dir", "cache_info", "cached_only", "clear_cache",
+           "compile_functions", "compiler", "export_sources", "graph_size", "use_codegen",
+           "DEFAULT_MAX_SIZE", "FLAGS"]
 
 #: compiler flags of cached libraries (part of the cache key). -O2: on the generated step
 #: and Newton functions it is within a few % of -O3 and compiles faster.
@@ -251,6 +253,28 @@ _lock = threading.Lock()
 _loaded: dict = {}
 #: what the last compile_functions call did (for studies and tests)
 last_build: dict = {}
+#: compile_functions calls in this process by what they did: "memory" (already loaded),
+#: "cache" (loaded from the build cache), "compiled" (built now), "vm" (not in the cache
+#: within :func:`cached_only`: the virtual machine's Functions); a sweep reports each
+#: case's share (:mod:`symcable.sweep`)
+build_counts: dict = {"memory": 0, "cache": 0, "compiled": 0, "vm": 0}
+_cached_only = threading.local()
+
+
+@contextmanager
+def cached_only():
+    """Within this block (in this thread), :func:`compile_functions` loads what is already
+    loaded or in the build cache but compiles nothing: for Functions not there it returns
+    them as they are (the virtual machine's; same results, slower). A sweep's workers run
+    so (:mod:`symcable.sweep`): what the client compiled for the first case they load from
+    the cache; a case of another model structure runs in the virtual machine rather than
+    compile on a worker."""
+    before = getattr(_cached_only, "on", False)
+    _cached_only.on = True
+    try:
+        yield
+    finally:
+        _cached_only.on = before
 
 
 def compile_functions(functions: Sequence[ca.Function], *, jacobians: bool = False,
@@ -273,7 +297,9 @@ def compile_functions(functions: Sequence[ca.Function], *, jacobians: bool = Fal
     Returns
     -------
     dict
-        ``{name: casadi.Function}`` loaded from the library with ``casadi.external``.
+        ``{name: casadi.Function}`` loaded from the library with ``casadi.external``
+        (within :func:`cached_only`, when the cache does not have them: ``functions`` as
+        given).
 
     Raises
     ------
@@ -291,12 +317,17 @@ def compile_functions(functions: Sequence[ca.Function], *, jacobians: bool = Fal
     with _lock:
         if key in _loaded:
             last_build.update(key=key, action="memory", seconds=0.0)
+            build_counts["memory"] += 1
             return _loaded[key]
         folder = cache_dir()
         folder.mkdir(parents=True, exist_ok=True)
         t0 = time.perf_counter()
         lib = _valid_entry(folder, key)
         action = "cache"
+        if lib is None and getattr(_cached_only, "on", False):
+            last_build.update(key=key, action="vm", seconds=0.0)
+            build_counts["vm"] += 1
+            return {f.name(): f for f in functions}
         if lib is None:
             notice(f"compiling {what} for this model (once, cached) …")
             lib = _build(funcs, folder, key, cc)
@@ -304,6 +335,7 @@ def compile_functions(functions: Sequence[ca.Function], *, jacobians: bool = Fal
         loaded = {f.name(): ca.external(f.name(), str(lib)) for f in functions}
         _loaded[key] = loaded
         last_build.update(key=key, action=action, seconds=time.perf_counter() - t0, library=str(lib))
+        build_counts[action] += 1
         return loaded
 
 

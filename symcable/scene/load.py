@@ -85,7 +85,8 @@ def moordyn_deck(path: str | os.PathLike) -> MoorDynDeck | None:
     return parse_moordyn(text, name) if is_moordyn_deck(text) else None
 
 
-def load_scene(source: str | os.PathLike | Mapping | Scene) -> Scene:
+def load_scene(source: str | os.PathLike | Mapping | Scene, *,
+               base: str | os.PathLike | None = None) -> Scene:
     """Read and validate a scene.
 
     Parameters
@@ -93,6 +94,9 @@ def load_scene(source: str | os.PathLike | Mapping | Scene) -> Scene:
     source : str, os.PathLike, dict or Scene
         Path of a TOML scene file or of a MoorDyn v2 deck (a file that is not TOML and looks
         like one, :mod:`.moordyn`), a dict in the scene layout, or a Scene (returned unchanged).
+    base : str or os.PathLike, optional
+        For a dict: the folder its relative file names (a motion table's ``file``) are read
+        from, as a scene file's own folder is for the file (default: the current folder).
 
     Returns
     -------
@@ -116,7 +120,9 @@ def load_scene(source: str | os.PathLike | Mapping | Scene) -> Scene:
     else:
         raise _err("scene", source, "", "must be a path to a TOML file, a dict or a Scene")
     try:
-        base = os.path.dirname(os.path.abspath(name)) if name != "<dict>" else os.getcwd()
+        if name != "<dict>":
+            base = os.path.dirname(os.path.abspath(name))
+        base = os.getcwd() if base is None else os.fspath(base)
         return _build(data, str(name), base)
     except SceneError as exc:
         if deck is None:

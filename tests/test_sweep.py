@@ -18,6 +18,7 @@ import copy
 import json
 import os
 import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -177,6 +178,13 @@ def test_failed_case_recorded_and_the_sweep_goes_on(tmp_path, cluster):
     assert "below the seabed at z = -320.0 m" in res["below the seabed"].message
     assert all(c.values == {} for c in res.cases if not c.ok)
     assert np.isfinite(res.column("fairlead_tension_max")).all() and len(res.succeeded) == 2
+    # the statistics are those of the run itself (the same run, here)
+    tr = sc.simulate(tmp_path / "line.toml", 4.0, dt=0.05, method="rk4", codegen=False)
+    ok = res["ok"].values
+    assert ok["fairlead_tension_max"] == pytest.approx(tr.fairlead_tension.max(), rel=1e-12)
+    assert ok["anchor_tension_mean"] == pytest.approx(tr.anchor_tension.mean(), rel=1e-12)
+    assert ok["static_fairlead_tension"] == pytest.approx(
+        sc.solve_static(tmp_path / "line.toml").fairlead_tension, rel=1e-9)
     # saved failed: a resume does not run them again, unless asked
     again = sc.run_sweep(path, workers=0)
     assert again.stats["skipped"] == 4 and again.stats["ran"] == 0
@@ -267,3 +275,21 @@ def test_cli_sweep_and_a_changed_scene_runs_again(tmp_path, capsys):
     err = capsys.readouterr().err.strip()
     assert err.startswith("symcable: SceneError: ") and "analysis = 'dynamic'" in err
     assert "\n" not in err
+
+
+DECKS = Path("/work/shared/reference/moordyn-chains")
+
+
+@pytest.mark.skipif(not DECKS.is_dir(), reason="reference decks not present")
+def test_a_moordyn_deck_as_the_scene(tmp_path):
+    """The scene of a sweep may be a MoorDyn deck: its keys are those of the scene it reads
+    as (``environment.current``)."""
+    path = _write(tmp_path, "CASES.toml", {
+        "scene": str(DECKS / "WD0050_Chain.txt"), "analysis": "static",
+        "grid": {"environment.current": [[0.0, 0.0, 0.0], [0.5, 0.0, 0.0]]}})
+    res = sc.run_sweep(path, workers=0)
+    deck = sc.load_scene(DECKS / "WD0050_Chain.txt").to_dict()
+    deck["environment"]["current"] = [0.5, 0.0, 0.0]
+    assert res["current=0.5_0_0"].values["fairlead_tension"] == pytest.approx(
+        sc.solve_static(deck).fairlead_tension, rel=1e-9)
+    assert res.column("anchor_tension")[1] != res.column("anchor_tension")[0]

@@ -234,7 +234,7 @@ def run_sweep(cases, out=None, *, workers: int | None = None, scheduler: Any = N
     pending = [c for c in sweep.cases if c.name not in done]
     todo = pending if limit is None else pending[:limit]
     n_workers, label = 0, "in-process"
-    with ProgressBar(len(todo), progress, label=f"sweep {sweep.name}", unit="case") as bar:
+    with ProgressBar(len(todo), progress, label=sweep.name, unit="case") as bar:
         record = _Recorder(sweep, folder, bar)
         runnable = []
         for case in todo:  # a case whose scene is invalid fails here, without a task

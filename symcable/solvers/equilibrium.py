@@ -106,7 +106,10 @@ def _ptc(F, mech, x0, p, tol):
         if nr <= tol:
             return SimpleNamespace(x=x, converged=True, iterations=it - 1, residual_norm=nr,
                                    message="converged")
-        _, dx = (np.asarray(a).ravel() for a in F.static_ptc_step(x, p, D / dtau))
+        try:
+            _, dx = (np.asarray(a).ravel() for a in F.static_ptc_step(x, p, D / dtau))
+        except RuntimeError:  # a singular matrix (the VM's QR refuses it): a smaller step
+            dx = np.full(x.shape, np.nan)  # has a larger diagonal; rejected below
         x_new = x + dx
         r_new = np.asarray(F.static_residual(x_new, p)).ravel() if np.all(np.isfinite(dx)) \
             else np.full(r.shape, np.inf)

@@ -40,7 +40,7 @@ mechanism and (H, samples) and serves every period.
 Start
 -----
 The last of 6 periods of generalized-alpha (64 steps each) marched from the static
-equilibrium at rest (:func:`~symcable.solvers.shooting_mech.transient_start`), or a given
+equilibrium at rest (:func:`~symcable.solvers.periodic_start.transient_start`), or a given
 periodic solution. Not the linear response: on Duffing at its defaults (omega = 1.2 above
 the linear natural frequency 1, where the hardening response sits on its resonant branch)
 the linear response is in antiphase, and Newton on the one-harmonic balance from it stalls

@@ -29,8 +29,10 @@ from .collocation_mech import solve_collocation
 from .equilibrium import solve_equilibrium
 from .hbalance_mech import solve_hbalance
 from .options import Collocation, HarmonicBalance, Shooting
+from .periodic_fallback import STEP_MAX_ITER, continuation_applies, solve_by_continuation
 from .periodic_common import rest_start, start_from_samples
-from .shooting_mech import START_PERIODS, solve_shooting, transient_start
+from .periodic_start import START_PERIODS, transient_start
+from .shooting_mech import solve_shooting
 
 __all__ = ["solve_periodic_mech", "check_periodic", "DEFAULT_TOL", "DEFAULT_DEFECT_TOL"]
 
@@ -96,7 +98,8 @@ def solve_periodic_mech(mech: Mechanism, period: float, method=None, *, p=None, 
                         ipopt_options: Mapping | None = None, tol: float = DEFAULT_TOL,
                         defect_tol: float = DEFAULT_DEFECT_TOL,
                         max_iter: int | None = None,
-                        codegen: bool | None = False, start_p=None) -> MechanismPeriodic:
+                        codegen: bool | None = False, start_p=None,
+                        fallback: bool = True) -> MechanismPeriodic:
     """The periodic response of ``mech`` with period ``period``.
 
     Parameters
@@ -123,6 +126,12 @@ def solve_periodic_mech(mech: Mechanism, period: float, method=None, *, p=None, 
     max_iter : int, optional
         Newton / IPOPT iterations (defaults: collocation 100, harmonic balance 50,
         shooting 30).
+    fallback : bool
+        With a static start (``start`` None or an Equilibrium): where the method's solver
+        does not converge from that start, solve again by continuation in the motion
+        amplitude (:mod:`~symcable.solvers.periodic_fallback`, which says where it applies),
+        with a warning saying so; every solve on the way is checked as the direct one.
+        False: the direct solve only.
     codegen : bool or None
         Collocation and harmonic balance: the per-point residual and its Jacobian in
         generated C; shooting: the first-order step kernel (:func:`symcable.codegen.
@@ -168,14 +177,42 @@ def solve_periodic_mech(mech: Mechanism, period: float, method=None, *, p=None, 
         raise SymcableError(f"p has {p.size} entries, the mechanism {mech.name!r} "
                             f"{mech.params.n}")
 
+    if not (start is None or isinstance(start, (Equilibrium, MechanismPeriodic))):
+        raise SymcableError(f"start = {type(start).__name__}: must be a MechanismPeriodic, an "
+                            "Equilibrium or None")
+    kw = {"tol": tol, "defect_tol": defect_tol, "ipopt_options": ipopt_options,
+          "max_iter": max_iter, "codegen": codegen}
+    static = None if isinstance(start, MechanismPeriodic) else _static_base(mech, start)
+    try:
+        return _solve(mech, period, method, p, start, start_p, static, **kw)
+    except ConvergenceError as first:
+        if not (fallback and static is not None and continuation_applies(mech, p, start_p, first)):
+            raise
+
+        # a continuation step that Newton does not close within STEP_MAX_ITER iterations is
+        # halved rather than iterated on (shooting's periods are capped by their own budget)
+        kw_step = kw if isinstance(method, Shooting) else dict(
+            kw, max_iter=min(max_iter or STEP_MAX_ITER, STEP_MAX_ITER))
+
+        def again(pp, prev, sp):  # one solve of the continuation: from prev, or as above
+            return _solve(mech, period, method, pp, start if prev is None else prev, sp, static,
+                          **kw_step)
+        return solve_by_continuation(again, mech, p, first, start_p=start_p)
+
+
+def _solve(mech: Mechanism, period: float, method, p, start, start_p, static, *, tol,
+           defect_tol, ipopt_options, max_iter, codegen) -> MechanismPeriodic:
+    """One periodic solve of :func:`solve_periodic_mech` (arguments checked there) from
+    ``start`` (a MechanismPeriodic), or from ``static`` = (q0, z0, what) by the method's own
+    start."""
     if isinstance(start, MechanismPeriodic):
         if abs(start.period - period) > 1e-12 * period:
             raise SymcableError(f"start.period = {start.period} s: the start must have the "
                                 f"period solved for, {period} s")
         start_fn = start_from_samples(start.q, start.v, start.z, period)
         info = {"start": f"periodic solution by {start.method}", "start_iterations": 0}
-    elif start is None or isinstance(start, Equilibrium):
-        q0, z0, base = _static_base(mech, start)
+    else:
+        q0, z0, base = static
         if start_p is not None:  # a first period with the motion ramped in from rest
             p_first = np.asarray(start_p, dtype=float).ravel()
             if p_first.size != mech.params.n:
@@ -191,9 +228,6 @@ def solve_periodic_mech(mech: Mechanism, period: float, method=None, *, p=None, 
         else:
             start_fn, info = transient_start(mech, period, p, q0, z0, codegen=codegen)
             info["start"] = f"{info['start']} about the {base}"
-    else:
-        raise SymcableError(f"start = {type(start).__name__}: must be a MechanismPeriodic, an "
-                            "Equilibrium or None")
 
     kw = {"tol": tol, "defect_tol": defect_tol}
     if max_iter is not None:

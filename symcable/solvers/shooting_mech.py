@@ -55,7 +55,8 @@ residual Phi(u) - u likewise: a change over one period relative to the state's m
 
 Start
 -----
-The static equilibrium at rest (the other methods start from :func:`transient_start`, a
+The static equilibrium at rest (the other methods start from
+:func:`~symcable.solvers.periodic_start.transient_start`, a
 short time run from it; shooting's own first periods are that run, at its own steps, so a
 separate one only costs: on seed 001 its 6 periods of 64 steps saved 2 of the 17 periods,
 at the cost of 4), or a given periodic solution at t = 0, the rates made consistent
@@ -88,10 +89,9 @@ from ..results_periodic_mech import trig_interp
 from .galpha1 import galpha1_kernel, step_scales
 from .integrate import galpha1_step, galpha_step
 from .options import GeneralizedAlpha, GeneralizedAlphaFirstOrder, Shooting
-from .periodic_common import (PERIODIC_CACHE, Scaling, StartFn, check_and_wrap,
-                              rest_start, start_from_samples)
+from .periodic_common import PERIODIC_CACHE, Scaling, StartFn, check_and_wrap
 
-__all__ = ["PeriodMap", "solve_shooting", "transient_start"]
+__all__ = ["PeriodMap", "period_map", "solve_shooting"]
 
 #: halvings of a Newton step that does not reduce the residual
 MAX_HALVINGS = 6
@@ -226,37 +226,6 @@ def period_map(mech: Mechanism, opts: Shooting, codegen: bool | None = False) ->
     cg = bool(use_codegen(codegen)) if fo else False
     return PERIODIC_CACHE.get(mech, ("shooting", opts.steps, opts.rho_inf, fo, cg),
                               lambda: PeriodMap(mech, opts.steps, opts.rho_inf, fo, cg))
-
-
-#: the start's time run: periods marched from the static state, steps per period
-START_PERIODS = 6
-START_STEPS = 64
-
-
-def transient_start(mech: Mechanism, period: float, p, q0, z0, *,
-                    periods: int = START_PERIODS, steps: int = START_STEPS,
-                    codegen: bool | None = False, p_first=None) -> tuple:
-    """(StartFn, info): the last of ``periods`` periods of generalized-alpha (``steps`` per
-    period, rho_inf 0.8; first order where the mechanism has kinematics) marched from the
-    static state ``(q0, z0)`` at rest, interpolated trigonometrically; the first period with
-    the parameters ``p_first`` when given (a motion ramped in from rest: a held end that
-    starts displaced at full amplitude jerks the line at its first step). If a step fails,
-    the static state itself (constant)."""
-    pm = period_map(mech, Shooting(steps=steps, rho_inf=0.8), codegen)
-    nv = mech.n_v
-    q0, z0 = np.asarray(q0, float), np.asarray(z0, float)
-    x, _ = pm.initial_state(q0, np.zeros(nv), z0, 0.0, p)
-    for k in range(periods):
-        X, E = pm.march(x, period, p_first if k == 0 and p_first is not None else p)
-        X, E = np.asarray(X), np.asarray(E).ravel()
-        if not (np.all(E <= pm.method.tol) and np.all(np.isfinite(X))):
-            return rest_start(q0, z0, nv), {"start": f"static state (the start's time run failed in period "
-                                    f"{k + 1})", "start_periods": k}
-        x = X[:, -1]
-    q, v, zz = pm.samples(X)
-    return start_from_samples(q, v, zz, period), {
-        "start": f"{periods} periods of generalized-alpha ({steps} steps each) from the "
-                 "static state", "start_periods": periods}
 
 
 def _rate_note(history: list, last: int = 20) -> str:

@@ -71,3 +71,62 @@ def test_steady_tow_with_a_heavy_body_matches_the_ode():
     assert np.all(errs[1] < 1e-3)
     order = np.log2(errs[:-1] / errs[1:])
     assert np.all((order > 1.8) & (order < 2.2)), order
+
+
+# ------------------------------------------------------------- seed 003's drag laws
+
+def test_seed003_presets_are_nonnegative_and_take_their_table_values():
+    """The presets (symcable.scene.loading, where they come from): f_n, f_t >= 0 over
+    0..90 deg (every 0.1 deg; the bare tangential law's zero at 90 deg is exact to
+    round-off, 1e-18); at the points they were built from: bare C_Dn = D_0 sin^2 (0 at 0,
+    1.70 at 90 deg), C_Dt = D_0 (0.019 + 0.0239 - 0.001) = 0.0712 at 0 deg and 0 at 90 deg;
+    faired C_Dn 0.15 at 90 deg, C_Dt = 2.1 C_f = 0.012 at 0 deg and 0 at 90 deg; the bare
+    tangential law falls monotonically from axial to normal flow."""
+    from symcable.scene.loading import PRESETS
+    psi = np.radians(np.linspace(0.0, 90.0, 901))
+    for law in PRESETS.values():
+        assert np.all(law.f_normal(psi) >= 0.0) and np.all(law.f_tangential(psi) >= -1e-15)
+    bare, faired = PRESETS["seed003-bare"], PRESETS["seed003-faired"]
+    cdn = lambda f, deg: f.cd * float(f.f_normal(math.radians(deg)))  # noqa: E731
+    cdt = lambda f, deg: f.cd * float(f.f_tangential(math.radians(deg)))  # noqa: E731
+    assert (bare.cd, faired.cd) == (1.70, 0.15)
+    assert cdn(bare, 90) == pytest.approx(1.70) and abs(cdn(bare, 0)) < 1e-15
+    assert cdn(bare, 30) == pytest.approx(1.70 * 0.25)
+    assert cdt(bare, 0) == pytest.approx(1.70 * 0.0419) and abs(cdt(bare, 90)) < 1e-15
+    assert cdt(bare, 45) == pytest.approx(1.70 * (0.019 + 0.0239 * math.sqrt(0.5)
+                                                  - 0.02 * math.sqrt(0.5)))
+    assert np.all(np.diff(bare.f_tangential(psi)) < 0)
+    assert cdn(faired, 90) == pytest.approx(0.15) and abs(cdn(faired, 0)) < 1e-15
+    assert cdt(faired, 0) == pytest.approx(0.012) and abs(cdt(faired, 90)) < 1e-15
+
+
+def test_presets_in_a_scene():
+    """``loading = "NAME"`` and ``{preset = "NAME", cd = ...}`` read as the preset's
+    coefficients (written back as the table: the scene round-trips); an unknown name or key
+    is one SceneError naming it."""
+    from symcable.errors import SceneError
+    from symcable.scene.loading import PRESETS
+    s = load_scene(_towed_point(4, "seed003-bare"))
+    assert s.lines[0].sections[0].line_type.loading == PRESETS["seed003-bare"]
+    assert load_scene(s.to_dict()) == s
+    s = load_scene(_towed_point(4, {"preset": "seed003-faired", "cd": 0.2}))
+    law = s.lines[0].sections[0].line_type.loading
+    assert law.cd == 0.2 and law.tangential_cos == PRESETS["seed003-faired"].tangential_cos
+    with pytest.raises(SceneError, match="line_types.c.loading = 'seed003': must be one of "
+                                         "'seed003-bare', 'seed003-faired'"):
+        load_scene(_towed_point(4, "seed003"))
+    with pytest.raises(SceneError, match="line_types.c.loading.normal_cos: unknown key"):
+        load_scene(_towed_point(4, {"preset": "seed003-bare", "normal_cos": [1.0]}))
+
+
+def test_steady_tow_with_the_bare_cable_law_matches_the_ode():
+    """The same towed body on a cable with seed 003's bare-cable law (D_0 = 1.70 on
+    d = 30 mm: normal drag 1.70 sin^2, tangential 1.70 (0.019 + ...)): symcable's steady
+    tow with 10 segments within 1e-3 of the ODE (the law's loading functions in both;
+    measured 1.3e-4, 2.9e-4, 2.0e-4, as with Morison's law at 10 segments)."""
+    scene = load_scene(_towed_point(10, "seed003-bare"))
+    ref = _oracle(scene)
+    T, x, z = _steady(scene)
+    assert T == pytest.approx(ref.tension, rel=1e-3)
+    assert x == pytest.approx(ref.layback, rel=1e-3)
+    assert z == pytest.approx(ref.depth, rel=1e-3)

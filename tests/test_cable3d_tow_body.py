@@ -214,3 +214,76 @@ def test_circle_manoeuvre_settles_on_the_steady_circling_solution():
     np.testing.assert_allclose(p[last, 2], rb[2], rtol=0, atol=1e-2)
     assert np.ptp(radius) < 1e-4
     assert math.hypot(rb[0], rb[1]) == pytest.approx(57.62, abs=0.01)
+
+
+# ------------------------------------------------------ seed 003's towed-body system
+
+def _seed_scene():
+    from symcable import demo_scene_path
+    return load_scene(demo_scene_path("towed_body"))
+
+
+def test_towed_body_scene_is_the_seeds_system_and_tows_as_the_ode():
+    """symcable/data/towed_body.toml holds seed 003's Tables 3-4 (the sections as printed,
+    355 + 125 m; the presets; the body; 12 knots, a 270 degree turn). Its steady tow (the
+    run's start, 48 segments) against the steady-tow ODE of the same cable, the body's end
+    condition its submerged weight and its drag at the steady pitch symcable finds (-2.4
+    deg; computed here from the body's drag areas, and equal to the line's pull on the body
+    to 1e-6 of it: the body's balance): top tension, layback and depth within 1 % (measured
+    6.6e-5, 7.7e-6 and 7.1e-5: the 48 segments). The body pitched by -2.4 deg feels a
+    drag of 9.93 kN aft and 4.03 kN up (its cross-flow drag area on the flow's 0.26 m/s
+    across it), which the ODE's end condition takes: T(0) = 28.1 kN at 69.3 deg."""
+    from symcable.scene.loading import PRESETS
+    s = _seed_scene()
+    secs = s.lines[0].sections
+    assert [(x.length, x.segments) for x in secs] == [(355.0, 36), (125.0, 12)]
+    assert [x.line_type.loading for x in secs] == [PRESETS["seed003-bare"],
+                                                  PRESETS["seed003-faired"]]
+    assert [(x.line_type.diameter, x.line_type.mass, x.line_type.EA) for x in secs] == [
+        (0.0411, 5.20, 2.625e7), (0.0800, 8.32, 2.625e7)]
+    b = s.bodies["fish"]
+    assert (b.mass, b.volume, b.inertia) == (9500.0, 6.25, (3804.0, 10363.0, 8375.0))
+    m = s.points["ship"].motion
+    assert m.speed * 3600 / 1852 == pytest.approx(12.0, abs=1e-5) and m.turns[0][2] == 270.0
+
+    tr = simulate_3d(s, 0.5, 0.25, codegen=False)
+    assert tr.stats["start"] == "steady tow"
+    fish, ship = tr.bodies["fish"], tr.points["ship"]
+    from symcable.scene.bodies import rotation_rpy
+    R = rotation_rpy(fish["roll_pitch_yaw"][0])
+    assert fish["roll_pitch_yaw"][0][1] == pytest.approx(-2.37, abs=0.05)
+    u = R.T @ np.array([-m.speed, 0.0, 0.0])  # the flow in body axes
+    drag = R @ (0.5 * RHO * np.array(b.cd_area) * np.linalg.norm(u) * u)
+    Wb = (b.mass - RHO * b.volume) * G
+    pull = -fish["force"][0]  # what the body needs from the line
+    np.testing.assert_allclose(drag + [0, 0, -Wb], pull, rtol=0, atol=1e-6 * np.linalg.norm(pull))
+    ref = steady_tow(tow_sections(s.lines[0]), m.speed, Wb - drag[2], -drag[0], RHO)
+    top = ship["position"][0]
+    end = tr.lines["tow"].positions[0][-1]
+    assert np.linalg.norm(ship["force"][0]) == pytest.approx(ref.tension, rel=1e-2)
+    assert top[0] - end[0] == pytest.approx(ref.layback, rel=1e-2)
+    assert top[2] - end[2] == pytest.approx(ref.depth, rel=1e-2)
+
+
+def test_cli_simulates_and_plots_a_tow(tmp_path, monkeypatch, capsys):
+    """`symcable simulate towed_body.toml --plot F` runs from the steady tow and draws the
+    tow figure (tracks in plan, depth, tension / T0): the series it draws are the towpoint's
+    and the body's positions and the towpoint's pull, T / T0 = 1 at the start."""
+    import json
+
+    from symcable import demo_scene_path
+    from symcable.cli import main
+    from symcable.plotting_tow import tow_tracks
+    monkeypatch.setenv("SYMCABLE_CODEGEN", "0")
+    png = tmp_path / "tow.png"
+    assert main(["simulate", str(demo_scene_path("towed_body")), "--duration", "1",
+                 "--dt", "0.5", "--plot", str(png), "--json"]) == 0
+    out = capsys.readouterr().out
+    assert json.loads(out[:out.rindex("}") + 1])["stats"]["start"] == "steady tow"
+    assert png.stat().st_size > 10_000
+    s = _seed_scene()
+    tr = simulate_3d(s, 1.0, 0.5, codegen=False)
+    d = tow_tracks(tr, s)
+    assert list(d["ships"]) == ["ship"] and list(d["towed"]) == ["fish"]
+    np.testing.assert_allclose(d["towed"]["fish"], tr.bodies["fish"]["position"])
+    assert d["tension"]["ship"][0] > 4e4

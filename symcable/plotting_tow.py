@@ -14,7 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["tow_tracks", "plot_tow"]
+__all__ = ["tow_tracks", "turn_spans", "plot_tow"]
 
 DPI = 150
 
@@ -52,10 +52,26 @@ def tow_tracks(tr, scene) -> dict:
             "tension": tension}
 
 
+def turn_spans(scene) -> list[tuple[float, float]]:
+    """[(start, end)] s of every turn of the scene's tow motions."""
+    spans = []
+    motions = ([e.motion for e in (scene.end_a, scene.end_b) if e is not None]
+               if scene.version == 1 else [pt.motion for pt in scene.points.values()])
+    for m in motions:
+        if _is_tow(m):
+            t = m.start
+            for after, radius, angle in m.turns:
+                t0 = t + after
+                t = t0 + radius * np.radians(abs(angle)) / m.speed
+                spans.append((t0, t))
+    return spans
+
+
 def plot_tow(tr, scene, path: str | Path | None = None, *, title: str | None = None):
     """Three panels: the tracks in plan (x, y; equal axes; start o, end s), each towed
     thing's depth below the surface over time, each towpoint's tension over time (/ T0, its
-    value at the start, when the run started from its steady tow; else kN). Returns the
+    value at the start, when the run started from its steady tow; else kN); the turns
+    shaded. Returns the
     figure, saved to ``path`` when given."""
     import matplotlib.pyplot as plt
     d = tow_tracks(tr, scene)
@@ -63,13 +79,13 @@ def plot_tow(tr, scene, path: str | Path | None = None, *, title: str | None = N
     fig, (ax, bx, cx) = plt.subplots(1, 3, figsize=(15, 4.6),
                                      gridspec_kw={"width_ratios": [1.2, 1, 1]})
     for k, (name, x) in enumerate(d["ships"].items()):
-        ax.plot(x[:, 0], x[:, 1], color="k", lw=1.8, label=f"ship ({name})")
+        ax.plot(x[:, 0], x[:, 1], color="k", lw=1.8, label=f"towpoint ({name})")
         ax.plot(*x[0, :2], "o", color="k", ms=6, mfc="white")
         ax.plot(*x[-1, :2], "s", color="k", ms=6)
     colours = plt.rcParams["axes.prop_cycle"].by_key()["color"]
     for k, (name, x) in enumerate(d["towed"].items()):
         c = colours[k % len(colours)]
-        ax.plot(x[:, 0], x[:, 1], color=c, lw=1.4, label=f"towed ({name})")
+        ax.plot(x[:, 0], x[:, 1], color=c, lw=1.4, label=f"towed: {name}")
         ax.plot(*x[0, :2], "o", color=c, ms=6, mfc="white")
         ax.plot(*x[-1, :2], "s", color=c, ms=6)
         bx.plot(t, -x[:, 2], color=c, lw=1.4, label=name)
@@ -96,10 +112,15 @@ def plot_tow(tr, scene, path: str | Path | None = None, *, title: str | None = N
         cx.set_ylabel("towpoint tension (kN)")
         cx.set_title("towpoint tension", fontsize=10)
     cx.set_xlabel("time (s)")
+    for k, (a, b) in enumerate(turn_spans(scene)):
+        if b > t[0] and a < t[-1]:
+            for axis in (bx, cx):
+                axis.axvspan(max(a, t[0]), min(b, t[-1]), color="0.9", zorder=0,
+                             label="turn" if k == 0 else None)
+    cx.legend(loc="best", fontsize=8)
     for a in (ax, bx, cx):
         a.grid(alpha=0.3)
-    if len(d["towed"]) > 1:
-        bx.legend(loc="best", fontsize=8)
+    bx.legend(loc="best", fontsize=8)
     fig.suptitle(title or f"{scene.name}: tow (dt = {tr.dt:.3g} s)", fontsize=11)
     fig.tight_layout()
     if path is not None:

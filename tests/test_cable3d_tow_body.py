@@ -187,8 +187,8 @@ def test_circle_manoeuvre_settles_on_the_steady_circling_solution():
     (:func:`_circling_oracle`): radius within 0.01 m and depth within 0.01 m over the last
     half revolution (measured +3.0e-3 m and +1.7e-4 m: the 20 segments' discretisation, not
     the time step nor a transient: 40 segments give +7e-4 and -4e-5 m, order 2 as in the
-    straight tow; dt = 0.1 s and 0.39 s +3.0e-3 / +2.6e-4 and +2.8e-3 / -1.8e-4 m; the radius moves by under 1e-5 m over
-    the last half revolution, held under 1e-4 m here)."""
+    straight tow; dt = 0.1 s and 0.39 s: +3.0e-3 / +2.6e-4 and +2.8e-3 / -1.8e-4 m; the
+    radius moves by under 1e-5 m over the last half revolution, held under 1e-4 m here)."""
     Rs, mb, vb, cda, ea = 60.0, 400.0, 0.1, 0.5, 1e7
     Om = 1.5 / Rs
     d = _towed_point(20)

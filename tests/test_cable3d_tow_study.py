@@ -3,7 +3,6 @@ mode: it runs, writes its outputs, and its numbers meet what the study claims. N
 wall-clock assertions."""
 from __future__ import annotations
 
-import numpy as np
 import pytest
 
 from conftest import load_study

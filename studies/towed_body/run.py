@@ -148,7 +148,8 @@ def main(argv=None) -> dict:
     T_top = steady["symcable"]["tension"]
     EA = max(x.line_type.EA for x in s.lines[0].sections)
     bound = math.sqrt(T_top / EA) / omega
-    steps = [("old default (TOW_TURN_STEP)", TOW_TURN_STEP / omega), ("0.5 sqrt(T/EA)/Omega", 0.5 * bound),
+    steps = [("old default (TOW_TURN_STEP)", TOW_TURN_STEP / omega),
+             ("0.5 sqrt(T/EA)/Omega", 0.5 * bound),
              (f"{TOW_STRETCH_STEP:g} sqrt(T/EA)/Omega (default)", TOW_STRETCH_STEP * bound),
              ("half the default", 0.5 * TOW_STRETCH_STEP * bound)]
     runs = []
@@ -168,8 +169,9 @@ def main(argv=None) -> dict:
         r["depth_diff"] = (r["depth_turn_end"] - finest if r["depth_turn_end"] is not None
                            and finest is not None else None)
 
-    rows = [{"what": f"steady {k}", "symcable": steady["symcable"][k], "reference": steady["ode"][k],
-             "rel_diff": steady["rel"][k]} for k in ("tension", "layback", "depth")]
+    rows = [{"what": f"steady {k}", "symcable": steady["symcable"][k],
+             "reference": steady["ode"][k], "rel_diff": steady["rel"][k]}
+            for k in ("tension", "layback", "depth")]
     rows += [{"what": f"turn {k}", "symcable": v, "reference": "", "rel_diff": ""}
              for k, v in turn.items()]
     rows += [{"what": f"step {r['label']}", "symcable": r["dt"], "reference": r["substepped"],

@@ -163,11 +163,19 @@ def main(argv=None) -> dict:
                                      if st.get("steps") else None),
                      "error_estimate": st.get("error_estimate"),
                      "depth_turn_end": (turn_numbers(r, s)["depth_turn_end"]
-                                        if e is None else None)})
+                                        if e is None else None),
+                     "series": ((r.time, np.linalg.norm(r.points["ship"]["force"], axis=1))
+                                if e is None else None)})
     finest = runs[-1]["depth_turn_end"]
+    t_f, T_f = runs[-1]["series"]
     for r in runs:
         r["depth_diff"] = (r["depth_turn_end"] - finest if r["depth_turn_end"] is not None
                            and finest is not None else None)
+        # the towpoint tension's largest difference from the finest run's, over its range
+        # (this run's series interpolated onto the finest run's samples)
+        r["tension_diff"] = (float(np.max(np.abs(np.interp(t_f, *r["series"]) - T_f))
+                                   / np.ptp(T_f)) if r["series"] is not None else None)
+        r.pop("series")
 
     rows = [{"what": f"steady {k}", "symcable": steady["symcable"][k],
              "reference": steady["ode"][k], "rel_diff": steady["rel"][k]}
@@ -202,13 +210,14 @@ def main(argv=None) -> dict:
               f"sqrt(T0/EA)/Omega = {bound:.3g} s (T0 = {T_top / 1e3:.4g} kN, EA = {EA:.4g} N, "
               f"Omega = {omega:.4g} rad/s).", "",
               "| step | dt (s) | steps | substepped | Newton max | Newton mean | error estimate "
-              "(% of range) | depth at turn end - finest (m) | wall (s) |",
-              "|---|---|---|---|---|---|---|---|---|"]
+              "(% of range) | tension - finest (% of range) | depth at turn end - finest (m) "
+              "| wall (s) |", "|---|---|---|---|---|---|---|---|---|---|"]
     for r in runs:
         lines.append(f"| {r['label']} | {r['dt']:.3g} | {fmt(r['steps'], 'd')} | "
                      f"{fmt(r['substepped'], 'd')} | {fmt(r['newton_max'], 'd')} | "
                      f"{fmt(r['newton_mean'], '.2f')} | "
                      f"{fmt(r['error_estimate'] and 100 * r['error_estimate'], '.2g')} | "
+                     f"{fmt(r['tension_diff'] and 100 * r['tension_diff'], '.2g')} | "
                      f"{fmt(r['depth_diff'], '+.2e')} | {r['wall']:.1f} |"
                      + (f" failed: {r['failed']}" if r["failed"] else ""))
     text = "\n".join(lines) + "\n"

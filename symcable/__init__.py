@@ -109,8 +109,10 @@ __all__ = [
 
 def demo_scene_path(name: str = "oc3"):
     """Path of a built-in scene: ``"oc3"`` (the OC3-Hywind mooring line on its seabed) or
-    ``"seed001"`` (the seed-001 line: suspended, current, elliptic fairlead motion)."""
+    ``"seed001"`` (the seed-001 line: suspended, current, elliptic fairlead motion) or
+    ``"towed_body"`` (seed 003's towed body: 355 m bare + 125 m faired cable, 12 kn, a 270
+    degree turn)."""
     from importlib.resources import files
-    if name not in ("oc3", "seed001"):
-        raise SymcableError(f"demo scene = {name!r}: must be 'oc3' or 'seed001'")
+    if name not in ("oc3", "seed001", "towed_body"):
+        raise SymcableError(f"demo scene = {name!r}: must be 'oc3', 'seed001' or 'towed_body'")
     return files("symcable") / "data" / f"{name}.toml"

@@ -59,6 +59,24 @@ TENSION_RANGE_FLOOR = 1e-3
 #: rad, a tow's default step turns it through at most this on its tightest turn (a 90 degree
 #: turn in 31 steps)
 TOW_TURN_STEP = 0.05
+#: a tow's default step in a turn is also at most TOW_STRETCH_STEP sqrt(T / EA) / Omega for
+#: each line (T its largest tension at the start, EA its stiffest section's, Omega = U / R
+#: the tightest turn's rate). Why: each step's Newton iterations start from y0 + h y'0,
+#: which moves every node along its velocity; a line turning at Omega is then stretched by
+#: the chord's strain (Omega h)^2 / 2, a spurious tension EA (Omega h)^2 / 2, and once that
+#: is a fair part of the line's own tension the chord iterations (the matrix of the step's
+#: start) diverge and the step substeps or fails. Measured (the largest step without
+#: substeps in the steady turn): Pode's 50 m cable on a 60 m circle at 1.5 m/s
+#: (tests/test_cable3d_tow.py) with 2 kN on its end 0.04-0.05 s at EA = 1e9 N, 0.08-0.15 s
+#: at 1e8, 0.4-0.8 s at 1e7 (the sqrt(EA) scaling: 0.63-0.78 sqrt(T/EA)/Omega), without the
+#: end weight 0.01-0.04 s at 1e9; with a 400 kg body at EA 1e7 (T = 3.7 kN) 0.2-0.39 s on 40
+#: segments, >= 0.39 s on 20, < 0.8 s on 10 (tests/test_cable3d_tow_body.py); seed 003's
+#: towed body on its 300 m turn (symcable/data/towed_body.toml) 0.5-1.08 s (0.35-0.75):
+#: 0.25 keeps the spurious tension under T / 32 (0.54 s there, whose time-stepping error
+#: estimate is then about 1 %). A default-step problem, not the turn's geometry: the
+#: straight tow, whose predictor is exact, takes any step; TOW_TURN_STEP alone gave 2.4 s
+#: there, half the steps substepped
+TOW_STRETCH_STEP = 0.25
 
 
 def _motions(scene: Scene) -> list:
@@ -77,12 +95,22 @@ def run_start(scene: Scene) -> float:
     return min([0.0] + [float(t) for t in firsts])
 
 
-def default_dt(scene: Scene, duration: float) -> float:
+def default_dt(scene: Scene, duration: float, tensions: dict | None = None) -> float:
     """The default step, s: a harmonic motion's period / STEPS_PER_PERIOD; a table's smallest
     row spacing (the table resolves its motion no finer); a tow's time to turn through
-    TOW_TURN_STEP rad on its tightest turn; at most duration / 100; with no motion
-    duration / 100."""
+    TOW_TURN_STEP rad on its tightest turn, and given ``tensions`` ({line name: its largest
+    tension at the start, N}; a one-line scene's line is ``""``) at most TOW_STRETCH_STEP
+    sqrt(T / EA) / Omega there; at most duration / 100; with no motion duration / 100."""
     dts = [duration / 100.0]
+    rates = [m.speed / radius for m in _motions(scene) if m.kind == "tow"
+             for _, radius, _ in m.turns]
+    if rates and tensions:
+        lines = {"": scene.sections} if scene.version == 1 else {
+            ln.name: ln.sections for ln in scene.lines}
+        for name, T in tensions.items():
+            EA = max(s.line_type.EA for s in lines[name])
+            if T > 0 and EA > 0:
+                dts.append(TOW_STRETCH_STEP * math.sqrt(T / EA) / max(rates))
     for m in _motions(scene):
         if m.kind == "table":
             tk = np.array([r[0] for r in m.samples])
@@ -93,6 +121,17 @@ def default_dt(scene: Scene, duration: float) -> float:
         else:
             dts.append(m.period / STEPS_PER_PERIOD)
     return min(dts)
+
+
+def _start_tensions(scene: Scene, eq) -> dict:
+    """{line name ("" for a one-line scene): its largest axial force at the start, N}."""
+    names = [""] if scene.version == 1 else [ln.name for ln in scene.lines]
+    out = {}
+    for n in names:
+        force = eq.outputs.get(f"{n}.axial_force" if n else "axial_force")
+        if force is not None:
+            out[n] = float(np.max(np.asarray(force, float)))
+    return out
 
 
 def _line_parts(mech) -> list:
@@ -233,7 +272,7 @@ def simulate_3d(scene: Scene, duration: float, dt: float | None = None,
     mech, eq, v0, how, notes = run_start_state(scene, t0, start, codegen=codegen)
     t_static = time.perf_counter() - started
     if dt is None and name != "rk4":
-        dt = default_dt(scene, duration)
+        dt = default_dt(scene, duration, _start_tensions(scene, eq))
     kw = dict(method=opts, t0=t0, start=eq, v0=v0, p=mech.params.values, save_every=save_every,
               save_times=save_times, progress=progress, codegen=codegen, label=name,
               period=_period(scene))

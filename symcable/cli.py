@@ -184,6 +184,10 @@ def _simulate(args) -> int:
     duration = args.duration or (table.period if table else tow.period + 60.0 if tow
                                  else 10.0 * period if period else 60.0)
     traj = simulate(scene, duration, dt=args.dt, method=args.method)
+    if tow is not None:  # a tow: tracks in plan, towed depth, towpoint tension / T0
+        from .plotting_tow import plot_tow
+        _emit(traj, args, lambda path: plot_tow(traj, scene, path))
+        return _exit_status(traj)
     _emit(traj, args, lambda path: (traj.plot(path) if scene.model.value == "cable3d"
                                     else plot_trajectory(traj, path)))
     return _exit_status(traj)

@@ -60,6 +60,7 @@ LAYERS = {
     "symcable.plotting": 4,
     "symcable.plotting3d": 4,
     "symcable.plotting_line3d": 4,
+    "symcable.plotting_tow": 4,
     "symcable.results_line3d": 4,
     "symcable.results_sweep": 4,
     "symcable.solvers": 5,

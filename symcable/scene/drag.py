@@ -8,7 +8,7 @@ import numpy as np
 
 from ..errors import SceneError
 from .checks import _choice, _err, _get, _key, _num_reader, _number, _table
-from .loading import DRAG_LAWS, LOADING_KEYS, MAX_HARMONIC, LoadingFunctions
+from .loading import DRAG_LAWS, LOADING_KEYS, MAX_HARMONIC, PRESETS, LoadingFunctions
 
 __all__ = ["read_drag_law", "read_loading"]
 
@@ -59,6 +59,8 @@ def read_loading(path: str, raw: Any) -> LoadingFunctions:
                          "normal_sin and tangential_cos / tangential_sin: the Fourier "
                          'coefficients of the loading functions, read with drag_law = '
                          '"loading-functions")')
+    if isinstance(raw, str) or (isinstance(raw, Mapping) and "preset" in raw):
+        return _preset(path, raw)
     t = _table(path, raw, LOADING_KEYS)
     if _get(t, "cd") is None:
         raise SceneError(f"{_key(path, 'cd')}: required key missing (the reference drag "
@@ -86,3 +88,17 @@ def read_loading(path: str, raw: Any) -> LoadingFunctions:
                        "psi the acute angle between the flow and the line)")
     return law
 
+
+def _preset(path: str, raw: Any) -> LoadingFunctions:
+    """A named law (``loading = "NAME"``) or ``{preset = "NAME", cd = ...}``."""
+    t = {"preset": raw} if isinstance(raw, str) else _table(path, raw, ("preset", "cd"))
+    key = path if isinstance(raw, str) else _key(path, "preset")
+    name = t["preset"]
+    if name not in PRESETS:
+        raise _err(key, name, "", "must be one of " + ", ".join(repr(n) for n in PRESETS)
+                   + " (symcable.scene.loading.PRESETS), or a table of coefficients")
+    law = PRESETS[name]
+    if _get(t, "cd") is None:
+        return law
+    return LoadingFunctions(_num_reader(path, t)("cd", "", ge=0), law.normal_cos,
+                            law.normal_sin, law.tangential_cos, law.tangential_sin)

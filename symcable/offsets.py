@@ -29,7 +29,7 @@ from types import MappingProxyType
 import casadi as ca
 import numpy as np
 
-from .cable3d_static import body_stiffness, static_equilibrium, cable3d_mechanism
+from .cable3d_static import cable3d_mechanism, static_equilibrium
 from .derive import functions
 from .derive_static import SOLVE_MAX_ITER
 from .errors import ConvergenceError, SceneError, SymcableError
@@ -150,20 +150,58 @@ def _tour(offsets: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return np.array(order, int), np.array([True] + reset, bool)
 
 
-def _own_loads(scene, body, R0):
-    """``own(offset) -> (6,)`` the free body's weight, buoyancy and drag in the current at
-    rest (force N, moment N m about the reference point, global axes) at the offset pose;
-    None for a fixed body."""
-    if not body.is_free:
-        return None
-    part = body_part(body, scene.environment)
-    f = ca.Function("own", [part.q, part.p], [ca.vertcat(
-        ca.substitute(part.outputs["own_force"].expr, part.v, ca.DM.zeros(6)),
-        ca.substitute(part.outputs["own_moment"].expr, part.v, ca.DM.zeros(6)))])
+def _quat(rpy_deg):
+    """CasADi (e1, e2, e3, e0) of R = Rz Ry Rx (degrees), as models.body.quaternion_rpy."""
+    r, p, y = (0.5 * rpy_deg[i] * (math.pi / 180.0) for i in range(3))
+    cr, sr, cp, sp, cy, sy = ca.cos(r), ca.sin(r), ca.cos(p), ca.sin(p), ca.cos(y), ca.sin(y)
+    return ca.vertcat(sr * cp * cy - cr * sp * sy, cr * sp * cy + sr * cp * sy,
+                      cr * cp * sy - sr * sp * cy, cr * cp * cy + sr * sp * sy)
 
-    def own(x, R):  # (weight, buoyancy and drag do not depend on the statics' springs)
-        return np.ravel(f(np.r_[x, quaternion_rpy(_rpy(R))], part.static_p))
-    return own
+
+def _qmul(a, b):
+    """CasADi quaternion product a (x) b, both (e1, e2, e3, e0)."""
+    av, a0, bv, b0 = a[0:3], a[3], b[0:3], b[3]
+    return ca.vertcat(a0 * bv + b0 * av + ca.cross(av, bv), a0 * b0 - ca.dot(av, bv))
+
+
+def _own_loads(scene, body, pos, rpy0) -> ca.Function:
+    """``own(offset) -> (6,)``: the free body's weight, buoyancy and drag in the current at
+    rest (force N, moment N m about the reference point, global axes) at the offset pose,
+    from its own Mechanism part (:func:`~symcable.models.body.body_part`); zeros for a
+    fixed body (it has none)."""
+    off = ca.SX.sym("offset", 6)
+    if not body.is_free:
+        return ca.Function("own", [off], [ca.SX.zeros(6)])
+    part = body_part(body, scene.environment)
+    q = ca.vertcat(ca.DM(pos) + off[0:3], _qmul(_quat(off[3:6]), ca.DM(quaternion_rpy(rpy0))))
+    expr = ca.vertcat(part.outputs["own_force"].expr, part.outputs["own_moment"].expr)
+    # (weight, buoyancy and drag do not depend on the statics' springs' parameters)
+    expr = ca.substitute(expr, ca.vertcat(part.q, part.v, part.p),
+                         ca.vertcat(q, ca.DM.zeros(6), ca.DM(part.static_p)))
+    return ca.Function("own", [off], [expr])
+
+
+def _stiffness(mech, S, eq, body, pose_p, own) -> np.ndarray:
+    """(6, 6) -d(restoring force)/d(offset) at the base (per m and per rad), exact: the
+    lines' by the implicit function theorem on the static residual (dx = -J^-1 dR/dp dp),
+    the body's own loads by their CasADi derivative."""
+    off = ca.SX.sym("offset", 6)
+    n_q = mech.n_q
+    x = ca.SX.sym("x", n_q + mech.n_z)
+    p = pose_p(off)
+    force = mech.outputs[f"{body}.force"].expr
+    # the moment about the moved reference point (the output's is about the base's)
+    out = ca.vertcat(force, mech.outputs[f"{body}.moment"].expr - ca.cross(off[0:3], force))
+    out = ca.substitute(out, ca.vertcat(mech.q, mech.z, mech.v, mech.t, mech.p),
+                        ca.vertcat(x[:n_q], x[n_q:], ca.DM.zeros(mech.n_v), 0.0, p))
+    r = S.residual(x, p)
+    f = ca.Function("offset_tangents", [x, off], [ca.jacobian(r, x), ca.jacobian(r, off),
+                                                  ca.jacobian(out, x), ca.jacobian(out, off),
+                                                  ca.jacobian(own(off), off)])
+    Jx, Jo, Yx, Yo, Oo = (np.asarray(a, float) for a in f(np.r_[eq.q, eq.z], np.zeros(6)))
+    dF = Yo + Yx @ -np.linalg.solve(Jx, Jo) + Oo
+    dF[:, 3:] *= 180.0 / math.pi  # offsets in degrees: per radian
+    return -dF
 
 
 def _line_balance(held, lines, out) -> float:
@@ -230,14 +268,12 @@ def offset_sweep(scene, body: str, offsets, *, about: str = "equilibrium",
     if about not in ABOUT:
         raise SymcableError(f"about = {about!r}: must be one of {', '.join(map(repr, ABOUT))}")
     b = scene.bodies[body]
-    K = np.full((6, 6), np.nan)
     pos, rpy = np.asarray(b.position, float), np.asarray(b.orientation_deg, float)
     if about == "equilibrium" and b.is_free:
-        mech0, eq0 = static_equilibrium(scene, tol=tol, codegen=codegen)
+        _, eq0 = static_equilibrium(scene, tol=tol, codegen=codegen)
         pos = np.ravel(eq0.outputs[f"{body}.position"]).astype(float)
         e = np.ravel(eq0.outputs[f"{body}.orientation"])
         rpy = _rpy(_quat_rotation(e))
-        K = body_stiffness(scene, mech0, eq0, body)
     R0 = rotation_rpy(rpy)
     fixed = dataclasses.replace(b, kind=BodyKind.FIXED, position=tuple(pos),
                                 orientation_deg=tuple(rpy))
@@ -296,7 +332,8 @@ def offset_sweep(scene, body: str, offsets, *, about: str = "equilibrium",
             path[k], iters[k] = e_k.stats["path"], e_k.stats["iterations"]
             resid[k] = e_k.stats["residual_norm"]
         prev = k
-    own = _own_loads(scene, b, R0)
+    own = _own_loads(scene, b, pos, rpy)
+    K = _stiffness(mech, S, eq, body, pose_p, own)
     line_force = np.full((n, 6), np.nan)
     force = np.full((n, 6), np.nan)
     ta, tb_ = np.full((n, len(lines)), np.nan), np.full((n, len(lines)), np.nan)
@@ -305,9 +342,9 @@ def offset_sweep(scene, body: str, offsets, *, about: str = "equilibrium",
         o = outs[k]
         if o is None:
             continue
-        line_force[k] = np.r_[np.ravel(o[f"{body}.force"]), np.ravel(o[f"{body}.moment"])]
-        R = rotation_rpy(off[k, 3:]) @ R0
-        force[k] = line_force[k] + (0.0 if own is None else own(pos + off[k, :3], R))
+        f = np.ravel(o[f"{body}.force"])  # (the output's moment is about the base point)
+        line_force[k] = np.r_[f, np.ravel(o[f"{body}.moment"]) - np.cross(off[k, :3], f)]
+        force[k] = line_force[k] + np.ravel(own(off[k]))
         for i, line in enumerate(lines):
             ta[k, i] = np.linalg.norm(np.ravel(o[f"{line.name}.end_force_a"]))
             tb_[k, i] = np.linalg.norm(np.ravel(o[f"{line.name}.end_force_b"]))

@@ -45,10 +45,11 @@ class OffsetSweep(Exportable):
         buoyancy and drag in the current at rest (for a free body; a fixed body has none:
         then equal to ``line_force``). Zero at the equilibrium.
     stiffness : ndarray (6, 6)
-        The body's mooring stiffness about the base pose (:func:`symcable.linearize`'s
-        ``body_stiffness``, global axes, per metre and per radian): the tangent
-        ``force ~ force[at 0] - K (dx, dy, dz, rad(droll), rad(dpitch), rad(dyaw))``; NaN when
-        the base is not an equilibrium of a free body.
+        K = -d(force)/d(offset) at the base pose (N/m, N, N m/m, N m per rad; global axes),
+        exact (the lines' by the implicit function theorem on the static residual): the
+        tangent ``force ~ force[at 0] - K (dx, dy, dz, rad(droll), rad(dpitch), rad(dyaw))``.
+        At a free body's static equilibrium it is :func:`symcable.linearize`'s
+        ``body_stiffness``.
     line_names : tuple of str
         The lines attached to the body, in scene order.
     tension_a, tension_b : ndarray (n, n_lines)

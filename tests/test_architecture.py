@@ -62,6 +62,7 @@ LAYERS = {
     "symcable.plotting_line3d": 4,
     "symcable.results_line3d": 4,
     "symcable.results_sweep": 4,
+    "symcable.results_offsets": 4,
     "symcable.solvers": 5,
     "symcable.api": 6,
     "symcable.planar_static": 6,
@@ -72,6 +73,7 @@ LAYERS = {
     "symcable.planar_time": 6,
     "symcable.export": 6,
     "symcable.cli": 6,
+    "symcable.offsets": 6,
     "symcable.sweep": 6,
     "symcable": 6,
 }

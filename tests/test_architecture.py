@@ -74,6 +74,7 @@ LAYERS = {
     "symcable.export": 6,
     "symcable.cli": 6,
     "symcable.offsets": 6,
+    "symcable.offsets_cli": 6,
     "symcable.sweep": 6,
     "symcable": 6,
 }

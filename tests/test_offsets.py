@@ -110,3 +110,22 @@ def test_save_load_plot_and_errors(tmp_path, surge):
         sc.offset_sweep(_moored(5), "spar", np.zeros((3, 5)))
     with pytest.raises(sc.SymcableError, match="dof = 'surf'"):
         offsets_along("surf", -1, 1, 3)
+
+
+def test_cli_offsets(tmp_path, capsys):
+    """``symcable offsets``: the summary, the figure and the saved sweep; a bad body is one
+    line and exit status 2."""
+    from symcable.cli import main
+    from symcable.scene import load_scene, scene_to_toml
+
+    p = tmp_path / "spar.toml"
+    p.write_text(scene_to_toml(load_scene(_moored(5))))
+    assert main(["offsets", str(p), "--body", "spar", "--dof", "heave", "--range", "-1", "1",
+                 "--n", "5", "--plot", str(tmp_path / "f.png"),
+                 "--save", str(tmp_path / "s.json")]) == 0
+    out = capsys.readouterr().out
+    assert "5 along heave -1 .. 1 m, 5 converged" in out
+    assert (tmp_path / "f.png").stat().st_size > 0
+    assert sc.OffsetSweep.load(tmp_path / "s.json").force.shape == (5, 6)
+    assert main(["offsets", str(p), "--body", "hull"]) == 2
+    assert "body = 'hull'" in capsys.readouterr().err

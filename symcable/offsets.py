@@ -194,7 +194,7 @@ def _stiffness(mech, S, eq, body, pose_p, own) -> np.ndarray:
     out = ca.vertcat(force, mech.outputs[f"{body}.moment"].expr - ca.cross(off[0:3], force))
     out = ca.substitute(out, ca.vertcat(mech.q, mech.z, mech.v, mech.t, mech.p),
                         ca.vertcat(x[:n_q], x[n_q:], ca.DM.zeros(mech.n_v), 0.0, p))
-    r = S.residual(x, p)
+    r = S.residual(x, p)  # (the virtual machine's: generated C has no derivatives)
     f = ca.Function("offset_tangents", [x, off], [ca.jacobian(r, x), ca.jacobian(r, off),
                                                   ca.jacobian(out, x), ca.jacobian(out, off),
                                                   ca.jacobian(own(off), off)])
@@ -333,7 +333,7 @@ def offset_sweep(scene, body: str, offsets, *, about: str = "equilibrium",
             resid[k] = e_k.stats["residual_norm"]
         prev = k
     own = _own_loads(scene, b, pos, rpy)
-    K = _stiffness(mech, S, eq, body, pose_p, own)
+    K = _stiffness(mech, F.static_solver(False), eq, body, pose_p, own)
     line_force = np.full((n, 6), np.nan)
     force = np.full((n, 6), np.nan)
     ta, tb_ = np.full((n, len(lines)), np.nan), np.full((n, len(lines)), np.nan)

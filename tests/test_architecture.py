@@ -59,6 +59,7 @@ LAYERS = {
     "symcable.results_periodic_mech": 4,
     "symcable.plotting": 4,
     "symcable.plotting3d": 4,
+    "symcable.plotting_bodies": 4,
     "symcable.plotting_line3d": 4,
     "symcable.results_line3d": 4,
     "symcable.results_sweep": 4,

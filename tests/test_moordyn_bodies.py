@@ -6,7 +6,6 @@ body is held; each deck not representable is one SceneError naming its line."""
 from __future__ import annotations
 
 import math
-from pathlib import Path
 
 import numpy as np
 import pytest

@@ -181,40 +181,62 @@ def _own_loads(scene, body, pos, rpy0) -> ca.Function:
     return ca.Function("own", [off], [expr])
 
 
-def _stiffness(mech, S, eq, body, pose_p, own) -> np.ndarray:
-    """(6, 6) -d(restoring force)/d(offset) at the base (per m and per rad), exact: the
-    lines' by the implicit function theorem on the static residual (dx = -J^-1 dR/dp dp),
-    the body's own loads by their CasADi derivative."""
+def _tangents(mech, S, body, pose_p, own) -> ca.Function:
+    """``offset_tangents(x, offset) -> (dR/dx, dR/doffset, dY/dx, dY/doffset, dOwn/doffset)``,
+    Y the lines' force and moment on the body (the moment about the moved reference point:
+    the output's is about the base's); R the virtual machine's residual (generated C has no
+    derivatives)."""
     off = ca.SX.sym("offset", 6)
     n_q = mech.n_q
     x = ca.SX.sym("x", n_q + mech.n_z)
     p = pose_p(off)
     force = mech.outputs[f"{body}.force"].expr
-    # the moment about the moved reference point (the output's is about the base's)
     out = ca.vertcat(force, mech.outputs[f"{body}.moment"].expr - ca.cross(off[0:3], force))
     out = ca.substitute(out, ca.vertcat(mech.q, mech.z, mech.v, mech.t, mech.p),
                         ca.vertcat(x[:n_q], x[n_q:], ca.DM.zeros(mech.n_v), 0.0, p))
-    r = S.residual(x, p)  # (the virtual machine's: generated C has no derivatives)
-    f = ca.Function("offset_tangents", [x, off], [ca.jacobian(r, x), ca.jacobian(r, off),
-                                                  ca.jacobian(out, x), ca.jacobian(out, off),
-                                                  ca.jacobian(own(off), off)])
-    Jx, Jo, Yx, Yo, Oo = (np.asarray(a, float) for a in f(np.r_[eq.q, eq.z], np.zeros(6)))
-    dF = Yo + Yx @ -np.linalg.solve(Jx, Jo) + Oo
+    r = S.residual(x, p)
+    return ca.Function("offset_tangents", [x, off], [ca.jacobian(r, x), ca.jacobian(r, off),
+                                                     ca.jacobian(out, x), ca.jacobian(out, off),
+                                                     ca.jacobian(own(off), off)])
+
+
+def _stiffness(tangents, eq) -> np.ndarray:
+    """(6, 6) -d(restoring force)/d(offset) at the base (per m and per rad), exact: the
+    lines' by the implicit function theorem on the static residual (dx = -J^-1 dR/dp dp,
+    sparse LU), the body's own loads by their CasADi derivative."""
+    import scipy.sparse as sp
+    import scipy.sparse.linalg as spla
+
+    Jx, Jo, Yx, Yo, Oo = tangents(np.r_[eq.q, eq.z], np.zeros(6))
+    rows, cols = Jx.sparsity().get_triplet()
+    J = sp.csc_matrix((np.asarray(Jx.nonzeros(), float), (rows, cols)), shape=Jx.shape)
+    dx = -spla.splu(J).solve(np.asarray(Jo, float))
+    dF = np.asarray(Yo, float) + np.asarray(Yx, float) @ dx + np.asarray(Oo, float)
     dF[:, 3:] *= 180.0 / math.pi  # offsets in degrees: per radian
     return -dF
 
 
-def _line_balance(held, lines, out) -> float:
-    """The largest |fa + fb - W - C| of ``lines`` over the largest end tension (module
-    docstring); NaN in a current."""
+def _line_loads(held) -> dict | None:
+    """Line name -> its whole submerged weight (N), for :func:`_line_balance`; None in a
+    current (the drag is not an output)."""
     if any(held.environment.current):
+        return None
+    out = {}
+    for line in held.lines:
+        seg = segment_table(line_scene(held, line))
+        out[line.name] = float(np.sum(seg["w"] * seg["ds"]))
+    return out
+
+
+def _line_balance(weights, out) -> float:
+    """The largest |fa + fb - W - C| of the lines (``weights``: :func:`_line_loads`) over
+    the largest end tension; NaN without weights."""
+    if weights is None:
         return float("nan")
     worst, top = 0.0, 0.0
-    for line in lines:
-        seg = segment_table(line_scene(held, line))
-        fa, fb = np.ravel(out[f"{line.name}.end_force_a"]), np.ravel(out[f"{line.name}.end_force_b"])
-        c = float(np.sum(out[f"{line.name}.contact_force"]))
-        load = np.array([0.0, 0.0, c - float(np.sum(seg["w"] * seg["ds"]))])
+    for name, w in weights.items():
+        fa, fb = np.ravel(out[f"{name}.end_force_a"]), np.ravel(out[f"{name}.end_force_b"])
+        load = np.array([0.0, 0.0, float(np.sum(out[f"{name}.contact_force"])) - w])
         worst = max(worst, float(np.linalg.norm(fa + fb - load)))
         top = max(top, float(np.linalg.norm(fa)), float(np.linalg.norm(fb)))
     return worst / max(top, 1e-300)
@@ -293,15 +315,22 @@ def offset_sweep(scene, body: str, offsets, *, about: str = "equilibrium",
         raise SceneError(f"body = {body!r}: no line is attached to it: nothing restores it")
     F = functions(mech)
     S = F.static_solver(codegen)
-    pose_p = _pose_params(mech, eq.p, pos, R0, ends)
+    # built once per held scene (its Mechanism is cached by content, pose included)
+    cache = F.__dict__.setdefault("_offset_sweep", {})
+    if body not in cache:
+        pose_p = _pose_params(mech, eq.p, pos, R0, ends)
+        own = _own_loads(scene, b, pos, rpy)
+        cache[body] = {"pose_p": pose_p, "own": own, "weights": _line_loads(held),
+                       "tangents": _tangents(mech, F.static_solver(False), body, pose_p, own)}
+    funcs = cache[body]
+    pose_p, own = funcs["pose_p"], funcs["own"]
     x_base = np.concatenate([eq.q, eq.z])
     n, n_x = len(off), len(x_base)
     order, reset = _tour(off)
-    cache = F.__dict__.setdefault("_offset_batch", {})
-    if (n, S.compiled) not in cache:
-        cache[n, S.compiled] = _batch(S, pose_p, n_x, mech.params.n, n)
+    if (n, S.compiled) not in funcs:
+        funcs[n, S.compiled] = _batch(S, pose_p, n_x, mech.params.n, n)
     tb = time.perf_counter()
-    acc, its, nr, _, packed = cache[n, S.compiled](np.r_[x_base, 1.0, eq.p], off[order].T,
+    acc, its, nr, _, packed = funcs[n, S.compiled](np.r_[x_base, 1.0, eq.p], off[order].T,
                                                    reset[None, :].astype(float), x_base, eq.p, tol)
     batch_time = time.perf_counter() - tb
     acc, packed = np.asarray(acc), np.asarray(packed)
@@ -332,8 +361,7 @@ def offset_sweep(scene, body: str, offsets, *, about: str = "equilibrium",
             path[k], iters[k] = e_k.stats["path"], e_k.stats["iterations"]
             resid[k] = e_k.stats["residual_norm"]
         prev = k
-    own = _own_loads(scene, b, pos, rpy)
-    K = _stiffness(mech, F.static_solver(False), eq, body, pose_p, own)
+    K = _stiffness(funcs["tangents"], eq)
     line_force = np.full((n, 6), np.nan)
     force = np.full((n, 6), np.nan)
     ta, tb_ = np.full((n, len(lines)), np.nan), np.full((n, len(lines)), np.nan)
@@ -348,7 +376,7 @@ def offset_sweep(scene, body: str, offsets, *, about: str = "equilibrium",
         for i, line in enumerate(lines):
             ta[k, i] = np.linalg.norm(np.ravel(o[f"{line.name}.end_force_a"]))
             tb_[k, i] = np.linalg.norm(np.ravel(o[f"{line.name}.end_force_b"]))
-        balance[k] = _line_balance(held, held.lines, o)
+        balance[k] = _line_balance(funcs["weights"], o)
     stats = {"tolerance": tol, "batch_time": batch_time, "wall_time": time.perf_counter() - t0,
              "fallbacks": fallbacks, "resets": int(reset.sum()), "compiled": bool(S.compiled),
              "unknowns": int(n_x)}

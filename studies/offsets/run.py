@@ -69,7 +69,7 @@ class Setup(NamedTuple):
     repeats: int
 
 
-FULL = Setup((10, 20, 40, 80), (10, 20, 40, 80), (10, 20),
+FULL = Setup((10, 20, 40, 80), (10, 20, 40, 80), (10, 20, 80),
              {"surge": 20.0, "heave": 5.0, "pitch": 10.0, "yaw": 10.0}, 41, (11, 41, 161), 5)
 QUICK = Setup((10,), (10,), (), {"surge": 20.0, "pitch": 10.0}, 11, (5, 11), 1)
 

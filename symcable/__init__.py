@@ -29,6 +29,8 @@ from .results_mechanism import (Equilibrium, Linearization, MechanismModes, Mech
                                 SceneLinearization)
 from .results_periodic_mech import MechanismPeriodic
 from .results_sweep import CaseResult, SweepResult
+from .offsets import offset_sweep, offsets_along
+from .results_offsets import OffsetSweep
 from .sweep import read_sweep, run_sweep
 from .solvers.equilibrium import solve_equilibrium
 from .solvers.integrate import integrate
@@ -55,6 +57,9 @@ __all__ = [
     "Trajectory",
     "LineTrajectory",
     "cable3d_mechanism",
+    "offset_sweep",
+    "offsets_along",
+    "OffsetSweep",
     "analytic",
     "build_dynamic_model",
     "build_model",

@@ -306,6 +306,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--save", metavar="FILE", help="save the static solution (.npz or .json)")
     from .sweep.command import add_parser as add_sweep
     add_sweep(sub)
+    from .offsets_cli import add_parser as add_offsets
+    add_offsets(sub)
     return ap
 
 
@@ -333,6 +335,9 @@ def main(argv: list[str] | None = None) -> int:
         if args.command == "sweep":
             from .sweep.command import main as sweep
             return sweep(args)
+        if args.command == "offsets":
+            from .offsets_cli import main as offsets
+            return offsets(args)
     except SymcableError as exc:
         print(f"symcable: {type(exc).__name__}: {exc}", file=sys.stderr)
         return 2

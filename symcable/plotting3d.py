@@ -82,6 +82,11 @@ def node_positions(result, layout) -> dict:
     return found
 
 
+def dim_of(layout) -> int:
+    """The layout's dimension (2 or 3)."""
+    return _layout_of(layout).dim
+
+
 def _colours(lay, names) -> dict:
     """Part -> (colour, legend label or None): one colour per part, or per name family
     (``m1`` ... ``m12`` -> "m1-m12 (12 points)") when there are many parts."""
@@ -129,7 +134,8 @@ def _equal_3d(ax, pts: np.ndarray) -> None:
 
 def plot_mechanism(result, layout, path: str | Path | None = None, *, times=None,
                    snapshots: int = SNAPSHOTS, envelope: bool = False,
-                   seabed: float | None = None, surface: bool = False, title: str | None = None):
+                   seabed: float | None = None, surface: bool = False, title: str | None = None,
+                   bodies: dict | None = None):
     """Draw a mechanism's state: for dim = 3 a 3D view with the plan (x-y) and elevation
     (x-z) projections beside it, for dim = 2 the elevation (x-z).
 
@@ -160,6 +166,11 @@ def plot_mechanism(result, layout, path: str | Path | None = None, *, times=None
         Draw the free surface z = 0 (a cyan plane in 3D, a line in the elevation).
     title : str, optional
         Replaces the default title (the mechanism, and the time or "equilibrium").
+    bodies : dict, optional
+        Rigid bodies (every pair of outputs ``NAME.position``, ``NAME.orientation``) are
+        drawn by :func:`symcable.plotting_bodies.draw_bodies` (a box, their axes, their
+        attachment points); ``bodies`` gives those points, name -> (k, 3) in body axes
+        (:func:`symcable.plotting_bodies.body_attachments` of the scene).
 
     Returns
     -------
@@ -168,8 +179,12 @@ def plot_mechanism(result, layout, path: str | Path | None = None, *, times=None
     import matplotlib.pyplot as plt
     from matplotlib.lines import Line2D
 
+    from .plotting_bodies import body_poses, draw_bodies
+
     lay = _layout_of(layout)
-    pos = node_positions(result, lay)
+    # a body part's "nodes" are its position and quaternion: drawn as a body instead
+    pos = {n: p for n, p in node_positions(result, lay).items() if lay.parts[n].kind != "body"}
+    poses = body_poses(result.outputs or {}) if dim_of(lay) == 3 else {}
     dim = lay.dim
     is_traj = np.ndim(result.q) == 2
     t = np.atleast_1d(np.asarray(getattr(result, "time", [0.0]), dtype=float))
@@ -193,8 +208,10 @@ def plot_mechanism(result, layout, path: str | Path | None = None, *, times=None
         ax3 = None
         axes2 = {"elevation": fig.add_axes((0.09, 0.12, 0.68, 0.72))}
 
-    every = np.concatenate([p.reshape(-1, dim) for p in pos.values()])
+    every = np.concatenate([p.reshape(-1, dim) for p in pos.values()]
+                           + [X for X, _ in poses.values()])
     every = every[np.all(np.isfinite(every), axis=1)]
+    body_handles = []
     for k_snap, i in enumerate(picks):
         last = k_snap == len(picks) - 1
         alpha = 1.0 if last else 0.25 + 0.5 * k_snap / max(1, len(picks) - 1)
@@ -218,6 +235,11 @@ def plot_mechanism(result, layout, path: str | Path | None = None, *, times=None
                 ax.plot(xyz[:, a], xyz[:, b], **style)
                 if last and pres.any():
                     ax.scatter(xyz[pres, a], xyz[pres, b], **PRESCRIBED_STYLE)
+        if poses:
+            body_handles = draw_bodies(
+                ax3, [(axes2[key], ab) for key, ab, _ in _views(dim)], poses, bodies,
+                float(np.max(np.ptp(every, axis=0))), index=min(i, len(next(iter(
+                    poses.values()))[0]) - 1), alpha=alpha, label=last)
     if envelope:                      # each distinct node once (parts share nodes)
         seen = set()
         for name, p in pos.items():
@@ -275,6 +297,7 @@ def plot_mechanism(result, layout, path: str | Path | None = None, *, times=None
     if any(lay.parts[n].prescribed for n in pos):
         handles.append(Line2D([], [], ls="", marker="s", mfc="white", mec="black", ms=7,
                               label="prescribed node"))
+    handles += body_handles
     handles += [Line2D([], [], color=c, lw=1.2, ls="--", label=lab) for _, c, lab in levels]
     if is_traj and not envelope and len(picks) > 1:
         handles.append(Line2D([], [], color="grey", alpha=0.4, lw=1.0,

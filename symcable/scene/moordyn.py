@@ -60,7 +60,10 @@ OPTIONS (value, then key)
   anything else              ignored (dtM, CFL, TmaxIC, dtIC, threshIC, writeLog, fileIC,
                              dtOut, disableOutTime, ...: MoorDyn's solver settings)
 OUTPUTS, title, comments     ignored
-RODS, BODIES, ROD TYPES,     refused when they hold a row
+BODIES                       ``[bodies.body<ID>]`` (:mod:`.moordyn_bodies`); a point with
+                             Attachment Body<ID> is a point on it (lines end at
+                             ``"body<ID>@[X, Y, Z]"``, body axes)
+RODS, ROD TYPES,             refused when they hold a row
 FAILURE, SYROPE IC
 ===========================  ===============================================================
 """
@@ -75,6 +78,8 @@ from types import MappingProxyType
 from typing import Any, Mapping
 
 from ..errors import SceneError
+from .bodies import rotation_rpy
+from .moordyn_bodies import _Bodies, body_name
 from .moordyn_tables import ZETA_FACTOR, _Tables, _float
 
 __all__ = ["ZETA_FACTOR", "MoorDynDeck", "is_moordyn_deck", "parse_moordyn"]
@@ -96,7 +101,6 @@ _SECTIONS = {
     "outputs": ("OUTPUT",),
 }
 _REFUSED = {"rod_types": "rod types (symcable has no rods yet)",
-            "bodies": "bodies (symcable has no bodies yet)",
             "rods": "rods (symcable has no rods yet)",
             "failure": "line failures (not modelled)",
             "syrope": "Syrope initial conditions (no Syrope law)"}
@@ -183,7 +187,7 @@ def _kind(line: str) -> str | None:
     return next((k for k, names in _SECTIONS.items() if any(n in up for n in names)), None)
 
 
-class _Parser(_Tables):
+class _Parser(_Tables, _Bodies):
     def __init__(self, text: str, source: str):
         self.lines = tuple(text.splitlines())
         self.source = source
@@ -242,10 +246,12 @@ class _Parser(_Tables):
         types = self.line_types(sec)
         rows = self.line_rows(sec, types)
         found = self.point_rows(sec, rows)
-        if len(rows) == 1 and not any(f[1] == "free" for f in found.values()):
+        bodies = self.body_rows(sec)
+        if len(rows) == 1 and not bodies and not any(f[1] in ("free", "body")
+                                                     for f in found.values()):
             body, held = self.one_line(types, rows[0], found)
         else:
-            body, held = self.system(types, rows, found)
+            body, held = self.system(types, rows, found, bodies)
         env: dict[str, Any] = dict(options.get("environment", {}))
         deepest = -min(xyz[2] for xyz in held)
         depth = env.get("depth")
@@ -319,11 +325,24 @@ class _Parser(_Tables):
                                "segments": line["segments"]}], **ends},
                 [e["position"] for e in ends.values()])
 
-    def system(self, types: dict, rows: list, found: dict) -> tuple[dict, list]:
-        """A deck of several lines or with free points: a version-2 scene (points named by
-        their IDs, lines ``line<ID>``) and the held positions."""
+    def system(self, types: dict, rows: list, found: dict, bodies: dict) -> tuple[dict, list]:
+        """A deck of several lines, with free points or with bodies: a version-2 scene
+        (points named by their IDs, lines ``line<ID>``, bodies ``body<ID>``,
+        :mod:`.moordyn_bodies`) and the held positions (a body's points included)."""
         points: dict[str, dict[str, Any]] = {}
+        ends: dict[int, str] = {}
+        on_body: set[int] = set()
+        held = []
         for ident, (n, kind, token, xyz, extra) in found.items():
+            if kind == "body":
+                if extra["body"] not in bodies:
+                    raise self.fail(n, f"point {ident} ({token}) is a point on a body that "
+                                       "BODIES does not define")
+                b = bodies[extra["body"]][1]
+                ends[ident] = f"{body_name(extra['body'])}@[{', '.join(repr(float(c)) for c in xyz)}]"
+                on_body.add(extra["body"])
+                held.append(list(b["position"] + rotation_rpy(b["orientation"]) @ xyz))
+                continue
             pt: dict[str, Any] = {"kind": kind, "position": xyz}
             if kind == "free":
                 pt.update(mass=extra["M"], volume=extra["V"], cd_area=[extra["CdA"]] * 3,
@@ -336,15 +355,22 @@ class _Parser(_Tables):
                                   f"(its motion is not in the deck: add points.{ident}.motion)")
             points[str(ident)] = pt
             self.origin[f"points.{ident}"] = n
+        for ident, (n, body) in bodies.items():
+            if ident not in on_body:
+                raise self.fail(n, f"body {ident}: no line is attached to it (a point with "
+                                   f"Attachment Body{ident} at a line's end)")
+            self.origin[f"bodies.{body_name(ident)}"] = n
         lines = []
         for i, (n, line) in enumerate(rows):
-            a, b = (str(k) for k in line["attach"])
+            a, b = (ends.get(k, str(k)) for k in line["attach"])
             lines.append({"name": f"line{line['id']}", "end_a": a, "end_b": b,
                           "sections": [{"type": line["type"], "length": line["length"],
                                         "segments": line["segments"]}]})
             self.origin[f"lines[{i}]"] = n
-        return ({"points": points, "lines": lines},
-                [f[3] for f in found.values() if f[1] != "free"])
+        out: dict[str, Any] = {"points": points, "lines": lines}
+        if bodies:
+            out["bodies"] = {body_name(i): b for i, (_, b) in bodies.items()}
+        return out, held + [f[3] for f in found.values() if f[1] not in ("free", "body")]
 
     # ------------------------------------------------------------------- sections
 

@@ -136,18 +136,23 @@ class _Tables:
             if ident in found:
                 raise self.fail(n, f"point {ident} defined twice (first at line "
                                    f"{found[ident][0]})")
-            kind = re.match(r"[A-Za-z]*", entries[1]).group(0).upper()
-            if kind in ("BODY", "TURBINE"):
-                raise self.fail(n, f"a {entries[1]} point on a body is not representable yet "
-                                   "(symcable has no bodies yet)")
-            if kind not in _FIXED + _VESSEL + _FREE:
+            match = re.fullmatch(r"([A-Za-z]*)(\d*)", entries[1])
+            kind = (match.group(1) if match else entries[1]).upper()
+            if kind == "TURBINE":
+                raise self.fail(n, f"a {entries[1]} point is not representable yet")
+            if kind == "BODY" and not match.group(2):
+                raise self.fail(n, f"attachment {entries[1]!r}: a point on a body is Body<ID>")
+            if kind not in _FIXED + _VESSEL + _FREE + ("BODY",):
                 raise self.fail(n, f"unknown point type {entries[1]!r} (MoorDyn's: Fixed, "
                                    "Vessel, Coupled, Free, Connect, Body<n>)")
             xyz = [self.number(n, t, c) for t, c in zip(entries[2:5], "XYZ")]
             names = ("M", "V", "Fx", "Fy", "Fz", "CdA", "Ca") if len(entries) >= 12 \
                 else ("M", "V", "CdA", "Ca")
             extra = {k: self.number(n, t, k) for k, t in zip(names, entries[5:])}
-            what = "free" if kind in _FREE else "vessel" if kind in _VESSEL else "fixed"
+            what = "free" if kind in _FREE else "vessel" if kind in _VESSEL else \
+                "body" if kind == "BODY" else "fixed"
+            if what == "body":
+                extra["body"] = int(match.group(2))
             if what != "free":
                 for key in ("M", "V", "Fx", "Fy", "Fz"):
                     if extra.get(key, 0.0) != 0.0:

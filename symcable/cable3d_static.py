@@ -55,19 +55,13 @@ def check_periodic_3d(scene: Scene) -> None:
     """Refuse, before any solve, a scene whose Mechanism a periodic solve cannot take (one
     with first-order states, such as ``seabed.friction_law = "bristle"``): the
     :class:`~symcable.errors.SymcableError` of
-    :func:`~symcable.solvers.periodic_mech.check_periodic`, naming the setting; or with a
-    free body (its quaternion's norm is fixed in statics only, so the periodic states
-    form a family)."""
+    :func:`~symcable.solvers.periodic_mech.check_periodic`, naming the setting; or a tow
+    (the towpoint travels on). A free body is taken: the periodic solvers make its
+    quaternion's norm relax (:mod:`~symcable.models.body`)."""
     towing = [label for label, m in held_motions(scene) if m is not None and m.kind == "tow"]
     if towing:
         raise SymcableError(f"{towing[0]}.motion: kind = 'tow' is not periodic (the towpoint "
                             "travels on); run it in time (simulate)")
-    free = [name for name, b in scene.bodies.items() if b.is_free]
-    if free:
-        raise SymcableError(f"bodies.{free[0]}: not for a periodic solve yet: a free body's "
-                            "orientation quaternion keeps any norm in time (its rotation is "
-                            "that of e / |e|), so its periodic states form a family and the "
-                            "solve is singular; run it in time (simulate) instead")
     check_periodic(cable3d_mechanism(scene))
 
 

@@ -59,8 +59,12 @@ def test_work_precision_cable3d_quick(tmp_path):
       scheme's error falls as dt^2 from T/200 to T/400 (measured order 2.07; 1.58 from T/100,
       before the asymptotic range: the full study finds 2.00 from T/400 on), within 0.4;
     - RK4 at 0.8 of its limit is within 1e-4 of the range (fourth order, measured 5e-7);
-    - collocation (K = 20, d = 3), shooting (T/100) and harmonic balance (H = 5) are within
-      1 % of the range of the reference (measured 0.35, 0.38 and 0.80 %)."""
+    - collocation (K = 20, d = 3) and harmonic balance (H = 5) are within 1 % of the range
+      of the reference (measured 0.35 and 0.80 %);
+    - shooting at T/100 (the period map of the ga1 rows' scheme, rho_inf 0) is within 0.5 %
+      of the range of the ga1 row at T/100: the same discretisation, the difference what is
+      left of the transient in the ga1 row's last of 4 periods (measured 1.30 against
+      1.12 %)."""
     study = load_study("work_precision", "run3d.py")
     res = study.main(["--quick", "--out", str(tmp_path)])
     for name in ("results.csv", "summary.md", "work_precision_3d.png"):
@@ -75,5 +79,8 @@ def test_work_precision_cable3d_quick(tmp_path):
     ga1 = dict(res["orders"]["ga1"]["pairs"])
     assert abs(ga1["dt=T/200 -> dt=T/400"] - 2.0) < 0.4, ga1
     assert next(r for r in rows if r["method"] == "rk4")["error_disc"] < 1e-4
-    for method in ("collocation", "shooting", "harmonic-balance"):
+    for method in ("collocation", "harmonic-balance"):
         assert next(r for r in rows if r["method"] == method)["error"] < 1e-2, method
+    shot = next(r for r in rows if r["method"] == "shooting" and r["resolution"] == 100)
+    twin = next(r for r in rows if r["method"] == "ga1" and r["resolution"] == 100)
+    assert abs(shot["error"] - twin["error"]) < 5e-3, (shot["error"], twin["error"])

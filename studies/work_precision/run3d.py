@@ -17,9 +17,9 @@ Methods (``sc.simulate`` / ``sc.solve_periodic``, each with its defaults but the
 * generalized-alpha, second order (GA2, :class:`symcable.solvers.options.GeneralizedAlpha`,
   rho_inf = 0, through ``symcable.solvers.integrate.integrate`` in the CasADi VM) over dt;
 * RK4 (``simulate(method="rk4")``, generated C) at dt = 0.8 and 0.4 of its stability limit;
-* collocation (Radau, Newton) over K intervals and degree d; shooting (second-order
-  generalized-alpha period map, rho_inf 0.8, its default) over its steps per period;
-  harmonic balance over H. The periodic methods run in the VM (their cable3d default).
+* collocation (Radau, Newton) over K intervals and degree d; shooting (the first-order
+  generalized-alpha period map at cable3d's rho_inf 0, as the ga1 rows) over its steps
+  per period; harmonic balance over H. The periodic methods run in the VM (their cable3d default).
 
 Reference: a fine run, RK4 at T/8192 (0.19 of its stability limit) for 128 periods; its last
 period is the periodic state (checked against the finest collocation, an independent route).

@@ -408,14 +408,20 @@ def _states(parts) -> StateNames | None:
     named = [m.layout.states for m in parts if m.n_q > m.n_v and m.layout.states is not None]
     if not any(m.n_q > m.n_v for m in parts):
         return None
-    names = []
+    names, rates = [], []
     for m in parts:
         if m.n_q > m.n_v:
             own = m.layout.states
             names += list(own.names) if own is not None else \
                 [f"{m.name}.state{i}" for i in range(m.n_q - m.n_v)]
-    first = named[0] if named else StateNames((), "")
-    return StateNames(tuple(names), first.unit, first.source, first.without)
+            rates += [f"{m.name}.{own.rate_block(i)}" if own is not None and own.rate_block(i)
+                      else "" for i in range(m.n_q - m.n_v)]
+    # the unit, source and setting of the first part whose states have no rate block (the
+    # ones a periodic solve refuses), else of the first that names its own
+    plain = [s for s in named if not all(s.rate_block(i) for i in range(len(s.names)))]
+    first = (plain or named or [StateNames((), "")])[0]
+    return StateNames(tuple(names), first.unit, first.source, first.without,
+                      tuple(rates) if any(rates) else ())
 
 
 def _least(exprs):

@@ -60,8 +60,16 @@ row takes the mechanism to the solver's branch for first-order states, which nee
 ``stability_coordinates`` (the quaternion's entries are not the rotation's, so none are
 given); an equilibrium is returned stable or not (``stats["stable"]`` None).
 
+Periodic solves. In time |e| persists at whatever value it has, so periodic states would
+form a family (every norm); the kinematics carry e' += k (1 - |e|^2) e with k the block
+``norm_rate`` (1/s, 0 by default: statics, time runs and modes see none of it), under which
+|e|^2 relaxes to 1 at the rate 2 k |e|^2 and nothing else changes (every expression reads
+e / |e|). The periodic solvers set k (``StateNames.rate_blocks``), so the norm's Floquet
+multiplier is exp(-2 k T) and the periodic state is isolated.
+
 Parameter blocks: ``load`` (1), ``current`` (3, m/s), ``hold`` (1), ``pull`` (1),
-``hold_to`` (7: the scene's pose, the position (m) and the quaternion (e1, e2, e3, e0)).
+``hold_to`` (7: the scene's pose, the position (m) and the quaternion (e1, e2, e3, e0)),
+``norm_rate`` (1, 1/s).
 """
 from __future__ import annotations
 
@@ -146,10 +154,12 @@ def body_part(body: Body, env: Environment, length: float = 1.0) -> Mechanism:
     g = env.gravity
     m, V = body.mass, body.volume
     c, b = ca.DM(body.center_of_gravity), ca.DM(body.center_of_buoyancy)
-    params = ParamBlocks(("load", "current", "hold", "pull", "hold_to"), (1, 3, 1, 1, 7),
-                         np.concatenate([[1.0], env.current, [0.0, 0.0], start_q(body)]))
+    params = ParamBlocks(("load", "current", "hold", "pull", "hold_to", "norm_rate"),
+                         (1, 3, 1, 1, 7, 1),
+                         np.concatenate([[1.0], env.current, [0.0, 0.0], start_q(body), [0.0]]))
     q, v, t, p = ca.SX.sym("q", 7), ca.SX.sym("v", 6), ca.SX.sym("t"), ca.SX.sym("p", params.n)
     load, current, hold, pull, x_to, e_to = p[0], p[1:4], p[4], p[5], p[6:9], p[9:13]
+    norm_rate = p[13]
     x, e, vO, w = q[0:3], q[3:7], v[0:3], v[3:6]
     R = rotation(e)
     I3 = ca.DM.eye(3)
@@ -217,11 +227,11 @@ def body_part(body: Body, env: Environment, length: float = 1.0) -> Mechanism:
     layout = Layout(3, {body.name: PartLayout("body", np.zeros(2), np.arange(6).reshape(2, 3),
                                               np.arange(6).reshape(2, 3))},
                     StateNames((f"{body.name}.e0",), "1", f"[bodies.{body.name}] (the scalar "
-                               "part of its orientation quaternion)", ""))
+                               "part of its orientation quaternion)", "", ("norm_rate",)))
     return Mechanism(
         name=body.name, q=q, v=v, z=ca.SX.sym("z", 0), t=t, p=p, params=params, mass=mass,
         force=force, constraint=ca.SX.zeros(0, 1), scales=scales, starts=tuple,
-        outputs=outputs, layout=layout, kinematics=ca.vertcat(vO, quaternion_rate(e, w)),
+        outputs=outputs, layout=layout, kinematics=ca.vertcat(vO, quaternion_rate(e, w) + norm_rate * (1.0 - ca.dot(e, e)) * e),
         rest=rest, terms=tuple(terms), static_params={"hold": np.ones(1)},
         stability_when=ca.SX(1.0))
 

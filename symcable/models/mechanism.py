@@ -252,12 +252,23 @@ class StateNames:
     without : str
         The setting that models the same without them (``'seabed.friction_law =
         "coulomb"'``); "" when there is none.
+    rate_blocks : tuple of str
+        Per state (empty: none for any), the parameter block (1/s) whose positive value
+        makes the state relax to its rest value in time, at that rate, where otherwise any
+        value of it would persist (a quaternion's norm); "" for a state without one. The
+        periodic solvers set it (their periodic states would form a family otherwise:
+        :func:`~symcable.solvers.periodic_mech.check_periodic`).
     """
 
     names: tuple[str, ...]
     unit: str
     source: str = ""
     without: str = ""
+    rate_blocks: tuple[str, ...] = ()
+
+    def rate_block(self, i: int) -> str:
+        """State ``i``'s rate block, or ""."""
+        return self.rate_blocks[i] if i < len(self.rate_blocks) else ""
 
 
 @dataclass(frozen=True)

@@ -34,7 +34,8 @@ from .periodic_common import rest_start, start_from_samples
 from .periodic_start import START_PERIODS, transient_start
 from .shooting_mech import solve_shooting
 
-__all__ = ["solve_periodic_mech", "check_periodic", "DEFAULT_TOL", "DEFAULT_DEFECT_TOL"]
+__all__ = ["solve_periodic_mech", "check_periodic", "with_state_rates", "DEFAULT_TOL",
+           "DEFAULT_DEFECT_TOL", "STATE_RATE_PER_PERIOD"]
 
 #: scaled residual every method solves its system to (states at their scale, forces at the
 #: force scale): well above the round-off of a few hundred unknowns, well below any
@@ -49,10 +50,41 @@ DEFAULT_TOL = 1e-9
 DEFAULT_DEFECT_TOL = 0.1
 
 
+#: the rate (1/s) at which the periodic solvers make first-order states with a rate block
+#: (``StateNames.rate_blocks``: a free body's quaternion norm) relax, per period: 2 / T, so
+#: their deviation falls by exp(-2) per period or faster (|e|^2: exp(-4)); fast enough not
+#: to slow shooting's Anderson iteration (the multipliers of a cable's slow modes are larger),
+#: slow against any step of the period
+STATE_RATE_PER_PERIOD = 2.0
+
+
+def _unrated(mech: Mechanism) -> list:
+    """Indices (in the first-order states) of those without a rate block."""
+    n = mech.n_q - mech.n_v
+    st = mech.layout.states
+    return [i for i in range(n) if st is None or not st.rate_block(i)]
+
+
+def with_state_rates(mech: Mechanism, p, period: float):
+    """``p`` (a copy) with every rate block of the mechanism's first-order states
+    (``StateNames.rate_blocks``) that is 0 set to STATE_RATE_PER_PERIOD / ``period`` (1/s);
+    None stays None."""
+    st = mech.layout.states
+    if p is None or st is None or not st.rate_blocks:
+        return p
+    out = np.array(p, dtype=float)
+    for block in {b for b in st.rate_blocks if b}:
+        sl = mech.params.slice(block)
+        out[sl] = np.where(out[sl] == 0.0, STATE_RATE_PER_PERIOD / period, out[sl])
+    return out
+
+
 def check_periodic(mech: Mechanism) -> None:
     """Refuse a mechanism with first-order states fixed only by rest rows
-    (``Mechanism.rest``), with one message naming them (``layout.states``: what they are,
-    the setting that adds them and the one that does without).
+    (``Mechanism.rest``) and without a rate block (``StateNames.rate_blocks``, which the
+    periodic solvers set: :func:`with_state_rates`), with one message naming them
+    (``layout.states``: what they are, the setting that adds them and the one that does
+    without).
 
     Their rates vanish at rest whatever their value (statics fixes them by the rest rows
     alone): the seabed friction's bristle, for one, keeps any deflection while it sticks. A
@@ -61,13 +93,17 @@ def check_periodic(mech: Mechanism) -> None:
     under a smooth slip law)."""
     if mech.rest is None:
         return
-    n = mech.n_q - mech.n_v
+    bad = _unrated(mech)
+    if not bad:
+        return
+    n = len(bad)
     st = mech.layout.states
     what, head, instead = f"{n} first-order states", "", ("solve the periodic response of a "
                                                           "mechanism without them, or run it "
                                                           "in time")
     if st is not None:
-        shown = ", ".join(st.names[:2]) + (f", ..., {st.names[-1]}" if n > 2 else "")
+        names = [st.names[i] for i in bad]
+        shown = ", ".join(names[:2]) + (f", ..., {names[-1]}" if n > 2 else "")
         what += f" ({shown}; {st.unit})"
         head = f"{st.source}: " if st.source else ""
         instead = f"use {st.without} for periodic solves" if st.without else instead
@@ -176,6 +212,10 @@ def solve_periodic_mech(mech: Mechanism, period: float, method=None, *, p=None, 
     if p.size != mech.params.n:
         raise SymcableError(f"p has {p.size} entries, the mechanism {mech.name!r} "
                             f"{mech.params.n}")
+    # first-order states that relax at a rate set here (a free body's quaternion norm)
+    p = with_state_rates(mech, p, period)
+    if start_p is not None:
+        start_p = with_state_rates(mech, np.asarray(start_p, dtype=float).ravel(), period)
 
     if not (start is None or isinstance(start, (Equilibrium, MechanismPeriodic))):
         raise SymcableError(f"start = {type(start).__name__}: must be a MechanismPeriodic, an "

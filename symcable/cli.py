@@ -307,6 +307,9 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
+    if getattr(args, "scene", None) is not None:  # a built-in scene by name: "sphere"
+        from .data import resolve
+        args.scene = resolve(args.scene)
     from . import progress
     progress.show_notices(True)  # the one line while compiling generated C, on stderr
     try:

@@ -12,7 +12,7 @@
   real multiplier > 1), the other two stable. Liouville: det of the monodromy of the flow
   is exp(-c T / m) (the trace of the linearised vector field is -c/m everywhere), so the
   two multipliers' product is exp(-c T) on every branch; the discrete map's to 1e-3
-  (its O(h^2) error at 200 steps, measured 1.2e-5).
+  (its O(h^2) error at 200 steps: measured 2.1e-5, 8.5e-5, 1.2e-4 on the three).
 """
 from __future__ import annotations
 

@@ -86,6 +86,10 @@ class Floquet:
     dropped_max : float
         The largest modulus of the integrator-memory and constraint multipliers left out.
     wall_time : float, s
+    vectors : ndarray (n_q, n), complex
+        The coordinates' part of each multiplier's eigenvector (column j for
+        ``multipliers[j]``), each column of unit norm in q scaled by ``scales.q``: which
+        coordinates a growing or slowly decaying perturbation moves.
     """
 
     multipliers: np.ndarray
@@ -97,6 +101,7 @@ class Floquet:
     refinements: int
     dropped_max: float
     wall_time: float
+    vectors: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros((0, 0), complex))
 
     def stats(self) -> dict:
         """The entries a periodic result's ``stats`` gets: ``floquet_multipliers`` (ndarray
@@ -198,12 +203,15 @@ def floquet(mech: Mechanism, per: MechanismPeriodic, *, steps: int | None = None
             break
         x0, X, r, J, res = x1, X1, r1, J1, res1
     Js = J * su[None, :] / su[:, None]  # similar to J: the same eigenvalues, better conditioned
-    mu = np.linalg.eigvals(Js) if nu else np.zeros(0, complex)
-    mu = mu[np.argsort(-np.abs(mu), kind="stable")]
+    mu, vec = np.linalg.eig(Js) if nu else (np.zeros(0, complex), np.zeros((0, 0), complex))
+    order = np.argsort(-np.abs(mu), kind="stable")
+    mu, vec = mu[order], vec[:, order]
     keep = max(0, min(nu, mech.n_q + mech.n_v - 2 * mech.n_z))
     kept, dropped = mu[:keep], mu[keep:]
+    vq = vec[:mech.n_q, :keep]  # scaled q part (Js is in scaled states)
+    vq = vq / np.maximum(np.linalg.norm(vq, axis=0), 1e-300)
     mx = float(np.abs(kept[0])) if kept.size else 0.0
     return Floquet(multipliers=kept, max_modulus=mx, stable=bool(mx < 1.0 + margin),
                    margin=float(margin), steps=int(steps), residual=res, refinements=its,
                    dropped_max=float(np.abs(dropped[0])) if dropped.size else 0.0,
-                   wall_time=time.perf_counter() - t0)
+                   wall_time=time.perf_counter() - t0, vectors=vq)

@@ -43,7 +43,7 @@ def test_builtin_scenes_by_name(capsys):
     assert r.points["top"].motion.period == pytest.approx(1 / 1.27, rel=1e-6)
     sphere = s.points["sphere"]
     assert sphere.mass == 12.2 and sphere.diameter == 0.2032 and sphere.ca == 0.18
-    assert sphere.volume == pytest.approx(math.pi * 0.2032 ** 3 / 6, rel=1e-4)
+    assert sphere.volume == pytest.approx(math.pi * 0.2032 ** 3 / 6, rel=1e-7)
     assert main(["check", "sphere"]) == 0
     assert "seed-003 payload sphere" in capsys.readouterr().out
     with pytest.raises(sc.SymcableError, match="sphere127"):
@@ -52,8 +52,8 @@ def test_builtin_scenes_by_name(capsys):
 
 def test_static_tension_is_submerged_weight():
     """The top tension of the hanging line equals the closed form to 1e-6: the static solve's
-    tolerance is 1e-9 of the force scale, and the sphere's tabulated volume carries 5 figures
-    (4.3931e-3 m^3 against pi d^3 / 6 = 4.39313e-3: 3e-7 of T0)."""
+    tolerance is 1e-9 of the force scale, and the scene's sphere volume is pi d^3 / 6 to 7
+    figures (3e-9 of T0)."""
     st = sc.solve_static(load_scene(str(sc.demo_scene_path("sphere"))))
     T0 = st.lines["cable"].fairlead_tension
     assert T0 == pytest.approx(_t0_closed_form(), rel=1e-6)
@@ -113,3 +113,16 @@ def test_periodic_equals_time_run(coarse_periodic):
         ref = np.interp(t[sel][:-1] - (t[-1] - P), np.r_[pt, P], np.r_[ten, ten[0]])
         rng = run.max() - run.min()
         assert np.max(np.abs(ref - run)) / rng < 0.02, name
+
+
+def test_cli_periodic_prints_stability(tmp_path, capsys):
+    """``symcable periodic`` on a cable3d scene ends with the stability line (the 5-segment
+    line at 0.807 Hz: taut, stable)."""
+    from symcable.scene import scene_to_toml
+    path = tmp_path / "sphere5.toml"
+    path.write_text(scene_to_toml(_coarse("sphere")))
+    assert main(["periodic", str(path)]) == 0
+    out = capsys.readouterr().out.splitlines()
+    assert out[-1].startswith("stable: yes, largest Floquet multiplier |mu| = 0.99")
+    assert main(["periodic", str(path), "--no-stability"]) == 0
+    assert "Floquet" not in capsys.readouterr().out

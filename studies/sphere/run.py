@@ -115,12 +115,12 @@ def periodic(s, method, T0, **opts):
 
 def part_convergence(quick):
     rows = []
-    for n in ((5, 10) if quick else (5, 10, 20, 40)):
+    for n in ((5, 10) if quick else (5, 10, 20, 40)):  # quick: 10 periods
         s = scene(1.27, n)
         T0 = t0_of(s)
         P = 1 / 1.27
         t = time.perf_counter()
-        tr = sc.simulate(s, 20 * P, P / 200)
+        tr = sc.simulate(s, (10 if quick else 20) * P, P / 200)
         tt, T = last_period(tr, P)
         m = metrics(tt, T, T0, P)
         m.update(segments=n, T0=T0, wall=time.perf_counter() - t)

@@ -35,9 +35,10 @@ def draw(out: Path) -> list:
                     continue
                 col, ls = styles.get(m["method"], ("C0", "-"))
                 ax.plot(tau, m["series"], color=col, ls=ls, lw=1.3,
-                        label=f"{m['method']} ({100 * m['diff_range']:.2f} % of range; "
-                              f"{'stable' if m['stable'] else 'unstable'})")
-            ax.axhspan(-0.05, 0.02, color="0.85", zorder=0)
+                        label=f"{m['method']} ({100 * m['diff_range']:.2f} % of range "
+                              f"from the run; {'stable' if m['stable'] else 'unstable'}, "
+                              f"|mu| {m['floquet_max']:.3g})")
+            ax.axhspan(-0.05, 0.02, color="0.85", zorder=0, label="slack: T < 0.02 T0")
             ax.set_xlabel("t / T (top at its mean position, moving up, at t = 0)")
             ax.set_ylabel("top tension T / T0")
             ax.set_title(f"{c['freq']:g} Hz, T0 = {c['T0']:.2f} N: slack "
@@ -66,22 +67,36 @@ def draw(out: Path) -> list:
                 y = np.array(d[key], float)
                 ax.plot(f[ok], y[ok], color=col, lw=0.8, alpha=0.5)
                 for sel, face in ((ok & stab, col), (ok & ~stab, "none")):
-                    ax.plot(f[sel], y[sel], marker, color=col, mfc=face, ms=6, ls="none",
-                            label=(f"sweep {direction}, {key}, "
-                                   f"{'stable' if face != 'none' else 'unstable'}"
-                                   if sel.any() else None))
+                    ax.plot(f[sel], y[sel], marker, color=col, mfc=face, ms=6, ls="none")
             slack = np.array([s if s is not None else 0.0 for s in d["slack"]], float)
+            half = 0.5 * float(np.min(np.diff(np.sort(f)))) if f.size > 1 else 0.05
             for fi, sl in zip(f, slack):
                 if sl > 0:
-                    ax.axvspan(fi - 0.0375, fi + 0.0375, color="0.88", zorder=0, lw=0)
+                    ax.axvspan(fi - half, fi + half, color="0.88", zorder=0, lw=0)
         ax.axhline(1.0, color="k", lw=0.6, ls=":")
+        from matplotlib.lines import Line2D
+        from matplotlib.patches import Patch
+        handles = [Line2D([], [], marker="o", color="C0", ls="-", lw=0.8,
+                          label="sweep up (from the previous frequency)"),
+                   Line2D([], [], marker="s", color="C3", ls="-", lw=0.8, label="sweep down"),
+                   Line2D([], [], marker="o", color="k", mfc="k", ls="none",
+                          label="filled: stable, all Floquet |mu| < 1"),
+                   Line2D([], [], marker="o", color="k", mfc="none", ls="none",
+                          label="open: unstable, a multiplier |mu| > 1"),
+                   Patch(color="0.88", label="slack over part of the period (T < 0.02 T0)")]
+        cases = _load(out, "cases") or []
+        lat = [m for c in cases for m in c["periodic"] if "floquet_max_lateral" in m
+               and not m["stable"] and m["floquet_max_vertical"] < 1]
+        if lat:
+            handles.append(Line2D([], [], ls="none", label="unstable here: sideways (the slack "
+                                  "line buckles);\nin the vertical plane stable"))
         ax.set_xlabel("excitation frequency, Hz")
         ax.set_ylabel("top tension over the period, T / T0  (max above, min below)")
-        ax.set_title(f"Payload sphere: response to a 0.085 m vertical top motion, T0 = "
-                     f"{sweep['T0']:.2f} N\nshaded: slack over part of the period (T < 0.02 "
-                     "T0); open markers: unstable (Floquet |mu| > 1)", fontsize=9)
+        ax.set_title(f"Payload sphere: top tension over the period against frequency\n"
+                     f"top moved 0.085 m vertically, T0 = {sweep['T0']:.2f} N, "
+                     f"{sweep['segments']} segments, shooting by continuation", fontsize=9)
         ax.grid(alpha=0.3)
-        ax.legend(fontsize=7, loc="upper left")
+        ax.legend(handles=handles, fontsize=7, loc="center left")
         fig.tight_layout()
         path = out / "response.png"
         fig.savefig(path, dpi=110)

@@ -10,8 +10,8 @@ with a 12.2 kg sphere, the top moved vertically by 0.085 m. Parts (``--parts``, 
   multipliers; T/T0 over one period, the slack fraction, the snap peak, and each periodic
   solution against the time run's last period (max difference / tension range);
 - ``sweep``: shooting by continuation in frequency, up and then down, with stability;
-- ``solvers``: Anderson shooting, Newton shooting on the exact monodromy (from the first
-  period) and collocation on the sphere at 1.27 Hz and on a lightly damped planar line at
+- ``solvers``: Anderson shooting (with and without its stall rule), Newton shooting on the
+  exact monodromy (after Anderson's first periods) and collocation on the sphere at 1.27 Hz and on a lightly damped planar line at
   resonance (tests/test_shooting.py's): periods, iterations, wall time, median of 3.
 
 Each part writes ``out/<part>.json``; ``--plot`` (after any part) draws the figures from the
@@ -113,7 +113,7 @@ def periodic(s, method, T0, **opts):
     return m
 
 
-def part_convergence(quick):
+def part_convergence(quick, args=None):
     rows = []
     for n in ((5, 10) if quick else (5, 10, 20, 40)):  # quick: 10 periods
         s = scene(1.27, n)
@@ -130,7 +130,7 @@ def part_convergence(quick):
     return rows
 
 
-def part_cases(quick):
+def part_cases(quick, args=None):
     out = []
     for f in (0.807, 1.27):
         s = scene(f, 5 if quick else 20)
@@ -165,9 +165,9 @@ def part_cases(quick):
     return out
 
 
-def part_sweep(quick):
-    freqs = np.array([0.8, 1.1, 1.3]) if quick else np.round(np.arange(0.6, 1.651, 0.075), 3)
-    n = 5 if quick else 20
+def part_sweep(quick, args=None):
+    freqs = np.array([0.8, 1.1, 1.3]) if quick else np.round(np.arange(0.6, 1.61, 0.1), 3)
+    n = 5 if quick else 10  # the top tension is converged at 5 (convergence.json)
     s = scene(1.0, n)
     T0 = t0_of(s)
     res = {"T0": T0, "segments": n}
@@ -203,18 +203,27 @@ def _lightly_damped_line():
     return load_scene(d)
 
 
-def part_solvers(quick):
+def part_solvers(quick, args=None):
     from symcable.solvers import shooting_mech
-    cases = [("sphere, 1.27 Hz", scene(1.27, 5 if quick else 20))]
-    if not quick:
+    which = (args.solver_cases if args is not None else "sphere,line").split(",")
+    cases = [("sphere, 1.27 Hz", scene(1.27, 5 if quick else 20))] if "sphere" in which else []
+    if not quick and "line" in which:
         cases.append(("lightly damped line at resonance", _lightly_damped_line()))
-    default = shooting_mech.ANDERSON_PERIODS
+    variants = ["anderson", "anderson-nostall", "newton"] + (
+        ["collocation"] if args is None or not args.no_collocation else [])
+    if args is not None and args.variants:
+        variants = args.variants.split(",")
+    default, stall = shooting_mech.ANDERSON_PERIODS, shooting_mech.ANDERSON_STALL_PERIODS
     rows = []
     for label, s in cases:
-        for variant in ("anderson", "newton", "collocation"):
+        for variant in variants:
             walls, st = [], {}
             for _ in range(1 if quick else 3):
+                # newton: Anderson's budget 1 period (5 on a state of 240: anderson_budget);
+                # anderson-nostall: without the stall rule (Anderson's whole budget)
                 shooting_mech.ANDERSON_PERIODS = 1 if variant == "newton" else default
+                shooting_mech.ANDERSON_STALL_PERIODS = (10 ** 9 if variant == "anderson-nostall"
+                                                        else stall)
                 t = time.perf_counter()
                 try:
                     per = sc.solve_periodic(s, "collocation" if variant == "collocation"
@@ -224,6 +233,7 @@ def part_solvers(quick):
                     st = {"failed": str(exc).splitlines()[0]}
                 finally:
                     shooting_mech.ANDERSON_PERIODS = default
+                    shooting_mech.ANDERSON_STALL_PERIODS = stall
                 walls.append(time.perf_counter() - t)
             row = {"case": label, "variant": variant, "wall_median": statistics.median(walls),
                    "walls": walls, "periods": st.get("periods"),
@@ -249,6 +259,11 @@ def main(argv=None):
         ap.add_argument("--parts", default=",".join(PARTS), help="comma-separated: "
                         + ", ".join(PARTS) + " (default all)")
         ap.add_argument("--plot", action="store_true", help="draw the figures from out/*.json")
+        ap.add_argument("--solver-cases", default="sphere,line", help="solvers part: sphere, line")
+        ap.add_argument("--variants", help="solvers part: a comma-separated subset of anderson, "
+                        "anderson-nostall, newton, collocation")
+        ap.add_argument("--no-collocation", action="store_true", help="solvers part: shooting "
+                        "only (collocation's time is in cases.json)")
     args = study_io.parse(__doc__, "5 segments, shooting only, a 3-point sweep",
                           HERE / "out", argv, extra)
     parts = [p for p in args.parts.split(",") if p]
@@ -257,8 +272,12 @@ def main(argv=None):
             raise SystemExit(f"--parts: {p!r} is not one of {', '.join(PARTS)}")
     results = {}
     for p in parts:
-        results[p] = PARTS[p](args.quick)
-        (args.out / f"{p}.json").write_text(json.dumps(results[p], indent=1))
+        results[p] = PARTS[p](args.quick, args)
+        name = p if p != "solvers" or (args.solver_cases == "sphere,line"
+                                       and not args.variants) else \
+            f"solvers_{args.solver_cases.replace(',', '_')}" + (
+                f"_{args.variants.replace(',', '_')}" if args.variants else "")
+        (args.out / f"{name}.json").write_text(json.dumps(results[p], indent=1))
     if args.plot or args.quick:
         study_io.load_module(HERE / "plots.py", "sphere_plots").draw(args.out)
     return results

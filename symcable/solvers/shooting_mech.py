@@ -114,6 +114,10 @@ ANDERSON_MAX_DEPTH = 50
 #: resonance, 58 periods), and a stall cut short costs nothing Newton would not fix
 ANDERSON_STALL_RATE = 0.98
 ANDERSON_STALL_PERIODS = 20
+#: ... while its residual is above this (scaled): a stall far from any solution. Below it the
+#: residual is near the round-off of the steps' Newton solves (1e-8 of the state's scale),
+#: where Newton cannot do better either, and Anderson keeps its budget
+ANDERSON_STALL_FLOOR = 1e-6
 
 
 def stalled(history: list) -> bool:
@@ -123,7 +127,8 @@ def stalled(history: list) -> bool:
     if len(history) < 2 * n:
         return False
     recent, before = min(history[-n:]), min(history[-2 * n:-n])
-    return bool(np.isfinite(before) and recent > before * ANDERSON_STALL_RATE ** n)
+    return bool(np.isfinite(before) and recent > ANDERSON_STALL_FLOOR
+                and recent > before * ANDERSON_STALL_RATE ** n)
 
 
 def anderson_depth(n_u: int) -> int:

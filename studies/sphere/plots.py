@@ -68,6 +68,8 @@ def draw(out: Path) -> list:
                 ax.plot(f[ok], y[ok], color=col, lw=0.8, alpha=0.5)
                 for sel, face in ((ok & stab, col), (ok & ~stab, "none")):
                     ax.plot(f[sel], y[sel], marker, color=col, mfc=face, ms=6, ls="none")
+            if (~ok).any():
+                ax.plot(f[~ok], np.full((~ok).sum(), -0.04), "x", color="0.3", ms=7)
             slack = np.array([s if s is not None else 0.0 for s in d["slack"]], float)
             half = 0.5 * float(np.min(np.diff(np.sort(f)))) if f.size > 1 else 0.05
             for fi, sl in zip(f, slack):
@@ -83,7 +85,9 @@ def draw(out: Path) -> list:
                           label="filled: stable, all Floquet |mu| < 1"),
                    Line2D([], [], marker="o", color="k", mfc="none", ls="none",
                           label="open: unstable, a multiplier |mu| > 1"),
-                   Patch(color="0.88", label="slack over part of the period (T < 0.02 T0)")]
+                   Patch(color="0.88", label="slack over part of the period (T < 0.02 T0)"),
+                   Line2D([], [], marker="x", color="0.3", ls="none",
+                          label="no solution passed the check (the snap not resolved)")]
         cases = _load(out, "cases") or []
         lat = [m for c in cases for m in c["periodic"] if "floquet_max_lateral" in m
                and not m["stable"] and m["floquet_max_vertical"] < 1]
@@ -96,7 +100,7 @@ def draw(out: Path) -> list:
                      f"top moved 0.085 m vertically, T0 = {sweep['T0']:.2f} N, "
                      f"{sweep['segments']} segments, shooting by continuation", fontsize=9)
         ax.grid(alpha=0.3)
-        ax.legend(handles=handles, fontsize=7, loc="center left")
+        ax.legend(handles=handles, fontsize=7, loc="upper left")
         fig.tight_layout()
         path = out / "response.png"
         fig.savefig(path, dpi=110)

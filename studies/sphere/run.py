@@ -185,7 +185,8 @@ def part_sweep(quick, args=None):
             "start": sw.stats["start"], "statuses": list(sw.statuses),
             "wall": time.perf_counter() - t, "warnings": list(sw.warnings)}
         print(f"sweep {direction}: {res[direction]['wall']:.0f} s; " + ", ".join(
-            f"{f:g} Hz {mx:.2f}{'' if st else ' U'}" for f, mx, st in
+            f"{f:g} Hz {mx:.2f}{'' if st else ' U' if st is not None else ' failed'}"
+            for f, mx, st in
             zip(fs, res[direction]["max"], sw.stats["stable"])), flush=True)
     return res
 
@@ -211,6 +212,8 @@ def part_solvers(quick, args=None):
         cases.append(("lightly damped line at resonance", _lightly_damped_line()))
     variants = ["anderson", "anderson-nostall", "newton"] + (
         ["collocation"] if args is None or not args.no_collocation else [])
+    if quick:
+        variants = ["anderson", "newton"]
     if args is not None and args.variants:
         variants = args.variants.split(",")
     default, stall = shooting_mech.ANDERSON_PERIODS, shooting_mech.ANDERSON_STALL_PERIODS

@@ -43,7 +43,7 @@ def draw(out: Path) -> list:
             ax.set_ylabel("top tension T / T0")
             ax.set_title(f"{c['freq']:g} Hz, T0 = {c['T0']:.2f} N: slack "
                          f"{100 * run['slack']:.0f} % of the period")
-            ax.set_ylim(-0.05, max(2.2, 1.1 * run["max"]))
+            ax.set_ylim(-0.05, 1.45 * max(2.0, run["max"]))  # room for the legend
             ax.grid(alpha=0.3)
             ax.legend(fontsize=7, loc="upper right")
         fig.suptitle("Payload sphere (seed 003, 3.1): top tension over one period, top moved "
@@ -55,7 +55,7 @@ def draw(out: Path) -> list:
         made.append(path)
     sweep = _load(out, "sweep")
     if sweep:
-        fig, ax = plt.subplots(figsize=(7.5, 4.6))
+        fig, ax = plt.subplots(figsize=(10.5, 4.6))
         for direction, marker, col in (("up", "o", "C0"), ("down", "s", "C3")):
             d = sweep.get(direction)
             if not d:
@@ -100,7 +100,7 @@ def draw(out: Path) -> list:
                      f"top moved 0.085 m vertically, T0 = {sweep['T0']:.2f} N, "
                      f"{sweep['segments']} segments, shooting by continuation", fontsize=9)
         ax.grid(alpha=0.3)
-        ax.legend(handles=handles, fontsize=7, loc="upper left")
+        ax.legend(handles=handles, fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
         fig.tight_layout()
         path = out / "response.png"
         fig.savefig(path, dpi=110)

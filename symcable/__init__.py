@@ -113,11 +113,13 @@ __all__ = [
 
 
 def demo_scene_path(name: str = "oc3"):
-    """Path of a built-in scene: ``"oc3"`` (the OC3-Hywind mooring line on its seabed) or
-    ``"seed001"`` (the seed-001 line: suspended, current, elliptic fairlead motion) or
-    ``"towed_body"`` (seed 003's towed body: 355 m bare + 125 m faired cable, 12 kn, a 270
-    degree turn)."""
-    from importlib.resources import files
-    if name not in ("oc3", "seed001", "towed_body"):
-        raise SymcableError(f"demo scene = {name!r}: must be 'oc3', 'seed001' or 'towed_body'")
-    return files("symcable") / "data" / f"{name}.toml"
+    """Path of a built-in scene: ``"oc3"`` (the OC3-Hywind mooring line on its seabed),
+    ``"seed001"`` (the seed-001 line: suspended, current, elliptic fairlead motion), or any
+    other of :func:`symcable.data.names`: ``"sphere"``, ``"sphere127"`` (seed 003's payload
+    sphere at 0.807 and 1.27 Hz), ``"towed_body"`` (seed 003's towed body: 355 m bare + 125 m
+    faired cable, 12 kn, a 270 degree turn)."""
+    from .data import names, scene_path
+    path = scene_path(name) if isinstance(name, str) else None
+    if path is None:
+        raise SymcableError(f"demo scene = {name!r}: must be one of {', '.join(names())}")
+    return path

@@ -17,7 +17,9 @@ from .errors import ConvergenceError, SymcableError
 from .planar_periodic import method_options
 from .results_line3d import LineTrajectory
 from .results_periodic import PeriodicSweep
+from .results_periodic_mech import MechanismPeriodic
 from .scene import Scene
+from .solvers.floquet import floquet
 from .solvers.options import Shooting
 from .solvers.periodic_mech import solve_periodic_mech
 
@@ -25,13 +27,29 @@ __all__ = ["solve_periodic_3d", "sweep_periodic_3d"]
 
 
 def solve_periodic_3d(scene: Scene, method="collocation", *, codegen: bool | None = None,
-                      **options) -> LineTrajectory:
+                      stability: bool = False, **options) -> LineTrajectory:
     """The periodic response of a cable3d line to its harmonic end motion, fully nonlinear
     (see :func:`symcable.solve_periodic`): one period, the motion at full amplitude (no
     ramp), as a :class:`LineTrajectory` over ``[0, T)`` whose ``method`` names the periodic
     method and whose ``stats`` hold ``period`` (s), the method's iterations and its own
-    ``error_estimate`` (the largest scaled equation defect on a grid 4 times the solver's)."""
+    ``error_estimate`` (the largest scaled equation defect on a grid 4 times the solver's).
+
+    ``stability=True``: also the Floquet multipliers of the solution
+    (:func:`~symcable.solvers.floquet.floquet`, the exact monodromy of shooting's period map
+    at the solution, whatever method found it), in ``stats``: ``floquet_multipliers``,
+    ``floquet_max`` (the largest modulus), ``stable`` (``floquet_max < 1 + 1e-4``) and the
+    other ``floquet_*`` entries of :meth:`~symcable.solvers.floquet.Floquet.stats`.
+    """
+    return _solve_3d(scene, method, codegen, stability, None, options)[0]
+
+
+def _solve_3d(scene: Scene, method, codegen, stability, start, options) -> tuple:
+    """(LineTrajectory, MechanismPeriodic) of :func:`solve_periodic_3d`; ``start``: a
+    periodic solution of this scene's mechanism at any period (its samples stretched to this
+    period) to start from, the method's own start where that fails (a sweep's continuation)."""
     started = time.perf_counter()
+    if not isinstance(stability, bool):
+        raise SymcableError(f"stability = {stability!r}: must be True or False")
     period = _period(scene)
     if period is None or any(m.kind == "table" for m in _motions(scene)):
         raise SymcableError(f"scene {scene.name!r}: a periodic response needs a harmonic end "
@@ -61,8 +79,16 @@ def solve_periodic_3d(scene: Scene, method="collocation", *, codegen: bool | Non
     # start-up run or shooting failed there; studies/stability, cable3d rows)
     kw = dict(p=p, start=eq, codegen=False if codegen is None else codegen,
               **({} if tol is None else {"tol": float(tol)}))
+    res = None
+    if start is not None:  # a neighbour's solution, stretched to this period; else as below
+        try:
+            res = solve_periodic_mech(mech, period, opts, **dict(
+                kw, start=stretched(start, period, p), fallback=False))
+        except ConvergenceError:
+            res = None
     try:
-        res = solve_periodic_mech(mech, period, opts, **kw)
+        if res is None:
+            res = solve_periodic_mech(mech, period, opts, **kw)
     except ConvergenceError as first:
         try:
             res = solve_periodic_mech(mech, period, opts, start_p=ramped, **kw)
@@ -73,9 +99,26 @@ def solve_periodic_3d(scene: Scene, method="collocation", *, codegen: bool | Non
         res = dataclasses.replace(res, warnings=tuple(res.warnings) + (
             f"the solve from the method's own start failed ({str(first).splitlines()[0]}); "
             "solved from a start with the motion ramped in over its first period",))
-    stats = dict(res.stats, period=period, wall_time=time.perf_counter() - started)
+    stats = dict(res.stats, period=period)
+    if stability:
+        stats.update(floquet(mech, res).stats())
+    stats["wall_time"] = time.perf_counter() - started
+    if start is not None:
+        stats["start_kind"] = ("neighbour" if str(res.stats.get("start", ""))
+                               .startswith("periodic solution") else "own start")
     n_t = len(res.time)
-    return _line_result(scene, mech, res, name, period / max(n_t, 1), stats, res.warnings)
+    return _line_result(scene, mech, res, name, period / max(n_t, 1), stats,
+                        res.warnings), res
+
+
+def stretched(per: MechanismPeriodic, period: float, p) -> MechanismPeriodic:
+    """``per`` (a periodic solution at another period, same mechanism layout) as a start at
+    ``period``: its samples over the new period, velocities scaled by the ratio of periods,
+    parameters ``p``, no integrator state (shooting then starts from the samples)."""
+    r = per.period / period
+    stats = {k: v for k, v in per.stats.items() if k != "state0"}
+    return dataclasses.replace(per, period=float(period), time=per.time / r, v=per.v * r,
+                               p=np.asarray(p, float), stats=stats)
 
 
 def _with_period(scene: Scene, period: float) -> Scene:
@@ -119,6 +162,7 @@ def _swept_end(scene: Scene, line: str | None):
 
 def sweep_periodic_3d(scene: Scene, periods, method="collocation", *, resolution: int = 200,
                       codegen: bool | None = None, line: str | None = None,
+                      continuation: bool = False, stability: bool = False,
                       **options) -> PeriodicSweep:
     """The periodic tension at the moving end of a cable3d line over excitation periods (a
     tension RAO; see :func:`symcable.sweep_periodic`): the scene's harmonic motion at each
@@ -126,7 +170,18 @@ def sweep_periodic_3d(scene: Scene, periods, method="collocation", *, resolution
     of the line's Mechanism, so each period builds its own). A one-line scene: end B's
     tension (N); several lines and points: the tension of ``line`` (default the first line
     ending at a moving point) at its moving end. A period that fails gives NaN and a
-    warning; every one failing raises."""
+    warning; every one failing raises.
+
+    ``continuation=True``: each period starts from the previous period's solution (its
+    samples stretched to the new period), and from its own start where that fails; in the
+    order given, so a sweep up and a sweep down can follow two branches of a hysteretic
+    response. ``stats["start"]`` says per period "neighbour" or "own start".
+    ``stability=True``: per period the Floquet multipliers' largest modulus and whether the
+    solution is stable (:func:`solve_periodic_3d`), as ``stats["floquet_max"]`` and
+    ``stats["stable"]`` (lists; None for a failed period)."""
+    for key, val in (("continuation", continuation), ("stability", stability)):
+        if not isinstance(val, bool):
+            raise SymcableError(f"{key} = {val!r}: must be True or False")
     started = time.perf_counter()
     check_periodic_3d(scene)
     pick, swept = _swept_end(scene, line)
@@ -140,18 +195,27 @@ def sweep_periodic_3d(scene: Scene, periods, method="collocation", *, resolution
     rows = {k: np.full(periods.size, np.nan) for k in ("amp", "phase", "mean", "max", "min")}
     series = np.full((periods.size, tau.size), np.nan)
     statuses, warnings, its, times = [], [], [], []
+    starts, fmax, stable = [], [], []
+    prev = None
     name = method if isinstance(method, str) else type(method).__name__
     for i, T in enumerate(periods):
         t0 = time.perf_counter()
         try:
-            per = solve_periodic_3d(_with_period(scene, float(T)), method, codegen=codegen,
-                                    **options)
+            per, mp = _solve_3d(_with_period(scene, float(T)), method, codegen, stability,
+                                prev if continuation else None, dict(options))
         except (ConvergenceError, SymcableError) as exc:
             statuses.append("failed")
             warnings.append(f"period {T:g} s: {str(exc).splitlines()[0]}")
             its.append(None)
             times.append(time.perf_counter() - t0)
+            starts.append("own start")
+            fmax.append(None)
+            stable.append(None)
             continue
+        prev = mp
+        starts.append(per.stats.get("start_kind", "own start"))
+        fmax.append(per.stats.get("floquet_max"))
+        stable.append(per.stats.get("stable"))
         name = per.method
         ten = pick(per)
         f = np.interp(tau * T, np.r_[per.time, T], np.r_[ten, ten[0]])
@@ -173,5 +237,6 @@ def sweep_periodic_3d(scene: Scene, periods, method="collocation", *, resolution
         fairlead_tension_min=rows["min"], normalised_time=tau, fairlead_tension=series,
         statuses=tuple(statuses), status=status,
         stats={"wall_time": time.perf_counter() - started, "iterations": its,
-               "solve_time": times, "start": ["own start"] * periods.size, "swept": swept},
+               "solve_time": times, "start": starts, "swept": swept,
+               **({"floquet_max": fmax, "stable": stable} if stability else {})},
         warnings=tuple(warnings))

@@ -199,9 +199,15 @@ def _periodic(args) -> int:
     from .plotting import plot_periodic
 
     scene = load_scene(args.scene)
-    per = solve_periodic(scene, method=args.method)
-    _emit(per, args, lambda path: (per.plot(path) if scene.model.value == "cable3d"
-                                   else plot_periodic(per, path)))
+    c3 = scene.model.value == "cable3d"
+    # cable3d: the Floquet multipliers too (the planar path does not take stability)
+    per = solve_periodic(scene, method=args.method,
+                         **({"stability": not args.no_stability} if c3 else {}))
+    _emit(per, args, lambda path: (per.plot(path) if c3 else plot_periodic(per, path)))
+    if "floquet_max" in per.stats and not args.json:
+        print(f"stable: {'yes' if per.stats['stable'] else 'no'}, largest Floquet multiplier "
+              f"|mu| = {per.stats['floquet_max']:.6g} (margin {per.stats['floquet_margin']:g}, "
+              f"monodromy of {per.stats['floquet_steps']} steps)")
     return _exit_status(per)
 
 
@@ -292,6 +298,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("scene")
     _output_options(p, "solution")
     p.add_argument("--method", default="shooting", choices=["collocation", "harmonic-balance", "shooting"])
+    p.add_argument("--no-stability", action="store_true", help="cable3d: skip the Floquet "
+                   "multipliers (the monodromy costs about as much as the solve)")
     p = sub.add_parser("modes", help="natural frequencies and mode shapes")
     p.add_argument("scene")
     _output_options(p, "modes")
@@ -313,6 +321,9 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
+    if getattr(args, "scene", None) is not None:  # a built-in scene by name: "sphere"
+        from .data import resolve
+        args.scene = resolve(args.scene)
     from . import progress
     progress.show_notices(True)  # the one line while compiling generated C, on stderr
     try:

@@ -47,6 +47,36 @@ the fallback: its convergence is quadratic whatever the Floquet multipliers, whe
 slows down on lightly damped modes, and it is the one that returns the monodromy (its
 largest multiplier is reported as ``floquet_max``).
 
+Where many modes decay slowly (studies/sphere; medians of 3 on 2 cores shared with other
+jobs: compare within a row; "Newton" is Anderson's budget cut to its first 3-5 periods):
+
+=================================  ===================  ==================  ===========
+case (unknowns, steps)             Anderson             Newton              collocation
+=================================  ===================  ==================  ===========
+payload sphere, 1.27 Hz, slack     48 periods, 122 s    9 periods (2 Newton 529 s
+(cable3d, 20 segments; 240, 100;   (after a stalled     iterations), 40 s   (one run)
+steps in the virtual machine)      attempt, see below)
+lightly damped planar line at      58 periods, 0.32 s   15 periods (6 Newton  8.0 s
+resonance (20 segments; 156, 100;                       iterations), 130 s
+steps in generated C)
+=================================  ===================  ==================  ===========
+
+What a monodromy costs decides it. Where the steps run in the virtual machine, CasADi carries
+all n_u directions through a step at once, and a monodromy cost about 20 plain periods on
+the sphere (7.5 s against about 0.4 s), not n_u + 1 = 241; there Newton is 3 times faster.
+Where the plain periods run in generated C (the first-order step) and the monodromy in the
+virtual machine, a monodromy costs thousands of periods (line: about 20 s against 5 ms). On the sphere, from rest at full amplitude, Anderson
+stalled (its residual fell by a factor 1.000 per period) and spent its whole budget of 241
+periods there before its Newton fallback failed and the solve was repeated from a ramped
+start. So, where the steps run in the virtual machine only, Anderson stops when its residual
+has stalled (:func:`stalled`: the best of the last 10 periods not 0.98^10 below the best of
+the 10 before, while above a scaled 1e-6) and Newton takes over at once: the sphere's stalled
+attempt then ends after about 20 periods instead of 241 (one run, 115 s against 122 s: the
+repeated solve dominates). With the rule applied to generated-C steps too, the line stopped
+Anderson after 33 periods and took 39 s for what Anderson finishes in 58 periods and 0.32 s:
+hence not there. A switch on the projected cost (Anderson's remaining periods at its rate
+against a measured monodromy) would take the sphere's 40 s everywhere; not built.
+
 Scaling
 -------
 Second order: u is divided by (scales.q, scales.v, a_ref, a_ref), a_ref = scales.v 2 pi / T;
@@ -103,6 +133,32 @@ ANDERSON_PERIODS = 60
 #: 97 with 20, 71 with 30 and 58 with 50; where every mode decays alike (seed 001) the depth
 #: does not matter (17-18 periods from 3 to 40)
 ANDERSON_MAX_DEPTH = 50
+
+
+#: Anderson stops early, and Newton takes over, when the best residual of the last
+#: ANDERSON_STALL_PERIODS / 2 periods is above ANDERSON_STALL_RATE ** (that many) times the
+#: best of the half before: a stalled iteration (the payload sphere at 1.27 Hz from rest,
+#: studies/sphere: the residual fell by a factor 1.000 per period over its last 20 periods and
+#: spent the rest of its 241-period budget there); converging runs fall faster (on average
+#: 0.3 per period on seed 001, 17 periods to 1e-9; 0.7 on the lightly damped line at
+#: resonance, 58 periods), and a stall cut short costs nothing Newton would not fix
+ANDERSON_STALL_RATE = 0.98
+ANDERSON_STALL_PERIODS = 20
+#: ... while its residual is above this (scaled): a stall far from any solution. Below it the
+#: residual is near the round-off of the steps' Newton solves (1e-8 of the state's scale),
+#: where Newton cannot do better either, and Anderson keeps its budget
+ANDERSON_STALL_FLOOR = 1e-6
+
+
+def stalled(history: list) -> bool:
+    """Whether Anderson's residual ``history`` (one per period) has stalled (see
+    ANDERSON_STALL_RATE)."""
+    n = ANDERSON_STALL_PERIODS // 2
+    if len(history) < 2 * n:
+        return False
+    recent, before = min(history[-n:]), min(history[-2 * n:-n])
+    return bool(np.isfinite(before) and recent > ANDERSON_STALL_FLOOR
+                and recent > before * ANDERSON_STALL_RATE ** n)
 
 
 def anderson_depth(n_u: int) -> int:
@@ -321,6 +377,8 @@ def solve_shooting(mech: Mechanism, period: float, opts: Shooting, p, start: Sta
         history.append(res)
         if res < best[0]:
             best = (res, u, X)
+        if not pm.compiled and stalled(history):
+            break  # (a plain period in generated C costs ~1/2000 of a monodromy: go on)
     anderson_periods = periods
     res, u, X = best
     iters, J = 0, None

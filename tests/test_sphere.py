@@ -123,6 +123,10 @@ def test_cli_periodic_prints_stability(tmp_path, capsys):
     path.write_text(scene_to_toml(_coarse("sphere")))
     assert main(["periodic", str(path)]) == 0
     out = capsys.readouterr().out.splitlines()
-    assert out[-1].startswith("stable: yes, largest Floquet multiplier |mu| = 0.99")
+    # the largest multiplier is the sphere's lateral pendulum, damped only by drag and the
+    # integrator: 0.995 at rho_inf 0.5, 0.969 at cable3d's rho_inf 0 (measured)
+    assert out[-1].startswith("stable: yes, largest Floquet multiplier |mu| = ")
+    mu = float(out[-1].split("|mu| = ")[1].split()[0])
+    assert 0.9 < mu < 1.0
     assert main(["periodic", str(path), "--no-stability"]) == 0
     assert "Floquet" not in capsys.readouterr().out

@@ -188,9 +188,25 @@ def _simulate(args) -> int:
         from .plotting_tow import plot_tow
         _emit(traj, args, lambda path: plot_tow(traj, scene, path))
         return _exit_status(traj)
-    _emit(traj, args, lambda path: (traj.plot(path) if scene.model.value == "cable3d"
-                                    else plot_trajectory(traj, path)))
+    _emit(traj, args, lambda path: (_plot_3d(traj, scene, path) if scene.model.value ==
+                                    "cable3d" else plot_trajectory(traj, path)))
     return _exit_status(traj)
+
+
+def _plot_3d(res, scene, path):
+    """A cable3d time or periodic result's plot: a one-line scene's own; a scene of several
+    lines and points (a SystemTrajectory): every line's end tensions over T0, the static
+    solution's (its plain kN if the static solve fails)."""
+    if not hasattr(res, "line_names"):
+        return res.plot(path)
+    from .api import solve_static
+    try:
+        st = solve_static(scene)
+        t0 = {n: (st.lines[n].anchor_tension, st.lines[n].fairlead_tension)
+              for n in res.line_names}
+    except SymcableError:
+        t0 = None
+    return res.plot(path, t0=t0)
 
 
 def _periodic(args) -> int:
@@ -203,7 +219,8 @@ def _periodic(args) -> int:
     # cable3d: the Floquet multipliers too (the planar path does not take stability)
     per = solve_periodic(scene, method=args.method,
                          **({"stability": not args.no_stability} if c3 else {}))
-    _emit(per, args, lambda path: (per.plot(path) if c3 else plot_periodic(per, path)))
+    _emit(per, args, lambda path: (_plot_3d(per, scene, path) if c3 else
+                                   plot_periodic(per, path)))
     if "floquet_max" in per.stats and not args.json:
         print(f"stable: {'yes' if per.stats['stable'] else 'no'}, largest Floquet multiplier "
               f"|mu| = {per.stats['floquet_max']:.6g} (margin {per.stats['floquet_margin']:g}, "

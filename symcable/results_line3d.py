@@ -275,6 +275,23 @@ class SystemTrajectory(Exportable):
                    for k, n in keys.items() if f"{name}.{k}" in self.outputs}
             for name in self.body_names})
 
+    def plot(self, path: str | Path | None = None, *, kind: str = "tensions", t0=None,
+             scene=None, **options):
+        """``kind = "tensions"``: every line's end tensions against time, divided by their
+        static tensions ``t0`` = {line: (T0_a, T0_b)} (N) when given, else in kN
+        (:func:`symcable.plotting_system.plot_system_tensions`); ``"system"``: the lines,
+        points and bodies in 3D, plan and elevation at a few samples
+        (:func:`symcable.plotting_bodies.plot_system`; ``scene`` for the bodies'
+        attachment points, ``snapshots``). Saved to ``path`` when given; returns the
+        matplotlib Figure."""
+        if kind == "tensions":
+            from .plotting_system import plot_system_tensions
+            return plot_system_tensions(self, path, t0=t0, **options)
+        if kind == "system":
+            from .plotting_bodies import plot_system
+            return plot_system(self, path, scene=scene, **options)
+        raise SymcableError(f"kind = {kind!r}: must be 'tensions' or 'system'")
+
     def summary(self) -> str:
         """The run, each line's end tensions (range, kN) and each point's excursion (m)."""
         st = self.stats

@@ -62,6 +62,7 @@ LAYERS = {
     "symcable.plotting_bodies": 4,
     "symcable.plotting_line3d": 4,
     "symcable.plotting_tow": 4,
+    "symcable.plotting_system": 4,
     "symcable.results_line3d": 4,
     "symcable.results_sweep": 4,
     "symcable.results_offsets": 4,

@@ -206,8 +206,11 @@ def solve_periodic(scene, method="shooting", *, model: DynamicModel | None = Non
         The method's own options, validated by its options class: collocation
         ``intervals`` (40), ``degree`` (3), ``scheme`` ("radau" or "legendre"), ``solver``
         ("ipopt" or "newton"); harmonic balance ``harmonics`` (10), ``samples``
-        (4 harmonics + 4); shooting ``steps`` per period (100, >= 8), ``rho_inf`` (0.5). An
-        option of another method is an error naming it.
+        (4 harmonics + 4); shooting ``steps`` per period (100, >= 8), ``rho_inf`` (0.5;
+        cable3d scenes: 0, simulate's). cable3d scenes also take ``stability=True``: the
+        solution's Floquet multipliers in ``stats`` (``floquet_max``, ``stable``,
+        :mod:`symcable.solvers.floquet`). An option of another method is an error naming
+        it.
     model : DynamicModel, optional
     params : ndarray (n_p,), optional
         Model parameters (default ``model.p_periodic``: ``p_value`` without the ramp).

@@ -100,8 +100,9 @@ def _solve_3d(scene: Scene, method, codegen, stability, start, options) -> tuple
             f"the solve from the method's own start failed ({str(first).splitlines()[0]}); "
             "solved from a start with the motion ramped in over its first period",))
     stats = dict(res.stats, period=period)
-    if stability:
-        stats.update(floquet(mech, res).stats())
+    if stability:  # every method's solution judged on one map: shooting's, at its rho_inf
+        stats.update(floquet(mech, res, rho_inf=opts.rho_inf if isinstance(opts, Shooting)
+                             else RHO_INF).stats())
     stats["wall_time"] = time.perf_counter() - started
     if start is not None:
         stats["start_kind"] = ("neighbour" if str(res.stats.get("start", ""))

@@ -274,6 +274,8 @@ def build_rod(scene: Scene) -> Mechanism:
         "twist": Output(tw.T, "rad", owner, "discrete twist at each node"),
         "bending_moment": Output(moment.T, "N m", owner, "bending moment vector at each node"),
         "twisting_moment": Output(mt.T, "N m", owner, "twisting moment GJ tau at each node"),
+        "contact_force": Output(ca.SX.zeros(N + 1, 1), "N", owner, "seabed contact force "
+                                "on each node (none yet: the rod has no seabed)"),
         "end_force_a": Output(end_force[0], "N", owner, "force of the rod on end A"),
         "end_force_b": Output(end_force[N], "N", owner, "force of the rod on end B"),
         "reference_frame": Output(ca.vertcat(*d1), "1", owner, "each edge's tangent and "

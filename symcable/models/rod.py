@@ -19,7 +19,10 @@ joins nodes j and j+1); v their rates (m/s, rad/s). Terms:
   (:mod:`.rod_frames`; second order in the edge's rotation from its anchor).
 
 End conditions: pinned (position held, no moment, twist free), free (applied force; no
-moment), clamped (position held; tangent ``direction`` and the material frame's
+moment), guided (``condition = "guided"``: free, tangent ``direction`` held: cable3d's ghost
+edge on the moving end node, turning with its translation, so its force is the node's; it
+takes the neighbour edge's twist and anchor and no twist term: the guide holds the tangent
+and the bending moment, not the twist; seed 000's benchmark right end), clamped (position held; tangent ``direction`` and the material frame's
 ``twist_deg`` about it given: a held ghost edge one first-segment length beyond the end, as
 cable3d's clamp, whose material director is the clamp's; the vertex at the end node takes
 lbar = ds / 2, half a cell lying in the rod, so the twist angle of the ghost is the frame at
@@ -131,6 +134,7 @@ def build_rod(scene: Scene) -> Mechanism:
     cond = [a.condition, b.condition]
     free = [c is EndCondition.FREE for c in cond]
     clamped = [c is EndCondition.CLAMPED for c in cond]
+    guided = [e.guided for e in (a, b)]
     if all(free):
         raise SymcableError(f"scene {scene.name!r}: both ends free; hold one end")
     twists = [math.radians(e.twist_deg or 0.0) for e in (a, b)]
@@ -180,17 +184,22 @@ def build_rod(scene: Scene) -> Mechanism:
     nodal = ca.horzcat(fa, ca.SX.zeros(3, 1)) + ca.horzcat(ca.SX.zeros(3, 1), fb)
     torque = ca.SX.zeros(1, N)
 
-    # vertices: (node, previous edge, next edge, lbar); edge -1 / N: a clamp's ghost
+    # vertices: (node, previous edge, next edge, lbar); edge -1 / N: a clamp's or guide's ghost
     verts = [(i, i - 1, i, 0.5 * (seg["ds"][i - 1] + seg["ds"][i])) for i in range(1, N)]
-    verts = ([(0, -1, 0, 0.5 * seg["ds"][0])] if clamped[0] else []) + verts \
-        + ([(N, N - 1, N, 0.5 * seg["ds"][-1])] if clamped[1] else [])
+    held = [clamped[k] or guided[k] for k in (0, 1)]
+    verts = ([(0, -1, 0, 0.5 * seg["ds"][0])] if held[0] else []) + verts \
+        + ([(N, N - 1, N, 0.5 * seg["ds"][-1])] if held[1] else [])
     ghost = {}
     for k, (end, i, j) in enumerate(((a, 0, 0), (b, N, N - 1))):
+        sign = -1.0 if i == 0 else 1.0
         if clamped[k]:
             d, u = _clamp_frame(end)
-            sign = -1.0 if i == 0 else 1.0
             ghost[i] = (Xm[:, i] + sign * float(seg["ds"][j]) * ca.DM(d),
                         p[sl("end_a.twist" if i == 0 else "end_b.twist")], ca.DM(d), ca.DM(u))
+        elif guided[k]:  # the neighbour edge's twist and anchor: no twist across the guide
+            d = ca.DM(np.asarray(end.direction, float))
+            ghost[i] = (Xm[:, i] + sign * float(seg["ds"][j]) * d, theta[j], frame[0:3, j],
+                        frame[3:6, j])
     stiff = lambda j: ca.DM([seg["EI"][j], seg["EI2"][j]])  # noqa: E731
     cols = {k: [] for k in ("xp", "x", "xn", "thp", "thn", "t0p", "u0p", "t0n", "u0n", "Bp",
                             "Bn", "GJ", "lbar")}
@@ -210,7 +219,9 @@ def build_rod(scene: Scene) -> Mechanism:
         cols["Bn"].append(stiff(jn_))
         # the joint of two sections: the harmonic mean of GJ over the cell (as cable3d's EI)
         ds_p, ds_n = seg["ds"][jp_], seg["ds"][jn_]
-        cols["GJ"].append((ds_p + ds_n) / (ds_p / seg["GJ"][jp_] + ds_n / seg["GJ"][jn_]))
+        at_guide = (jp < 0 and guided[0]) or (jn >= N and guided[1])
+        cols["GJ"].append(0.0 if at_guide else
+                          (ds_p + ds_n) / (ds_p / seg["GJ"][jp_] + ds_n / seg["GJ"][jn_]))
         cols["lbar"].append(lbar)
     out = vertex_kernel().map(len(verts))(*[ca.horzcat(*c) for c in cols.values()])
     fp, f, fn, qp, qn, E, kappa, twist, M, Mt = out
@@ -220,14 +231,22 @@ def build_rod(scene: Scene) -> Mechanism:
     kap, tw, mt = ca.SX.zeros(2, nv), ca.SX.zeros(1, nv), ca.SX.zeros(1, nv)
     for k, (i, jp, jn, _) in enumerate(verts):
         nodal[:, i] += f[:, k]
+        # a clamp's ghost is held (its force is the clamp's reaction); a guide's turns with
+        # its node (its force is the node's) and shares the neighbour edge's twist
         if jp >= 0:
             nodal[:, i - 1] += fp[:, k]
             torque[jp] += qp[k]
+        elif guided[0]:
+            nodal[:, 0] += fp[:, k]
+            torque[0] += qp[k]
         else:
             reaction[0] += fp[:, k]
         if jn < N:
             nodal[:, i + 1] += fn[:, k]
             torque[jn] += qn[k]
+        elif guided[1]:
+            nodal[:, N] += fn[:, k]
+            torque[N - 1] += qn[k]
         else:
             reaction[N] += fn[:, k]
         moment[:, i], kap[:, i], tw[i], mt[i] = M[:, k], kappa[:, k], twist[k], Mt[k]

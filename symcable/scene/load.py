@@ -164,6 +164,10 @@ def _build(data: Mapping, source: str, base: str = ".") -> Scene:
     sections = _sections(data, types)
     ends = {"end_a": _end("end_a", data, dim, base), "end_b": _end("end_b", data, dim, base)}
     for key, end in ends.items():
+        if end.guided and model is not Model.ROD:
+            raise _err(f"{key}.direction", list(end.direction), "", 'a guided end (free, its '
+                       'tangent held) is read by model = "rod" only: pin or clamp the end, '
+                       "or remove direction")
         if end.twist_deg is not None and model is not Model.ROD:
             raise _err(f"{key}.twist_deg", end.twist_deg, "deg", 'read by model = "rod" only '
                        "(a cable has no material frame): remove it")

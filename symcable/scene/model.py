@@ -229,7 +229,8 @@ class End:
     direction : tuple of float or None
         Clamped ends only (cable3d): the line's unit tangent at the end, pointing from A
         towards B (the file's vector, normalised); it keeps its direction while the end
-        moves.
+        moves. ``model = "rod"``: also a guided end's (``condition = "guided"``, read as a
+        free end with a direction: position unknown, tangent held; :attr:`guided`).
     force : tuple of float or None
         Free ends only: external force applied to the end, N, one component per coordinate
         (zero vector if not given).
@@ -254,6 +255,11 @@ class End:
     def angle(self) -> float | None:
         """Clamped tangent angle, rad (None unless clamped)."""
         return None if self.angle_deg is None else math.radians(self.angle_deg)
+
+    @property
+    def guided(self) -> bool:
+        """True for a guided end (rod): free, with its tangent ``direction`` held."""
+        return self.condition is EndCondition.FREE and self.direction is not None
 
     @property
     def is_fixed(self) -> bool:

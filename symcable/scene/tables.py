@@ -27,7 +27,9 @@ _SECTION_KEYS = ("type", "length", "segments")
 _END_KEYS = ("condition", "position", "angle_deg", "force", "motion", "direction", "twist_deg")
 _MOTION_KEYS = ("kind", "period", "amplitude", "phase_deg", "file") + TOW_KEYS
 _MOTION_KINDS = ("harmonic", "table", "tow")
-_CONDITIONS = tuple(c.value for c in EndCondition)
+#: "guided" (model = "rod"): a free end whose tangent is held, read as condition "free" with
+#: a direction (End.guided)
+_CONDITIONS = tuple(c.value for c in EndCondition) + ("guided",)
 
 # Defaults come from the dataclasses, so the file and the code cannot disagree.
 _ENV = Environment()
@@ -267,9 +269,12 @@ def _end(path: str, data: Mapping, dim: int, base: str = ".") -> End:
 def _end_table(path: str, raw: Any, dim: int, base: str = ".") -> End:
     """An end table (``[end_a]``, or a line's inline ``end_a``) at key path ``path``."""
     t = _table(path, raw, _END_KEYS)
-    cond = EndCondition(_choice(f"{path}.condition", _required(
+    raw_cond = _choice(f"{path}.condition", _required(
         path, t, "condition", f"one of {', '.join(map(repr, _CONDITIONS))}"), _CONDITIONS,
-        "end condition"))
+        "end condition")
+    guided = raw_cond == "guided" or (raw_cond == "free" and dim == 3
+                                      and _get(t, "direction") is not None)
+    cond = EndCondition.FREE if guided else EndCondition(raw_cond)
     position, angle, force, motion = (_get(t, k) for k in _END_KEYS[1:5])
     this = f"(this end is {cond.value})"
     if cond is EndCondition.FREE:
@@ -291,10 +296,10 @@ def _end_table(path: str, raw: Any, dim: int, base: str = ".") -> End:
     if dim != 3 and direction is not None:
         raise _err(f"{path}.direction", direction, "", 'a clamped end\'s direction is read by '
                    'model = "cable3d"; the planar line takes angle_deg')
-    if cond is EndCondition.CLAMPED and dim == 3:
+    if (cond is EndCondition.CLAMPED or guided) and dim == 3:
         direction = _direction(f"{path}.direction", _required(
-            path, t, "direction", "[t_x, t_y, t_z]; a clamped end needs the line's tangent "
-            "there, pointing from end A towards end B"))
+            path, t, "direction", f"[t_x, t_y, t_z]; a {raw_cond} end needs the line's "
+            "tangent there, pointing from end A towards end B"))
     elif cond is EndCondition.CLAMPED:
         angle = _number(f"{path}.angle_deg", _required(
             path, t, "angle_deg", "deg; a clamped end needs its tangent angle from +x"), "deg")

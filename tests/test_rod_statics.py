@@ -256,3 +256,18 @@ def test_rod_scene_keys():
     bad["line_types"]["beam"]["EI"] = [1.0, 2.0, 3.0]
     with pytest.raises(SceneError, match=r"line_types\.beam\.EI"):
         load_scene(bad)
+
+
+def test_isotropic_kernel_is_the_general_one():
+    """vertex_kernel(isotropic=True) (bending without the frames, the cheaper tangent) gives
+    the general kernel's energy, forces and torques when EI_1 = EI_2 (1e-12 relative)."""
+    rng = np.random.default_rng(11)
+    X = rng.normal(size=(3, 3))
+    t0 = np.array([1.0, 0.0, 0.0])
+    args = dict(xp=X[0], x=X[1], xn=X[2], thp=0.4, thn=-0.3, t0p=t0, u0p=[0.0, 0.0, 1.0],
+                t0n=t0, u0n=[0.0, 0.0, 1.0], Bp=[2.0, 2.0], Bn=[3.0, 3.0], GJ=1.5, lbar=0.7)
+    general, iso = vertex_kernel()(**args), vertex_kernel(isotropic=True)(**args)
+    for key in ("E", "fp", "f", "fn", "qp", "qn"):
+        ref = np.asarray(general[key], float)
+        np.testing.assert_allclose(np.asarray(iso[key], float), ref,
+                                   rtol=1e-12, atol=1e-12 * float(np.abs(ref).max()))

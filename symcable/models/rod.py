@@ -223,7 +223,7 @@ def build_rod(scene: Scene) -> Mechanism:
         cols["GJ"].append(0.0 if at_guide else
                           (ds_p + ds_n) / (ds_p / seg["GJ"][jp_] + ds_n / seg["GJ"][jn_]))
         cols["lbar"].append(lbar)
-    out = vertex_kernel().map(len(verts))(*[ca.horzcat(*c) for c in cols.values()])
+    out = vertex_kernel(bool(np.all(seg["EI"] == seg["EI2"]))).map(len(verts))(*[ca.horzcat(*c) for c in cols.values()])
     fp, f, fn, qp, qn, E, kappa, twist, M, Mt = out
     reaction = {0: ca.SX.zeros(3, 1), N: ca.SX.zeros(3, 1)}
     nv = N + 1

@@ -65,8 +65,13 @@ def _frame(e, theta, t0, u0):
     return t, d1, m1, ca.cross(t, m1)
 
 
-def vertex_kernel() -> ca.Function:
-    """The elastic term of one vertex (module docstring). Inputs: node positions ``xp``,
+def vertex_kernel(isotropic: bool = False) -> ca.Function:
+    """The elastic term of one vertex (module docstring). ``isotropic``: EI_1 = EI_2 on both
+    edges (only ``Bp[0]``, ``Bn[0]`` read), the bending energy written without the frames,
+    (EI_p + EI_n) |kb|^2 / 4 per 2 lbar (the same value: kb is perpendicular to both
+    tangents, so kappa_1^2 + kappa_2^2 = |kb|^2), which cuts the kernel's exact Hessian, the
+    cost of every tangent, from 9.3 k to 5.0 k operations (the twist term keeps the rest).
+    Inputs: node positions ``xp``,
     ``x``, ``xn`` (m), twists ``thp``, ``thn`` of the edges before and after (rad), their
     anchors ``t0p``, ``u0p``, ``t0n``, ``u0n``, their bending stiffnesses ``Bp``, ``Bn``
     ([EI_1, EI_2], N m^2), the vertex's ``GJ`` (N m^2) and ``lbar`` (m). Outputs: the forces
@@ -89,7 +94,10 @@ def vertex_kernel() -> ca.Function:
     moved = transport(t1, t2, d1p)
     ref = ca.atan2(ca.dot(ca.cross(moved, d1n), t2), ca.dot(moved, d1n))
     twist = thn - thp + ref
-    bend = 0.5 * (ca.dot(Bp, kp * kp) + ca.dot(Bn, kn * kn))
+    if isotropic:
+        bend = 0.5 * (Bp[0] + Bn[0]) * ca.dot(kb, kb)
+    else:
+        bend = 0.5 * (ca.dot(Bp, kp * kp) + ca.dot(Bn, kn * kn))
     E = (0.5 * bend + 0.5 * GJ * twist * twist) / lbar
     g = ca.gradient(E, ca.vertcat(xp, x, xn, thp, thn))
     M = 0.5 * (Bp[0] * kp[0] * m1p + Bp[1] * kp[1] * m2p

@@ -22,7 +22,8 @@ import symcable as sc
 from symcable.analytic import cantilever_tip_load, heavy_cantilever_small
 from symcable.errors import SceneError
 from symcable.models.rod import build_rod
-from symcable.models.rod_frames import reference_director, transport, vertex_kernel
+from symcable.models.rod_frames import (reference_director, reference_twist, transport,
+                                       vertex_kernel)
 from symcable.scene import load_scene
 from symcable.solvers.equilibrium import solve_equilibrium
 
@@ -271,3 +272,25 @@ def test_isotropic_kernel_is_the_general_one():
         ref = np.asarray(general[key], float)
         np.testing.assert_allclose(np.asarray(iso[key], float), ref,
                                    rtol=1e-12, atol=1e-12 * float(np.abs(ref).max()))
+
+
+def test_reference_twist_is_the_transports_angle():
+    """rod_frames.reference_twist (solid angles of the loop through the anchors) equals its
+    definition, the angle about t2 from P(t1 -> t2) P(t0p -> t1) u0p to P(t0n -> t2) u0n, on
+    random frames within a hemisphere of each other (to 1e-13 rad: round-off)."""
+    rng = np.random.default_rng(2)
+
+    def unit(v):
+        return v / np.linalg.norm(v)
+    for _ in range(30):
+        t0p = unit(rng.normal(size=3))
+        t0n = unit(t0p + 0.5 * rng.normal(size=3))
+        t1 = unit(t0p + 0.7 * rng.normal(size=3))
+        t2 = unit(t1 + 0.4 * rng.normal(size=3))
+        u0p, u0n = reference_director(t0p), reference_director(t0n)
+        d1p = transport(ca.DM(t0p), ca.DM(t1), ca.DM(u0p))
+        d1n = np.asarray(transport(ca.DM(t0n), ca.DM(t2), ca.DM(u0n)), float).ravel()
+        moved = np.asarray(transport(ca.DM(t1), ca.DM(t2), d1p), float).ravel()
+        want = math.atan2(np.cross(moved, d1n) @ t2, moved @ d1n)
+        got = float(reference_twist(*(ca.DM(v) for v in (t1, t2, t0p, u0p, t0n, u0n))))
+        assert abs((got - want + math.pi) % (2 * math.pi) - math.pi) < 1e-13

@@ -30,6 +30,9 @@ the end node and M_t = GJ (theta_0 - twist) / (ds / 2)). With no clamped end, th
 edge's twist is held at 0 (the rod's spin about itself is otherwise undetermined); a rod
 needs GJ > 0 (an isotropic rod's twists are otherwise singular).
 
+Not yet: seabed contact (a scene whose rod can reach the bed is refused), a current
+profile, the consistent mass, an applied end moment, natural curvature.
+
 The reference frame (design, notes/rod14.md): each edge's reference director is its
 *anchor* (t0_j, u0_j), a parameter block ``frame`` (6 per edge, data), carried to the
 current tangent by the smallest rotation. It is a smooth function of the edge's own two
@@ -128,15 +131,18 @@ def build_rod(scene: Scene) -> Mechanism:
                             "every line type (a cable is model = 'cable3d')")
     env = scene.environment
     a, b = scene.end_a, scene.end_b
-    if scene.seabed is not None:
-        raise SymcableError(f"scene {scene.name!r}: model = 'rod' has no seabed contact yet "
-                            "(remove [seabed])")
     cond = [a.condition, b.condition]
     free = [c is EndCondition.FREE for c in cond]
     clamped = [c is EndCondition.CLAMPED for c in cond]
     guided = [e.guided for e in (a, b)]
     if all(free):
         raise SymcableError(f"scene {scene.name!r}: both ends free; hold one end")
+    held_z = [e.position[2] for e in (a, b) if e.position is not None]
+    if scene.seabed is not None and min(held_z) - scene.length <= -env.depth:
+        raise SymcableError(f"scene {scene.name!r}: model = 'rod' has no seabed contact yet, "
+                            f"and the rod can reach the seabed at depth {env.depth:g} m (its "
+                            f"lowest held end at z = {min(held_z):g} m, length "
+                            f"{scene.length:g} m): raise it, or shorten it")
     twists = [math.radians(e.twist_deg or 0.0) for e in (a, b)]
     anchors = default_anchors(scene, N)
     params = ParamBlocks(P_NAMES + ("frame",), P_SIZES + (6 * N,), np.concatenate([

@@ -294,3 +294,22 @@ def test_reference_twist_is_the_transports_angle():
         want = math.atan2(np.cross(moved, d1n) @ t2, moved @ d1n)
         got = float(reference_twist(*(ca.DM(v) for v in (t1, t2, t0p, u0p, t0n, u0n))))
         assert abs((got - want + math.pi) % (2 * math.pi) - math.pi) < 1e-13
+
+
+def test_internal_force_is_the_load_beyond_the_cut(elastica):
+    """The output internal_force (the seed's f: the force across each edge on the part
+    towards end A) equals the external load on the part beyond the cut: the tip load P on
+    the weightless elastica, w (L - s) on the heavy cantilever (s the edge's midpoint, the
+    weight lumped half a segment each side); exact in the discrete statics, so within the
+    nodes' summed residuals (N times the solve's tolerance)."""
+    P, runs = elastica
+    _, eq = runs[0]
+    tol = 10 * eq.stats["tolerance"]
+    np.testing.assert_allclose(eq.outputs["internal_force"],
+                               np.tile([0.0, 0.0, -P], (10, 1)), atol=tol)
+    w = EI / (0.1 * L**3)
+    _, eq = solve(cantilever(weight=w, segments=10))
+    mid = (np.arange(10) + 0.5) * L / 10
+    want = np.column_stack([np.zeros(10), np.zeros(10), -w * (L - mid)])
+    np.testing.assert_allclose(eq.outputs["internal_force"], want,
+                               atol=10 * eq.stats["tolerance"])

@@ -256,6 +256,20 @@ def build_rod(scene: Scene) -> Mechanism:
         else:
             reaction[N] += fn[:, k]
         moment[:, i], kap[:, i], tw[i], mt[i] = M[:, k], kappa[:, k], twist[k], Mt[k]
+    # the internal force across each edge (N, on the part before it from the part beyond):
+    # the axial force along the edge, and the vertex terms that straddle the cut (the
+    # vertex at its first node pushes the node beyond with fn, whose reaction the part
+    # before takes, as its forces sum to zero; the vertex at its second node pushes the
+    # node before with fp)
+    internal = ca.SX.zeros(3, N)
+    for j in range(N):
+        dx = Xm[:, j + 1] - Xm[:, j]
+        internal[:, j] = T[j] * dx / ca.norm_2(dx)
+    for k, (i, _, _, _) in enumerate(verts):
+        if i < N:
+            internal[:, i] -= fn[:, k]
+        if i > 0:
+            internal[:, i - 1] += fp[:, k]
 
     applied = np.zeros((3, N + 1))
     for end, i in ((a, 0), (b, N)):
@@ -299,6 +313,8 @@ def build_rod(scene: Scene) -> Mechanism:
         "twist": Output(tw.T, "rad", owner, "discrete twist at each node"),
         "bending_moment": Output(moment.T, "N m", owner, "bending moment vector at each node"),
         "twisting_moment": Output(mt.T, "N m", owner, "twisting moment GJ tau at each node"),
+        "internal_force": Output(internal.T, "N", owner, "internal force across each edge "
+                                 "(on the part towards end A; the seed's f): tension and shear"),
         "contact_force": Output(ca.SX.zeros(N + 1, 1), "N", owner, "seabed contact force "
                                 "on each node (none yet: the rod has no seabed)"),
         "end_force_a": Output(end_force[0], "N", owner, "force of the rod on end A"),

@@ -2,7 +2,8 @@
 Kirchhoff rod (B = EI, C = GJ) bent into the helix of curvature kappa and torsion tau with a
 uniform material twist Omega is in equilibrium under the wrench along its axis
 
-    F = sqrt(kappa^2 + tau^2) (C Omega - B tau),   M = (B kappa^2 + C Omega tau) / sqrt(kappa^2 + tau^2)
+    F = sqrt(kappa^2 + tau^2) (C Omega - B tau),
+    M = (B kappa^2 + C Omega tau) / sqrt(kappa^2 + tau^2)
 
 (F a tension). The rod (symcable.models.rod) is clamped at both ends on the helix (positions,
 tangents, and material frames: end A's the reference director, end B's that director carried

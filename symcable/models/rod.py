@@ -22,9 +22,9 @@ End conditions: pinned (position held, no moment, twist free), free (applied for
 moment), guided (``condition = "guided"``: free, tangent ``direction`` held: cable3d's ghost
 edge on the moving end node, turning with its translation, so its force is the node's; it
 takes the neighbour edge's twist and anchor and no twist term: the guide holds the tangent
-and the bending moment, not the twist; seed 000's benchmark right end), clamped (position held; tangent ``direction`` and the material frame's
-``twist_deg`` about it given: a held ghost edge one first-segment length beyond the end, as
-cable3d's clamp, whose material director is the clamp's; the vertex at the end node takes
+and the bending moment, not the twist; seed 000's benchmark right end), clamped (position
+held; tangent ``direction`` and the material frame's ``twist_deg`` about it given: a held
+ghost edge one first-segment length beyond the end, as cable3d's clamp, whose material director is the clamp's; the vertex at the end node takes
 lbar = ds / 2, half a cell lying in the rod, so the twist angle of the ghost is the frame at
 the end node and M_t = GJ (theta_0 - twist) / (ds / 2)). With no clamped end, the first
 edge's twist is held at 0 (the rod's spin about itself is otherwise undetermined); a rod
@@ -229,7 +229,8 @@ def build_rod(scene: Scene) -> Mechanism:
         cols["GJ"].append(0.0 if at_guide else
                           (ds_p + ds_n) / (ds_p / seg["GJ"][jp_] + ds_n / seg["GJ"][jn_]))
         cols["lbar"].append(lbar)
-    out = vertex_kernel(bool(np.all(seg["EI"] == seg["EI2"]))).map(len(verts))(*[ca.horzcat(*c) for c in cols.values()])
+    kernel = vertex_kernel(bool(np.all(seg["EI"] == seg["EI2"]))).map(len(verts))
+    out = kernel(*[ca.horzcat(*c) for c in cols.values()])
     fp, f, fn, qp, qn, E, kappa, twist, M, Mt = out
     reaction = {0: ca.SX.zeros(3, 1), N: ca.SX.zeros(3, 1)}
     nv = N + 1

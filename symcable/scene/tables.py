@@ -15,8 +15,8 @@ from .checks import (_choice, _err, _fmt, _for, _get, _integer, _key, _layout,
                      _number, _num_reader, _required, _suggest, _table, _vector)
 from .drag import read_drag_law
 from .tow import TOW_KEYS, read_tow
-from .model import (_LINE_KEYS, _LINE_KEYS_DRAG, _LINE_KEYS_ROD, End, EndCondition, Environment, LineType,
-                    Motion, Seabed, Section)
+from .model import (_LINE_KEYS, _LINE_KEYS_DRAG, _LINE_KEYS_ROD, End, EndCondition,
+                    Environment, LineType, Motion, Seabed, Section)
 
 _ENV_KEYS = ("gravity", "water_density", "depth", "current", "current_profile")
 _SEABED_KEYS = ("stiffness", "friction", "damping", "friction_axial", "friction_lateral",

@@ -15,7 +15,7 @@ from ..errors import SceneError
 from .model import _DIMS, EndCondition, Model
 
 _AXES = {2: ("x", "z"), 3: ("x", "y", "z")}  # vectors per dimension, z up in both
-_DIM_MODEL = {d: m for m, d in _DIMS.items()}  # the model named in messages on vectors
+_DIM_MODEL = {d: m for m, d in reversed(_DIMS.items())}  # the first model of each dimension
 _MISSING = object()
 _BARE_KEY = re.compile(r"[A-Za-z0-9_-]+")
 

@@ -148,6 +148,8 @@ def _build(data: Mapping, source: str, base: str = ".") -> Scene:
     env = _environment(data, dim)
     seabed = _seabed(data, env)
     types = _line_types(data, env, dim)
+    if model is not Model.ROD:
+        _refuse_rod_keys(types)
     if _get(data, "lines") is not None:  # version 2: several lines and points
         _check_friction_options(seabed, model.value, True, None)
         points, lines, bodies = read_system(data, env, types, dim, model.value, base)
@@ -161,12 +163,31 @@ def _build(data: Mapping, source: str, base: str = ".") -> Scene:
                        f"give [[lines]] with end_a / end_b naming them, or remove [{key}]")
     sections = _sections(data, types)
     ends = {"end_a": _end("end_a", data, dim, base), "end_b": _end("end_b", data, dim, base)}
+    for key, end in ends.items():
+        if end.guided and model is not Model.ROD:
+            raise _err(f"{key}.direction", list(end.direction), "", 'a guided end (free, its '
+                       'tangent held) is read by model = "rod" only: pin or clamp the end, '
+                       "or remove direction")
+        if end.twist_deg is not None and model is not Model.ROD:
+            raise _err(f"{key}.twist_deg", end.twist_deg, "deg", 'read by model = "rod" only '
+                       "(a cable has no material frame): remove it")
     _check_geometry(env, sections, ends, dim)
     _check_friction_options(seabed, model.value, False, ends)
     return Scene(name=name, model=model, environment=env, seabed=seabed,
                  line_types=MappingProxyType(types), sections=sections,
                  end_a=ends["end_a"], end_b=ends["end_b"], source=source,
                  mass_matrix=mass_matrix)
+
+
+def _refuse_rod_keys(types) -> None:
+    """Torsion and two principal bending stiffnesses are read by ``model = "rod"`` only."""
+    for name, lt in types.items():
+        if lt.EI_2 is not None:
+            raise _err(f"line_types.{name}.EI", [lt.EI, lt.EI_2], "N m^2", 'two principal '
+                       'stiffnesses are read by model = "rod" only: give one number')
+        if lt.GJ != 0.0:
+            raise _err(f"line_types.{name}.GJ", lt.GJ, "N m^2", 'torsion is read by model = '
+                       '"rod" only: remove it, or 0')
 
 
 def scene_to_toml(scene: Scene) -> str:

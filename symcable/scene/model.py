@@ -31,6 +31,8 @@ _LINE_KEYS = ("EA", "EI", "mass", "diameter", "weight", "cd_normal", "cd_tangent
               "max_strain", "ca_tangential", "damping")
 #: the keys only cable3d reads (written only when set)
 _LINE_KEYS_3D = ("ca_tangential", "damping")
+#: the keys only the rod reads (written only when set): torsion; EI may be [EI_1, EI_2]
+_LINE_KEYS_ROD = ("GJ",)
 #: the drag law's keys (cable3d; written only for a law other than Morison's)
 _LINE_KEYS_DRAG = ("drag_law", "loading")
 
@@ -49,10 +51,11 @@ class Model(str, enum.Enum):
 
     PLANAR = "planar"    #: a line in the vertical x-z plane; vectors are [x, z]
     CABLE3D = "cable3d"  #: a 3D position-vector cable; vectors are [x, y, z]
+    ROD = "rod"          #: a Kirchhoff rod (bending, torsion; issue 14); vectors [x, y, z]
 
 
 #: space dimensions of each model: the length of every vector in its scenes (z is up)
-_DIMS = {Model.PLANAR: 2, Model.CABLE3D: 3}
+_DIMS = {Model.PLANAR: 2, Model.CABLE3D: 3, Model.ROD: 3}
 
 
 @dataclass(frozen=True)
@@ -96,6 +99,12 @@ class LineType:
         The loading functions (``[line_types.NAME.loading]``,
         :class:`~symcable.scene.loading.LoadingFunctions`), with ``drag_law =
         "loading-functions"`` only.
+    EI_2 : float or None
+        ``model = "rod"`` only: the second principal bending stiffness, N m^2 (the file's
+        ``EI = [EI_1, EI_2]``; ``EI`` is then EI_1, about the material director m1); None:
+        isotropic, EI_2 = EI.
+    GJ : float
+        ``model = "rod"`` only: torsional stiffness, N m^2 (>= 0), default 0.
     """
 
     name: str
@@ -112,6 +121,8 @@ class LineType:
     damping: float = 0.0
     drag_law: str = "morison"
     loading: LoadingFunctions | None = None
+    EI_2: float | None = None
+    GJ: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -218,12 +229,18 @@ class End:
     direction : tuple of float or None
         Clamped ends only (cable3d): the line's unit tangent at the end, pointing from A
         towards B (the file's vector, normalised); it keeps its direction while the end
-        moves.
+        moves. ``model = "rod"``: also a guided end's (``condition = "guided"``, read as a
+        free end with a direction: position unknown, tangent held; :attr:`guided`).
     force : tuple of float or None
         Free ends only: external force applied to the end, N, one component per coordinate
         (zero vector if not given).
     motion : Motion or None
         Prescribed motion about ``position`` (pinned/clamped ends only).
+    twist_deg : float or None
+        Clamped ends of ``model = "rod"`` only: the angle of the clamp's material director
+        m1 about ``direction`` from the reference director
+        (:func:`symcable.models.rod_frames.reference_director` of the direction), degrees;
+        None: 0.
     """
 
     condition: EndCondition
@@ -232,11 +249,17 @@ class End:
     force: tuple[float, ...] | None = None
     motion: Motion | None = None
     direction: tuple[float, ...] | None = None
+    twist_deg: float | None = None
 
     @property
     def angle(self) -> float | None:
         """Clamped tangent angle, rad (None unless clamped)."""
         return None if self.angle_deg is None else math.radians(self.angle_deg)
+
+    @property
+    def guided(self) -> bool:
+        """True for a guided end (rod): free, with its tangent ``direction`` held."""
+        return self.condition is EndCondition.FREE and self.direction is not None
 
     @property
     def is_fixed(self) -> bool:
@@ -453,6 +476,10 @@ def scene_to_dict(scene: Scene) -> dict:
                                 if k not in _LINE_KEYS_3D or getattr(lt, k) != 0.0}
                          for name, lt in types.items()}
     for name, lt in types.items():
+        if lt.EI_2 is not None:
+            out["line_types"][name]["EI"] = [lt.EI, lt.EI_2]
+        if lt.GJ != 0.0:
+            out["line_types"][name]["GJ"] = lt.GJ
         if lt.drag_law != "morison":
             out["line_types"][name]["drag_law"] = lt.drag_law
             out["line_types"][name]["loading"] = lt.loading.to_dict()
@@ -495,6 +522,8 @@ def _end_dict(end: End) -> dict:
         e["force"] = list(end.force)
     if end.motion is not None:
         e["motion"] = _motion_dict(end.motion)
+    if end.twist_deg is not None:
+        e["twist_deg"] = end.twist_deg
     return e
 
 

@@ -15,8 +15,8 @@ from .checks import (_choice, _err, _fmt, _for, _get, _integer, _key, _layout,
                      _number, _num_reader, _required, _suggest, _table, _vector)
 from .drag import read_drag_law
 from .tow import TOW_KEYS, read_tow
-from .model import (_LINE_KEYS, _LINE_KEYS_DRAG, End, EndCondition, Environment, LineType,
-                    Motion, Seabed, Section)
+from .model import (_LINE_KEYS, _LINE_KEYS_DRAG, _LINE_KEYS_ROD, End, EndCondition,
+                    Environment, LineType, Motion, Seabed, Section)
 
 _ENV_KEYS = ("gravity", "water_density", "depth", "current", "current_profile")
 _SEABED_KEYS = ("stiffness", "friction", "damping", "friction_axial", "friction_lateral",
@@ -24,10 +24,12 @@ _SEABED_KEYS = ("stiffness", "friction", "damping", "friction_axial", "friction_
 FRICTION_LAWS = ("coulomb", "bristle")
 STATIC_FRICTION = ("none", "laid")
 _SECTION_KEYS = ("type", "length", "segments")
-_END_KEYS = ("condition", "position", "angle_deg", "force", "motion", "direction")
+_END_KEYS = ("condition", "position", "angle_deg", "force", "motion", "direction", "twist_deg")
 _MOTION_KEYS = ("kind", "period", "amplitude", "phase_deg", "file") + TOW_KEYS
 _MOTION_KINDS = ("harmonic", "table", "tow")
-_CONDITIONS = tuple(c.value for c in EndCondition)
+#: "guided" (model = "rod"): a free end whose tangent is held, read as condition "free" with
+#: a direction (End.guided)
+_CONDITIONS = tuple(c.value for c in EndCondition) + ("guided",)
 
 # Defaults come from the dataclasses, so the file and the code cannot disagree.
 _ENV = Environment()
@@ -129,12 +131,12 @@ def _check_friction_options(seabed: Seabed | None, model: str, several: bool,
 
 
 def _line_type(path: str, name: str, raw: Any, env: Environment, dim: int) -> LineType:
-    t = _table(path, raw, _LINE_KEYS + _LINE_KEYS_DRAG)
+    t = _table(path, raw, _LINE_KEYS + _LINE_KEYS_DRAG + _LINE_KEYS_ROD)
     num = _num_reader(path, t)
     mass = num("mass", "kg/m", gt=0)
     diameter = num("diameter", "m", gt=0)
     default_weight = (mass - env.water_density * math.pi * diameter**2 / 4.0) * env.gravity
-    ei = num("EI", "N m^2", 0.0, ge=0)
+    ei, ei_2 = _bending_stiffness(path, t)
     law, loading = read_drag_law(path, t, dim)
     return LineType(
         name=name, EA=num("EA", "N", gt=0), EI=ei, mass=mass,
@@ -146,8 +148,21 @@ def _line_type(path: str, name: str, raw: Any, env: Environment, dim: int) -> Li
         ca_tangential=_only_3d(path, "ca_tangential", num("ca_tangential", "", _LT.ca_tangential,
                                                           ge=0), dim),
         damping=_only_3d(path, "damping", num("damping", "N s", _LT.damping), dim),
-        drag_law=law, loading=loading,
+        drag_law=law, loading=loading, EI_2=ei_2, GJ=num("GJ", "N m^2", 0.0, ge=0),
     )
+
+
+def _bending_stiffness(path: str, t: Mapping) -> tuple[float, float | None]:
+    """``EI`` of a line type: a number (isotropic; EI_2 None) or ``[EI_1, EI_2]`` (the
+    rod's two principal stiffnesses, N m^2, both >= 0)."""
+    raw = _get(t, "EI", 0.0)
+    if isinstance(raw, (list, tuple)):
+        if len(raw) != 2:
+            raise _err(_key(path, "EI"), list(raw), "N m^2", "must be a number or two numbers "
+                       "[EI_1, EI_2] (the rod's principal bending stiffnesses)")
+        ei = [_number(f"{_key(path, 'EI')}[{k}]", v, "N m^2", ge=0) for k, v in enumerate(raw)]
+        return ei[0], ei[1]
+    return _number(_key(path, "EI"), raw, "N m^2", ge=0), None
 
 
 def _only_3d(path: str, key: str, value: float, dim: int) -> float:
@@ -254,9 +269,12 @@ def _end(path: str, data: Mapping, dim: int, base: str = ".") -> End:
 def _end_table(path: str, raw: Any, dim: int, base: str = ".") -> End:
     """An end table (``[end_a]``, or a line's inline ``end_a``) at key path ``path``."""
     t = _table(path, raw, _END_KEYS)
-    cond = EndCondition(_choice(f"{path}.condition", _required(
+    raw_cond = _choice(f"{path}.condition", _required(
         path, t, "condition", f"one of {', '.join(map(repr, _CONDITIONS))}"), _CONDITIONS,
-        "end condition"))
+        "end condition")
+    guided = raw_cond == "guided" or (raw_cond == "free" and dim == 3
+                                      and _get(t, "direction") is not None)
+    cond = EndCondition.FREE if guided else EndCondition(raw_cond)
     position, angle, force, motion = (_get(t, k) for k in _END_KEYS[1:5])
     this = f"(this end is {cond.value})"
     if cond is EndCondition.FREE:
@@ -278,10 +296,10 @@ def _end_table(path: str, raw: Any, dim: int, base: str = ".") -> End:
     if dim != 3 and direction is not None:
         raise _err(f"{path}.direction", direction, "", 'a clamped end\'s direction is read by '
                    'model = "cable3d"; the planar line takes angle_deg')
-    if cond is EndCondition.CLAMPED and dim == 3:
+    if (cond is EndCondition.CLAMPED or guided) and dim == 3:
         direction = _direction(f"{path}.direction", _required(
-            path, t, "direction", "[t_x, t_y, t_z]; a clamped end needs the line's tangent "
-            "there, pointing from end A towards end B"))
+            path, t, "direction", f"[t_x, t_y, t_z]; a {raw_cond} end needs the line's "
+            "tangent there, pointing from end A towards end B"))
     elif cond is EndCondition.CLAMPED:
         angle = _number(f"{path}.angle_deg", _required(
             path, t, "angle_deg", "deg; a clamped end needs its tangent angle from +x"), "deg")
@@ -296,8 +314,14 @@ def _end_table(path: str, raw: Any, dim: int, base: str = ".") -> End:
         force = _vector(f"{path}.force", _get(t, "force", (0.0,) * dim), dim, "N", _for(dim, "F_"))
     if motion is not None:
         motion = _motion(f"{path}.motion", motion, dim, base)
+    twist = _get(t, "twist_deg")
+    if twist is not None:
+        if cond is not EndCondition.CLAMPED or dim != 3:
+            raise _err(f"{path}.twist_deg", twist, "deg", 'only a clamped end of model = "rod" '
+                       f"takes a twist {this}")
+        twist = _number(f"{path}.twist_deg", twist, "deg")
     return End(condition=cond, position=position, angle_deg=angle, force=force, motion=motion,
-               direction=direction)
+               direction=direction, twist_deg=twist)
 
 
 def _direction(path: str, raw: Any) -> tuple[float, ...]:

@@ -66,6 +66,7 @@ LAYERS = {
     "symcable.results_line3d": 4,
     "symcable.results_sweep": 4,
     "symcable.results_offsets": 4,
+    "symcable.rod_fields": 4,
     "symcable.solvers": 5,
     "symcable.api": 6,
     "symcable.planar_static": 6,

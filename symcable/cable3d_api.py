@@ -30,6 +30,7 @@ from .scene import End, EndCondition, Scene
 from .cable3d_static import (body_stiffness, cable3d_mechanism, check_periodic_3d, dynamic_p,
                              node_shapes, run_start_state, static_equilibrium)
 from .models.rod_reanchor import reanchor_hook
+from .models.rod_spin import with_reference_spin
 from .models.tow import held_tows
 from .rod_static import rod_mechanism, rod_static_equilibrium
 from .solvers.integrate import ERROR_TARGET, accurate_dt, error_warning, integrate
@@ -37,7 +38,8 @@ from .solvers.march import leaky_sum
 from .solvers.linearize import MAX_DENSE, mechanism_modes, output_sensitivity
 from .solvers.options import RK4, GeneralizedAlphaFirstOrder
 
-__all__ = ["ROD_MODELS", "ROD_SERIES", "check_periodic_scene", "is_rod", "linearize_3d",
+__all__ = ["ROD_MODELS", "ROD_SERIES", "check_periodic_scene", "dynamics_mechanism", "is_rod",
+           "linearize_3d",
            "modal_analysis_3d", "scene_equilibrium", "scene_mechanism", "simulate_3d"]
 
 #: the models whose Mechanism is the rod's (:mod:`symcable.rod_static`)
@@ -116,6 +118,15 @@ def scene_equilibrium(scene: Scene, **options):
     return solve(scene, **options)
 
 
+def dynamics_mechanism(scene: Scene, mech):
+    """The Mechanism the dynamic analyses of ``scene`` run: a rod's with its reference
+    frames' spin in the twist's kinetic energy
+    (:func:`~symcable.models.rod_spin.with_reference_spin`: the motion then independent of
+    when the frames are re-anchored), else ``mech`` itself. The same q, v and p: a static
+    state of ``mech`` is one of it."""
+    return with_reference_spin(mech) if is_rod(scene) else mech
+
+
 def check_periodic_scene(scene: Scene) -> None:
     """:func:`~symcable.cable3d_static.check_periodic_3d`, for the scene's own Mechanism."""
     if is_rod(scene):
@@ -139,7 +150,7 @@ def _start_state(scene: Scene, t0: float, start: str | None, codegen):
         raise SymcableError(f"start = {start!r}: must be 'rest' or None for a "
                             f"{scene.model.value} scene")
     mech, eq = rod_static_equilibrium(scene, codegen=codegen)
-    return mech, eq, np.zeros(mech.n_v), {"start": "rest"}, []
+    return dynamics_mechanism(scene, mech), eq, np.zeros(mech.n_v), {"start": "rest"}, []
 
 
 def _motions(scene: Scene) -> list:
@@ -384,6 +395,7 @@ def modal_analysis_3d(scene: Scene, n_modes: int = 10, *, max_dense: int = MAX_D
     if isinstance(n_modes, bool) or int(n_modes) != n_modes or n_modes < 1:
         raise SymcableError(f"n_modes = {n_modes!r}: must be an integer >= 1")
     mech, eq = scene_equilibrium(scene)
+    mech = dynamics_mechanism(scene, mech)
     t_static = time.perf_counter() - started
     eq = dataclasses.replace(eq, p=dynamic_p(scene, mech, eq.p))
     modes = mechanism_modes(mech, eq, int(n_modes), damped=damped, max_dense=max_dense)
@@ -465,7 +477,8 @@ def linearize_3d(scene: Scene, *, undamped: bool = False) -> SceneLinearization:
     :func:`~symcable.cable3d_static.body_stiffness`; its q named ``"tow.x"``, ``"tow.e1"``,
     its v ``"tow.rx"`` ...). A free body's statics-only spring is off (K of the lines and
     bodies alone)."""
-    mech, eq = scene_equilibrium(scene)
+    mech0, eq = scene_equilibrium(scene)
+    mech = dynamics_mechanism(scene, mech0)
     p = dynamic_p(scene, mech, eq.p)
     if undamped:
         for block in mech.params.names:
@@ -486,7 +499,7 @@ def linearize_3d(scene: Scene, *, undamped: bool = False) -> SceneLinearization:
     if scene.version == 1:
         for end in ("a", "b"):
             if getattr(scene, f"end_{end}").condition is EndCondition.PINNED:
-                ends[end] = end_stiffness_3d(scene, end, equilibrium=(mech, eq))
+                ends[end] = end_stiffness_3d(scene, end, equilibrium=(mech0, eq))
     else:  # each held point: -d(lines' force on it)/d(its position), every attached end
         for pname, pt in scene.points.items():
             if pt.is_free:

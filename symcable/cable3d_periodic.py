@@ -15,7 +15,7 @@ import time
 import numpy as np
 
 from .cable3d_api import (RHO_INF, _line_result, _motions, _period, check_periodic_scene,
-                          scene_equilibrium)
+                          dynamics_mechanism, scene_equilibrium)
 from .errors import ConvergenceError, SymcableError
 from .planar_periodic import method_options
 from .results_line3d import LineTrajectory
@@ -68,6 +68,7 @@ def _solve_3d(scene: Scene, method, codegen, stability, start, options) -> tuple
         # than the time run's and collocation's (positions 3 mm apart); at 0 within 1 %
         opts = dataclasses.replace(opts, rho_inf=RHO_INF)
     mech, eq = scene_equilibrium(scene, codegen=codegen)
+    mech = dynamics_mechanism(scene, mech)
     p = np.array(mech.params.values, float)
     ramped = p.copy()  # the start's first period: the motion ramped in from rest
     for block in mech.params.names:  # every line's "ramp" (namespaced in a scene of several)

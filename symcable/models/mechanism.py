@@ -292,12 +292,16 @@ class Reanchor:
     turn); ``update``: expression (n_p, 1) of ``(q, t, p)``, the parameters re-anchored at
     the state (the same physical state, q unchanged); ``threshold``: the march re-anchors
     after a step whose margin fell below it; ``floor``: a margin below which a step is not
-    trusted (the march retakes it from a re-anchored start, step by step)."""
+    trusted (the march retakes it from a re-anchored start, step by step); ``velocity``:
+    expression (n_v, 1) of ``(q, v, t, p)``, the velocities in the new chart (None: v
+    unchanged; the rod's twist rates gain their reference frame's spin, which the new anchor
+    no longer has)."""
 
     margin: object
     update: object
     threshold: float = 0.5
     floor: float = 0.05
+    velocity: object = None
 
 
 @dataclass(frozen=True, eq=False)

@@ -8,7 +8,13 @@ turn from its anchor, where the anchored reference frame is singular
 - ``update`` = the parameters with the block ``frame`` replaced by the output
   ``reference_frame`` (each edge's current tangent and reference director): the reference
   director at the state is then the same vector, so the twists q, the material frames and
-  the energy are unchanged (tests/test_rod_statics.py, ``test_reanchoring_keeps_the_solution``).
+  the energy are unchanged (tests/test_rod_statics.py, ``test_reanchoring_keeps_the_solution``);
+- ``velocity`` (a Mechanism with the frames' spin in its kinetic energy,
+  :func:`~symcable.models.rod_spin.with_reference_spin`) = v with each twist rate plus its
+  reference frame's spin in the old chart (:func:`~symcable.models.rod_spin.reference_spins`):
+  the new anchor's frame does not spin at the state, so theta' carries the material frame's
+  whole spin rate. Without the spin in the kinetic energy theta' is the model's spin rate
+  and stays (moving it there broke the energy: measured 4e-4 against 3.5e-5).
 
 Built from the Mechanism's own expressions, so it needs nothing from the rod's builder and
 serves any Mechanism with a ``frame`` block and a ``reference_frame`` output.
@@ -19,6 +25,7 @@ import casadi as ca
 
 from ..errors import SymcableError
 from .mechanism import Mechanism, Reanchor
+from .rod_spin import reference_spins
 
 __all__ = ["FLOOR", "THRESHOLD", "frame_margin", "reanchor_hook"]
 
@@ -50,4 +57,9 @@ def reanchor_hook(mech: Mechanism, threshold: float = THRESHOLD,
     sl = mech.params.slice("frame")
     p = mech.p
     update = ca.vertcat(p[:sl.start], mech.outputs["reference_frame"].expr, p[sl.stop:])
-    return Reanchor(margin, update, float(threshold), float(floor))
+    velocity = None
+    if "reference spin" in mech.terms:  # the material frame's spin rate kept
+        velocity = mech.v
+        for i, spin in reference_spins(mech):
+            velocity = velocity + spin * ca.DM.eye(mech.n_v)[:, i]
+    return Reanchor(margin, update, float(threshold), float(floor), velocity)

@@ -240,7 +240,8 @@ def integrate(mech: Mechanism, duration: float, dt: float | None = None, *, meth
     period = None if period is None else check_positive("period", period, "s")
     tau = (duration if period is None else period) / (2.0 * math.pi)
     hook = reanchor if reanchor is not None else getattr(mech, "reanchor", None)
-    ra = None if hook is None else Reanchoring(mech, hook, p)
+    ra = None if hook is None else Reanchoring(mech, hook, p,
+                                               isinstance(method, GeneralizedAlphaFirstOrder))
     stepr = get_stepper(mech, method, codegen, lte=tol is not None)
     scale = np.concatenate([mech.scales.q, mech.scales.v]).astype(float)
     if tol is None:

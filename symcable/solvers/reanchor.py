@@ -34,10 +34,16 @@ class Reanchoring:
     """The hook of one run: the current parameters ``p``, when they changed, the least
     margin seen."""
 
-    def __init__(self, mech: Mechanism, hook: Reanchor, p):
+    def __init__(self, mech: Mechanism, hook: Reanchor, p, first_order: bool = False):
         args = [mech.q, mech.t, mech.p]
         self.margin_fn = ca.Function("frame_margin", args, [hook.margin])
         self.update_fn = ca.Function("reanchor", args, [hook.update])
+        self.velocity_fn = None if hook.velocity is None else ca.Function(
+            "reanchor_velocity", [mech.q, mech.v, mech.t, mech.p], [hook.velocity])
+        self.nv = mech.n_v
+        # the carried state: (q, v, ...); first-order generalized-alpha's also carries
+        # q' = v next (a Mechanism with q' = v, n_q = n_v), which moves with v
+        self.rates_follow = first_order and mech.kinematics is None and mech.n_q == mech.n_v
         self.threshold, self.floor = float(hook.threshold), float(hook.floor)
         self.nq = mech.n_q
         self.p = np.asarray(p, float).copy()
@@ -94,10 +100,18 @@ class Reanchoring:
         return (s, True) if through else (s + 1, False)
 
     def after(self, x: np.ndarray, k: int, t: float, force: bool = False) -> np.ndarray:
-        """The parameters after step ``k`` (state ``x``, time ``t``): re-anchored when the
-        margin there is below ``threshold`` (or ``force``)."""
+        """The parameters after step ``k`` (the carried state ``x``, time ``t``): re-anchored
+        when the margin there is below ``threshold`` (or ``force``), and then the velocities
+        in ``x`` moved to the new chart in place (the hook's ``velocity``; a saved sample of
+        step k keeps the old chart's, and its outputs the old parameters)."""
         m = float(self.margins(np.asarray(x)[None, :self.nq], np.array([t]))[0])
         if force or m < self.threshold:
+            nq, nv = self.nq, self.nv
+            if self.velocity_fn is not None:  # in place: the march's carried state
+                v = np.asarray(self.velocity_fn(x[:nq], x[nq:nq + nv], t, self.p), float).ravel()
+                x[nq:nq + nv] = v
+                if self.rates_follow:
+                    x[nq + nv:2 * nq + nv] = v
             self.p = np.asarray(self.update_fn(np.asarray(x)[:self.nq], t, self.p),
                                 float).ravel()
             self.changes.append((int(k), float(t), self.p.copy()))
@@ -109,7 +123,7 @@ class Reanchoring:
         ks = np.asarray(ks, float)
         P = np.tile(np.asarray(p0, float), (ks.size, 1))
         for k, _, p in self.changes:
-            P[ks >= k] = p
+            P[ks > k] = p
         return P
 
     def p_at_times(self, T: np.ndarray, p0) -> np.ndarray:
@@ -117,7 +131,7 @@ class Reanchoring:
         T = np.asarray(T, float)
         P = np.tile(np.asarray(p0, float), (T.size, 1))
         for _, t, p in self.changes:
-            P[T >= t] = p
+            P[T > t] = p
         return P
 
     def stats(self) -> dict:

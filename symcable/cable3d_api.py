@@ -6,12 +6,11 @@ stepping (:func:`~symcable.solvers.integrate.integrate`), modes
 :mod:`symcable.api` sends a cable3d scene here; the arguments are the same. Periodic
 steady states: :mod:`symcable.cable3d_periodic`.
 
-The same analyses run a ``model = "rod"`` (or ``"hybrid"``) scene: :func:`scene_mechanism`
-and :func:`scene_equilibrium` are the one place that says which Mechanism and which static
-solve a scene takes (the rod's: :func:`~symcable.rod_static.rod_mechanism`,
-:func:`~symcable.rod_static.rod_static_equilibrium`); a rod's time run re-anchors its
-reference frames as it goes (:func:`~symcable.models.rod_reanchor.reanchor_hook`), and its
-extra outputs (twist, curvature, moments, internal force) come in ``stats["outputs"]``.
+The same analyses run a ``model = "rod"`` (or ``"hybrid"``) scene, with the Mechanism and
+static state :mod:`symcable.scene3d` says (the one place that dispatches on the model); a
+rod's time run re-anchors its reference frames as it goes
+(:func:`~symcable.models.rod_reanchor.reanchor_hook`), and its extra outputs (twist,
+curvature, moments, internal force) come in ``stats["outputs"]``.
 """
 from __future__ import annotations
 
@@ -27,27 +26,16 @@ from .results import ModalSolution
 from .results_line3d import LineTrajectory, SystemTrajectory, line_from_outputs
 from .results_mechanism import SceneLinearization
 from .scene import End, EndCondition, Scene
-from .cable3d_static import (body_stiffness, cable3d_mechanism, check_periodic_3d, dynamic_p,
-                             node_shapes, run_start_state, static_equilibrium)
+from .cable3d_static import body_stiffness, dynamic_p, node_shapes
 from .models.rod_reanchor import reanchor_hook
-from .models.rod_spin import with_reference_spin
-from .models.tow import held_tows
-from .rod_static import rod_mechanism, rod_static_equilibrium
+from .scene3d import (dynamics_mechanism, is_rod, rod_line, scene_equilibrium, start_state,
+                      twist_names, twist_shapes)
 from .solvers.integrate import ERROR_TARGET, accurate_dt, error_warning, integrate
 from .solvers.march import leaky_sum
 from .solvers.linearize import MAX_DENSE, mechanism_modes, output_sensitivity
 from .solvers.options import RK4, GeneralizedAlphaFirstOrder
 
-__all__ = ["ROD_MODELS", "ROD_SERIES", "check_periodic_scene", "dynamics_mechanism", "is_rod",
-           "linearize_3d",
-           "modal_analysis_3d", "scene_equilibrium", "scene_mechanism", "simulate_3d"]
-
-#: the models whose Mechanism is the rod's (:mod:`symcable.rod_static`)
-ROD_MODELS = ("rod", "hybrid")
-#: the rod's outputs a time or periodic result carries in ``stats["outputs"]`` (name ->
-#: array (n_t, ...)), beyond the cable's series (see :mod:`symcable.models.rod`)
-ROD_SERIES = ("twist_angles", "curvature", "twist", "bending_moment", "twisting_moment",
-              "internal_force", "reference_frame", "kinetic_energy", "potential_energy")
+__all__ = ["linearize_3d", "modal_analysis_3d", "simulate_3d"]
 
 #: steps per excitation period by default (as the planar line's generalized-alpha default)
 STEPS_PER_PERIOD = 100
@@ -97,60 +85,6 @@ TOW_TURN_STEP = 0.05
 #: straight tow, whose predictor is exact, takes any step; TOW_TURN_STEP alone gave 2.4 s
 #: there, half the steps substepped
 TOW_STRETCH_STEP = 0.25
-
-
-def is_rod(scene: Scene) -> bool:
-    """Whether the scene's Mechanism is the rod's (``model`` in :data:`ROD_MODELS`)."""
-    return str(getattr(scene.model, "value", scene.model)) in ROD_MODELS
-
-
-def scene_mechanism(scene: Scene):
-    """The scene's Mechanism: the rod's for a rod or hybrid scene, else cable3d's (each
-    built once per scene content)."""
-    return rod_mechanism(scene) if is_rod(scene) else cable3d_mechanism(scene)
-
-
-def scene_equilibrium(scene: Scene, **options):
-    """``(mechanism, Equilibrium)``: the scene at rest, by the rod's static solve for a rod
-    or hybrid scene, else cable3d's (``options``: ``tol``, ``max_iter``, ``continuation``,
-    ``codegen``, as :func:`~symcable.cable3d_static.static_equilibrium`)."""
-    solve = rod_static_equilibrium if is_rod(scene) else static_equilibrium
-    return solve(scene, **options)
-
-
-def dynamics_mechanism(scene: Scene, mech):
-    """The Mechanism the dynamic analyses of ``scene`` run: a rod's with its reference
-    frames' spin in the twist's kinetic energy
-    (:func:`~symcable.models.rod_spin.with_reference_spin`: the motion then independent of
-    when the frames are re-anchored), else ``mech`` itself. The same q, v and p: a static
-    state of ``mech`` is one of it."""
-    return with_reference_spin(mech) if is_rod(scene) else mech
-
-
-def check_periodic_scene(scene: Scene) -> None:
-    """:func:`~symcable.cable3d_static.check_periodic_3d`, for the scene's own Mechanism."""
-    if is_rod(scene):
-        from .solvers.periodic_mech import check_periodic
-        check_periodic(rod_mechanism(scene))
-    else:
-        check_periodic_3d(scene)
-
-
-def _start_state(scene: Scene, t0: float, start: str | None, codegen):
-    """:func:`~symcable.cable3d_static.run_start_state`; a rod or hybrid scene starts from
-    its static state at rest (a tow is refused: its steady start is cable3d's for now)."""
-    if not is_rod(scene):
-        return run_start_state(scene, t0, start, codegen=codegen)
-    tows, _ = held_tows(scene, t0)
-    if tows or start == "steady":
-        raise SymcableError(f"start = {start!r}: a {scene.model.value} scene runs from rest "
-                            "(start = 'rest' or None); a tow (kind = 'tow') is not taken by "
-                            "the rod yet")
-    if start is not None and start not in ("rest", "steady"):
-        raise SymcableError(f"start = {start!r}: must be 'rest' or None for a "
-                            f"{scene.model.value} scene")
-    mech, eq = rod_static_equilibrium(scene, codegen=codegen)
-    return dynamics_mechanism(scene, mech), eq, np.zeros(mech.n_v), {"start": "rest"}, []
 
 
 def _motions(scene: Scene) -> list:
@@ -290,7 +224,7 @@ def _line_result(scene, mech, tr, method: str, dt: float, stats: dict, warnings,
                                                  method)
     common = dict(method=method, dt=float(dt), status=tr.status, stats=stats)
     if scene.version == 1 and is_rod(scene):
-        return _rod_line(scene, mech, t, tr.outputs, warnings, common)
+        return rod_line(scene, mech, t, tr.outputs, warnings, common)
     if scene.version == 1:
         return line_from_outputs(scene.name, t, tr.outputs, mech.layout.parts["line"].s,
                                  warnings=warnings, **common)
@@ -301,21 +235,6 @@ def _line_result(scene, mech, tr, method: str, dt: float, stats: dict, warnings,
                            **common)
     notes = [f"line {n}: {w}" for n, ln in out.lines.items() for w in ln.warnings]
     return dataclasses.replace(out, warnings=out.warnings + tuple(notes)) if notes else out
-
-
-def _rod_line(scene, mech, t, outputs, warnings, common) -> LineTrajectory:
-    """A rod's run as a LineTrajectory: the cable's series, and the rod's own
-    (:data:`ROD_SERIES`) in ``stats["outputs"]``; without the cable's slack report (a rod
-    carries compression: a segment at or below zero strain is not slack)."""
-    line = line_from_outputs(scene.name, t, outputs, mech.layout.parts["line"].s,
-                             warnings=warnings, **common)
-    n_t = np.asarray(t).size
-    stats = {k: v for k, v in line.stats.items()
-             if k not in ("slack_fraction", "slack_segments", "snaps", "snap_peak",
-                          "snap_peak_time")}
-    stats["outputs"] = {k: np.asarray(outputs[k], float).reshape(n_t, -1)
-                        for k in ROD_SERIES if k in outputs}
-    return dataclasses.replace(line, stats=stats, warnings=tuple(warnings))
 
 
 def simulate_3d(scene: Scene, duration: float, dt: float | None = None,
@@ -360,7 +279,7 @@ def simulate_3d(scene: Scene, duration: float, dt: float | None = None,
         if newton_tol is not None:
             opts = dataclasses.replace(opts, tol=float(newton_tol))
     t0 = run_start(scene) if t_start is None else float(t_start)
-    mech, eq, v0, how, notes = _start_state(scene, t0, start, codegen)
+    mech, eq, v0, how, notes = start_state(scene, t0, start, codegen)
     t_static = time.perf_counter() - started
     if dt is None and name != "rk4":
         dt = default_dt(scene, duration, _start_tensions(scene, eq))
@@ -410,7 +329,7 @@ def modal_analysis_3d(scene: Scene, n_modes: int = 10, *, max_dense: int = MAX_D
              "jacobian_time": st.get("linearize_time"), "eig_time": st.get("eig_time"),
              "wall_time": time.perf_counter() - started}
     if is_rod(scene):  # each mode's twist angles (rad per unit largest node displacement)
-        stats["twist_shapes"] = _twist_shapes(mech, modes.velocity_shapes).tolist()
+        stats["twist_shapes"] = twist_shapes(mech, modes.velocity_shapes).tolist()
     if damped and modes.damping_ratios is not None:
         stats["damping_ratios"] = np.asarray(modes.damping_ratios, float).tolist()
     pre = _prefixes(scene, lines)
@@ -425,36 +344,6 @@ def modal_analysis_3d(scene: Scene, n_modes: int = 10, *, max_dense: int = MAX_D
         periods=1.0 / freq, real_parts=np.asarray(modes.real_parts if modes.real_parts is not None
                                                   else np.zeros_like(freq), float),
         shapes=shapes, status="converged", stats=stats, warnings=tuple(modes.warnings))
-
-
-def _twist_shapes(mech, velocity_shapes) -> np.ndarray:
-    """(n_modes, N) each mode's edge twist angles (rad), with the scale of its node shape
-    (:func:`~symcable.cable3d_static.node_shapes`: a largest node displacement of 1, its
-    largest entry positive); a mode that moves no node (pure torsion) to a largest twist of
-    1."""
-    U = np.asarray(velocity_shapes, float).reshape(-1, mech.n_v)
-    idx = np.asarray(mech.layout.parts["line"].node_v)
-    tw = np.setdiff1d(np.arange(mech.n_v), idx[idx >= 0])
-    out = []
-    for u in U:
-        x, part = np.where(idx < 0, 0.0, u[np.where(idx < 0, 0, idx)]), u[tw]
-        peak, top = float(np.max(np.linalg.norm(x, axis=1))), float(np.max(np.abs(part)))
-        if peak > 1e-9 * top:
-            c = math.copysign(1.0, x.flat[int(np.argmax(np.abs(x)))]) / peak
-        else:
-            c = math.copysign(1.0, part[int(np.argmax(np.abs(part)))]) / max(top, 1e-300)
-        out.append(part * c)
-    return np.array(out)
-
-
-def _twist_names(kinds, N: int) -> tuple:
-    """``kinds`` with the unnamed entries (a rod's twists, in edge order, the last of the N
-    edges last) named ``"edge{j}.twist"``."""
-    blank = [i for i, k in enumerate(kinds) if not k]
-    names = list(kinds)
-    for j, i in enumerate(blank, start=N - len(blank)):
-        names[i] = f"edge{j}.twist"
-    return tuple(names)
 
 
 def end_stiffness_3d(scene: Scene, end: str = "b", *, equilibrium=None) -> np.ndarray:
@@ -493,7 +382,7 @@ def linearize_3d(scene: Scene, *, undamped: bool = False) -> SceneLinearization:
         C = np.zeros_like(C)
     q_kinds, v_kinds = mech.coordinate_names(tagged=scene.version == 2)
     if is_rod(scene):  # the twists, in edge order (edge 0's only with a clamped end)
-        q_kinds, v_kinds = (_twist_names(k, len(mech.layout.parts["line"].s) - 1)
+        q_kinds, v_kinds = (twist_names(k, len(mech.layout.parts["line"].s) - 1)
                             for k in (q_kinds, v_kinds))
     ends = {}
     if scene.version == 1:

@@ -3,7 +3,7 @@ amplitude (:func:`solve_periodic_3d`) and the tension response over excitation p
 (:func:`sweep_periodic_3d`), through the generic periodic solvers
 (:func:`~symcable.solvers.periodic_mech.solve_periodic_mech`). :mod:`symcable.api` sends a
 cable3d scene here (and a rod or hybrid scene: its own Mechanism and static state,
-:func:`~symcable.cable3d_api.scene_equilibrium`; a periodic solve keeps the anchors of its
+:mod:`symcable.scene3d`; a periodic solve keeps the anchors of its
 start's reference frames, which holds while no edge turns by more than about 120 degrees
 from its static direction over the period); the arguments are the same.
 """
@@ -14,8 +14,8 @@ import time
 
 import numpy as np
 
-from .cable3d_api import (RHO_INF, _line_result, _motions, _period, check_periodic_scene,
-                          dynamics_mechanism, scene_equilibrium)
+from .cable3d_api import RHO_INF, _line_result, _motions, _period
+from .scene3d import check_periodic_scene, dynamics_mechanism, scene_equilibrium
 from .errors import ConvergenceError, SymcableError
 from .planar_periodic import method_options
 from .results_line3d import LineTrajectory

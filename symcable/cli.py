@@ -108,7 +108,7 @@ def _check(args) -> int:
 
     scene = load_scene(args.scene)
     if scene.model.value in _MODELS_3D:
-        from .cable3d_api import scene_mechanism
+        from .scene3d import scene_mechanism
         mech = scene_mechanism(scene)
         print(_scene_summary(scene, mech.n_q, mech.terms))
         deck = moordyn_deck(args.scene) if isinstance(args.scene, str) else None

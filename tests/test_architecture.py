@@ -73,6 +73,7 @@ LAYERS = {
     "symcable.cable3d_api": 6,
     "symcable.cable3d_periodic": 6,
     "symcable.cable3d_static": 6,
+    "symcable.scene3d": 6,
     "symcable.rod_static": 6,
     "symcable.planar_periodic": 6,
     "symcable.planar_time": 6,

@@ -1,15 +1,12 @@
 """The rod's user level (issue 14 item 3): ``sc.modal_analysis``, ``sc.simulate``,
 ``sc.linearize``, ``sc.end_stiffness`` and the CLI on a ``model = "rod"`` scene, through the
 cable3d user level with the rod's Mechanism and static state
-(:func:`symcable.cable3d_api.scene_mechanism`, :func:`~symcable.cable3d_api.scene_equilibrium`).
+(:func:`symcable.scene3d.scene_mechanism`, :func:`~symcable.scene3d.scene_equilibrium`).
 """
 from __future__ import annotations
 
 import json
 import math
-import subprocess
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -17,7 +14,6 @@ import pytest
 import symcable as sc
 from test_rod_greenhill import B, FRACTIONS, GJ, GREENHILL, L, twisted_rod
 
-ROOT = Path(__file__).resolve().parents[1]
 
 
 def _greenhill_scene(segments: int, M: float) -> dict:
@@ -139,11 +135,13 @@ def test_periodic_rod():
 
 
 def test_cli_simulate_rod(kick, tmp_path, capsys):
-    """``symcable simulate`` and ``symcable modes`` on a rod scene file, with --json."""
+    """``symcable check``, ``simulate`` and ``modes`` on a rod scene file, with --json."""
     from symcable.cli import main
     from symcable.scene import load_scene, scene_to_toml
     p = tmp_path / "rod.toml"
     p.write_text(scene_to_toml(load_scene(_cantilever(kick))))
+    assert main(["check", str(p)]) == 0
+    assert "rod" in capsys.readouterr().out
     assert main(["simulate", str(p), "--duration", "0.2", "--dt", "0.005", "--json"]) == 0
     d = json.loads(capsys.readouterr().out)
     assert d["status"] == "converged" and len(d["time"]) == 41

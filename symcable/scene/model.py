@@ -52,10 +52,12 @@ class Model(str, enum.Enum):
     PLANAR = "planar"    #: a line in the vertical x-z plane; vectors are [x, z]
     CABLE3D = "cable3d"  #: a 3D position-vector cable; vectors are [x, y, z]
     ROD = "rod"          #: a Kirchhoff rod (bending, torsion; issue 14); vectors [x, y, z]
+    #: sections of ``rod`` and ``cable3d`` joined by moment-free joints (issue 14); [x, y, z]
+    HYBRID = "hybrid"
 
 
 #: space dimensions of each model: the length of every vector in its scenes (z is up)
-_DIMS = {Model.PLANAR: 2, Model.CABLE3D: 3, Model.ROD: 3}
+_DIMS = {Model.PLANAR: 2, Model.CABLE3D: 3, Model.ROD: 3, Model.HYBRID: 3}
 
 
 @dataclass(frozen=True)
@@ -137,11 +139,16 @@ class Section:
         Unstretched length, m (> 0).
     segments : int
         Number of segments it is divided into (>= 1).
+    model : str or None
+        ``model = "hybrid"`` only: the section's formulation, ``"rod"`` or ``"cable3d"``
+        (the file's ``[[sections]] model``); None when not given (a hybrid section is then
+        ``"cable3d"``, or chosen by ``zones = "auto"``).
     """
 
     line_type: LineType
     length: float
     segments: int
+    model: str | None = None
 
     @property
     def ds(self) -> float:
@@ -389,6 +396,10 @@ class Scene:
     bodies : Mapping[str, Body]
         Version 2 (``[bodies.NAME]``, :mod:`.bodies`): read-only mapping, name -> rigid
         body; lines attach to them (a line end :class:`BodyEnd`); empty without.
+    zones : str
+        ``model = "hybrid"``: ``"given"`` (default: each section's ``model``, cable3d when
+        not given) or ``"auto"`` (the rod sections chosen from the line's static tension,
+        :func:`symcable.rod_static.hybrid_zones`).
     """
 
     name: str
@@ -404,6 +415,7 @@ class Scene:
     lines: tuple[Line, ...] = ()
     mass_matrix: str = "lumped"
     bodies: Mapping[str, Body] = field(default_factory=lambda: MappingProxyType({}))
+    zones: str = "given"
 
     @property
     def version(self) -> int:
@@ -456,6 +468,8 @@ def scene_to_dict(scene: Scene) -> dict:
                            "environment": environment}
     if scene.mass_matrix != "lumped":
         out["mass_matrix"] = scene.mass_matrix
+    if scene.zones != "given":
+        out["zones"] = scene.zones
     if scene.seabed is not None:
         sb = scene.seabed
         out["seabed"] = {"stiffness": sb.stiffness, "friction": sb.friction}
@@ -497,8 +511,8 @@ def scene_to_dict(scene: Scene) -> dict:
 
 
 def _sections_list(sections) -> list:
-    return [{"type": s.line_type.name, "length": s.length, "segments": s.segments}
-            for s in sections]
+    return [{"type": s.line_type.name, "length": s.length, "segments": s.segments,
+             **({"model": s.model} if s.model is not None else {})} for s in sections]
 
 
 def _motion_dict(m: Motion) -> dict:

@@ -23,7 +23,9 @@ _SEABED_KEYS = ("stiffness", "friction", "damping", "friction_axial", "friction_
                 "friction_velocity", "friction_law", "friction_stiffness", "static_friction")
 FRICTION_LAWS = ("coulomb", "bristle")
 STATIC_FRICTION = ("none", "laid")
-_SECTION_KEYS = ("type", "length", "segments")
+_SECTION_KEYS = ("type", "length", "segments", "model")
+#: a hybrid section's formulations (``[[sections]] model``)
+SECTION_MODELS = ("cable3d", "rod")
 _END_KEYS = ("condition", "position", "angle_deg", "force", "motion", "direction", "twist_deg")
 _MOTION_KEYS = ("kind", "period", "amplitude", "phase_deg", "file") + TOW_KEYS
 _MOTION_KINDS = ("harmonic", "table", "tow")
@@ -205,7 +207,11 @@ def _sections(data: Mapping, types: Mapping[str, LineType], where: str = "") -> 
         length = _num_reader(path, t)("length", "m", gt=0)
         segments = _integer(f"{path}.segments",
                             _required(path, t, "segments", "an integer >= 1"), ge=1)
-        out.append(Section(line_type=types[name], length=length, segments=segments))
+        model = _get(t, "model")
+        if model is not None:
+            model = _choice(f"{path}.model", model, SECTION_MODELS, "section model")
+        out.append(Section(line_type=types[name], length=length, segments=segments,
+                           model=model))
     return tuple(out)
 
 

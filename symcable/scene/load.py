@@ -179,10 +179,10 @@ def _build(data: Mapping, source: str, base: str = ".") -> Scene:
             zones == "auto" or sec.model == "rod"))
         where = ('model = "rod", or a rod section of model = "hybrid"'
                  if model is Model.HYBRID else 'model = "rod" only')
-        if end.guided and not rod_end:
+        if end.guided and model not in (Model.ROD, Model.HYBRID):
             raise _err(f"{key}.direction", list(end.direction), "", 'a guided end (free, its '
-                       f'tangent held) is read by {where}: pin or clamp the end, '
-                       "or remove direction")
+                       'tangent held) is read by model = "rod" or "hybrid" only: pin or '
+                       "clamp the end, or remove direction")
         if end.twist_deg is not None and not rod_end:
             raise _err(f"{key}.twist_deg", end.twist_deg, "deg", f"read by {where} "
                        "(a cable has no material frame): remove it")

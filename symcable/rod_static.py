@@ -105,7 +105,8 @@ def hybrid_zones(scene: Scene, threshold: float = ZONE_THRESHOLD,
     edge), and a segment becomes a rod where its bending length sqrt(EI / T) exceeds
     ``threshold`` times the line's length L, T the tension (the internal force along the
     segment; T <= 0: a rod), among the segments whose line type has EI > 0 and GJ > 0;
-    an end's segment also where the end is guided or a clamp gives ``twist_deg``. Each
+    an end's segment also where the end is guided, takes a moment or a clamp gives
+    ``twist_deg``. Each
     zone is grown by ``grow`` x ``threshold`` x L on both sides, to whole segments (within
     the candidates). Sections are split at the zones' ends (the segment table is
     unchanged), the rod runs marked ``model = "rod"``, the rest ``"cable3d"``. The
@@ -129,7 +130,7 @@ def hybrid_zones(scene: Scene, threshold: float = ZONE_THRESHOLD,
     rod = ok & (lam > threshold * scene.length)
     a, b = scene.end_a, scene.end_b
     for end, j in ((a, 0), (b, N - 1)):
-        if end.guided or end.twist_deg is not None:
+        if end.guided or end.twist_deg is not None or end.moment is not None:
             rod[j] = True
     s = seg["s"]
     mid = 0.5 * (s[:-1] + s[1:])

@@ -209,3 +209,23 @@ def test_scene_keys_and_refusals():
     d["end_b"] = {"condition": "guided", "direction": [1.0, 0.0, 0.0]}  # any hybrid section
     d["sections"][2]["model"] = "cable3d"
     assert load_scene(d).end_b.guided
+
+
+def test_end_moment_keys():
+    """[end_x] moment: a free end of a rod or of a hybrid's rod section; refused (naming the
+    key) on a pinned end, on a cable3d section's end, in a cable3d scene."""
+    d = taut("hybrid", (None, None, "rod"))
+    d["end_b"] = {"condition": "free", "force": [0.0, 0.0, 1.0], "moment": [0.0, 1.0, 0.0]}
+    s = load_scene(d)
+    assert s.end_b.moment == (0.0, 1.0, 0.0) and load_scene(s.to_dict()) == s
+    d["sections"][2]["model"] = "cable3d"
+    with pytest.raises(SceneError, match=r"end_b\.moment = \[0\.0, 1\.0, 0\.0\] N m.*rod"):
+        load_scene(d)
+    d = taut("rod")
+    d["end_b"]["moment"] = [0.0, 1.0, 0.0]
+    with pytest.raises(SceneError, match=r"end_b\.moment.*free end"):
+        load_scene(d)
+    d = taut("cable3d", gj=False)
+    d["end_b"] = {"condition": "free", "moment": [0.0, 1.0, 0.0]}
+    with pytest.raises(SceneError, match=r"end_b\.moment"):
+        load_scene(d)

@@ -18,8 +18,9 @@ joins nodes j and j+1); v their rates (m/s, rad/s). Terms:
   O((d / wavelength)^2)), as is the spin the anchor map gives the reference frame
   (:mod:`.rod_frames`; second order in the edge's rotation from its anchor).
 
-End conditions: pinned (position held, no moment, twist free), free (applied force; no
-moment), guided (``condition = "guided"``: free, tangent ``direction`` held: cable3d's ghost
+End conditions: pinned (position held, no moment, twist free), free (applied force, and
+optionally a dead moment ``moment`` on its edge: :func:`~.rod_frames.end_moment_force`, not
+in the potential energy output), guided (``condition = "guided"``: free, tangent ``direction`` held: cable3d's ghost
 edge on the moving end node, turning with its translation, so its force is the node's; it
 takes the neighbour edge's twist and anchor and no twist term: the guide holds the tangent
 and the bending moment, not the twist; seed 000's benchmark right end), clamped (position
@@ -31,7 +32,10 @@ edge's twist is held at 0 (the rod's spin about itself is otherwise undetermined
 needs GJ > 0 (an isotropic rod's twists are otherwise singular).
 
 Not yet: seabed contact (a scene whose rod can reach the bed is refused), a current
-profile, the consistent mass, an applied end moment, natural curvature.
+profile, the consistent mass, natural curvature.
+
+``model = "hybrid"`` (:mod:`.hybrid`) builds this Mechanism with a per-segment mask ``rod``
+(:mod:`.hybrid_terms`): the rod's terms on its rod sections, cable3d's elsewhere.
 
 The reference frame (design, notes/rod14.md): each edge's reference director is its
 *anchor* (t0_j, u0_j), a parameter block ``frame`` (6 per edge, data), carried to the
@@ -65,7 +69,7 @@ from .hybrid_terms import axial_law, cable_vertices, rod_mask, rod_vertices, spu
 from .mechanism import Bound, Layout, Mechanism, Output, ParamBlocks, PartLayout, Scales, Start
 from .planar import CABLE_COMPRESSION, FOLD_PUSH, segment_table
 from .relax import _ramp_integral
-from .rod_frames import reference_director, transport, vertex_kernel
+from .rod_frames import end_moment_force, reference_director, transport, vertex_kernel
 
 __all__ = ["build_rod", "default_anchors", "rod_table"]
 
@@ -161,7 +165,9 @@ def build_rod(scene: Scene, rod: np.ndarray | None = None) -> Mechanism:
     col = np.cumsum(rod) - 1  # each rod edge's column in the frame block
     n_rod = int(np.sum(rod))
     anchors = default_anchors(scene, N)[:6 * n_rod]
-    params = ParamBlocks(P_NAMES + ("frame",), P_SIZES + (6 * n_rod,), np.concatenate([
+    # no rod edge (a hybrid of cable3d sections with a guided end): no frame block
+    params = ParamBlocks(P_NAMES + (("frame",) if n_rod else ()),
+                         P_SIZES + ((6 * n_rod,) if n_rod else ()), np.concatenate([
         [1.0], a.position if a.position is not None else np.zeros(3),
         b.position if b.position is not None else np.zeros(3), env.current, [1.0], [1.0],
         twists, anchors]))
@@ -169,7 +175,7 @@ def build_rod(scene: Scene, rod: np.ndarray | None = None) -> Mechanism:
     sl = params.slice
     load, pa, pb, current = p[0], p[sl("end_a.position")], p[sl("end_b.position")], p[7:10]
     motion, ramp_on = p[sl("motion")], p[sl("ramp")]
-    frame = ca.reshape(p[sl("frame")], 6, n_rod)
+    frame = ca.reshape(p[sl("frame")], 6, n_rod) if n_rod else None
     t = ca.SX.sym("t")
 
     moving = [i for i in range(N + 1) if (i == 0 and free[0]) or (i == N and free[1]) or 0 < i < N]
@@ -323,6 +329,14 @@ def build_rod(scene: Scene, rod: np.ndarray | None = None) -> Mechanism:
     end_force = {i: nodal[:, i] + reaction[i] for i in (0, N)}
     nodal = nodal + load * ca.DM(applied)
     force = ca.vertcat(*[nodal[:, i] if kind == "x" else torque[i] for kind, i in slots])
+    for end, j in ((a, 0), (b, N - 1)):  # a free end's applied moment (on its rod edge)
+        if end.moment is not None and any(end.moment):
+            if not rod[j]:
+                raise SymcableError(f"scene {scene.name!r}: an end moment needs a rod section "
+                                    "at its end (model = 'rod' there)")
+            force = force + load * end_moment_force(
+                Xm[:, j], Xm[:, j + 1], theta[j], frame[0:3, col[j]], frame[3:6, col[j]],
+                ca.DM(end.moment), q)
 
     A_w = math.pi * seg["d"] ** 2 / 4.0
     blocks = [ca.SX.zeros(3, 3) for _ in range(N + 1)]
@@ -371,9 +385,9 @@ def build_rod(scene: Scene, rod: np.ndarray | None = None) -> Mechanism:
                                 "on each node (none yet: the rod has no seabed)"),
         "end_force_a": Output(end_force[0], "N", owner, "force of the rod on end A"),
         "end_force_b": Output(end_force[N], "N", owner, "force of the rod on end B"),
-        "reference_frame": Output(ca.vertcat(*d1) if d1 else ca.SX.zeros(0, 1), "1", owner,
-                                  "each rod edge's tangent and reference director (the "
-                                  "re-anchored frame block)"),
+        **({"reference_frame": Output(ca.vertcat(*d1), "1", owner, "each rod edge's tangent "
+                                      "and reference director (the re-anchored frame "
+                                      "block)")} if d1 else {}),
         "kinetic_energy": Output(0.5 * ca.dot(v, ca.mtimes(mass, v)), "J", owner,
                                  "kinetic energy"),
         "potential_energy": Output(potential, "J", owner, "bending, twisting, axial, gravity "
@@ -411,7 +425,8 @@ def build_rod(scene: Scene, rod: np.ndarray | None = None) -> Mechanism:
         ["torsion"] if verts else []) + (
         ["material damping"] if np.any(BA) else []) + (
         ["drag"] if rho > 0 and any(env.current) else []) + (
-        ["end force"] if np.any(applied) else [])
+        ["end force"] if np.any(applied) else []) + (
+        ["end moment"] if any(e.moment is not None and any(e.moment) for e in (a, b)) else [])
     bounds = {"strain": Bound(e.T, lower=-1.0 + 1e-9, unit="1", scale=1.0,
                               what="segments of positive length")}
     cab = np.flatnonzero(slack)

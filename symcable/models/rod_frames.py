@@ -34,7 +34,8 @@ from __future__ import annotations
 import casadi as ca
 import numpy as np
 
-__all__ = ["reference_director", "reference_twist", "transport", "vertex_kernel"]
+__all__ = ["end_moment_force", "reference_director", "reference_twist", "transport",
+           "vertex_kernel"]
 
 
 def reference_director(t) -> np.ndarray:
@@ -131,3 +132,21 @@ def vertex_kernel(isotropic: bool = False) -> ca.Function:
                        [-g[0:3], -g[3:6], -g[6:9], -g[9], -g[10], E, kn / lbar, twist, M,
                         GJ * twist / lbar],
                        names_in, ["fp", "f", "fn", "qp", "qn", "E", "kappa", "twist", "M", "Mt"])
+
+
+def end_moment_force(xa, xb, theta, t0, u0, M, q):
+    """The generalized force (on the unknowns ``q``, CasADi column) of a dead moment ``M``
+    (3, N m) applied to the edge from ``xa`` to ``xb`` with twist ``theta`` and anchor
+    (``t0``, ``u0``): the virtual work of M on the edge's rotation,
+    M . (t x dt) + (M . t) (dtheta + d2 . dd1), where d1 = P(t0 -> t) u0 is the reference
+    director, d2 = t x d1 (its spin about t beyond the smallest rotation, which the anchor
+    map gives as t moves), so the force is J_t^T (M x t) + (M . t) (J_theta^T + J_d1^T d2).
+    Exact for a dead moment in any configuration; not the gradient of a potential (a dead
+    moment has none in 3D)."""
+    e = xb - xa
+    t = e / ca.norm_2(e)
+    d1 = transport(t0, t, u0)
+    d2 = ca.cross(t, d1)
+    mt = ca.dot(M, t)
+    return ca.mtimes(ca.jacobian(t, q).T, ca.cross(M, t)) \
+        + mt * (ca.jacobian(theta, q).T + ca.mtimes(ca.jacobian(d1, q).T, d2))

@@ -186,6 +186,9 @@ def _build(data: Mapping, source: str, base: str = ".") -> Scene:
         if end.twist_deg is not None and not rod_end:
             raise _err(f"{key}.twist_deg", end.twist_deg, "deg", f"read by {where} "
                        "(a cable has no material frame): remove it")
+        if end.moment is not None and not rod_end:
+            raise _err(f"{key}.moment", list(end.moment), "N m", f"read by {where} (a "
+                       "cable carries no moment): remove it")
     _check_geometry(env, sections, ends, dim)
     _check_friction_options(seabed, model.value, False, ends)
     return Scene(name=name, model=model, environment=env, seabed=seabed,

@@ -248,6 +248,9 @@ class End:
         m1 about ``direction`` from the reference director
         (:func:`symcable.models.rod_frames.reference_director` of the direction), degrees;
         None: 0.
+    moment : tuple of float or None
+        Free (not guided) ends of ``model = "rod"``, or of a rod section of ``"hybrid"``:
+        a dead moment applied to the end, [M_x, M_y, M_z] N m (None: none).
     """
 
     condition: EndCondition
@@ -257,6 +260,7 @@ class End:
     motion: Motion | None = None
     direction: tuple[float, ...] | None = None
     twist_deg: float | None = None
+    moment: tuple[float, ...] | None = None
 
     @property
     def angle(self) -> float | None:
@@ -538,6 +542,8 @@ def _end_dict(end: End) -> dict:
         e["motion"] = _motion_dict(end.motion)
     if end.twist_deg is not None:
         e["twist_deg"] = end.twist_deg
+    if end.moment is not None:
+        e["moment"] = list(end.moment)
     return e
 
 

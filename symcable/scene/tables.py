@@ -26,7 +26,8 @@ STATIC_FRICTION = ("none", "laid")
 _SECTION_KEYS = ("type", "length", "segments", "model")
 #: a hybrid section's formulations (``[[sections]] model``)
 SECTION_MODELS = ("cable3d", "rod")
-_END_KEYS = ("condition", "position", "angle_deg", "force", "motion", "direction", "twist_deg")
+_END_KEYS = ("condition", "position", "angle_deg", "force", "motion", "direction", "twist_deg",
+             "moment")
 _MOTION_KEYS = ("kind", "period", "amplitude", "phase_deg", "file") + TOW_KEYS
 _MOTION_KINDS = ("harmonic", "table", "tow")
 #: "guided" (model = "rod"): a free end whose tangent is held, read as condition "free" with
@@ -326,8 +327,14 @@ def _end_table(path: str, raw: Any, dim: int, base: str = ".") -> End:
             raise _err(f"{path}.twist_deg", twist, "deg", 'only a clamped end of model = "rod" '
                        f"takes a twist {this}")
         twist = _number(f"{path}.twist_deg", twist, "deg")
+    moment = _get(t, "moment")
+    if moment is not None:
+        if cond is not EndCondition.FREE or guided or dim != 3:
+            raise _err(f"{path}.moment", moment, "N m", 'only a free end of model = "rod" '
+                       f"takes a moment {'(this end is guided)' if guided else this}")
+        moment = _vector(f"{path}.moment", moment, 3, "N m", "[M_x, M_y, M_z]")
     return End(condition=cond, position=position, angle_deg=angle, force=force, motion=motion,
-               direction=direction, twist_deg=twist)
+               direction=direction, twist_deg=twist, moment=moment)
 
 
 def _direction(path: str, raw: Any) -> tuple[float, ...]:

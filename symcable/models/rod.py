@@ -80,11 +80,13 @@ P_SIZES = (1, 3, 3, 3, 1, 1, 1, 1)
 
 def rod_table(scene: Scene) -> dict:
     """cable3d's segment table (:func:`~symcable.models.planar.segment_table`) with the
-    rod's columns: ``EI2`` (N m^2, = EI for isotropic types) and ``GJ`` (N m^2), per segment."""
+    rod's columns: ``EI2`` (N m^2, = EI for isotropic types), ``GJ`` (N m^2) and ``K`` (the
+    tension-torsion coupling, N m), per segment."""
     seg = segment_table(scene)
     lts = [s.line_type for s in scene.sections for _ in range(s.segments)]
     seg["EI2"] = np.array([lt.EI if lt.EI_2 is None else lt.EI_2 for lt in lts])
     seg["GJ"] = np.array([lt.GJ for lt in lts])
+    seg["K"] = np.array([lt.tension_twist for lt in lts])
     return seg
 
 
@@ -229,8 +231,10 @@ def build_rod(scene: Scene, rod: np.ndarray | None = None) -> Mechanism:
                         frame[0:3, col[j]] if rod[j] else None,
                         frame[3:6, col[j]] if rod[j] else None)
     stiff = lambda j: ca.DM([seg["EI"][j], seg["EI2"][j]])  # noqa: E731
+    coupled = bool(np.any(seg["K"][rod] != 0.0))
     cols = {k: [] for k in ("xp", "x", "xn", "thp", "thn", "t0p", "u0p", "t0n", "u0n", "Bp",
-                            "Bn", "GJ", "lbar")}
+                            "Bn", "GJ", "lbar") + (("K", "dsp", "dsn", "wp", "wn")
+                                                   if coupled else ())}
     for i, jp, jn, lbar in verts:
         gp, gn = ghost.get(0) if jp < 0 else None, ghost.get(N) if jn >= N else None
         cols["xp"].append(gp[0] if gp else Xm[:, i - 1])
@@ -251,9 +255,18 @@ def build_rod(scene: Scene, rod: np.ndarray | None = None) -> Mechanism:
         cols["GJ"].append(0.0 if at_guide else
                           (ds_p + ds_n) / (ds_p / seg["GJ"][jp_] + ds_n / seg["GJ"][jn_]))
         cols["lbar"].append(lbar)
+        if coupled:  # each edge's share of the cell (a ghost has none)
+            wp, wn = (0.0 if jp < 0 else ds_p / 2), (0.0 if jn >= N else ds_n / 2)
+            wp, wn = wp / (wp + wn), wn / (wp + wn)
+            cols["K"].append(0.0 if at_guide else wp * seg["K"][jp_] + wn * seg["K"][jn_])
+            cols["dsp"].append(ds_p)
+            cols["dsn"].append(ds_n)
+            cols["wp"].append(wp)
+            cols["wn"].append(wn)
     iso = bool(np.all(seg["EI"][rod] == seg["EI2"][rod]))
     if verts:
-        out = vertex_kernel(iso).map(len(verts))(*[ca.horzcat(*c) for c in cols.values()])
+        out = vertex_kernel(iso, coupled).map(len(verts))(*[ca.horzcat(*c)
+                                                             for c in cols.values()])
     else:
         out = [ca.SX.zeros(n, 0) for n in (3, 3, 3, 1, 1, 1, 2, 1, 3, 1)]
     fp, f, fn, qp, qn, E, kappa, twist, M, Mt = out
@@ -426,7 +439,8 @@ def build_rod(scene: Scene, rod: np.ndarray | None = None) -> Mechanism:
         ["material damping"] if np.any(BA) else []) + (
         ["drag"] if rho > 0 and any(env.current) else []) + (
         ["end force"] if np.any(applied) else []) + (
-        ["end moment"] if any(e.moment is not None and any(e.moment) for e in (a, b)) else [])
+        ["end moment"] if any(x.moment is not None and any(x.moment) for x in (a, b)) else []) + (
+        ["tension-torsion coupling"] if coupled else [])
     bounds = {"strain": Bound(e.T, lower=-1.0 + 1e-9, unit="1", scale=1.0,
                               what="segments of positive length")}
     cab = np.flatnonzero(slack)

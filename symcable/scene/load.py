@@ -229,6 +229,9 @@ def _refuse_rod_keys(types) -> None:
         if lt.GJ != 0.0:
             raise _err(f"line_types.{name}.GJ", lt.GJ, "N m^2", 'torsion is read by model = '
                        '"rod" only: remove it, or 0')
+        if lt.tension_twist != 0.0:
+            raise _err(f"line_types.{name}.tension_twist", lt.tension_twist, "N m", 'read by '
+                       'model = "rod" only: remove it, or 0')
 
 
 def scene_to_toml(scene: Scene) -> str:

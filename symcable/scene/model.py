@@ -32,7 +32,7 @@ _LINE_KEYS = ("EA", "EI", "mass", "diameter", "weight", "cd_normal", "cd_tangent
 #: the keys only cable3d reads (written only when set)
 _LINE_KEYS_3D = ("ca_tangential", "damping")
 #: the keys only the rod reads (written only when set): torsion; EI may be [EI_1, EI_2]
-_LINE_KEYS_ROD = ("GJ",)
+_LINE_KEYS_ROD = ("GJ", "tension_twist")
 #: the drag law's keys (cable3d; written only for a law other than Morison's)
 _LINE_KEYS_DRAG = ("drag_law", "loading")
 
@@ -107,6 +107,10 @@ class LineType:
         isotropic, EI_2 = EI.
     GJ : float
         ``model = "rod"`` only: torsional stiffness, N m^2 (>= 0), default 0.
+    tension_twist : float
+        ``model = "rod"`` only: the tension-torsion coupling K of a helically armoured
+        cable, N m (default 0): energy K e tau per metre, so T = EA e + K tau and
+        M_t = GJ tau + K e (K^2 < EA GJ).
     """
 
     name: str
@@ -125,6 +129,7 @@ class LineType:
     loading: LoadingFunctions | None = None
     EI_2: float | None = None
     GJ: float = 0.0
+    tension_twist: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -498,6 +503,8 @@ def scene_to_dict(scene: Scene) -> dict:
             out["line_types"][name]["EI"] = [lt.EI, lt.EI_2]
         if lt.GJ != 0.0:
             out["line_types"][name]["GJ"] = lt.GJ
+        if lt.tension_twist != 0.0:
+            out["line_types"][name]["tension_twist"] = lt.tension_twist
         if lt.drag_law != "morison":
             out["line_types"][name]["drag_law"] = lt.drag_law
             out["line_types"][name]["loading"] = lt.loading.to_dict()

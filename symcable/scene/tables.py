@@ -152,7 +152,21 @@ def _line_type(path: str, name: str, raw: Any, env: Environment, dim: int) -> Li
                                                           ge=0), dim),
         damping=_only_3d(path, "damping", num("damping", "N s", _LT.damping), dim),
         drag_law=law, loading=loading, EI_2=ei_2, GJ=num("GJ", "N m^2", 0.0, ge=0),
+        tension_twist=_coupling(path, t, num),
     )
+
+
+def _coupling(path: str, t: Mapping, num) -> float:
+    """``tension_twist`` (N m): the axial-torsional coupling K; the stiffness [[EA, K],
+    [K, GJ]] must be positive definite."""
+    K = num("tension_twist", "N m", 0.0)
+    if K != 0.0:
+        EA, GJ = num("EA", "N", gt=0), num("GJ", "N m^2", 0.0, ge=0)
+        if not K * K < EA * GJ:
+            raise _err(_key(path, "tension_twist"), K, "N m", f"must satisfy K^2 < EA GJ "
+                       f"= {EA * GJ:.6g} N^2 m^2 (the axial-torsional stiffness [[EA, K], "
+                       "[K, GJ]] positive definite; give GJ > 0)")
+    return K
 
 
 def _bending_stiffness(path: str, t: Mapping) -> tuple[float, float | None]:

@@ -21,14 +21,15 @@ Mechanism (:func:`symcable.models.rod.build_rod`, which takes a per-segment mask
 """
 from __future__ import annotations
 
+import casadi as ca
 import numpy as np
 
 from ..scene import EndCondition, Scene
-from .cable3d_bending import linear_axial_law
+from .cable3d_bending import bending_kernel, linear_axial_law
 from .planar import slack_law
 
-__all__ = ["axial_law", "cable_vertices", "rod_mask", "rod_runs", "rod_vertices",
-           "spun_edges"]
+__all__ = ["axial_law", "cable_bending", "cable_vertices", "rod_mask", "rod_runs",
+           "rod_vertices", "spun_edges"]
 
 
 def rod_mask(scene: Scene) -> np.ndarray:
@@ -85,6 +86,45 @@ def cable_vertices(seg: dict, rod: np.ndarray, held) -> list[tuple[int, float, f
         if held[k] and EI[j] > 0:
             out.append((i, float(EI[j]), 0.5 * float(ds[j])))
     return sorted(out)
+
+
+def cable_bending(seg: dict, rod: np.ndarray, held, guided, Xm, directions) -> dict | None:
+    """cable3d's bending at :func:`cable_vertices` for node positions ``Xm`` (3, N+1), or None
+    where there is none: ``nodal`` forces (3, N+1), N (a guide's ghost turns with its node,
+    so its force is the node's); ``reaction`` {0, N: (3, 1)} (a clamp's ghost's force: the
+    clamp takes it); ``moment`` (3, N+1), N m; ``straddle`` (3, N), the vertex terms across
+    each edge's cut (the internal force's share, as the rod's); ``energy``, J.
+    ``directions``: the ends' tangents (a held end's)."""
+    verts = cable_vertices(seg, rod, held)
+    if not verts:
+        return None
+    N = Xm.shape[1] - 1
+    ghost = {0: Xm[:, 0] - float(seg["ds"][0]) * ca.DM(directions[0]) if held[0] else None,
+             N: Xm[:, N] + float(seg["ds"][-1]) * ca.DM(directions[1]) if held[1] else None}
+    fp, f, fn, E, M = bending_kernel().map(len(verts))(
+        ca.horzcat(*[Xm[:, i - 1] if i > 0 else ghost[0] for i, _, _ in verts]),
+        ca.horzcat(*[Xm[:, i] for i, _, _ in verts]),
+        ca.horzcat(*[Xm[:, i + 1] if i < N else ghost[N] for i, _, _ in verts]),
+        ca.DM([c[1] for c in verts]).T, ca.DM([c[2] for c in verts]).T)
+    nodal, moment = ca.SX.zeros(3, N + 1), ca.SX.zeros(3, N + 1)
+    straddle = ca.SX.zeros(3, N)
+    reaction = {0: ca.SX.zeros(3, 1), N: ca.SX.zeros(3, 1)}
+    for k, (i, _, _) in enumerate(verts):
+        nodal[:, i] += f[:, k]
+        moment[:, i] = M[:, k]
+        for nb, fk in ((i - 1, fp[:, k]), (i + 1, fn[:, k])):
+            if 0 <= nb <= N:
+                nodal[:, nb] += fk
+            elif guided[0 if nb < 0 else 1]:
+                nodal[:, i] += fk
+            else:
+                reaction[i] += fk
+        if i < N:
+            straddle[:, i] -= fn[:, k]
+        if i > 0:
+            straddle[:, i - 1] += fp[:, k]
+    return {"nodal": nodal, "reaction": reaction, "moment": moment, "straddle": straddle,
+            "energy": ca.sum2(E)}
 
 
 def axial_law(seg: dict, rod: np.ndarray, F: float) -> tuple[np.ndarray, np.ndarray]:

@@ -20,14 +20,15 @@ joins nodes j and j+1); v their rates (m/s, rad/s). Terms:
 
 End conditions: pinned (position held, no moment, twist free), free (applied force, and
 optionally a dead moment ``moment`` on its edge: :func:`~.rod_frames.end_moment_force`, not
-in the potential energy output), guided (``condition = "guided"``: free, tangent ``direction`` held: cable3d's ghost
-edge on the moving end node, turning with its translation, so its force is the node's; it
-takes the neighbour edge's twist and anchor and no twist term: the guide holds the tangent
-and the bending moment, not the twist; seed 000's benchmark right end), clamped (position
-held; tangent ``direction`` and the material frame's ``twist_deg`` about it given: a held
-ghost edge one first-segment length beyond the end, as cable3d's clamp, whose material director is the clamp's; the vertex at the end node takes
-lbar = ds / 2, half a cell lying in the rod, so the twist angle of the ghost is the frame at
-the end node and M_t = GJ (theta_0 - twist) / (ds / 2)). With no clamped end, the first
+in the potential energy output), guided (``condition = "guided"``: free, tangent
+``direction`` held: cable3d's ghost edge on the moving end node, turning with its
+translation, so its force is the node's; it takes the neighbour edge's twist and anchor and
+no twist term: the guide holds the tangent and the bending moment, not the twist; seed
+000's benchmark right end), clamped (position held; tangent ``direction`` and the material
+frame's ``twist_deg`` about it given: a held ghost edge one first-segment length beyond the
+end, as cable3d's clamp, whose material director is the clamp's; the vertex at the end node
+takes lbar = ds / 2, half a cell lying in the rod, so the twist angle of the ghost is the
+frame at the end node and M_t = GJ (theta_0 - twist) / (ds / 2)). With no clamped end, the first
 edge's twist is held at 0 (the rod's spin about itself is otherwise undetermined); a rod
 needs GJ > 0 (an isotropic rod's twists are otherwise singular).
 
@@ -62,10 +63,9 @@ import numpy as np
 from ..errors import SymcableError
 from ..scene import EndCondition, Scene
 from .cable3d import _element_kernel, _held, _lumped
-from .cable3d_bending import bending_kernel
 from .cable3d_drag import law_table
 from .cable3d_starts import force_scale, starts_of
-from .hybrid_terms import axial_law, cable_vertices, rod_mask, rod_vertices, spun_edges
+from .hybrid_terms import axial_law, cable_bending, rod_mask, rod_vertices, spun_edges
 from .mechanism import Bound, Layout, Mechanism, Output, ParamBlocks, PartLayout, Scales, Start
 from .planar import CABLE_COMPRESSION, FOLD_PUSH, segment_table
 from .relax import _ramp_integral
@@ -296,25 +296,10 @@ def build_rod(scene: Scene, rod: np.ndarray | None = None) -> Mechanism:
             reaction[N] += fn[:, k]
         moment[:, i], kap[:, i], tw[i], mt[i] = M[:, k], kappa[:, k], twist[k], Mt[k]
     # cable3d's own bending on the cable3d edges (hybrid; guide and clamp ghosts as above)
-    cverts = cable_vertices(seg, rod, held)
-    if cverts:
-        ends = {0: Xm[:, 0] - float(seg["ds"][0]) * ca.DM(a.direction) if held[0] else None,
-                N: Xm[:, N] + float(seg["ds"][-1]) * ca.DM(b.direction) if held[1] else None}
-        cfp, cf, cfn, cE, cM = bending_kernel().map(len(cverts))(
-            ca.horzcat(*[Xm[:, i - 1] if i > 0 else ends[0] for i, _, _ in cverts]),
-            ca.horzcat(*[Xm[:, i] for i, _, _ in cverts]),
-            ca.horzcat(*[Xm[:, i + 1] if i < N else ends[N] for i, _, _ in cverts]),
-            ca.DM([c[1] for c in cverts]).T, ca.DM([c[2] for c in cverts]).T)
-        for k, (i, _, _) in enumerate(cverts):
-            nodal[:, i] += cf[:, k]
-            moment[:, i] = cM[:, k]
-            for nb, fk in ((i - 1, cfp[:, k]), (i + 1, cfn[:, k])):
-                if 0 <= nb <= N:
-                    nodal[:, nb] += fk
-                elif guided[0 if nb < 0 else 1]:  # the ghost turns with its node
-                    nodal[:, i] += fk
-                else:
-                    reaction[i] += fk
+    cb = cable_bending(seg, rod, held, guided, Xm, (a.direction, b.direction))
+    if cb is not None:
+        nodal, moment = nodal + cb["nodal"], moment + cb["moment"]
+        reaction = {i: reaction[i] + cb["reaction"][i] for i in (0, N)}
     # the internal force across each edge (N, on the part before it from the part beyond):
     # the axial force along the edge, and the vertex terms that straddle the cut (the
     # vertex at its first node pushes the node beyond with fn, whose reaction the part
@@ -329,11 +314,8 @@ def build_rod(scene: Scene, rod: np.ndarray | None = None) -> Mechanism:
             internal[:, i] -= fn[:, k]
         if i > 0:
             internal[:, i - 1] += fp[:, k]
-    for k, (i, _, _) in enumerate(cverts):
-        if i < N:
-            internal[:, i] -= cfn[:, k]
-        if i > 0:
-            internal[:, i - 1] += cfp[:, k]
+    if cb is not None:
+        internal += cb["straddle"]
 
     applied = np.zeros((3, N + 1))
     for end, i in ((a, 0), (b, N)):
@@ -377,8 +359,8 @@ def build_rod(scene: Scene, rod: np.ndarray | None = None) -> Mechanism:
     potential = ca.sum2(E) + ca.dot(ca.DM(seg["ds"]), U) \
         + load * ca.dot(ca.DM(_lumped(seg)), Xm[2, :].T) \
         - load * ca.dot(ca.DM(applied.T.ravel()), ca.vec(Xm))
-    if cverts:
-        potential += ca.sum2(cE)
+    if cb is not None:
+        potential += cb["energy"]
     outputs = {
         "positions": Output(Xm.T, "m", owner, "node positions (x, y, z)"),
         "velocities": Output(ca.densify(Vm.T), "m/s", owner, "node velocities (x, y, z)"),
@@ -434,7 +416,7 @@ def build_rod(scene: Scene, rod: np.ndarray | None = None) -> Mechanism:
     layout = Layout(3, {owner: PartLayout(
         "line", seg["s"], node_q, node_q,
         {i: name for i, name in ((0, "end_a"), (N, "end_b")) if i not in moving})})
-    terms = ["elastic", "weight"] + (["bending"] if verts or cverts else []) + (
+    terms = ["elastic", "weight"] + (["bending"] if verts or cb is not None else []) + (
         ["torsion"] if verts else []) + (
         ["material damping"] if np.any(BA) else []) + (
         ["drag"] if rho > 0 and any(env.current) else []) + (
@@ -450,8 +432,8 @@ def build_rod(scene: Scene, rod: np.ndarray | None = None) -> Mechanism:
                                             scale=F, what="a cable (EI = 0) carries no "
                                             "compression")
     return Mechanism(
-        name="rod" if whole else "hybrid", q=q, v=v, z=ca.SX.sym("z", 0), t=t, p=p, params=params, mass=mass,
-        force=force, constraint=ca.SX.zeros(0, 1), scales=scales, starts=starts,
-        outputs=outputs, layout=layout, terms=tuple(terms), static_params=static,
-        bounds=bounds)
+        name="rod" if whole else "hybrid", q=q, v=v, z=ca.SX.sym("z", 0), t=t, p=p,
+        params=params, mass=mass, force=force, constraint=ca.SX.zeros(0, 1), scales=scales,
+        starts=starts, outputs=outputs, layout=layout, terms=tuple(terms),
+        static_params=static, bounds=bounds)
 

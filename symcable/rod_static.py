@@ -102,7 +102,7 @@ def hybrid_zones(scene: Scene, threshold: float = ZONE_THRESHOLD,
 
     The line is solved at rest with every section cable3d (cable3d's own bending where
     EI > 0; a guided end held by it: :func:`~symcable.models.rod.build_rod` with no rod
-    edge), and a segment becomes a rod where its bending length sqrt(EI / T) exceeds
+    edge but an end's that takes a moment), and a segment becomes a rod where its bending length sqrt(EI / T) exceeds
     ``threshold`` times the line's length L, T the tension (the internal force along the
     segment; T <= 0: a rod), among the segments whose line type has EI > 0 and GJ > 0;
     an end's segment also where the end is guided, takes a moment or a clamp gives
@@ -119,7 +119,10 @@ def hybrid_zones(scene: Scene, threshold: float = ZONE_THRESHOLD,
         dataclasses.replace(s, model=None) for s in scene.sections))
     seg = rod_table(scene)
     N = len(seg["ds"])
-    mech = build_rod(given, np.zeros(N, bool))
+    first = np.zeros(N, bool)  # an end moment needs a rod edge to act on, even here
+    for end, j in ((scene.end_a, 0), (scene.end_b, N - 1)):
+        first[j] = end.moment is not None
+    mech = build_rod(given, first)
     tol = max(RTOL * force_scale(scene, seg), 10 * mech.scales.residual_floor)
     eq = solve_equilibrium(mech, tol=tol, codegen=False)
     X, f = np.asarray(eq.outputs["positions"]), np.asarray(eq.outputs["internal_force"])

@@ -285,7 +285,8 @@ def simulate_3d(scene: Scene, duration: float, dt: float | None = None,
         dt = default_dt(scene, duration, _start_tensions(scene, eq))
     kw = dict(method=opts, t0=t0, start=eq, v0=v0, p=mech.params.values, save_every=save_every,
               save_times=save_times, progress=progress, codegen=codegen, label=name,
-              period=_period(scene), reanchor=reanchor_hook(mech) if is_rod(scene) else None)
+              period=_period(scene),
+              reanchor=reanchor_hook(mech) if is_rod(scene) else None)
     try:
         tr = integrate(mech, duration, dt, **kw)
     except ConvergenceError as exc:
@@ -328,8 +329,9 @@ def modal_analysis_3d(scene: Scene, n_modes: int = 10, *, max_dense: int = MAX_D
              "max_relative_real_part": st.get("max_relative_real_part"), "model_time": t_static,
              "jacobian_time": st.get("linearize_time"), "eig_time": st.get("eig_time"),
              "wall_time": time.perf_counter() - started}
-    if is_rod(scene):  # each mode's twist angles (rad per unit largest node displacement)
-        stats["twist_shapes"] = twist_shapes(mech, modes.velocity_shapes).tolist()
+    tws = twist_shapes(mech, modes.velocity_shapes) if is_rod(scene) else None
+    if tws is not None:  # each mode's twist angles (rad per unit largest node displacement)
+        stats["twist_shapes"] = tws.tolist()
     if damped and modes.damping_ratios is not None:
         stats["damping_ratios"] = np.asarray(modes.damping_ratios, float).tolist()
     pre = _prefixes(scene, lines)
@@ -381,9 +383,8 @@ def linearize_3d(scene: Scene, *, undamped: bool = False) -> SceneLinearization:
     if undamped:
         C = np.zeros_like(C)
     q_kinds, v_kinds = mech.coordinate_names(tagged=scene.version == 2)
-    if is_rod(scene):  # the twists, in edge order (edge 0's only with a clamped end)
-        q_kinds, v_kinds = (twist_names(k, len(mech.layout.parts["line"].s) - 1)
-                            for k in (q_kinds, v_kinds))
+    if is_rod(scene):  # the twists: "edge{j}.twist"
+        q_kinds, v_kinds = (twist_names(k, mech) for k in (q_kinds, v_kinds))
     ends = {}
     if scene.version == 1:
         for end in ("a", "b"):

@@ -135,6 +135,10 @@ def rod_fields(mech: Mechanism, q, v=None, t: float = 0.0, p=None) -> RodFields:
     get = lambda k: np.asarray(out[k], float)  # noqa: E731
     X = get("positions").reshape(-1, 3)
     N = X.shape[0] - 1
+    if get("reference_frame").size != 6 * N:
+        raise SymcableError(f"mechanism {mech.name!r}: rod_fields takes a rod whose every "
+                            "edge is a rod edge (a hybrid's cable3d edges carry no material "
+                            "frame: not yet)")
     frame = get("reference_frame").reshape(N, 6)
     tg, d1 = frame[:, :3], frame[:, 3:]
     th = get("twist_angles").ravel()[:, None]

@@ -100,31 +100,40 @@ def rod_line(scene, mech, t, outputs, warnings, common) -> LineTrajectory:
     return dataclasses.replace(line, stats=stats, warnings=tuple(warnings))
 
 
-def twist_shapes(mech, velocity_shapes) -> np.ndarray:
-    """(n_modes, N) each mode's edge twist angles (rad), with the scale of its node shape
+def twist_shapes(mech, velocity_shapes) -> np.ndarray | None:
+    """(n_modes, N) each mode's edge twist angles (rad; 0 on an edge whose twist is held or
+    a hybrid's cable3d edge), with the scale of its node shape
     (:func:`~symcable.cable3d_static.node_shapes`: a largest node displacement of 1, its
     largest entry positive); a mode that moves no node (pure torsion) to a largest twist of
-    1."""
+    1. None for a Mechanism without twists."""
+    from .models.rod_spin import twist_edges
+    if "twist_angles" not in mech.outputs:
+        return None
+    pairs = twist_edges(mech)
+    if not pairs:
+        return None
     U = np.asarray(velocity_shapes, float).reshape(-1, mech.n_v)
     idx = np.asarray(mech.layout.parts["line"].node_v)
-    tw = np.setdiff1d(np.arange(mech.n_v), idx[idx >= 0])
-    out = []
-    for u in U:
+    tw, edges = (np.array(c, int) for c in zip(*pairs))
+    N = len(mech.layout.parts["line"].s) - 1
+    out = np.zeros((U.shape[0], N))
+    for r, u in enumerate(U):
         x, part = np.where(idx < 0, 0.0, u[np.where(idx < 0, 0, idx)]), u[tw]
         peak, top = float(np.max(np.linalg.norm(x, axis=1))), float(np.max(np.abs(part)))
         if peak > 1e-9 * top:
             c = math.copysign(1.0, x.flat[int(np.argmax(np.abs(x)))]) / peak
         else:
             c = math.copysign(1.0, part[int(np.argmax(np.abs(part)))]) / max(top, 1e-300)
-        out.append(part * c)
-    return np.array(out)
+        out[r, edges] = part * c
+    return out
 
 
-def twist_names(kinds, N: int) -> tuple:
-    """``kinds`` with the unnamed entries (a rod's twists, in edge order, the last of the N
-    edges last) named ``"edge{j}.twist"``."""
-    blank = [i for i, k in enumerate(kinds) if not k]
+def twist_names(kinds, mech) -> tuple:
+    """``kinds`` (the Mechanism's coordinate names) with its twists named
+    ``"edge{j}.twist"``."""
+    from .models.rod_spin import twist_edges
     names = list(kinds)
-    for j, i in enumerate(blank, start=N - len(blank)):
-        names[i] = f"edge{j}.twist"
+    if "twist_angles" in mech.outputs:
+        for i, j in twist_edges(mech):
+            names[i] = f"edge{j}.twist"
     return tuple(names)

@@ -149,3 +149,24 @@ def test_cli_simulate_rod(kick, tmp_path, capsys):
     assert main(["modes", str(p), "--n", "2", "--json"]) == 0
     d = json.loads(capsys.readouterr().out)
     assert len(d["frequencies"]) == 2 and len(d["stats"]["twist_shapes"][0]) == 8
+
+
+def test_hybrid_scenes_take_every_analysis():
+    """A hybrid (tests/test_hybrid.py's taut hose: cable3d, rod, cable3d sections; its end B
+    heaving) through ``sc.modal_analysis`` (twist shapes zero on the cable3d edges),
+    ``sc.linearize`` (the rod edges' twists named) and ``sc.simulate`` (re-anchoring and
+    the frames' spin on the rod edges only); an all-cable3d hybrid is cable3d's
+    Mechanism and runs without either."""
+    from test_hybrid import taut
+    d = taut("hybrid", (None, "rod", None))
+    d["end_b"]["motion"] = {"kind": "harmonic", "amplitude": [0.0, 0.0, 0.05], "period": 2.0}
+    modal = sc.modal_analysis(d, 3)
+    tw = np.asarray(modal.stats["twist_shapes"])
+    assert tw.shape == (3, 18) and np.all(tw[:, :6] == 0) and np.all(tw[:, 12:] == 0)
+    lin = sc.linearize(d)
+    assert sorted(k for k in lin.q_kinds if k.endswith(".twist")) == sorted(
+        f"edge{j}.twist" for j in range(7, 12))
+    tr = sc.simulate(d, 0.5, dt=0.01, codegen=False)
+    assert tr.status == "converged" and tr.stats["outputs"]["twist_angles"].shape == (51, 18)
+    flat = sc.simulate(taut("hybrid") | {"end_b": d["end_b"]}, 0.5, dt=0.01, codegen=False)
+    assert flat.status == "converged" and "reanchorings" not in flat.stats

@@ -48,11 +48,14 @@ def frame_margin(mech: Mechanism):
 
 
 def reanchor_hook(mech: Mechanism, threshold: float = THRESHOLD,
-                  floor: float = FLOOR) -> Reanchor:
-    """The :class:`~symcable.models.mechanism.Reanchor` of a rod Mechanism (module
-    docstring); the Mechanism's own when it carries one."""
+                  floor: float = FLOOR) -> Reanchor | None:
+    """The :class:`~symcable.models.mechanism.Reanchor` of a rod or hybrid Mechanism (module
+    docstring); the Mechanism's own when it carries one; None for one without anchored
+    frames (a hybrid with no rod edge, cable3d)."""
     if getattr(mech, "reanchor", None) is not None:
         return mech.reanchor
+    if "frame" not in mech.params.names:
+        return None
     margin = frame_margin(mech)
     sl = mech.params.slice("frame")
     p = mech.p

@@ -37,10 +37,51 @@ __all__ = ["with_reference_spin"]
 _CACHE: "weakref.WeakKeyDictionary[Mechanism, Mechanism]" = weakref.WeakKeyDictionary()
 
 
-def _twist_slots(mech: Mechanism) -> np.ndarray:
-    """The entries of v that are twist rates (not a node's), in edge order."""
-    idx = np.asarray(mech.layout.parts["line"].node_v)
-    return np.setdiff1d(np.arange(mech.n_v), idx[idx >= 0])
+def _deps(expr, q, rows) -> list:
+    """For each row group of ``expr`` (a list of row index lists), the q entries it depends
+    on (structurally)."""
+    S = ca.jacobian(expr, q).sparsity()
+    r, c = S.get_triplet()
+    by_row: dict = {}
+    for i, j in zip(r, c):
+        by_row.setdefault(i, set()).add(j)
+    return [sorted(set().union(*(by_row.get(i, set()) for i in g))) for g in rows]
+
+
+def twist_edges(mech: Mechanism) -> list:
+    """[(index of theta_j in q and v, edge j)] of a rod or hybrid Mechanism, in edge order
+    (from the structure of its ``twist_angles`` output: edge j's entry is q[k] or 0)."""
+    th = ca.vec(mech.outputs["twist_angles"].expr)
+    deps = _deps(th, mech.q, [[j] for j in range(th.shape[0])])
+    return [(d[0], j) for j, d in enumerate(deps) if len(d) == 1]
+
+
+def frame_edges(mech: Mechanism) -> list:
+    """The edge of each column of the ``reference_frame`` output (6 rows per rod edge; a
+    hybrid's cable3d edges have none), from the nodes its tangent depends on."""
+    ref = ca.vec(mech.outputs["reference_frame"].expr)
+    n_col = ref.shape[0] // 6
+    node_of = {}
+    for i, row in enumerate(np.asarray(mech.layout.parts["line"].node_q)):
+        for k in row:
+            if k >= 0:
+                node_of[int(k)] = i
+    N = len(mech.layout.parts["line"].s) - 1
+    held = {i for i, row in enumerate(np.asarray(mech.layout.parts["line"].node_q))
+            if row[0] < 0}
+    out = []
+    for d in _deps(ref, mech.q, [list(range(6 * c, 6 * c + 3)) for c in range(n_col)]):
+        nodes = sorted({node_of[k] for k in d if k in node_of})
+        if len(nodes) == 2:
+            out.append(nodes[0])
+        elif len(nodes) == 1 and nodes[0] == 1 and 0 in held:
+            out.append(0)
+        elif len(nodes) == 1 and nodes[0] == N - 1 and N in held:
+            out.append(N - 1)
+        else:
+            raise SymcableError(f"mechanism {mech.name!r}: reference_frame column {len(out)} "
+                                f"follows no single edge (nodes {nodes})")
+    return out
 
 
 def reference_spins(mech: Mechanism) -> list:
@@ -48,12 +89,10 @@ def reference_spins(mech: Mechanism) -> list:
     an expression of (q, v, t, p); module docstring), in edge order."""
     q, v, t = mech.q, mech.v, mech.t
     frame = ca.reshape(mech.outputs["reference_frame"].expr, 6, -1)
-    N = frame.shape[1]
-    slots = _twist_slots(mech)
+    column = {j: c for c, j in enumerate(frame_edges(mech))}
     out = []
-    for k, i in enumerate(slots):
-        j = N - len(slots) + k  # edge 0's twist is held without a clamped end
-        tj, d1 = frame[0:3, j], frame[3:6, j]
+    for i, j in twist_edges(mech):
+        tj, d1 = frame[0:3, column[j]], frame[3:6, column[j]]
         rate = ca.jtimes(d1, q, v) + ca.jacobian(d1, t)
         out.append((int(i), ca.dot(ca.cross(tj, d1), rate)))
     return out
@@ -62,11 +101,14 @@ def reference_spins(mech: Mechanism) -> list:
 def with_reference_spin(mech: Mechanism) -> Mechanism:
     """The rod Mechanism ``mech`` with the reference frames' spin in the twist's kinetic
     energy (module docstring); built once per Mechanism. The same q, v, p, outputs (the
-    kinetic energy T) and everything else."""
+    kinetic energy T) and everything else. A Mechanism without anchored frames (no output
+    ``reference_frame``: cable3d's, a hybrid with no rod edge): itself."""
     out = _CACHE.get(mech)
     if out is not None:
         return out
-    if "reference_frame" not in mech.outputs or mech.kinematics is not None:
+    if "reference_frame" not in mech.outputs:
+        return mech  # no anchored frames (a hybrid with no rod edge is cable3d's): no spin
+    if mech.kinematics is not None:
         raise SymcableError(f"mechanism {mech.name!r}: not a rod (no reference_frame output, "
                             "or kinematics other than q' = v)")
     q, v, t = mech.q, mech.v, mech.t

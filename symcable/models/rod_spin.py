@@ -32,7 +32,8 @@ import numpy as np
 from ..errors import SymcableError
 from .mechanism import Mechanism, Output
 
-__all__ = ["with_reference_spin"]
+__all__ = ["edge_spins", "reference_spins", "spin_coefficient", "with_reference_spin",
+           "with_reference_spin_ad"]
 
 _CACHE: "weakref.WeakKeyDictionary[Mechanism, Mechanism]" = weakref.WeakKeyDictionary()
 
@@ -84,25 +85,62 @@ def frame_edges(mech: Mechanism) -> list:
     return out
 
 
+def edge_spins(mech: Mechanism) -> list:
+    """[(index of theta_j in v, I_j, e_j, e_j', c_j, a_j)] per twist: the edge vector e_j (m; an
+    expression of q, t, p), its rate e_j' (m/s, of v, t, p: the end nodes' velocities), the
+    twist's inertia I_j (kg m^2, its mass matrix entry) and the spin's coefficient c_j
+    (1/m): s_j = c_j . e_j' (module docstring), with a_j the anchor's tangent."""
+    q, v = mech.q, mech.v
+    frame = ca.reshape(mech.p[mech.params.slice("frame")], 6, -1)
+    column = {j: c for c, j in enumerate(frame_edges(mech))}
+    X = mech.outputs["positions"].expr
+    V = mech.outputs["velocities"].expr
+    out = []
+    for i, j in twist_edges(mech):
+        e = (X[j + 1, :] - X[j, :]).T
+        ed = (V[j + 1, :] - V[j, :]).T
+        out.append((int(i), mech.mass[i, i], e, ed, spin_coefficient(e, frame[0:3, column[j]]),
+                    frame[0:3, column[j]]))
+    return out
+
+
+def _spin_coefficient_rate() -> ca.Function:
+    """``(e, w, a) -> (dc/de) w`` (:func:`spin_coefficient`)."""
+    e, w, a = ca.SX.sym("e", 3), ca.SX.sym("w", 3), ca.SX.sym("a", 3)
+    return ca.Function("spin_rate", [e, w, a], [ca.jtimes(spin_coefficient(e, a), e, w)])
+
+
+def spin_coefficient(e, a):
+    """c (1/m) such that the spin of the reference director P(a -> t) u about t = e / |e|
+    is s = c . e' for any u perpendicular to the anchor's tangent a:
+    c = (e x a) / (|e| (|e| + a . e)), the connection of the sphere in the gauge of the
+    smallest rotation from a (a Dirac monopole's vector potential, singular at t = -a like
+    the map itself); its curl is -e / |e|^3, so (dc/de) w - (dc/de)^T w = (w x e) / |e|^3."""
+    n = ca.norm_2(e)
+    return ca.cross(e, a) / (n * (n + ca.dot(a, e)))
+
+
 def reference_spins(mech: Mechanism) -> list:
     """[(index of theta_j in v, s_j)]: each twist's reference frame's spin rate s_j (rad/s,
     an expression of (q, v, t, p); module docstring), in edge order."""
-    q, v, t = mech.q, mech.v, mech.t
-    frame = ca.reshape(mech.outputs["reference_frame"].expr, 6, -1)
-    column = {j: c for c, j in enumerate(frame_edges(mech))}
-    out = []
-    for i, j in twist_edges(mech):
-        tj, d1 = frame[0:3, column[j]], frame[3:6, column[j]]
-        rate = ca.jtimes(d1, q, v) + ca.jacobian(d1, t)
-        out.append((int(i), ca.dot(ca.cross(tj, d1), rate)))
-    return out
+    return [(i, ca.dot(c, ed)) for i, _, _, ed, c, _ in edge_spins(mech)]
 
 
 def with_reference_spin(mech: Mechanism) -> Mechanism:
     """The rod Mechanism ``mech`` with the reference frames' spin in the twist's kinetic
     energy (module docstring); built once per Mechanism. The same q, v, p, outputs (the
     kinetic energy T) and everything else. A Mechanism without anchored frames (no output
-    ``reference_frame``: cable3d's, a hybrid with no rod edge): itself."""
+    ``reference_frame``: cable3d's, a hybrid with no rod edge): itself.
+
+    The Lagrange terms in closed form per edge (P = I (theta' + s), S = de'/dv the edge's
+    node selection, a = the nodes' accelerations): T_s's mass I (g g^T - e_th e_th^T) with
+    g = e_th + S^T c, and the force
+    -(e_th + S^T c) I s_p - S^T P [(dc/de) e'_t - (dc/de)^T e'] with s_p = ds/dt at a = 0
+    and e'_t = de/dt the edge's true rate (= e' but where a held end's velocity is not the
+    derivative of its position: a table's smoothed kinks); the bracket is
+    (e' x e) / |e|^3 + (dc/de)(e'_t - e'). The same equations as CasADi's of T_s (checked
+    to round-off in tests/test_rod_codegen.py), some 10 times fewer operations in the
+    step's Jacobian."""
     out = _CACHE.get(mech)
     if out is not None:
         return out
@@ -112,12 +150,26 @@ def with_reference_spin(mech: Mechanism) -> Mechanism:
         raise SymcableError(f"mechanism {mech.name!r}: not a rod (no reference_frame output, "
                             "or kinematics other than q' = v)")
     q, v, t = mech.q, mech.v, mech.t
+    n = mech.n_v
     T_s = ca.SX(0.0)
-    for i, spin in reference_spins(mech):
-        T_s += mech.mass[i, i] * (v[i] * spin + 0.5 * spin * spin)
-    p_s = ca.gradient(T_s, v)
-    mass = mech.mass + ca.hessian(T_s, v)[0]
-    force = mech.force - ca.jtimes(p_s, q, v) - ca.jacobian(p_s, t) + ca.gradient(T_s, q)
+    mass = ca.SX(mech.mass)
+    force = ca.SX(mech.force)
+    for i, I, e, ed, c, a in edge_spins(mech):
+        s = ca.dot(c, ed)
+        T_s += I * (v[i] * s + 0.5 * s * s)
+        S = ca.jacobian(ed, v)  # constant: +-1 on the edge's moving nodes
+        ei = ca.SX(n, 1)
+        ei[i] = 1.0
+        gx = ca.mtimes(S.T, c)
+        mass += I * (ca.mtimes(gx, gx.T) + ca.mtimes(gx, ei.T) + ca.mtimes(ei, gx.T))
+        s_p = ca.jtimes(s, q, v) + ca.jacobian(s, t)
+        P = I * (v[i] + s)
+        le = ca.norm_2(e)
+        bracket = ca.cross(ed, e) / (le * le * le)
+        drift = ca.jtimes(e, q, v) + ca.jacobian(e, t) - ed  # e'_t - e'
+        if not drift.is_zero():
+            bracket += _spin_coefficient_rate()(e, drift, a)
+        force -= ei * (I * s_p) + gx * (I * s_p) + P * ca.mtimes(S.T, bracket)
     outputs = dict(mech.outputs)
     ke = mech.outputs.get("kinetic_energy")
     if ke is not None:
@@ -126,3 +178,22 @@ def with_reference_spin(mech: Mechanism) -> Mechanism:
     out = _CACHE[mech] = dataclasses.replace(mech, mass=mass, force=force, outputs=outputs,
                                              terms=tuple(mech.terms) + ("reference spin",))
     return out
+
+
+def with_reference_spin_ad(mech: Mechanism) -> Mechanism:
+    """:func:`with_reference_spin` with its Lagrange terms by CasADi (the first version:
+    the mass d^2 T_s / dv^2 and the force -(dp_s/dq) v - dp_s/dt + dT_s/dq): the reference
+    the closed form is checked against; not cached."""
+    q, v, t = mech.q, mech.v, mech.t
+    frame = ca.reshape(mech.outputs["reference_frame"].expr, 6, -1)
+    column = {j: c for c, j in enumerate(frame_edges(mech))}
+    T_s = ca.SX(0.0)
+    for i, j in twist_edges(mech):  # s_j = d2_j . d1_j' by CasADi, from the transports
+        tj, d1 = frame[0:3, column[j]], frame[3:6, column[j]]
+        spin = ca.dot(ca.cross(tj, d1), ca.jtimes(d1, q, v) + ca.jacobian(d1, t))
+        T_s += mech.mass[i, i] * (v[i] * spin + 0.5 * spin * spin)
+    p_s = ca.gradient(T_s, v)
+    mass = mech.mass + ca.hessian(T_s, v)[0]
+    force = mech.force - ca.jtimes(p_s, q, v) - ca.jacobian(p_s, t) + ca.gradient(T_s, q)
+    return dataclasses.replace(mech, mass=mass, force=force,
+                               terms=tuple(mech.terms) + ("reference spin",))

@@ -83,6 +83,32 @@ def test_optimisation_level_follows_graph_size():
     assert set(codegen.flags_for(10**9)[1:]) == set(codegen.FLAGS[1:])
 
 
+def test_vertex_kernel_as_call_gives_the_same_step(monkeypatch):
+    """With ``rod_frames.CALL_MIN_VERTICES`` reached the vertex kernel is a call node per
+    vertex (never inlined): the DAE residual and its Jacobian are the straight-line
+    Mechanism's to round-off, in a fraction of the instructions."""
+    from symcable.models import rod_frames
+    from symcable.models.hybrid import build_hybrid  # uncached (scene_mechanism caches)
+    from symcable.solvers.galpha1 import _sx_residual
+    scene = load_scene(_rod("rod", 5, False))
+    straight = with_reference_spin(build_hybrid(scene))
+    monkeypatch.setattr(rod_frames, "CALL_MIN_VERTICES", 3)
+    called = with_reference_spin(build_hybrid(scene))
+    rng = np.random.default_rng(5)
+    y0 = np.concatenate([np.asarray(next(straight.starts()).q, float), np.zeros(straight.n_v)])
+    yd, y = rng.normal(size=y0.size), y0 + 0.02 * rng.normal(size=y0.size)
+    sizes, values = [], []
+    for m in (straight, called):
+        F = _sx_residual(m)
+        Y = ca.SX.sym("y", y0.size)
+        J = ca.Function("J", [Y], [ca.jacobian(F(yd, Y, 0.1, m.params.values), Y)])
+        sizes.append(J.n_instructions())
+        values.append((np.array(F(yd, y, 0.1, m.params.values)), np.array(J(y))))
+    assert sizes[1] < sizes[0] / 2
+    for a, b in zip(*values):
+        assert np.max(np.abs(a - b)) <= 1e-12 * np.max(np.abs(a))
+
+
 @pytest.mark.skipif(codegen.compiler() is None, reason="no C compiler")
 def test_compiled_rod_run_equals_virtual_machine():
     """``sc.simulate`` of a 3-segment isotropic rod (its reference frames' spin on), its

@@ -31,11 +31,13 @@ EI_2 about m2. The rest shape is straight and untwisted (no natural curvature ye
 """
 from __future__ import annotations
 
+import math
+
 import casadi as ca
 import numpy as np
 
-__all__ = ["end_moment_force", "reference_director", "reference_twist", "transport",
-           "vertex_kernel"]
+__all__ = ["CALL_MIN_VERTICES", "end_moment_force", "reference_director", "reference_twist",
+           "transport", "vertex_kernel"]
 
 
 def reference_director(t) -> np.ndarray:
@@ -91,8 +93,20 @@ def _frame(e, theta, t0, u0):
     return t, d1, m1, ca.cross(t, m1)
 
 
+#: a rod with at least this many vertices gets the vertex kernel as a call
+#: (:func:`vertex_kernel`'s ``call``; ``vertices`` given). Default: never (the straight-line
+#: step is faster in the virtual machine, which runs large steps by default, and other
+#: studies time it). Measured (notes/rodc14.md, anisotropic rod with the frames' spin, one
+#: generalized-alpha step, 3 Newton iterations): 20 segments C 0.39 against 0.97 ms, VM
+#: 7.0 against 2.7 ms; 40 segments C 0.96 against 4.3 ms, VM 14 against 9.3 ms, compile
+#: 52 s (-O1) against 53 s (-O0). Set it (e.g. to 16) before the scene's Mechanism is
+#: first built (:func:`symcable.rod_static.rod_mechanism` keeps it per scene content) for
+#: runs in generated C (``codegen=True``) of long rods.
+CALL_MIN_VERTICES: float = math.inf
+
+
 def vertex_kernel(isotropic: bool = False, coupled: bool = False,
-                  call: bool = False) -> ca.Function:
+                  call: bool | None = None, vertices: int = 0) -> ca.Function:
     """The elastic term of one vertex (module docstring). ``isotropic``: EI_1 = EI_2 on both
     edges (only ``Bp[0]``, ``Bn[0]`` read), the bending energy written without the frames,
     (EI_p + EI_n) |kb|^2 / 4 per 2 lbar (the same value: kb is perpendicular to both
@@ -120,8 +134,9 @@ def vertex_kernel(isotropic: bool = False, coupled: bool = False,
 
     ``call``: a Function that is never inlined: an SX expression that calls it (mapped over
     the vertices) holds one call node per vertex, its derivatives calls of the kernel's
-    forward derivative, so generated C holds the kernel once (notes/rodc14.md: the 40-vertex
-    step's C ... ) at some cost per evaluation. The same values."""
+    forward derivative (one per direction: 11 per vertex), so generated C holds the kernel
+    and its derivative once, at some cost per evaluation (notes/rodc14.md). The same values."""
+    call = _call(call, vertices)
     xp, x, xn, t0p, u0p, t0n, u0n = (ca.SX.sym(n, 3) for n in
                                      ("xp", "x", "xn", "t0p", "u0p", "t0n", "u0n"))
     Bp, Bn = ca.SX.sym("Bp", 2), ca.SX.sym("Bn", 2)
@@ -160,6 +175,10 @@ def vertex_kernel(isotropic: bool = False, coupled: bool = False,
                        [-g[0:3], -g[3:6], -g[6:9], -g[9], -g[10], E, kn / lbar, twist, M, Mt],
                        names_in, ["fp", "f", "fn", "qp", "qn", "E", "kappa", "twist", "M", "Mt"],
                        {"never_inline": True} if call else {})
+
+
+def _call(call: bool | None, vertices: int) -> bool:
+    return bool(call) if call is not None else vertices >= CALL_MIN_VERTICES
 
 
 def end_moment_force(xa, xb, theta, t0, u0, M, q):

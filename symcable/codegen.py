@@ -352,8 +352,8 @@ def compile_functions(functions: Sequence[ca.Function], *, jacobians: bool = Fal
             action = "compiled"
         loaded = {f.name(): ca.external(f.name(), str(lib)) for f in functions}
         _loaded[key] = loaded
-        last_build.update(key=key, action=action, seconds=time.perf_counter() - t0, library=str(lib),
-                          flags=list(flags))
+        last_build.update(key=key, action=action, seconds=time.perf_counter() - t0,
+                          library=str(lib), flags=list(flags))
         build_counts[action] += 1
         return loaded
 

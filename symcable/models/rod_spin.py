@@ -13,10 +13,13 @@ has turned since its anchor).
 
     T = v^T M v / 2 + T_s,   T_s = sum_j I_j (theta_j' s_j + s_j^2 / 2),
 
-with s_j = d2_j . (J_q d1_j v + d d1_j / dt) (the held ends' motion through t), and its
-Lagrange equations: the mass M + d^2 T_s / dv^2 (coupling each twist with its edge's two
-nodes; still a function of (q, t, p)) and the force f - (d p_s / dq) v - d p_s / dt +
-dT_s/dq (p_s = dT_s/dv). T is then I_j (theta_j' + s_j)^2 / 2 per edge plus the rest:
+with s_j = d2_j . (J_q d1_j v + d d1_j / dt) (the held ends' motion through t), which is
+s_j = c_j . e_j' in closed form (:func:`spin_coefficient`: e_j the edge vector, c_j a
+function of e_j and the anchor's tangent only), and its Lagrange equations: the mass
+M + d^2 T_s / dv^2 (coupling each twist with its edge's two nodes; still a function of
+(q, t, p)) and the force f - (d p_s / dq) v - d p_s / dt + dT_s/dq (p_s = dT_s/dv), written
+out per edge (:func:`with_reference_spin`; by CasADi over the whole Mechanism they made the
+step's Jacobian 4 times larger, notes/rodc14.md). T is then I_j (theta_j' + s_j)^2 / 2 per edge plus the rest:
 the material frame's own spin, the same in every chart, so a run no longer depends on when
 it re-anchors (tests/test_rod_api_reanchor.py). Statics are unchanged (T_s = 0 at rest with
 the ends still); the output ``kinetic_energy`` is T.
@@ -87,27 +90,40 @@ def frame_edges(mech: Mechanism) -> list:
 
 def edge_spins(mech: Mechanism) -> list:
     """[(index of theta_j in v, I_j, e_j, e_j', c_j, a_j)] per twist: the edge vector e_j (m; an
-    expression of q, t, p), its rate e_j' (m/s, of v, t, p: the end nodes' velocities), the
+    expression of q, t, p), its rate e_j' (m/s, of v, t, p: de_j/dt, a held end's through its
+    position's derivative, as the transports' spin d2 . d d1/dt takes it), the
     twist's inertia I_j (kg m^2, its mass matrix entry) and the spin's coefficient c_j
     (1/m): s_j = c_j . e_j' (module docstring), with a_j the anchor's tangent."""
     q, v = mech.q, mech.v
     frame = ca.reshape(mech.p[mech.params.slice("frame")], 6, -1)
     column = {j: c for c, j in enumerate(frame_edges(mech))}
     X = mech.outputs["positions"].expr
-    V = mech.outputs["velocities"].expr
     out = []
     for i, j in twist_edges(mech):
         e = (X[j + 1, :] - X[j, :]).T
-        ed = (V[j + 1, :] - V[j, :]).T
+        ed = ca.jtimes(e, q, v) + ca.jacobian(e, mech.t)  # de/dt (a held end's position rate)
         out.append((int(i), mech.mass[i, i], e, ed, spin_coefficient(e, frame[0:3, column[j]]),
                     frame[0:3, column[j]]))
     return out
 
 
-def _spin_coefficient_rate() -> ca.Function:
-    """``(e, w, a) -> (dc/de) w`` (:func:`spin_coefficient`)."""
-    e, w, a = ca.SX.sym("e", 3), ca.SX.sym("w", 3), ca.SX.sym("a", 3)
-    return ca.Function("spin_rate", [e, w, a], [ca.jtimes(spin_coefficient(e, a), e, w)])
+def _edge_kernel() -> ca.Function:
+    """``(e, e', de'/dt, a, I, theta') -> (c, f_theta, f_x)``: one edge's spin coefficient
+    and the spin's generalized forces on its twist and on its edge vector
+    (:func:`with_reference_spin`; e' the edge's rate, de'/dt its explicit time derivative:
+    a held end's acceleration). Inlined: as a call (never_inline, like the vertex kernel's
+    option) the 20-segment step grew (J 37 k -> 51 k instructions, C 0.39 -> 0.60 ms): its
+    forward calls, one per direction, cost more than its few hundred operations."""
+    e, ed, edd, a = (ca.SX.sym(k, 3) for k in ("e", "ed", "edd", "a"))
+    I, thd = ca.SX.sym("I"), ca.SX.sym("thd")
+    c = spin_coefficient(e, a)
+    s = ca.dot(c, ed)
+    s_p = ca.dot(ca.jtimes(c, e, ed), ed) + ca.dot(c, edd)  # ds/dt at zero acceleration
+    le = ca.norm_2(e)
+    P = I * (thd + s)
+    return ca.Function("rod_spin_edge", [e, ed, edd, a, I, thd],
+                       [c, -I * s_p, -(I * s_p) * c - P * ca.cross(ed, e) / (le * le * le)],
+                       ["e", "ed", "edd", "a", "I", "thd"], ["c", "f_theta", "f_x"])
 
 
 def spin_coefficient(e, a):
@@ -132,15 +148,13 @@ def with_reference_spin(mech: Mechanism) -> Mechanism:
     kinetic energy T) and everything else. A Mechanism without anchored frames (no output
     ``reference_frame``: cable3d's, a hybrid with no rod edge): itself.
 
-    The Lagrange terms in closed form per edge (P = I (theta' + s), S = de'/dv the edge's
-    node selection, a = the nodes' accelerations): T_s's mass I (g g^T - e_th e_th^T) with
-    g = e_th + S^T c, and the force
-    -(e_th + S^T c) I s_p - S^T P [(dc/de) e'_t - (dc/de)^T e'] with s_p = ds/dt at a = 0
-    and e'_t = de/dt the edge's true rate (= e' but where a held end's velocity is not the
-    derivative of its position: a table's smoothed kinks); the bracket is
-    (e' x e) / |e|^3 + (dc/de)(e'_t - e'). The same equations as CasADi's of T_s (checked
-    to round-off in tests/test_rod_codegen.py), some 10 times fewer operations in the
-    step's Jacobian."""
+    The Lagrange terms in closed form per edge (:func:`edge_spins`, :func:`_edge_kernel`;
+    P = I (theta' + s), S = de'/dv the edge's +-1 node selection): T_s's mass
+    I (g g^T - e_th e_th^T) with g = e_th + S^T c, and the force
+    -(e_th + S^T c) I s_p - S^T P [(dc/de) e' - (dc/de)^T e'] with s_p = ds/dt at zero
+    acceleration; the bracket is (e' x e) / |e|^3 (the curl of c). The same equations as
+    CasADi's of T_s (:func:`with_reference_spin_ad`; to round-off, tests/test_rod_codegen.py),
+    with a quarter of the operations in the step's Jacobian (notes/rodc14.md)."""
     out = _CACHE.get(mech)
     if out is not None:
         return out
@@ -154,7 +168,9 @@ def with_reference_spin(mech: Mechanism) -> Mechanism:
     T_s = ca.SX(0.0)
     mass = ca.SX(mech.mass)
     force = ca.SX(mech.force)
+    kernel = _edge_kernel()
     for i, I, e, ed, c, a in edge_spins(mech):
+        c, f_th, f_x = kernel(e, ed, ca.jacobian(ed, t), a, I, v[i])
         s = ca.dot(c, ed)
         T_s += I * (v[i] * s + 0.5 * s * s)
         S = ca.jacobian(ed, v)  # constant: +-1 on the edge's moving nodes
@@ -162,14 +178,7 @@ def with_reference_spin(mech: Mechanism) -> Mechanism:
         ei[i] = 1.0
         gx = ca.mtimes(S.T, c)
         mass += I * (ca.mtimes(gx, gx.T) + ca.mtimes(gx, ei.T) + ca.mtimes(ei, gx.T))
-        s_p = ca.jtimes(s, q, v) + ca.jacobian(s, t)
-        P = I * (v[i] + s)
-        le = ca.norm_2(e)
-        bracket = ca.cross(ed, e) / (le * le * le)
-        drift = ca.jtimes(e, q, v) + ca.jacobian(e, t) - ed  # e'_t - e'
-        if not drift.is_zero():
-            bracket += _spin_coefficient_rate()(e, drift, a)
-        force -= ei * (I * s_p) + gx * (I * s_p) + P * ca.mtimes(S.T, bracket)
+        force += ei * f_th + ca.mtimes(S.T, f_x)
     outputs = dict(mech.outputs)
     ke = mech.outputs.get("kinetic_energy")
     if ke is not None:

@@ -81,7 +81,7 @@ def solve_static(scene, *, tol: float | None = None, max_iter: int = 50,
         from .cable3d_static import solve_static_3d
         return solve_static_3d(scene, tol=tol, max_iter=max_iter, continuation=continuation,
                                codegen=codegen)
-    if scene.model.value == "rod" and model is None:
+    if scene.model.value in ("rod", "hybrid") and model is None:
         from .rod_static import solve_static_rod
         return solve_static_rod(scene, tol=tol, max_iter=max_iter, continuation=continuation,
                                 codegen=codegen)

@@ -18,20 +18,25 @@ joins nodes j and j+1); v their rates (m/s, rad/s). Terms:
   O((d / wavelength)^2)), as is the spin the anchor map gives the reference frame
   (:mod:`.rod_frames`; second order in the edge's rotation from its anchor).
 
-End conditions: pinned (position held, no moment, twist free), free (applied force; no
-moment), guided (``condition = "guided"``: free, tangent ``direction`` held: cable3d's ghost
-edge on the moving end node, turning with its translation, so its force is the node's; it
-takes the neighbour edge's twist and anchor and no twist term: the guide holds the tangent
-and the bending moment, not the twist; seed 000's benchmark right end), clamped (position
-held; tangent ``direction`` and the material frame's ``twist_deg`` about it given: a held
-ghost edge one first-segment length beyond the end, as cable3d's clamp, whose material director is the clamp's; the vertex at the end node takes
-lbar = ds / 2, half a cell lying in the rod, so the twist angle of the ghost is the frame at
-the end node and M_t = GJ (theta_0 - twist) / (ds / 2)). With no clamped end, the first
+End conditions: pinned (position held, no moment, twist free), free (applied force, and
+optionally a dead moment ``moment`` on its edge: :func:`~.rod_frames.end_moment_force`, not
+in the potential energy output), guided (``condition = "guided"``: free, tangent
+``direction`` held: cable3d's ghost edge on the moving end node, turning with its
+translation, so its force is the node's; it takes the neighbour edge's twist and anchor and
+no twist term: the guide holds the tangent and the bending moment, not the twist; seed
+000's benchmark right end), clamped (position held; tangent ``direction`` and the material
+frame's ``twist_deg`` about it given: a held ghost edge one first-segment length beyond the
+end, as cable3d's clamp, whose material director is the clamp's; the vertex at the end node
+takes lbar = ds / 2, half a cell lying in the rod, so the twist angle of the ghost is the
+frame at the end node and M_t = GJ (theta_0 - twist) / (ds / 2)). With no clamped end, the first
 edge's twist is held at 0 (the rod's spin about itself is otherwise undetermined); a rod
 needs GJ > 0 (an isotropic rod's twists are otherwise singular).
 
 Not yet: seabed contact (a scene whose rod can reach the bed is refused), a current
-profile, the consistent mass, an applied end moment, natural curvature.
+profile, the consistent mass, natural curvature.
+
+``model = "hybrid"`` (:mod:`.hybrid`) builds this Mechanism with a per-segment mask ``rod``
+(:mod:`.hybrid_terms`): the rod's terms on its rod sections, cable3d's elsewhere.
 
 The reference frame (design, notes/rod14.md): each edge's reference director is its
 *anchor* (t0_j, u0_j), a parameter block ``frame`` (6 per edge, data), carried to the
@@ -60,9 +65,11 @@ from ..scene import EndCondition, Scene
 from .cable3d import _element_kernel, _held, _lumped
 from .cable3d_drag import law_table
 from .cable3d_starts import force_scale, starts_of
+from .hybrid_terms import axial_law, cable_bending, rod_mask, rod_vertices, spun_edges
 from .mechanism import Bound, Layout, Mechanism, Output, ParamBlocks, PartLayout, Scales, Start
-from .planar import segment_table
-from .rod_frames import reference_director, transport, vertex_kernel
+from .planar import CABLE_COMPRESSION, FOLD_PUSH, segment_table
+from .relax import _ramp_integral
+from .rod_frames import end_moment_force, reference_director, transport, vertex_kernel
 
 __all__ = ["build_rod", "default_anchors", "rod_table"]
 
@@ -73,11 +80,13 @@ P_SIZES = (1, 3, 3, 3, 1, 1, 1, 1)
 
 def rod_table(scene: Scene) -> dict:
     """cable3d's segment table (:func:`~symcable.models.planar.segment_table`) with the
-    rod's columns: ``EI2`` (N m^2, = EI for isotropic types) and ``GJ`` (N m^2), per segment."""
+    rod's columns: ``EI2`` (N m^2, = EI for isotropic types), ``GJ`` (N m^2) and ``K`` (the
+    tension-torsion coupling, N m), per segment."""
     seg = segment_table(scene)
     lts = [s.line_type for s in scene.sections for _ in range(s.segments)]
     seg["EI2"] = np.array([lt.EI if lt.EI_2 is None else lt.EI_2 for lt in lts])
     seg["GJ"] = np.array([lt.GJ for lt in lts])
+    seg["K"] = np.array([lt.tension_twist for lt in lts])
     return seg
 
 
@@ -118,17 +127,23 @@ def _clamp_frame(end) -> tuple[np.ndarray, np.ndarray]:
     return d, reference_director(d)
 
 
-def build_rod(scene: Scene) -> Mechanism:
+def build_rod(scene: Scene, rod: np.ndarray | None = None) -> Mechanism:
     """The scene's line (scene version 1, ``model = "rod"``) as a rod Mechanism (module
-    docstring)."""
+    docstring). ``rod``: per segment, whether it is a rod edge (default: the scene's
+    sections, :func:`~symcable.models.hybrid_terms.rod_mask`); the others are cable3d
+    edges joined to the rod runs by moment-free joints (``model = "hybrid"``,
+    :mod:`.hybrid_terms`)."""
     if scene.version == 2:
-        raise SymcableError(f"scene {scene.name!r}: model = 'rod' takes one line ([[sections]],"
-                            " end_a, end_b) for now")
+        raise SymcableError(f"scene {scene.name!r}: model = {scene.model.value!r} takes one "
+                            "line ([[sections]], end_a, end_b) for now")
     seg = rod_table(scene)
     N = len(seg["ds"])
-    if np.any(seg["GJ"] <= 0.0) or np.any(seg["EI"] <= 0.0) or np.any(seg["EI2"] <= 0.0):
-        raise SymcableError(f"scene {scene.name!r}: model = 'rod' needs EI > 0 and GJ > 0 in "
-                            "every line type (a cable is model = 'cable3d')")
+    rod = rod_mask(scene) if rod is None else np.asarray(rod, bool)
+    whole = bool(np.all(rod))
+    if np.any(seg["GJ"][rod] <= 0.0) or np.any(seg["EI"][rod] <= 0.0) \
+            or np.any(seg["EI2"][rod] <= 0.0):
+        raise SymcableError(f"scene {scene.name!r}: a rod needs EI > 0 and GJ > 0 in "
+                            "every line type of its sections (a cable is model = 'cable3d')")
     env = scene.environment
     a, b = scene.end_a, scene.end_b
     cond = [a.condition, b.condition]
@@ -143,9 +158,18 @@ def build_rod(scene: Scene) -> Mechanism:
                             f"and the rod can reach the seabed at depth {env.depth:g} m (its "
                             f"lowest held end at z = {min(held_z):g} m, length "
                             f"{scene.length:g} m): raise it, or shorten it")
+    for k, (end, j) in enumerate(((a, 0), (b, N - 1))):
+        if guided[k] and not rod[j] and seg["EI"][j] <= 0.0:
+            raise SymcableError(f"scene {scene.name!r}: end_{'ab'[k]} is guided, but its "
+                                "section has EI = 0 and is not a rod: nothing holds its "
+                                "tangent (give the section EI > 0, or model = 'rod')")
     twists = [math.radians(e.twist_deg or 0.0) for e in (a, b)]
-    anchors = default_anchors(scene, N)
-    params = ParamBlocks(P_NAMES + ("frame",), P_SIZES + (6 * N,), np.concatenate([
+    col = np.cumsum(rod) - 1  # each rod edge's column in the frame block
+    n_rod = int(np.sum(rod))
+    anchors = default_anchors(scene, N)[:6 * n_rod]
+    # no rod edge (a hybrid of cable3d sections with a guided end): no frame block
+    params = ParamBlocks(P_NAMES + (("frame",) if n_rod else ()),
+                         P_SIZES + ((6 * n_rod,) if n_rod else ()), np.concatenate([
         [1.0], a.position if a.position is not None else np.zeros(3),
         b.position if b.position is not None else np.zeros(3), env.current, [1.0], [1.0],
         twists, anchors]))
@@ -153,11 +177,11 @@ def build_rod(scene: Scene) -> Mechanism:
     sl = params.slice
     load, pa, pb, current = p[0], p[sl("end_a.position")], p[sl("end_b.position")], p[7:10]
     motion, ramp_on = p[sl("motion")], p[sl("ramp")]
-    frame = ca.reshape(p[sl("frame")], 6, N)
+    frame = ca.reshape(p[sl("frame")], 6, n_rod) if n_rod else None
     t = ca.SX.sym("t")
 
     moving = [i for i in range(N + 1) if (i == 0 and free[0]) or (i == N and free[1]) or 0 < i < N]
-    spun = list(range(N)) if any(clamped) else list(range(1, N))  # twists in q
+    spun = spun_edges(rod, clamped)  # twists in q
     n_x = 3 * len(moving)
     slots = _slots(N, moving, spun)
     q = ca.SX.sym("q", n_x + len(spun))
@@ -183,18 +207,17 @@ def build_rod(scene: Scene) -> Mechanism:
     if env.current_profile:
         raise SymcableError(f"scene {scene.name!r}: model = 'rod' takes a uniform current "
                             "for now (remove environment.current_profile)")
+    EAs, delta = axial_law(seg, rod, F)
     fa, fb, T, e = _element_kernel(drag_law["shape"] if drag_law else None).map(N)(
         Xm[:, :-1], Xm[:, 1:], Vm[:, :-1], Vm[:, 1:], ca.repmat(current, 1, N), row("ds"),
-        row("EA"), ca.DM(BA).T, row("EA"), ca.DM.ones(1, N), F, row("w"), row("d"),
+        row("EA"), ca.DM(BA).T, ca.DM(EAs).T, ca.DM(delta).T, F, row("w"), row("d"),
         row("cdn"), row("cdt"), rho, load, *([ca.DM(drag_law["law"]).T] if drag_law else []))
     nodal = ca.horzcat(fa, ca.SX.zeros(3, 1)) + ca.horzcat(ca.SX.zeros(3, 1), fb)
     torque = ca.SX.zeros(1, N)
 
     # vertices: (node, previous edge, next edge, lbar); edge -1 / N: a clamp's or guide's ghost
-    verts = [(i, i - 1, i, 0.5 * (seg["ds"][i - 1] + seg["ds"][i])) for i in range(1, N)]
     held = [clamped[k] or guided[k] for k in (0, 1)]
-    verts = ([(0, -1, 0, 0.5 * seg["ds"][0])] if held[0] else []) + verts \
-        + ([(N, N - 1, N, 0.5 * seg["ds"][-1])] if held[1] else [])
+    verts = rod_vertices(rod, seg["ds"], held)
     ghost = {}
     for k, (end, i, j) in enumerate(((a, 0, 0), (b, N, N - 1))):
         sign = -1.0 if i == 0 else 1.0
@@ -204,11 +227,14 @@ def build_rod(scene: Scene) -> Mechanism:
                         p[sl("end_a.twist" if i == 0 else "end_b.twist")], ca.DM(d), ca.DM(u))
         elif guided[k]:  # the neighbour edge's twist and anchor: no twist across the guide
             d = ca.DM(np.asarray(end.direction, float))
-            ghost[i] = (Xm[:, i] + sign * float(seg["ds"][j]) * d, theta[j], frame[0:3, j],
-                        frame[3:6, j])
+            ghost[i] = (Xm[:, i] + sign * float(seg["ds"][j]) * d, theta[j],
+                        frame[0:3, col[j]] if rod[j] else None,
+                        frame[3:6, col[j]] if rod[j] else None)
     stiff = lambda j: ca.DM([seg["EI"][j], seg["EI2"][j]])  # noqa: E731
+    coupled = bool(np.any(seg["K"][rod] != 0.0))
     cols = {k: [] for k in ("xp", "x", "xn", "thp", "thn", "t0p", "u0p", "t0n", "u0n", "Bp",
-                            "Bn", "GJ", "lbar")}
+                            "Bn", "GJ", "lbar") + (("K", "dsp", "dsn", "wp", "wn")
+                                                   if coupled else ())}
     for i, jp, jn, lbar in verts:
         gp, gn = ghost.get(0) if jp < 0 else None, ghost.get(N) if jn >= N else None
         cols["xp"].append(gp[0] if gp else Xm[:, i - 1])
@@ -216,10 +242,10 @@ def build_rod(scene: Scene) -> Mechanism:
         cols["xn"].append(gn[0] if gn else Xm[:, i + 1])
         cols["thp"].append(gp[1] if gp else theta[jp])
         cols["thn"].append(gn[1] if gn else theta[jn])
-        cols["t0p"].append(gp[2] if gp else frame[0:3, jp])
-        cols["u0p"].append(gp[3] if gp else frame[3:6, jp])
-        cols["t0n"].append(gn[2] if gn else frame[0:3, jn])
-        cols["u0n"].append(gn[3] if gn else frame[3:6, jn])
+        cols["t0p"].append(gp[2] if gp else frame[0:3, col[jp]])
+        cols["u0p"].append(gp[3] if gp else frame[3:6, col[jp]])
+        cols["t0n"].append(gn[2] if gn else frame[0:3, col[jn]])
+        cols["u0n"].append(gn[3] if gn else frame[3:6, col[jn]])
         jp_, jn_ = max(jp, 0), min(jn, N - 1)
         cols["Bp"].append(stiff(jp_))
         cols["Bn"].append(stiff(jn_))
@@ -229,8 +255,20 @@ def build_rod(scene: Scene) -> Mechanism:
         cols["GJ"].append(0.0 if at_guide else
                           (ds_p + ds_n) / (ds_p / seg["GJ"][jp_] + ds_n / seg["GJ"][jn_]))
         cols["lbar"].append(lbar)
-    kernel = vertex_kernel(bool(np.all(seg["EI"] == seg["EI2"]))).map(len(verts))
-    out = kernel(*[ca.horzcat(*c) for c in cols.values()])
+        if coupled:  # each edge's share of the cell (a ghost has none)
+            wp, wn = (0.0 if jp < 0 else ds_p / 2), (0.0 if jn >= N else ds_n / 2)
+            wp, wn = wp / (wp + wn), wn / (wp + wn)
+            cols["K"].append(0.0 if at_guide else wp * seg["K"][jp_] + wn * seg["K"][jn_])
+            cols["dsp"].append(ds_p)
+            cols["dsn"].append(ds_n)
+            cols["wp"].append(wp)
+            cols["wn"].append(wn)
+    iso = bool(np.all(seg["EI"][rod] == seg["EI2"][rod]))
+    if verts:
+        out = vertex_kernel(iso, coupled).map(len(verts))(*[ca.horzcat(*c)
+                                                             for c in cols.values()])
+    else:
+        out = [ca.SX.zeros(n, 0) for n in (3, 3, 3, 1, 1, 1, 2, 1, 3, 1)]
     fp, f, fn, qp, qn, E, kappa, twist, M, Mt = out
     reaction = {0: ca.SX.zeros(3, 1), N: ca.SX.zeros(3, 1)}
     nv = N + 1
@@ -257,6 +295,11 @@ def build_rod(scene: Scene) -> Mechanism:
         else:
             reaction[N] += fn[:, k]
         moment[:, i], kap[:, i], tw[i], mt[i] = M[:, k], kappa[:, k], twist[k], Mt[k]
+    # cable3d's own bending on the cable3d edges (hybrid; guide and clamp ghosts as above)
+    cb = cable_bending(seg, rod, held, guided, Xm, (a.direction, b.direction))
+    if cb is not None:
+        nodal, moment = nodal + cb["nodal"], moment + cb["moment"]
+        reaction = {i: reaction[i] + cb["reaction"][i] for i in (0, N)}
     # the internal force across each edge (N, on the part before it from the part beyond):
     # the axial force along the edge, and the vertex terms that straddle the cut (the
     # vertex at its first node pushes the node beyond with fn, whose reaction the part
@@ -271,6 +314,8 @@ def build_rod(scene: Scene) -> Mechanism:
             internal[:, i] -= fn[:, k]
         if i > 0:
             internal[:, i - 1] += fp[:, k]
+    if cb is not None:
+        internal += cb["straddle"]
 
     applied = np.zeros((3, N + 1))
     for end, i in ((a, 0), (b, N)):
@@ -279,6 +324,14 @@ def build_rod(scene: Scene) -> Mechanism:
     end_force = {i: nodal[:, i] + reaction[i] for i in (0, N)}
     nodal = nodal + load * ca.DM(applied)
     force = ca.vertcat(*[nodal[:, i] if kind == "x" else torque[i] for kind, i in slots])
+    for end, j in ((a, 0), (b, N - 1)):  # a free end's applied moment (on its rod edge)
+        if end.moment is not None and any(end.moment):
+            if not rod[j]:
+                raise SymcableError(f"scene {scene.name!r}: an end moment needs a rod section "
+                                    "at its end (model = 'rod' there)")
+            force = force + load * end_moment_force(
+                Xm[:, j], Xm[:, j + 1], theta[j], frame[0:3, col[j]], frame[3:6, col[j]],
+                ca.DM(end.moment), q)
 
     A_w = math.pi * seg["d"] ** 2 / 4.0
     blocks = [ca.SX.zeros(3, 3) for _ in range(N + 1)]
@@ -295,18 +348,25 @@ def build_rod(scene: Scene) -> Mechanism:
     mass = ca.diagcat(*[blocks[i] if kind == "x" else ca.SX(spin[i]) for kind, i in slots])
 
     d1 = []  # the current reference directors (the re-anchoring output)
-    for j in range(N):
+    for j in np.flatnonzero(rod):
         tj = (Xm[:, j + 1] - Xm[:, j]) / ca.norm_2(Xm[:, j + 1] - Xm[:, j])
-        d1.append(ca.vertcat(tj, transport(frame[0:3, j], tj, frame[3:6, j])))
+        d1.append(ca.vertcat(tj, transport(frame[0:3, col[j]], tj, frame[3:6, col[j]])))
     owner = "line"
-    potential = ca.sum2(E) + ca.dot(ca.DM(seg["ds"]), 0.5 * ca.DM(seg["EA"]) * e.T * e.T) \
+    slack = np.isfinite(delta) & (EAs != seg["EA"])  # tension-only cable3d edges
+    U = 0.5 * ca.DM(EAs) * e.T * e.T
+    if np.any(slack):  # cable3d's integral of the tension-only law (its wall left out)
+        U = U + ca.DM(seg["EA"] - EAs) * _ramp_integral(e.T, ca.DM(delta))
+    potential = ca.sum2(E) + ca.dot(ca.DM(seg["ds"]), U) \
         + load * ca.dot(ca.DM(_lumped(seg)), Xm[2, :].T) \
         - load * ca.dot(ca.DM(applied.T.ravel()), ca.vec(Xm))
+    if cb is not None:
+        potential += cb["energy"]
     outputs = {
         "positions": Output(Xm.T, "m", owner, "node positions (x, y, z)"),
         "velocities": Output(ca.densify(Vm.T), "m/s", owner, "node velocities (x, y, z)"),
         "twist_angles": Output(ca.vertcat(*theta), "rad", owner, "twist angle of each edge "
-                               "(material frame from the reference frame)"),
+                               "(material frame from the reference frame; 0 on cable3d "
+                               "edges)"),
         "axial_force": Output(T.T, "N", owner, "axial force of each segment"),
         "strain": Output(e.T, "1", owner, "strain of each segment"),
         "curvature": Output(kap.T, "1/m", owner, "material curvatures kappa_1, kappa_2 at "
@@ -320,8 +380,9 @@ def build_rod(scene: Scene) -> Mechanism:
                                 "on each node (none yet: the rod has no seabed)"),
         "end_force_a": Output(end_force[0], "N", owner, "force of the rod on end A"),
         "end_force_b": Output(end_force[N], "N", owner, "force of the rod on end B"),
-        "reference_frame": Output(ca.vertcat(*d1), "1", owner, "each edge's tangent and "
-                                  "reference director (the re-anchored frame block)"),
+        **({"reference_frame": Output(ca.vertcat(*d1), "1", owner, "each rod edge's tangent "
+                                      "and reference director (the re-anchored frame "
+                                      "block)")} if d1 else {}),
         "kinetic_energy": Output(0.5 * ca.dot(v, ca.mtimes(mass, v)), "J", owner,
                                  "kinetic energy"),
         "potential_energy": Output(potential, "J", owner, "bending, twisting, axial, gravity "
@@ -355,14 +416,24 @@ def build_rod(scene: Scene) -> Mechanism:
     layout = Layout(3, {owner: PartLayout(
         "line", seg["s"], node_q, node_q,
         {i: name for i, name in ((0, "end_a"), (N, "end_b")) if i not in moving})})
-    terms = ["elastic", "weight", "bending", "torsion"] + (
+    terms = ["elastic", "weight"] + (["bending"] if verts or cb is not None else []) + (
+        ["torsion"] if verts else []) + (
         ["material damping"] if np.any(BA) else []) + (
         ["drag"] if rho > 0 and any(env.current) else []) + (
-        ["end force"] if np.any(applied) else [])
+        ["end force"] if np.any(applied) else []) + (
+        ["end moment"] if any(x.moment is not None and any(x.moment) for x in (a, b)) else []) + (
+        ["tension-torsion coupling"] if coupled else [])
+    bounds = {"strain": Bound(e.T, lower=-1.0 + 1e-9, unit="1", scale=1.0,
+                              what="segments of positive length")}
+    cab = np.flatnonzero(slack)
+    if cab.size:  # as cable3d: a cable (EI = 0) carries no compression
+        push = np.maximum(CABLE_COMPRESSION * F, FOLD_PUSH * np.abs(seg["w"]) * seg["ds"])
+        bounds["cable_axial_force"] = Bound(T.T[cab.tolist()], lower=-push[cab], unit="N",
+                                            scale=F, what="a cable (EI = 0) carries no "
+                                            "compression")
     return Mechanism(
-        name="rod", q=q, v=v, z=ca.SX.sym("z", 0), t=t, p=p, params=params, mass=mass,
-        force=force, constraint=ca.SX.zeros(0, 1), scales=scales, starts=starts,
-        outputs=outputs, layout=layout, terms=tuple(terms), static_params=static,
-        bounds={"strain": Bound(e.T, lower=-1.0 + 1e-9, unit="1", scale=1.0,
-                                what="segments of positive length")})
+        name="rod" if whole else "hybrid", q=q, v=v, z=ca.SX.sym("z", 0), t=t, p=p,
+        params=params, mass=mass, force=force, constraint=ca.SX.zeros(0, 1), scales=scales,
+        starts=starts, outputs=outputs, layout=layout, terms=tuple(terms),
+        static_params=static, bounds=bounds)
 

@@ -34,7 +34,8 @@ from __future__ import annotations
 import casadi as ca
 import numpy as np
 
-__all__ = ["reference_director", "reference_twist", "transport", "vertex_kernel"]
+__all__ = ["end_moment_force", "reference_director", "reference_twist", "transport",
+           "vertex_kernel"]
 
 
 def reference_director(t) -> np.ndarray:
@@ -90,7 +91,7 @@ def _frame(e, theta, t0, u0):
     return t, d1, m1, ca.cross(t, m1)
 
 
-def vertex_kernel(isotropic: bool = False) -> ca.Function:
+def vertex_kernel(isotropic: bool = False, coupled: bool = False) -> ca.Function:
     """The elastic term of one vertex (module docstring). ``isotropic``: EI_1 = EI_2 on both
     edges (only ``Bp[0]``, ``Bn[0]`` read), the bending energy written without the frames,
     (EI_p + EI_n) |kb|^2 / 4 per 2 lbar (the same value: kb is perpendicular to both
@@ -105,7 +106,16 @@ def vertex_kernel(isotropic: bool = False) -> ca.Function:
     ``kappa`` = [kappa_1, kappa_2] in the frame of the edge after (1/m: kb . m / lbar), the
     ``twist`` (rad), the bending moment vector ``M`` (N m, world frame: the mean over the two
     edges of (EI_1 kappa_1 m1 + EI_2 kappa_2 m2), kappa = kb . m / lbar) and the twisting
-    moment ``Mt`` = GJ twist / lbar (N m)."""
+    moment ``Mt`` = GJ twist / lbar (N m).
+
+    ``coupled``: the tension-torsion coupling of helically armoured cables (Knapp 1979,
+    "Derivation of a new stiffness matrix for helically armoured cables considering tension
+    and torsion"; Costello, "Theory of wire rope"): the linear law [T, M_t] = [[EA, K],
+    [K, GJ]] [e, tau], i.e. the energy K e tau per metre, here K ebar twist at the vertex
+    (twist = tau lbar), ebar = wp e_p + wn e_n the strains of the two edges (e = |edge| /
+    ds - 1) weighted by their shares of the cell (0 for a ghost). Extra inputs ``K`` (N m),
+    ``dsp``, ``dsn`` (the edges' rest lengths, m), ``wp``, ``wn``; ``Mt`` is then
+    GJ twist / lbar + K ebar."""
     xp, x, xn, t0p, u0p, t0n, u0n = (ca.SX.sym(n, 3) for n in
                                      ("xp", "x", "xn", "t0p", "u0p", "t0n", "u0n"))
     Bp, Bn = ca.SX.sym("Bp", 2), ca.SX.sym("Bn", 2)
@@ -122,12 +132,38 @@ def vertex_kernel(isotropic: bool = False) -> ca.Function:
     else:
         bend = 0.5 * (ca.dot(Bp, kp * kp) + ca.dot(Bn, kn * kn))
     E = (0.5 * bend + 0.5 * GJ * twist * twist) / lbar
+    Mt = GJ * twist / lbar
+    extra = []
+    if coupled:
+        K, dsp, dsn, wp, wn = (ca.SX.sym(n) for n in ("K", "dsp", "dsn", "wp", "wn"))
+        ebar = wp * (ca.norm_2(e1) / dsp - 1.0) + wn * (ca.norm_2(e2) / dsn - 1.0)
+        E = E + K * ebar * twist
+        Mt = Mt + K * ebar
+        extra = [K, dsp, dsn, wp, wn]
     g = ca.gradient(E, ca.vertcat(xp, x, xn, thp, thn))
     M = 0.5 * (Bp[0] * kp[0] * m1p + Bp[1] * kp[1] * m2p
                + Bn[0] * kn[0] * m1n + Bn[1] * kn[1] * m2n) / lbar
     names_in = ["xp", "x", "xn", "thp", "thn", "t0p", "u0p", "t0n", "u0n", "Bp", "Bn", "GJ",
-                "lbar"]
-    return ca.Function("rod_vertex", [xp, x, xn, thp, thn, t0p, u0p, t0n, u0n, Bp, Bn, GJ, lbar],
-                       [-g[0:3], -g[3:6], -g[6:9], -g[9], -g[10], E, kn / lbar, twist, M,
-                        GJ * twist / lbar],
+                "lbar"] + (["K", "dsp", "dsn", "wp", "wn"] if coupled else [])
+    return ca.Function("rod_vertex", [xp, x, xn, thp, thn, t0p, u0p, t0n, u0n, Bp, Bn, GJ,
+                                      lbar] + extra,
+                       [-g[0:3], -g[3:6], -g[6:9], -g[9], -g[10], E, kn / lbar, twist, M, Mt],
                        names_in, ["fp", "f", "fn", "qp", "qn", "E", "kappa", "twist", "M", "Mt"])
+
+
+def end_moment_force(xa, xb, theta, t0, u0, M, q):
+    """The generalized force (on the unknowns ``q``, CasADi column) of a dead moment ``M``
+    (3, N m) applied to the edge from ``xa`` to ``xb`` with twist ``theta`` and anchor
+    (``t0``, ``u0``): the virtual work of M on the edge's rotation,
+    M . (t x dt) + (M . t) (dtheta + d2 . dd1), where d1 = P(t0 -> t) u0 is the reference
+    director, d2 = t x d1 (its spin about t beyond the smallest rotation, which the anchor
+    map gives as t moves), so the force is J_t^T (M x t) + (M . t) (J_theta^T + J_d1^T d2).
+    Exact for a dead moment in any configuration; not the gradient of a potential (a dead
+    moment has none in 3D)."""
+    e = xb - xa
+    t = e / ca.norm_2(e)
+    d1 = transport(t0, t, u0)
+    d2 = ca.cross(t, d1)
+    mt = ca.dot(M, t)
+    return ca.mtimes(ca.jacobian(t, q).T, ca.cross(M, t)) \
+        + mt * (ca.jacobian(theta, q).T + ca.mtimes(ca.jacobian(d1, q).T, d2))

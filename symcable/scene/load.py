@@ -33,8 +33,9 @@ from .tables import (MAX_STIFFNESS_RATIO, _check_geometry, _end, _environment, _
 __all__ = ["MAX_STIFFNESS_RATIO", "load_scene", "moordyn_deck", "scene_to_dict", "scene_to_toml"]
 
 _TOP_KEYS = ("name", "model", "environment", "seabed", "line_types", "sections", "end_a", "end_b",
-             "points", "lines", "mass_matrix", "bodies")
+             "points", "lines", "mass_matrix", "bodies", "zones")
 _MASS_MATRICES = ("lumped", "consistent")
+_ZONES = ("given", "auto")
 _MODELS = tuple(m.value for m in Model)
 
 
@@ -147,12 +148,19 @@ def _build(data: Mapping, source: str, base: str = ".") -> Scene:
                    "cable3d option (model = 'cable3d')")
     env = _environment(data, dim)
     seabed = _seabed(data, env)
+    zones = _choice("zones", _get(data, "zones", "given"), _ZONES, "zones")
+    if zones != "given" and model is not Model.HYBRID:
+        raise _err("zones", zones, "", 'rod zones are chosen in model = "hybrid" only: '
+                   "remove zones, or set model = 'hybrid'")
     types = _line_types(data, env, dim)
-    if model is not Model.ROD:
+    rod_keys = model in (Model.ROD, Model.HYBRID)
+    if not rod_keys:
         _refuse_rod_keys(types)
     if _get(data, "lines") is not None:  # version 2: several lines and points
         _check_friction_options(seabed, model.value, True, None)
         points, lines, bodies = read_system(data, env, types, dim, model.value, base)
+        for k, ln in enumerate(lines):
+            _check_section_models(model, zones, ln.sections, f"lines[{k}].sections")
         return Scene(name=name, model=model, environment=env, seabed=seabed,
                      line_types=MappingProxyType(types), sections=(), end_a=None, end_b=None,
                      source=source, points=points, lines=lines, mass_matrix=mass_matrix,
@@ -162,25 +170,58 @@ def _build(data: Mapping, source: str, base: str = ".") -> Scene:
             raise _err(key, "{...}", "", f"{key} are attached to [[lines]] (scene version 2): "
                        f"give [[lines]] with end_a / end_b naming them, or remove [{key}]")
     sections = _sections(data, types)
+    _check_section_models(model, zones, sections, "sections")
     ends = {"end_a": _end("end_a", data, dim, base), "end_b": _end("end_b", data, dim, base)}
     for key, end in ends.items():
-        if end.guided and model is not Model.ROD:
+        # a hybrid's end section: its model, or unknown until zones = "auto" picks it
+        sec = sections[0 if key == "end_a" else -1]
+        rod_end = model is Model.ROD or (model is Model.HYBRID and (
+            zones == "auto" or sec.model == "rod"))
+        where = ('model = "rod", or a rod section of model = "hybrid"'
+                 if model is Model.HYBRID else 'model = "rod" only')
+        if end.guided and model not in (Model.ROD, Model.HYBRID):
             raise _err(f"{key}.direction", list(end.direction), "", 'a guided end (free, its '
-                       'tangent held) is read by model = "rod" only: pin or clamp the end, '
-                       "or remove direction")
-        if end.twist_deg is not None and model is not Model.ROD:
-            raise _err(f"{key}.twist_deg", end.twist_deg, "deg", 'read by model = "rod" only '
+                       'tangent held) is read by model = "rod" or "hybrid" only: pin or '
+                       "clamp the end, or remove direction")
+        if end.twist_deg is not None and not rod_end:
+            raise _err(f"{key}.twist_deg", end.twist_deg, "deg", f"read by {where} "
                        "(a cable has no material frame): remove it")
+        if end.moment is not None and not rod_end:
+            raise _err(f"{key}.moment", list(end.moment), "N m", f"read by {where} (a "
+                       "cable carries no moment): remove it")
     _check_geometry(env, sections, ends, dim)
     _check_friction_options(seabed, model.value, False, ends)
     return Scene(name=name, model=model, environment=env, seabed=seabed,
                  line_types=MappingProxyType(types), sections=sections,
                  end_a=ends["end_a"], end_b=ends["end_b"], source=source,
-                 mass_matrix=mass_matrix)
+                 mass_matrix=mass_matrix, zones=zones)
+
+
+def _check_section_models(model: Model, zones: str, sections, key: str) -> None:
+    """A section's ``model`` is read by ``model = "hybrid"`` with zones given; a rod section
+    needs EI > 0 and GJ > 0 in its line type."""
+    for i, sec in enumerate(sections):
+        if sec.model is None:
+            continue
+        path = f"{key}[{i}].model"
+        if model is not Model.HYBRID:
+            raise _err(path, sec.model, "", 'a section\'s formulation is read by model = '
+                       f'"hybrid" only (this scene is model = {model.value!r}): remove it, '
+                       "or set model = 'hybrid'")
+        if zones == "auto":
+            raise _err(path, sec.model, "", 'zones = "auto" chooses every section\'s '
+                       "formulation: remove it, or remove zones")
+        lt = sec.line_type
+        if sec.model == "rod" and not (lt.EI > 0 and (lt.EI_2 is None or lt.EI_2 > 0)
+                                       and lt.GJ > 0):
+            raise _err(path, sec.model, "", f"a rod section needs EI > 0 and GJ > 0 in its "
+                       f"line type, but line_types.{lt.name} has EI = {lt.EI!r}, GJ = "
+                       f"{lt.GJ!r} N m^2 (give them, or model = 'cable3d')")
 
 
 def _refuse_rod_keys(types) -> None:
-    """Torsion and two principal bending stiffnesses are read by ``model = "rod"`` only."""
+    """Torsion and two principal bending stiffnesses are read by ``model = "rod"`` (and
+    ``"hybrid"``) only."""
     for name, lt in types.items():
         if lt.EI_2 is not None:
             raise _err(f"line_types.{name}.EI", [lt.EI, lt.EI_2], "N m^2", 'two principal '
@@ -188,6 +229,9 @@ def _refuse_rod_keys(types) -> None:
         if lt.GJ != 0.0:
             raise _err(f"line_types.{name}.GJ", lt.GJ, "N m^2", 'torsion is read by model = '
                        '"rod" only: remove it, or 0')
+        if lt.tension_twist != 0.0:
+            raise _err(f"line_types.{name}.tension_twist", lt.tension_twist, "N m", 'read by '
+                       'model = "rod" only: remove it, or 0')
 
 
 def scene_to_toml(scene: Scene) -> str:

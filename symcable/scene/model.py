@@ -32,7 +32,7 @@ _LINE_KEYS = ("EA", "EI", "mass", "diameter", "weight", "cd_normal", "cd_tangent
 #: the keys only cable3d reads (written only when set)
 _LINE_KEYS_3D = ("ca_tangential", "damping")
 #: the keys only the rod reads (written only when set): torsion; EI may be [EI_1, EI_2]
-_LINE_KEYS_ROD = ("GJ",)
+_LINE_KEYS_ROD = ("GJ", "tension_twist")
 #: the drag law's keys (cable3d; written only for a law other than Morison's)
 _LINE_KEYS_DRAG = ("drag_law", "loading")
 
@@ -52,10 +52,12 @@ class Model(str, enum.Enum):
     PLANAR = "planar"    #: a line in the vertical x-z plane; vectors are [x, z]
     CABLE3D = "cable3d"  #: a 3D position-vector cable; vectors are [x, y, z]
     ROD = "rod"          #: a Kirchhoff rod (bending, torsion; issue 14); vectors [x, y, z]
+    #: sections of ``rod`` and ``cable3d`` joined by moment-free joints (issue 14); [x, y, z]
+    HYBRID = "hybrid"
 
 
 #: space dimensions of each model: the length of every vector in its scenes (z is up)
-_DIMS = {Model.PLANAR: 2, Model.CABLE3D: 3, Model.ROD: 3}
+_DIMS = {Model.PLANAR: 2, Model.CABLE3D: 3, Model.ROD: 3, Model.HYBRID: 3}
 
 
 @dataclass(frozen=True)
@@ -105,6 +107,10 @@ class LineType:
         isotropic, EI_2 = EI.
     GJ : float
         ``model = "rod"`` only: torsional stiffness, N m^2 (>= 0), default 0.
+    tension_twist : float
+        ``model = "rod"`` only: the tension-torsion coupling K of a helically armoured
+        cable, N m (default 0): energy K e tau per metre, so T = EA e + K tau and
+        M_t = GJ tau + K e (K^2 < EA GJ).
     """
 
     name: str
@@ -123,6 +129,7 @@ class LineType:
     loading: LoadingFunctions | None = None
     EI_2: float | None = None
     GJ: float = 0.0
+    tension_twist: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -137,11 +144,16 @@ class Section:
         Unstretched length, m (> 0).
     segments : int
         Number of segments it is divided into (>= 1).
+    model : str or None
+        ``model = "hybrid"`` only: the section's formulation, ``"rod"`` or ``"cable3d"``
+        (the file's ``[[sections]] model``); None when not given (a hybrid section is then
+        ``"cable3d"``, or chosen by ``zones = "auto"``).
     """
 
     line_type: LineType
     length: float
     segments: int
+    model: str | None = None
 
     @property
     def ds(self) -> float:
@@ -241,6 +253,9 @@ class End:
         m1 about ``direction`` from the reference director
         (:func:`symcable.models.rod_frames.reference_director` of the direction), degrees;
         None: 0.
+    moment : tuple of float or None
+        Free (not guided) ends of ``model = "rod"``, or of a rod section of ``"hybrid"``:
+        a dead moment applied to the end, [M_x, M_y, M_z] N m (None: none).
     """
 
     condition: EndCondition
@@ -250,6 +265,7 @@ class End:
     motion: Motion | None = None
     direction: tuple[float, ...] | None = None
     twist_deg: float | None = None
+    moment: tuple[float, ...] | None = None
 
     @property
     def angle(self) -> float | None:
@@ -389,6 +405,10 @@ class Scene:
     bodies : Mapping[str, Body]
         Version 2 (``[bodies.NAME]``, :mod:`.bodies`): read-only mapping, name -> rigid
         body; lines attach to them (a line end :class:`BodyEnd`); empty without.
+    zones : str
+        ``model = "hybrid"``: ``"given"`` (default: each section's ``model``, cable3d when
+        not given) or ``"auto"`` (the rod sections chosen from the line's static tension,
+        :func:`symcable.rod_static.hybrid_zones`).
     """
 
     name: str
@@ -404,6 +424,7 @@ class Scene:
     lines: tuple[Line, ...] = ()
     mass_matrix: str = "lumped"
     bodies: Mapping[str, Body] = field(default_factory=lambda: MappingProxyType({}))
+    zones: str = "given"
 
     @property
     def version(self) -> int:
@@ -456,6 +477,8 @@ def scene_to_dict(scene: Scene) -> dict:
                            "environment": environment}
     if scene.mass_matrix != "lumped":
         out["mass_matrix"] = scene.mass_matrix
+    if scene.zones != "given":
+        out["zones"] = scene.zones
     if scene.seabed is not None:
         sb = scene.seabed
         out["seabed"] = {"stiffness": sb.stiffness, "friction": sb.friction}
@@ -480,6 +503,8 @@ def scene_to_dict(scene: Scene) -> dict:
             out["line_types"][name]["EI"] = [lt.EI, lt.EI_2]
         if lt.GJ != 0.0:
             out["line_types"][name]["GJ"] = lt.GJ
+        if lt.tension_twist != 0.0:
+            out["line_types"][name]["tension_twist"] = lt.tension_twist
         if lt.drag_law != "morison":
             out["line_types"][name]["drag_law"] = lt.drag_law
             out["line_types"][name]["loading"] = lt.loading.to_dict()
@@ -497,8 +522,8 @@ def scene_to_dict(scene: Scene) -> dict:
 
 
 def _sections_list(sections) -> list:
-    return [{"type": s.line_type.name, "length": s.length, "segments": s.segments}
-            for s in sections]
+    return [{"type": s.line_type.name, "length": s.length, "segments": s.segments,
+             **({"model": s.model} if s.model is not None else {})} for s in sections]
 
 
 def _motion_dict(m: Motion) -> dict:
@@ -524,6 +549,8 @@ def _end_dict(end: End) -> dict:
         e["motion"] = _motion_dict(end.motion)
     if end.twist_deg is not None:
         e["twist_deg"] = end.twist_deg
+    if end.moment is not None:
+        e["moment"] = list(end.moment)
     return e
 
 

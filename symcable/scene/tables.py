@@ -23,8 +23,11 @@ _SEABED_KEYS = ("stiffness", "friction", "damping", "friction_axial", "friction_
                 "friction_velocity", "friction_law", "friction_stiffness", "static_friction")
 FRICTION_LAWS = ("coulomb", "bristle")
 STATIC_FRICTION = ("none", "laid")
-_SECTION_KEYS = ("type", "length", "segments")
-_END_KEYS = ("condition", "position", "angle_deg", "force", "motion", "direction", "twist_deg")
+_SECTION_KEYS = ("type", "length", "segments", "model")
+#: a hybrid section's formulations (``[[sections]] model``)
+SECTION_MODELS = ("cable3d", "rod")
+_END_KEYS = ("condition", "position", "angle_deg", "force", "motion", "direction", "twist_deg",
+             "moment")
 _MOTION_KEYS = ("kind", "period", "amplitude", "phase_deg", "file") + TOW_KEYS
 _MOTION_KINDS = ("harmonic", "table", "tow")
 #: "guided" (model = "rod"): a free end whose tangent is held, read as condition "free" with
@@ -149,7 +152,21 @@ def _line_type(path: str, name: str, raw: Any, env: Environment, dim: int) -> Li
                                                           ge=0), dim),
         damping=_only_3d(path, "damping", num("damping", "N s", _LT.damping), dim),
         drag_law=law, loading=loading, EI_2=ei_2, GJ=num("GJ", "N m^2", 0.0, ge=0),
+        tension_twist=_coupling(path, t, num),
     )
+
+
+def _coupling(path: str, t: Mapping, num) -> float:
+    """``tension_twist`` (N m): the axial-torsional coupling K; the stiffness [[EA, K],
+    [K, GJ]] must be positive definite."""
+    K = num("tension_twist", "N m", 0.0)
+    if K != 0.0:
+        EA, GJ = num("EA", "N", gt=0), num("GJ", "N m^2", 0.0, ge=0)
+        if not K * K < EA * GJ:
+            raise _err(_key(path, "tension_twist"), K, "N m", f"must satisfy K^2 < EA GJ "
+                       f"= {EA * GJ:.6g} N^2 m^2 (the axial-torsional stiffness [[EA, K], "
+                       "[K, GJ]] positive definite; give GJ > 0)")
+    return K
 
 
 def _bending_stiffness(path: str, t: Mapping) -> tuple[float, float | None]:
@@ -205,7 +222,11 @@ def _sections(data: Mapping, types: Mapping[str, LineType], where: str = "") -> 
         length = _num_reader(path, t)("length", "m", gt=0)
         segments = _integer(f"{path}.segments",
                             _required(path, t, "segments", "an integer >= 1"), ge=1)
-        out.append(Section(line_type=types[name], length=length, segments=segments))
+        model = _get(t, "model")
+        if model is not None:
+            model = _choice(f"{path}.model", model, SECTION_MODELS, "section model")
+        out.append(Section(line_type=types[name], length=length, segments=segments,
+                           model=model))
     return tuple(out)
 
 
@@ -320,8 +341,14 @@ def _end_table(path: str, raw: Any, dim: int, base: str = ".") -> End:
             raise _err(f"{path}.twist_deg", twist, "deg", 'only a clamped end of model = "rod" '
                        f"takes a twist {this}")
         twist = _number(f"{path}.twist_deg", twist, "deg")
+    moment = _get(t, "moment")
+    if moment is not None:
+        if cond is not EndCondition.FREE or guided or dim != 3:
+            raise _err(f"{path}.moment", moment, "N m", 'only a free end of model = "rod" '
+                       f"takes a moment {'(this end is guided)' if guided else this}")
+        moment = _vector(f"{path}.moment", moment, 3, "N m", "[M_x, M_y, M_z]")
     return End(condition=cond, position=position, angle_deg=angle, force=force, motion=motion,
-               direction=direction, twist_deg=twist)
+               direction=direction, twist_deg=twist, moment=moment)
 
 
 def _direction(path: str, raw: Any) -> tuple[float, ...]:

@@ -1,0 +1,50 @@
+"""The hybrid rod-catenary line (seed 000), ``model = "hybrid"``, as a Mechanism: one line
+whose sections are ``rod`` (:mod:`.rod`) or ``cable3d`` (:mod:`.cable3d`), joined at each
+interface by the seed's moment-free spherical joint (its Eqs. 12-14).
+
+In the discrete elastic rod this is the rod Mechanism with a per-segment mask
+(:func:`~symcable.models.rod.build_rod` with ``rod``; what changes is in
+:mod:`.hybrid_terms`): bending and twisting vertices only inside rod sections (none at an
+interface node: that node is the joint, shared by both sides, passing force and no
+moment), twist unknowns and ``frame`` anchors only on rod edges, cable3d's element kernel
+everywhere and cable3d's own bending on cable3d edges with EI > 0. So a hybrid builds what
+its scene needs:
+
+- every section ``rod``: exactly the rod's Mechanism (named ``"rod"``);
+- every section ``cable3d`` and no guided end: exactly cable3d's
+  (:func:`~symcable.models.cable3d.build_cable3d`, with every option cable3d has: seabed,
+  current profile, consistent mass, slack continuation);
+- otherwise the generalised rod (named ``"hybrid"``; a guided end on a cable3d section
+  with EI > 0 holds its tangent by cable3d's bending term and a ghost that moves with the
+  node; cable3d edges with EI = 0 take the tension-only law at its sharp corner). Not yet
+  (refused, as the rod): seabed contact, a current profile.
+
+``zones = "auto"`` scenes are resolved first (:func:`symcable.rod_static.hybrid_zones`, a
+static solve, which no formulation may call): this module refuses them.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from ..errors import SymcableError
+from ..scene import Scene
+from .cable3d import build_cable3d
+from .hybrid_terms import rod_mask
+from .mechanism import Mechanism
+from .rod import build_rod
+
+__all__ = ["build_hybrid"]
+
+
+def build_hybrid(scene: Scene) -> Mechanism:
+    """The scene's line (``model = "hybrid"`` or ``"rod"``, zones given) as a Mechanism
+    (module docstring)."""
+    if scene.zones != "given":
+        raise SymcableError(f"scene {scene.name!r}: zones = {scene.zones!r} is chosen from a "
+                            "static solve: resolve it first (symcable.rod_static.hybrid_zones, "
+                            "or rod_mechanism(scene), which does)")
+    rod = rod_mask(scene)
+    if not np.any(rod) and not any(e is not None and e.guided
+                                   for e in (scene.end_a, scene.end_b)):
+        return build_cable3d(scene)
+    return build_rod(scene, rod)

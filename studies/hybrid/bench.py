@@ -34,13 +34,16 @@ def base() -> dict:
     return load_scene(str(scene_path("seed000_rod"))).to_dict()
 
 
-def scene(model: str, n: int, length: float = 2.0, zone: float = ROD_ZONE):
+def scene(model: str, n: int, length: float = 2.0, zone: float = ROD_ZONE,
+          bending: bool = False):
     """The benchmark line of ``length`` m (the seed's 2 m; longer: the same cable with the
     same right end, so the low-tension zone is a smaller fraction) at ``n`` segments
     (ds = length / n), as ``model`` = "rod", "cable3d" (EI = 0: the seed's catenary; its
     free end holds no direction, so the force simply pulls along its tangent) or "hybrid"
-    (cable3d on [0, length - zone], rod on the last ``zone`` m, the segment size kept).
-    Raises SymcableError (a SceneError) where the model is not available."""
+    (cable3d on [0, length - zone], rod on the last ``zone`` m, the segment size kept;
+    ``bending``: the cable3d section keeps the cable's EI, cable3d's own bending, as
+    hybrid14's "bending" variant: no tension-only corner, which the release from straight
+    needs). Raises SymcableError (a SceneError) where the model is not available."""
     d = base()
     sec = d["sections"][0]
     sec["length"], sec["segments"] = length, n
@@ -57,7 +60,8 @@ def scene(model: str, n: int, length: float = 2.0, zone: float = ROD_ZONE):
     if model == "hybrid":
         n_rod = max(1, round(n * zone / length))
         d["model"] = "hybrid"
-        d["line_types"]["catenary"] = cab
+        d["line_types"]["catenary"] = dict(cab, EI=d["line_types"]["cable"]["EI"]) \
+            if bending else cab
         d["sections"] = [{"type": "catenary", "length": length - zone, "segments": n - n_rod,
                           "model": "cable3d"},
                          {"type": "cable", "length": zone, "segments": n_rod, "model": "rod"}]
@@ -95,19 +99,27 @@ def no_stability_check():
         _equilibrium.STABILITY_MAX_N = old
 
 
-def solve(s, repeats: int = 3):
-    """(StaticSolution, cold wall time, median warm wall time) of ``sc.solve_static`` (the
-    generated C where the solver's own policy compiles, warm: after the first call)."""
+def solve(s):
+    """(StaticSolution, cold wall time) of ``sc.solve_static`` (the generated C where the
+    solver's own policy compiles); the warm time is :func:`interleaved`'s."""
     with no_stability_check():
         t0 = time.perf_counter()
         sol = sc.solve_static(s)
-        cold = time.perf_counter() - t0
-        warm = []
+    return sol, time.perf_counter() - t0
+
+
+def interleaved(jobs: dict, repeats: int) -> dict:
+    """Median wall time (s) of each job (name -> callable, already warm), the jobs taken in
+    turn within each of ``repeats`` rounds, so that a shared machine's load drifts over all
+    of them alike."""
+    times = {k: [] for k in jobs}
+    with no_stability_check():
         for _ in range(repeats):
-            t0 = time.perf_counter()
-            sol = sc.solve_static(s)
-            warm.append(time.perf_counter() - t0)
-    return sol, cold, statistics.median(warm)
+            for k, f in jobs.items():
+                t0 = time.perf_counter()
+                f()
+                times[k].append(time.perf_counter() - t0)
+    return {k: statistics.median(v) for k, v in times.items()}
 
 
 def profiles(sol) -> dict:
@@ -203,11 +215,10 @@ def relax(s, t_snap: float, duration: float, dt: float = 1.0, tol: float = 1e-3)
             "us_per_step": 1e6 * wall / tr.stats["steps"], "n_q": mech.n_q}
 
 
-def step_cost(s, steps: int = 10, dt: float = 1.0, codegen: bool | None = None) -> dict:
-    """Per-step time (us) of the first-order generalized-alpha at the seed's dt from the
-    static state (a warm run of ``steps`` steps; ``codegen`` as ``integrate``'s: None
-    compiles where the solver's policy says it pays, and ``compiled`` says whether it did),
-    the unknowns and the Jacobian's nonzeros (of the force in q)."""
+def step_runner(s, steps: int = 10, dt: float = 1.0, codegen: bool | None = False):
+    """(sizes, run): the unknowns and the Jacobian's nonzeros (d force / d q), and a
+    callable running ``steps`` first-order generalized-alpha steps of ``dt`` from the static
+    state (warmed once here; ``codegen`` as ``integrate``'s, default the virtual machine)."""
     mech = mechanism(s)
     with no_stability_check():
         q = _equilibrium.solve_equilibrium(mech, require_stable=False).q
@@ -215,7 +226,5 @@ def step_cost(s, steps: int = 10, dt: float = 1.0, codegen: bool | None = None) 
     run = lambda: integrate(mech, steps * dt, dt, method=method, q0=q,  # noqa: E731
                             v0=np.zeros_like(q), codegen=codegen, progress=False)
     run()
-    tr = run()
     nnz = ca.jacobian(mech.force, mech.q).nnz()
-    return {"n_q": mech.n_q, "jac_nnz": int(nnz), "us_per_step": tr.stats["us_per_step"],
-            "step_compiled": bool(tr.stats.get("compiled"))}
+    return {"n_q": mech.n_q, "jac_nnz": int(nnz)}, run

@@ -25,12 +25,14 @@ Method
    low-tension zone (0.5 m) a fraction 25, 12.5, 6.25 %: unknowns, Jacobian nonzeros, the
    static solve and the per-step time of each model.
 
-Hybrid rows are marked pending (``bench.HYBRID_PENDING``) until model = "hybrid" is on main.
+The hybrid rows need model = "hybrid" (on main since hybrid14; ``bench.scene_or_none``).
 
 Run
 ---
-    python studies/hybrid/run.py            # full: 50-400 segments, relaxation at 80, lengths 2, 4, 8 m at ds = 5 cm
-    python studies/hybrid/run.py --quick    # 20, 40 segments, relaxation at 20, lengths 2, 4 m
+    python studies/hybrid/run.py          # full: 50-400 segments, relaxation at 80,
+                                          # lengths 2, 4, 8 m at ds = 5 cm (~30 min)
+    python studies/hybrid/run.py --quick  # 20, 40 segments, relaxation at 20,
+                                          # lengths 2, 4 m at ds = 10 cm (~4 min)
     options: --out DIR (default studies/hybrid/out/), --figure PATH
 
 Writes ``results.csv``, ``summary.md``, ``profiles.png`` (Figs. 5-8) and ``speed.png`` to the
@@ -58,17 +60,20 @@ MODELS = ("rod", "hybrid", "cable3d")
 def statics(counts, repeats):
     """Per model and segment count: the profile, its differences from the finest rod, and
     the wall times; hybrid entries None while pending."""
-    res = {m: {} for m in MODELS}
+    res, jobs = {m: {} for m in MODELS}, {}
     for m in MODELS:
         for n in counts:
             s = bench.scene_or_none(m, n)
             if s is None:
                 res[m][n] = None
                 continue
-            sol, cold, warm = bench.solve(s, repeats)
-            res[m][n] = {"profile": bench.profiles(sol), "cold": cold, "warm": warm,
+            sol, cold = bench.solve(s)
+            jobs[(m, n)] = lambda s=s: sc.solve_static(s)
+            res[m][n] = {"profile": bench.profiles(sol), "cold": cold,
                          "iterations": sol.stats["iterations"], "n_q": sol.stats["unknowns"],
                          "compiled": sol.stats["compiled"]}
+    for (m, n), t in bench.interleaved(jobs, repeats).items():
+        res[m][n]["warm"] = t
     ref = res["rod"][counts[-1]]["profile"]
     for m in MODELS:
         for n, r in res[m].items():
@@ -79,10 +84,12 @@ def statics(counts, repeats):
 
 
 def relaxation(n, t_snap, duration):
-    """Each model's relaxation from straight against its own static state."""
+    """Each model's relaxation from straight against its own static state; the hybrid's
+    cable3d section with cable3d's bending (the catenary's tension-only law fails in the
+    release's snap: README)."""
     out = {}
     for m in MODELS:
-        s = bench.scene(m, n)
+        s = bench.scene(m, n, bending=m == "hybrid")
         try:
             run = bench.relax(s, t_snap, duration)
         except sc.ConvergenceError as exc:
@@ -98,23 +105,26 @@ def relaxation(n, t_snap, duration):
     return out
 
 
-def long_lines(lengths, ds):
-    """Rod and cable3d (and hybrid) on lines of several lengths at the same ds: sizes,
-    static time, per-step time."""
-    rows = []
+def long_lines(lengths, ds, repeats):
+    """Rod and cable3d and hybrid on lines of several lengths at the same ds: sizes, the
+    warm static solve and the 1 s step (medians of interleaved repeats)."""
+    rows, jobs = [], {}
     for L in lengths:
         n = int(round(L / ds))
         for m in MODELS:
-            s = bench.scene_or_none(m, n, length=L)
-            row = {"length": L, "zone_fraction": bench.ROD_ZONE / L, "model": m, "segments": n}
-            if s is None:
-                row["status"] = bench.HYBRID_PENDING
-                rows.append(row)
-                continue
-            _, cold, warm = bench.solve(s, 3)
-            row.update(bench.step_cost(s, codegen=False), static_cold=cold, static_warm=warm,
-                       status="ok")
+            s = bench.scene(m, n, length=L)
+            row = {"length": L, "zone_fraction": bench.ROD_ZONE / L, "model": m, "segments": n,
+                   "status": "ok"}
+            bench.solve(s)
+            sizes, step = bench.step_runner(s)
+            row.update(sizes)
+            jobs[(L, m, "static")] = lambda s=s: sc.solve_static(s)
+            jobs[(L, m, "step")] = step
             rows.append(row)
+    t = bench.interleaved(jobs, repeats)
+    for row in rows:
+        row["static_warm"] = t[(row["length"], row["model"], "static")]
+        row["us_per_step"] = 1e5 * t[(row["length"], row["model"], "step")]  # 10 steps
     return rows
 
 
@@ -145,7 +155,7 @@ def summary(st, rx, lg, counts) -> tuple[list[dict], str]:
                          "cold_s": r["cold"], "warm_s": r["warm"],
                          "iterations": r["iterations"], "compiled": r["compiled"]})
     lines += ["", "## Relaxation from straight (snap with adapted steps, then dt = 1 s, "
-              "rho_inf = 0)", "", "| model | unknowns | snap (s simulated, steps, wall s) | "
+              "rho_inf = 0; the hybrid's cable3d section with bending)", "", "| model | unknowns | snap (s simulated, steps, wall s) | "
               "1 s steps | substepped | wall (s) | us/step | max |x - x_static| (m) | "
               "tension diff | moment diff | final kinetic energy (J) |",
               "|---|---|---|---|---|---|---|---|---|---|---|"]
@@ -179,19 +189,22 @@ def summary(st, rx, lg, counts) -> tuple[list[dict], str]:
 
 
 def main(argv=None) -> dict:
-    args = study_io.parse(__doc__, "20 and 40 segments, relaxation at 20, lengths 2 and 4 m at ds = 10 cm",
-                          HERE / "out", argv)
+    args = study_io.parse(__doc__, "20 and 40 segments, relaxation at 20, lengths 2 and 4 m "
+                          "at ds = 10 cm", HERE / "out", argv, extra=lambda ap: ap.add_argument(
+                              "--parts", default="statics,relax,long",
+                              help="comma-separated: statics (always), relax, long"))
     if args.quick:
-        counts, repeats, n_rel, snap, dur, lengths, ds = (20, 40), 2, 20, 2.0, 60.0, \
+        counts, repeats, n_rel, snap, dur, lengths, ds = (20, 40), 3, 20, 2.0, 60.0, \
             (2.0, 4.0), 0.1
     else:
-        counts, repeats, n_rel, snap, dur, lengths, ds = (50, 100, 200, 400), 3, 80, 2.0, \
+        counts, repeats, n_rel, snap, dur, lengths, ds = (50, 100, 200, 400), 7, 80, 2.0, \
             60.0, (2.0, 4.0, 8.0), 0.05
+    parts = args.parts.split(",")
     st = statics(counts, repeats)
-    rx = relaxation(n_rel, snap, dur)
+    rx = relaxation(n_rel, snap, dur) if "relax" in parts else {}
     for r in rx.values():
         r.setdefault("t_snap", snap)
-    lg = long_lines(lengths, ds)
+    lg = long_lines(lengths, ds, repeats) if "long" in parts else []
     rows, text = summary(st, rx, lg, counts)
     study_io.write(args, rows, text, lambda p: plots.profiles_figure(st, counts, rx, p),
                    "profiles.png")

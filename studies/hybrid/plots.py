@@ -66,7 +66,7 @@ def speed_figure(st, lg, path) -> None:
     ax[0].set(xlabel="unknowns", ylabel="static solve, warm median (s)",
               title="2 m benchmark: static solve")
     ax[1].set(xlabel="low-tension zone / line length", ylabel="ms per 1 s step",
-              title="longer lines, same ds: generalized-alpha step (generated C)")
+              title="longer lines, same ds: 1 s generalized-alpha step (VM)")
     for a in ax:
         a.grid(alpha=0.3, which="both")
         a.legend(fontsize=8)

@@ -271,10 +271,11 @@ def _bad_state(X: np.ndarray, inv_scale: np.ndarray) -> np.ndarray:
     return ~(big <= BLOWUP) | ~np.isfinite(rest)  # NaN fails every comparison
 
 
-def run_fixed(stepper, x, t0, h, p, idx, scale, progress, label, tau):
+def run_fixed(stepper, x, t0, h, p, idx, scale, progress, label, tau, reanchor=None):
     """Fixed steps to ``idx[-1]``, saving the steps ``idx``: (saved k, saved x (n, n_keep),
     failure diagnostics or None, stats); ``tau`` the running error estimate's memory, s
-    (its stats: :meth:`RunningEstimate.stats`)."""
+    (its stats: :meth:`RunningEstimate.stats`); ``reanchor`` a
+    :class:`~symcable.solvers.reanchor.Reanchoring` (its ``p`` the one stepped in) or None."""
     inv_scale = 1.0 / scale
     track = RunningEstimate(stepper.est, x, tau)
     x = stepper.extend(x)
@@ -292,6 +293,8 @@ def run_fixed(stepper, x, t0, h, p, idx, scale, progress, label, tau):
     try:
         for S, count in runs(idx):
             while count > 0 and failure is None:
+                if reanchor is not None:
+                    p = reanchor.after(x, k, t0 + k * h)
                 m = 1 if sec_per_step is None else max(1, int(_CALL_TARGET / (S * sec_per_step)))
                 m = min(count, 1 << (m.bit_length() - 1))  # a power of two: few distinct batches
                 stepper.batch(S, m)  # built outside the timed call
@@ -302,6 +305,10 @@ def run_fixed(stepper, x, t0, h, p, idx, scale, progress, label, tau):
                     n_good = int(np.argmax(bad)) if np.any(bad) else m
                 except RuntimeError:  # e.g. a singular Newton matrix: located step by step
                     n_good = 0
+                cut = None if reanchor is None or not n_good else \
+                    reanchor.cut(Xs[:n_good * S], t0 + (k + 1) * h, h, S)
+                if cut is not None:  # stop where it re-anchors (module reanchor)
+                    n_good = cut[0]
                 elapsed = time.perf_counter() - t_call
                 step_time += elapsed
                 if n_good:
@@ -313,6 +320,19 @@ def run_fixed(stepper, x, t0, h, p, idx, scale, progress, label, tau):
                     iters_max = max(iters_max, float(np.max(ITM[:n_good])))
                     worst = max(worst, float(np.nanmax(np.r_[E[:n_good], 0.0])))
                     lte_max = max(lte_max, float(np.nanmax(np.r_[L[:n_good], -np.inf])))
+                if cut is not None:
+                    count -= n_good
+                    if cut[1]:  # the sample that crossed the floor, a step at a time
+                        x, k, failure, it_good = reanchor.step_through(
+                            stepper, x, k, t0, h, S, inv_scale, track, _bad_state)
+                        iters += it_good
+                        if failure is not None:
+                            break
+                        if k in set(idx.tolist()):
+                            saved_k.append(np.array([k]))
+                            saved_x.append(x[None, keep_cols])
+                        count -= 1
+                    continue
                 if n_good < m:
                     k_bad, t_replay = k, time.perf_counter()
                     failure, x, k, extra, it_good = _replay(
@@ -450,10 +470,12 @@ def _residual_of_failure(stepper, failure, h, p):
         failure["residual"] = float(np.max(np.abs(h * r * step_scales(mech)[ny:])))
 
 
-def run_adaptive(stepper, x, t0, h, duration, p, method, tol, batch, tau):
+def run_adaptive(stepper, x, t0, h, duration, p, method, tol, batch, tau, reanchor=None):
     """Steps adapted in batches to keep the Taylor estimate of each step's local error
     below ``tol`` (see :func:`symcable.solvers.integrate.integrate`): (times, states, failure
-    or None, stats, with the running error estimate of :meth:`RunningEstimate.stats`)."""
+    or None, stats, with the running error estimate of :meth:`RunningEstimate.stats`).
+    ``reanchor`` (or None): re-anchored after each batch whose last margin is low; a batch
+    with a step below the floor is redone from a fresh anchor (then with a cut step)."""
     t_end = t0 + duration
     track = RunningEstimate(stepper.est, x, tau)
     times, Xs, n_x = [t0], [np.asarray(x, float).copy()], stepper.n_x
@@ -468,9 +490,18 @@ def run_adaptive(stepper, x, t0, h, duration, p, method, tol, batch, tau):
         if k * h >= remaining:
             k = max(1, int(np.ceil(remaining / h - 1e-9)))
             h = remaining / k
+        if reanchor is not None:
+            p = reanchor.after(x, len(times) - 1, t)
         X, E, LTE, _, _, FL, _, _ = stepper.run(1, k, x, t, h, p)
         est = float(np.max(LTE)) if np.all(np.isfinite(LTE)) else np.inf
         newton_ok = not np.any(FL > 0)
+        if reanchor is not None and newton_ok and \
+                reanchor.below_floor(X, t + h, h) is not None:
+            fresh = bool(reanchor.changes) and reanchor.changes[-1][1] == t
+            if not fresh:  # from a fresh anchor first, then with a cut step
+                reanchor.after(x, len(times) - 1, t, force=True)
+                continue
+            newton_ok = False
         if not newton_ok or est > tol:
             rejected += 1
             factor = CUT if not (newton_ok and np.isfinite(est)) else \

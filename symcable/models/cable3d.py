@@ -27,8 +27,8 @@ elements gives:
 
 Each node on a flat seabed at z = -depth gets (:mod:`.seabed3d`, shared with the rod) the
 planar line's smooth penalty contact k d b ramp(-depth - z) (b its tributary length), a
-damper into the bed (:func:`~symcable.models.seabed3d.seabed_damper`) and friction, axial and lateral, by the scene's
-``seabed.friction_law`` (:mod:`~symcable.models.seabed_friction`: regularised Coulomb, or an
+damper into the bed (:func:`~symcable.models.seabed3d.seabed_damper`) and friction, axial
+and lateral, by the scene's ``seabed.friction_law`` (:mod:`~symcable.models.seabed_friction`: regularised Coulomb, or an
 elastic bristle per node whose deflections (m, x and y) are first-order states: the last
 entries of q, node by node, their rates in the kinematics, zero at rest or, with
 ``seabed.static_friction = "laid"``, the static spring's deflection from the as-laid

@@ -73,9 +73,9 @@ from .hybrid_terms import axial_law, cable_bending, rod_mask, rod_vertices, spun
 from .mechanism import Bound, Layout, Mechanism, Output, ParamBlocks, PartLayout, Scales, Start
 from .planar import CABLE_COMPRESSION, FOLD_PUSH, segment_table
 from .relax import _ramp_integral
+from .rod_frames import end_moment_force, reference_director, transport, vertex_kernel
 from .rod_loads import rod_mass, rod_seabed, seabed_setup, water_velocity
 from .seabed3d import lumped as _lumped, reaction_bound
-from .rod_frames import end_moment_force, reference_director, transport, vertex_kernel
 
 __all__ = ["build_rod", "default_anchors", "rod_table"]
 
@@ -211,9 +211,10 @@ def build_rod(scene: Scene, rod: np.ndarray | None = None) -> Mechanism:
     BA = np.where(BA < 0, -BA * np.sqrt(seg["EA"] * seg["mass"]) * seg["ds"], BA)
     EAs, delta = axial_law(seg, rod, F)
     fa, fb, T, e = _element_kernel(drag_law["shape"] if drag_law else None).map(N)(
-        Xm[:, :-1], Xm[:, 1:], Vm[:, :-1], Vm[:, 1:], water_velocity(scene, current, Xm), row("ds"),
-        row("EA"), ca.DM(BA).T, ca.DM(EAs).T, ca.DM(delta).T, F, row("w"), row("d"),
-        row("cdn"), row("cdt"), rho, load, *([ca.DM(drag_law["law"]).T] if drag_law else []))
+        Xm[:, :-1], Xm[:, 1:], Vm[:, :-1], Vm[:, 1:], water_velocity(scene, current, Xm),
+        row("ds"), row("EA"), ca.DM(BA).T, ca.DM(EAs).T, ca.DM(delta).T, F, row("w"),
+        row("d"), row("cdn"), row("cdt"), rho, load,
+        *([ca.DM(drag_law["law"]).T] if drag_law else []))
     nodal = ca.horzcat(fa, ca.SX.zeros(3, 1)) + ca.horzcat(ca.SX.zeros(3, 1), fb)
     torque = ca.SX.zeros(1, N)
 

@@ -10,7 +10,7 @@ from collections import OrderedDict
 
 import numpy as np
 
-from .cable3d_static import RTOL, _solution
+from .cable3d_static import FRICTIONLESS, RTOL, _frictionless_statics, _solution
 from .errors import ConvergenceError
 from .models.cable3d_starts import force_scale
 from .models.mechanism import Mechanism
@@ -81,8 +81,9 @@ def solve_static_rod(scene: Scene, *, tol: float | None = None, max_iter: int = 
                  outputs=dict(eq.outputs))
     if zones["zones"] or zones["message"] != "zones given":
         stats["zones"] = zones
-    return _rod_forces(_solution(scene, seg, eq.outputs, eq.q, "converged", stats,
-                                 tuple(eq.warnings)), eq.outputs)
+    warnings = tuple(eq.warnings) + ((FRICTIONLESS,) if _frictionless_statics(scene) else ())
+    return _rod_forces(_solution(scene, seg, eq.outputs, eq.q, "converged", stats, warnings),
+                       eq.outputs)
 
 
 def _rod_forces(sol: StaticSolution, out) -> StaticSolution:

@@ -24,3 +24,13 @@ def test_rod_static_solution_has_shear_and_internal_force():
     # every load is vertical, so is f: the shear is |f| cos(elevation of the edge)
     assert np.allclose(st.shear, (P + W * (L - mid)) * np.cos(st.angle), atol=1e-5)
     assert st.shear[0] > 0.99 * (P + W * (L - mid[0]))  # the horizontal clamp: nearly all shear
+
+
+def test_rod_statics_on_a_rubbing_seabed_warn_that_friction_is_not_applied():
+    """As cable3d's: statics are frictionless unless seabed.static_friction = 'laid', and the
+    solution says so (a user reading mu > 0 in the scene would expect it held)."""
+    from test_rod_seabed import across
+    st = sc.solve_static(across("coulomb", "none")("rod"))
+    assert any("seabed friction is not applied" in w for w in st.warnings)
+    st = sc.solve_static(across("coulomb", "laid")("rod"))
+    assert not any("seabed friction is not applied" in w for w in st.warnings)

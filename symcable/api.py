@@ -35,23 +35,25 @@ from .results_mechanism import Equilibrium, SceneLinearization
 from .planar_static import solve_static
 from . import cable3d_api as _c3
 from . import cable3d_periodic as _c3p
+from . import scene3d as _s3d
 from .scene import Model
 
 __all__ = ["build_dynamic_model", "modal_analysis", "simulate", "solve_periodic", "sweep_periodic"]
 
 
 def _cable3d(scene, **unsupported):
-    """The loaded scene when it is a cable3d scene (its analyses live in
+    """The loaded scene when it is a cable3d, rod or hybrid scene (its analyses live in
     :mod:`symcable.cable3d_api`), else None; an argument only the planar path takes, given
     for a cable3d scene, is an error naming it."""
     if scene is None:
         return None
     scene = load_scene(scene)
-    if scene.model is not Model.CABLE3D:
+    if scene.model is not Model.CABLE3D and not _s3d.is_rod(scene):
         return None
     for key, value in unsupported.items():
         if value is not None:
-            raise SymcableError(f"{key} = <{type(value).__name__}>: not for a cable3d scene (its "
+            raise SymcableError(f"{key} = <{type(value).__name__}>: not for a "
+                                f"{scene.model.value} scene (its "
                                 "analyses build their own Mechanism from the scene)")
     return scene
 
@@ -421,7 +423,7 @@ def end_stiffness(scene, end: str = "b", *, static=None) -> np.ndarray:
     if str(getattr(cond, "value", cond)) != "pinned":
         raise SymcableError(f"end_{end}.condition = {getattr(cond, 'value', cond)!r}: the end "
                             "stiffness is defined for a pinned end (a prescribed position)")
-    if scene.model is Model.CABLE3D:
+    if scene.model is Model.CABLE3D or _s3d.is_rod(scene):
         if static is not None:
             raise SymcableError("static = <StaticSolution>: not for a cable3d scene (its "
                                 "equilibrium is solved here)")

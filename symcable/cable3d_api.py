@@ -5,6 +5,12 @@ stepping (:func:`~symcable.solvers.integrate.integrate`), modes
 (:func:`~symcable.solvers.linearize.mechanism_modes`) and the exact linearisation.
 :mod:`symcable.api` sends a cable3d scene here; the arguments are the same. Periodic
 steady states: :mod:`symcable.cable3d_periodic`.
+
+The same analyses run a ``model = "rod"`` (or ``"hybrid"``) scene, with the Mechanism and
+static state :mod:`symcable.scene3d` says (the one place that dispatches on the model); a
+rod's time run re-anchors its reference frames as it goes
+(:func:`~symcable.models.rod_reanchor.reanchor_hook`), and its extra outputs (twist,
+curvature, moments, internal force) come in ``stats["outputs"]``.
 """
 from __future__ import annotations
 
@@ -20,8 +26,10 @@ from .results import ModalSolution
 from .results_line3d import LineTrajectory, SystemTrajectory, line_from_outputs
 from .results_mechanism import SceneLinearization
 from .scene import End, EndCondition, Scene
-from .cable3d_static import (body_stiffness, dynamic_p, node_shapes, run_start_state,
-                             static_equilibrium)
+from .cable3d_static import body_stiffness, dynamic_p, node_shapes
+from .models.rod_reanchor import reanchor_hook
+from .scene3d import (dynamics_mechanism, is_rod, rod_line, scene_equilibrium, start_state,
+                      twist_names, twist_shapes)
 from .solvers.integrate import ERROR_TARGET, accurate_dt, error_warning, integrate
 from .solvers.march import leaky_sum
 from .solvers.linearize import MAX_DENSE, mechanism_modes, output_sensitivity
@@ -215,6 +223,8 @@ def _line_result(scene, mech, tr, method: str, dt: float, stats: dict, warnings,
         stats, warnings = _with_tension_estimate(dict(stats), warnings, tr, ends, opts, period,
                                                  method)
     common = dict(method=method, dt=float(dt), status=tr.status, stats=stats)
+    if scene.version == 1 and is_rod(scene):
+        return rod_line(scene, mech, t, tr.outputs, warnings, common)
     if scene.version == 1:
         return line_from_outputs(scene.name, t, tr.outputs, mech.layout.parts["line"].s,
                                  warnings=warnings, **common)
@@ -269,13 +279,14 @@ def simulate_3d(scene: Scene, duration: float, dt: float | None = None,
         if newton_tol is not None:
             opts = dataclasses.replace(opts, tol=float(newton_tol))
     t0 = run_start(scene) if t_start is None else float(t_start)
-    mech, eq, v0, how, notes = run_start_state(scene, t0, start, codegen=codegen)
+    mech, eq, v0, how, notes = start_state(scene, t0, start, codegen)
     t_static = time.perf_counter() - started
     if dt is None and name != "rk4":
         dt = default_dt(scene, duration, _start_tensions(scene, eq))
     kw = dict(method=opts, t0=t0, start=eq, v0=v0, p=mech.params.values, save_every=save_every,
               save_times=save_times, progress=progress, codegen=codegen, label=name,
-              period=_period(scene))
+              period=_period(scene),
+              reanchor=reanchor_hook(mech) if is_rod(scene) else None)
     try:
         tr = integrate(mech, duration, dt, **kw)
     except ConvergenceError as exc:
@@ -303,7 +314,8 @@ def modal_analysis_3d(scene: Scene, n_modes: int = 10, *, max_dense: int = MAX_D
     started = time.perf_counter()
     if isinstance(n_modes, bool) or int(n_modes) != n_modes or n_modes < 1:
         raise SymcableError(f"n_modes = {n_modes!r}: must be an integer >= 1")
-    mech, eq = static_equilibrium(scene)
+    mech, eq = scene_equilibrium(scene)
+    mech = dynamics_mechanism(scene, mech)
     t_static = time.perf_counter() - started
     eq = dataclasses.replace(eq, p=dynamic_p(scene, mech, eq.p))
     modes = mechanism_modes(mech, eq, int(n_modes), damped=damped, max_dense=max_dense)
@@ -317,6 +329,9 @@ def modal_analysis_3d(scene: Scene, n_modes: int = 10, *, max_dense: int = MAX_D
              "max_relative_real_part": st.get("max_relative_real_part"), "model_time": t_static,
              "jacobian_time": st.get("linearize_time"), "eig_time": st.get("eig_time"),
              "wall_time": time.perf_counter() - started}
+    tws = twist_shapes(mech, modes.velocity_shapes) if is_rod(scene) else None
+    if tws is not None:  # each mode's twist angles (rad per unit largest node displacement)
+        stats["twist_shapes"] = tws.tolist()
     if damped and modes.damping_ratios is not None:
         stats["damping_ratios"] = np.asarray(modes.damping_ratios, float).tolist()
     pre = _prefixes(scene, lines)
@@ -337,7 +352,7 @@ def end_stiffness_3d(scene: Scene, end: str = "b", *, equilibrium=None) -> np.nd
     """(3, 3) N/m: K = -dF/dx of the force the line exerts on pinned end ``end`` against that
     end's position, the line in static equilibrium; exact (implicit function theorem on the
     static residual's CasADi derivatives)."""
-    mech, eq = static_equilibrium(scene) if equilibrium is None else equilibrium
+    mech, eq = scene_equilibrium(scene) if equilibrium is None else equilibrium
     return -output_sensitivity(mech, eq, f"end_force_{end}", f"end_{end}.position")
 
 
@@ -353,7 +368,8 @@ def linearize_3d(scene: Scene, *, undamped: bool = False) -> SceneLinearization:
     :func:`~symcable.cable3d_static.body_stiffness`; its q named ``"tow.x"``, ``"tow.e1"``,
     its v ``"tow.rx"`` ...). A free body's statics-only spring is off (K of the lines and
     bodies alone)."""
-    mech, eq = static_equilibrium(scene)
+    mech0, eq = scene_equilibrium(scene)
+    mech = dynamics_mechanism(scene, mech0)
     p = dynamic_p(scene, mech, eq.p)
     if undamped:
         for block in mech.params.names:
@@ -367,11 +383,13 @@ def linearize_3d(scene: Scene, *, undamped: bool = False) -> SceneLinearization:
     if undamped:
         C = np.zeros_like(C)
     q_kinds, v_kinds = mech.coordinate_names(tagged=scene.version == 2)
+    if is_rod(scene):  # the twists: "edge{j}.twist"
+        q_kinds, v_kinds = (twist_names(k, mech) for k in (q_kinds, v_kinds))
     ends = {}
     if scene.version == 1:
         for end in ("a", "b"):
             if getattr(scene, f"end_{end}").condition is EndCondition.PINNED:
-                ends[end] = end_stiffness_3d(scene, end, equilibrium=(mech, eq))
+                ends[end] = end_stiffness_3d(scene, end, equilibrium=(mech0, eq))
     else:  # each held point: -d(lines' force on it)/d(its position), every attached end
         for pname, pt in scene.points.items():
             if pt.is_free:

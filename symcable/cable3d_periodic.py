@@ -2,7 +2,10 @@
 amplitude (:func:`solve_periodic_3d`) and the tension response over excitation periods
 (:func:`sweep_periodic_3d`), through the generic periodic solvers
 (:func:`~symcable.solvers.periodic_mech.solve_periodic_mech`). :mod:`symcable.api` sends a
-cable3d scene here; the arguments are the same.
+cable3d scene here (and a rod or hybrid scene: its own Mechanism and static state,
+:mod:`symcable.scene3d`; a periodic solve keeps the anchors of its
+start's reference frames, which holds while no edge turns by more than about 120 degrees
+from its static direction over the period); the arguments are the same.
 """
 from __future__ import annotations
 
@@ -12,7 +15,7 @@ import time
 import numpy as np
 
 from .cable3d_api import RHO_INF, _line_result, _motions, _period
-from .cable3d_static import check_periodic_3d, static_equilibrium
+from .scene3d import check_periodic_scene, dynamics_mechanism, scene_equilibrium
 from .errors import ConvergenceError, SymcableError
 from .planar_periodic import method_options
 from .results_line3d import LineTrajectory
@@ -55,7 +58,7 @@ def _solve_3d(scene: Scene, method, codegen, stability, start, options) -> tuple
         raise SymcableError(f"scene {scene.name!r}: a periodic response needs a harmonic end "
                             "motion ([end_b.motion] kind = 'harmonic'), not "
                             + ("a table" if _motions(scene) else "none"))
-    check_periodic_3d(scene)
+    check_periodic_scene(scene)
     tol = options.pop("tol", None)
     name, opts = method_options(method, options)
     if isinstance(opts, Shooting) and opts.rho_inf is None:
@@ -64,7 +67,8 @@ def _solve_3d(scene: Scene, method, codegen, stability, start, options) -> tuple
         # pulled by a taut rope (EA 5e7 N, T/100) came out with a tension range 26 % smaller
         # than the time run's and collocation's (positions 3 mm apart); at 0 within 1 %
         opts = dataclasses.replace(opts, rho_inf=RHO_INF)
-    mech, eq = static_equilibrium(scene, codegen=codegen)
+    mech, eq = scene_equilibrium(scene, codegen=codegen)
+    mech = dynamics_mechanism(scene, mech)
     p = np.array(mech.params.values, float)
     ramped = p.copy()  # the start's first period: the motion ramped in from rest
     for block in mech.params.names:  # every line's "ramp" (namespaced in a scene of several)
@@ -184,7 +188,7 @@ def sweep_periodic_3d(scene: Scene, periods, method="collocation", *, resolution
         if not isinstance(val, bool):
             raise SymcableError(f"{key} = {val!r}: must be True or False")
     started = time.perf_counter()
-    check_periodic_3d(scene)
+    check_periodic_scene(scene)
     pick, swept = _swept_end(scene, line)
     periods = np.asarray(periods, dtype=float).ravel()
     if periods.size == 0 or not np.all(np.isfinite(periods)) or np.any(periods <= 0):

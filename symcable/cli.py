@@ -14,6 +14,9 @@ from pathlib import Path
 
 from .errors import SymcableError
 
+#: the models whose scenes take the 3D line's analyses and plots (cable3d_api)
+_MODELS_3D = ("cable3d", "rod", "hybrid")
+
 
 def _scene_summary(scene, n_unknowns: int, terms) -> str:
     lines = [f"scene      {scene.name}  ({scene.source})",
@@ -104,9 +107,9 @@ def _check(args) -> int:
     from .scene import load_scene, moordyn_deck
 
     scene = load_scene(args.scene)
-    if scene.model.value == "cable3d":
-        from .cable3d_static import cable3d_mechanism
-        mech = cable3d_mechanism(scene)
+    if scene.model.value in _MODELS_3D:
+        from .scene3d import scene_mechanism
+        mech = scene_mechanism(scene)
         print(_scene_summary(scene, mech.n_q, mech.terms))
         deck = moordyn_deck(args.scene) if isinstance(args.scene, str) else None
         for note in deck.notes if deck is not None else ():
@@ -188,8 +191,8 @@ def _simulate(args) -> int:
         from .plotting_tow import plot_tow
         _emit(traj, args, lambda path: plot_tow(traj, scene, path))
         return _exit_status(traj)
-    _emit(traj, args, lambda path: (_plot_3d(traj, scene, path) if scene.model.value ==
-                                    "cable3d" else plot_trajectory(traj, path)))
+    _emit(traj, args, lambda path: (_plot_3d(traj, scene, path) if scene.model.value in
+                                    _MODELS_3D else plot_trajectory(traj, path)))
     return _exit_status(traj)
 
 
@@ -215,7 +218,7 @@ def _periodic(args) -> int:
     from .plotting import plot_periodic
 
     scene = load_scene(args.scene)
-    c3 = scene.model.value == "cable3d"
+    c3 = scene.model.value in _MODELS_3D
     # cable3d: the Floquet multipliers too (the planar path does not take stability)
     per = solve_periodic(scene, method=args.method,
                          **({"stability": not args.no_stability} if c3 else {}))
@@ -235,7 +238,7 @@ def _modes(args) -> int:
 
     scene = load_scene(args.scene)
     modal = modal_analysis(scene, args.n)
-    if scene.model.value == "cable3d":
+    if scene.model.value in _MODELS_3D:
         from .plotting_line3d import plot_modes_3d
         _emit(modal, args, lambda path: plot_modes_3d(modal, path))
         return 0

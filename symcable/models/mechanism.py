@@ -281,6 +281,29 @@ class Layout:
     states: StateNames | None = None
 
 
+@dataclass(frozen=True)
+class Reanchor:
+    """An optional hook of a Mechanism whose coordinates are measured from frames stored as
+    parameters (the rod's anchored reference frames, :mod:`symcable.models.rod`): a time
+    march calls it between steps so that no coordinate nears the chart's singularity.
+
+    ``margin``: expression (1, 1) of ``(q, t, p)``, how far the state is from the chart's
+    singularity (the rod: min over edges of 1 + t0 . t, 2 at the anchors, 0 at the half
+    turn); ``update``: expression (n_p, 1) of ``(q, t, p)``, the parameters re-anchored at
+    the state (the same physical state, q unchanged); ``threshold``: the march re-anchors
+    after a step whose margin fell below it; ``floor``: a margin below which a step is not
+    trusted (the march retakes it from a re-anchored start, step by step); ``velocity``:
+    expression (n_v, 1) of ``(q, v, t, p)``, the velocities in the new chart (None: v
+    unchanged; the rod's twist rates gain their reference frame's spin, which the new anchor
+    no longer has)."""
+
+    margin: object
+    update: object
+    threshold: float = 0.5
+    floor: float = 0.05
+    velocity: object = None
+
+
 @dataclass(frozen=True, eq=False)
 class Mechanism:
     """A discretised system of parts, as CasADi expressions (see the module docstring).
@@ -317,6 +340,9 @@ class Mechanism:
         Stability is judged only where this is negative (the planar line: its least axial
         force in sections with bending, since a tension-only cable under conservative loads
         cannot lose stability); None: always.
+    reanchor : Reanchor or None
+        The optional re-anchoring hook a time march calls between steps (:class:`Reanchor`);
+        None for every mechanism whose coordinates need none.
     rest : expression (n_q - n_v, 1) of (q, z, t, p) or None
         For a mechanism with first-order states (the last n_q - n_v entries of q, their
         rates in ``kinematics``): the rows that fix them at rest, in N like the force rows;
@@ -346,6 +372,7 @@ class Mechanism:
     stability_coordinates: object = None
     stability_when: object = None
     rest: object = None
+    reanchor: Reanchor | None = None
 
     def __post_init__(self):
         n_q, n_v, n_z = self.n_q, self.n_v, self.n_z

@@ -29,6 +29,7 @@ from ..results_mechanism import Equilibrium, MechanismTrajectory
 from .galpha1 import galpha1_kernel, galpha1_step
 from .march import BLOWUP, IMPLICIT as _IMPLICIT, get_stepper, method_name, run_adaptive, run_fixed
 from .options import RK4, GeneralizedAlpha, GeneralizedAlphaFirstOrder
+from .reanchor import Reanchoring
 from .schedule import save_indices
 from .stepcache import STEP_CACHE, maybe_compiled
 from .steps import check_second_order, galpha_step, rk4_stability_limit, rk4_step
@@ -100,7 +101,8 @@ def integrate(mech: Mechanism, duration: float, dt: float | None = None, *, meth
               max_samples: int | None = None,
               start: Equilibrium | None = None, q0=None, v0=None, tol: float | None = None,
               batch: int = BATCH, progress: bool | None = None, codegen: bool | None = None,
-              label: str | None = None, period: float | None = None) -> MechanismTrajectory:
+              label: str | None = None, period: float | None = None,
+              reanchor=None) -> MechanismTrajectory:
     """March ``mech`` over ``duration`` s from ``t0``, with fixed steps ``dt`` s or, given
     ``tol``, steps adapted to keep the local error below ``tol`` times the scales.
 
@@ -146,6 +148,13 @@ def integrate(mech: Mechanism, duration: float, dt: float | None = None, *, meth
     period : float, optional
         The motion's characteristic period, s (a forced run: the excitation's), which sets
         the error estimate's memory, ``period / (2 pi)``. Default: ``duration``.
+    reanchor : Reanchor, optional
+        A re-anchoring hook (:class:`~symcable.models.mechanism.Reanchor`; default the
+        Mechanism's own ``reanchor``, None for most): the run re-anchors between steps
+        (:mod:`symcable.solvers.reanchor`), each sample's outputs in its own chart, and
+        ``stats`` adds ``reanchorings``, ``reanchor_times`` (s), ``min_frame_margin``,
+        ``reanchor_retaken`` (calls of steps cut short at a step below the hook's floor),
+        ``reanchor_threshold`` and ``p_final`` (the parameters at the end, a list).
 
     Returns
     -------
@@ -230,18 +239,22 @@ def integrate(mech: Mechanism, duration: float, dt: float | None = None, *, meth
     dt_req = check_positive("dt", default if dt is None else dt, "s")
     period = None if period is None else check_positive("period", period, "s")
     tau = (duration if period is None else period) / (2.0 * math.pi)
+    hook = reanchor if reanchor is not None else getattr(mech, "reanchor", None)
+    ra = None if hook is None else Reanchoring(mech, hook, p,
+                                               isinstance(method, GeneralizedAlphaFirstOrder))
     stepr = get_stepper(mech, method, codegen, lte=tol is not None)
     scale = np.concatenate([mech.scales.q, mech.scales.v]).astype(float)
     if tol is None:
         n_steps = max(1, math.ceil(duration / dt_req * (1.0 - 1e-12)))
         h = duration / n_steps
         idx = save_indices(n_steps, h, duration, save_every, save_times, max_samples)
-        ks, Xs, failure, extra = run_fixed(stepr, x, t0, h, p, idx, scale, progress, label, tau)
+        ks, Xs, failure, extra = run_fixed(stepr, x, t0, h, p, idx, scale, progress, label, tau,
+                                           ra)
         T = t0 + ks * (duration / n_steps)  # k h to within one ulp
         stats.update(dt=h, dt_requested=dt_req)
     else:
         T, Xs, failure, extra = run_adaptive(stepr, x, t0, dt_req, duration, p, method, tol,
-                                             batch, tau)
+                                             batch, tau, ra)
     stats.update(extra)
     if stats["error_estimate"] is not None:
         stats["error_memory"] = tau
@@ -251,7 +264,11 @@ def integrate(mech: Mechanism, duration: float, dt: float | None = None, *, meth
     q, v = Xs[:, :nq], Xs[:, nq:nq + nv]
     z = Xs[:, -mech.n_z:].copy() if (mech.n_z and isinstance(method, GeneralizedAlpha)) \
         else np.zeros((T.size, mech.n_z))
-    outputs = F.unpack(_outputs_fn(mech, codegen, T.size)(q, v, z, T, p)[0].reshape(T.size, -1).T)
+    P = p
+    if ra is not None:  # each sample in the chart it was stepped in
+        stats.update(ra.stats(), p_final=ra.p.tolist())
+        P = ra.p_of(ks, p) if tol is None else ra.p_at_times(T, p)
+    outputs = F.unpack(_outputs_fn(mech, codegen, T.size)(q, v, z, T, P)[0].reshape(T.size, -1).T)
     if mech.n_z:
         g = np.asarray(F.acc_residual.map(T.size)(q.T, v.T, np.zeros((nv, T.size)), z.T,
                                                    T[None, :], p)[1])

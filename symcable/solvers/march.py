@@ -14,7 +14,6 @@ from __future__ import annotations
 import math
 import time
 from collections import OrderedDict
-from dataclasses import dataclass
 
 import casadi as ca
 import numpy as np
@@ -27,6 +26,7 @@ from .options import RK4, GeneralizedAlpha, GeneralizedAlphaFirstOrder
 from .schedule import runs, with_checkpoints
 from .stepcache import STEP_CACHE, maybe_compiled
 from .steps import galpha_step, rk4_step
+from .time_estimate import EstimatePlan, RunningEstimate, leaky_sum  # noqa: F401 (re-exported)
 
 __all__ = ["BLOWUP", "IMPLICIT", "EstimatePlan", "RunningEstimate", "leaky_sum", "method_name", "run_adaptive",
            "get_stepper", "run_fixed"]
@@ -38,10 +38,6 @@ BLOWUP = 1e6
 _CALL_TARGET = 0.2
 #: adaptive steps: safety factor, largest growth and cut per batch
 SAFETY, GROW, CUT = 0.8, 2.0, 0.2
-#: steps the running error estimate takes at once (its arrays stay in the cache)
-_CHUNK = 256
-#: smallest range of the motion (relative to the scales) the error estimate is relative to
-MOTION_FLOOR = 1e-6
 #: a fixed step whose Newton iteration fails is retried as 2, 4, ... up to this many substeps
 MAX_SUBSTEPS = 16
 
@@ -50,114 +46,6 @@ def method_name(method) -> str:
     """The method's name in stats and messages."""
     return {GeneralizedAlpha: "generalized-alpha",
             GeneralizedAlphaFirstOrder: "generalized-alpha-first-order"}.get(type(method), "rk4")
-
-
-@dataclass(frozen=True)
-class EstimatePlan:
-    """How a method's steps feed the running error estimate (:class:`RunningEstimate`).
-
-    ``kind``: ``"rates"`` (first-order generalized-alpha: the local error of y = (q, v) from
-    the second difference of the carried rates y', C h |y'_{n+1} - 2 y'_n + y'_{n-1}|, C the
-    scheme's error constant), ``"step"`` (second-order generalized-alpha: the step's own
-    Newmark estimate of the position error, its ``lte`` output) or ``"none"`` (RK4). The
-    estimate and the range of the motion cover the ``n_est`` leading entries of the state
-    (y, or q), over ``scale``."""
-
-    kind: str
-    n_est: int
-    scale: np.ndarray
-    constant: float = 0.0
-
-    @staticmethod
-    def of(mech: Mechanism, method) -> "EstimatePlan":
-        sq, sv = (np.asarray(s, dtype=float) for s in (mech.scales.q, mech.scales.v))
-        if isinstance(method, GeneralizedAlphaFirstOrder):
-            return EstimatePlan("rates", mech.n_q + mech.n_v, np.concatenate([sq, sv]),
-                                method.error_constant)
-        if isinstance(method, GeneralizedAlpha):
-            return EstimatePlan("step", mech.n_q, sq)
-        return EstimatePlan("none", 0, np.zeros(0))
-
-
-class RunningEstimate:
-    """The run's error estimate, fed with every step's state as the run goes (in NumPy, on
-    the states the batched calls return: nothing is added to the step itself).
-
-    Each step's local error d_j relative to the scales (max-norm; :class:`EstimatePlan`)
-    feeds a leaky sum E_{j+1} = exp(-h / tau) E_j + d_j. The global error of a response of
-    period P = 2 pi tau is about the local errors of its last radian: a harmonic error
-    source of d per step, d / h per unit time, integrated over time gives an error of
-    amplitude d / (h omega), local error times steps per radian; the leak forgets older
-    errors as a forced, damped response does. A step whose three carried rates do not all
-    come from steps of its size adds nothing (the first two of a run, and the two after a
-    change of step: the rates carry an offset proportional to h). Also kept: the least and
-    largest value of each covered state entry (the range of the motion)."""
-
-    def __init__(self, plan: EstimatePlan, x: np.ndarray, tau: float):
-        self.plan, self.tau = plan, tau
-        y = np.asarray(x, dtype=float)
-        n = plan.n_est
-        self.lo, self.hi = y[:n].copy(), y[:n].copy()
-        self.rates = y[n:2 * n].copy() if plan.kind == "rates" else None  # the last y'
-        self.prev_rates = None  # the y' before it
-        self.h_prev = (math.nan, math.nan)  # sizes of the steps that made them
-        self.E, self.E_max = 0.0, 0.0
-
-    def update(self, h: float, X: np.ndarray, lte: np.ndarray) -> None:
-        """Take k more steps of size h (s): their states X (k, n_x) and lte (k,)."""
-        if self.plan.kind == "none":
-            return
-        for s in range(0, X.shape[0], _CHUNK):  # pieces that stay in the cache
-            self._update(h, X[s:s + _CHUNK], lte[s:s + _CHUNK])
-
-    def _update(self, h, X, lte):
-        plan, k = self.plan, X.shape[0]
-        n = plan.n_est
-        self.lo = np.minimum(self.lo, X[:, :n].min(axis=0))
-        self.hi = np.maximum(self.hi, X[:, :n].max(axis=0))
-        if plan.kind == "step":
-            d = np.maximum(np.asarray(lte, dtype=float), 0.0)
-        else:
-            R = np.vstack([self.prev_rates if self.prev_rates is not None else self.rates,
-                           self.rates, X[:, n:2 * n]])
-            d2 = np.abs(R[2:] - 2.0 * R[1:-1] + R[:-2]) * (1.0 / plan.scale)
-            d = plan.constant * h * np.max(d2, axis=1)
-            if not (h == self.h_prev[0] and h == self.h_prev[1]):
-                d[0] = 0.0
-            if k > 1 and not h == self.h_prev[0]:
-                d[1] = 0.0
-            self.prev_rates = R[-2].copy()
-            self.rates = R[-1].copy()
-        self.h_prev = (h, h) if k > 1 else (h, self.h_prev[0])
-        E = leaky_sum(self.E, d, h / self.tau)
-        self.E, self.E_max = float(E[-1]), max(self.E_max, float(np.max(E)))
-
-    def stats(self) -> dict:
-        """``error_estimate_scaled`` (the largest running estimate, relative to the scales),
-        ``motion_range`` (max_i (hi_i - lo_i) / scale_i over the run) and ``error_estimate``
-        (their ratio: the error relative to the range of the motion, or to MOTION_FLOOR
-        when the motion is smaller: a state at rest up to round-off is not a motion); None
-        without an estimate (RK4)."""
-        if self.plan.kind == "none":
-            return {"error_estimate": None, "error_estimate_scaled": None, "motion_range": None}
-        rng = float(np.max((self.hi - self.lo) / self.plan.scale)) if self.lo.size else 0.0
-        e = self.E_max
-        return {"error_estimate": e / max(rng, MOTION_FLOOR), "error_estimate_scaled": e,
-                "motion_range": rng}
-
-
-def leaky_sum(E0: float, d: np.ndarray, a: float) -> np.ndarray:
-    """E_j = exp(-a) E_{j-1} + d_j from E0, for every j, in chunks short enough that
-    exp(a j) stays below e^30 (E_j = exp(-a j) (E0 + sum_i exp(a i) d_i) within a chunk)."""
-    out = np.empty(d.size)
-    c = max(1, int(30.0 / a)) if a > 0 else max(d.size, 1)
-    E = E0
-    for s in range(0, d.size, c):
-        dd = d[s:s + c]
-        j = a * np.arange(1, dd.size + 1)
-        out[s:s + dd.size] = np.exp(-j) * (E + np.cumsum(np.exp(j) * dd))
-        E = out[s + dd.size - 1]
-    return out
 
 
 class _Stepper:
@@ -271,10 +159,11 @@ def _bad_state(X: np.ndarray, inv_scale: np.ndarray) -> np.ndarray:
     return ~(big <= BLOWUP) | ~np.isfinite(rest)  # NaN fails every comparison
 
 
-def run_fixed(stepper, x, t0, h, p, idx, scale, progress, label, tau):
+def run_fixed(stepper, x, t0, h, p, idx, scale, progress, label, tau, reanchor=None):
     """Fixed steps to ``idx[-1]``, saving the steps ``idx``: (saved k, saved x (n, n_keep),
     failure diagnostics or None, stats); ``tau`` the running error estimate's memory, s
-    (its stats: :meth:`RunningEstimate.stats`)."""
+    (its stats: :meth:`RunningEstimate.stats`); ``reanchor`` a
+    :class:`~symcable.solvers.reanchor.Reanchoring` (its ``p`` the one stepped in) or None."""
     inv_scale = 1.0 / scale
     track = RunningEstimate(stepper.est, x, tau)
     x = stepper.extend(x)
@@ -292,6 +181,8 @@ def run_fixed(stepper, x, t0, h, p, idx, scale, progress, label, tau):
     try:
         for S, count in runs(idx):
             while count > 0 and failure is None:
+                if reanchor is not None:
+                    p = reanchor.after(x, k, t0 + k * h)
                 m = 1 if sec_per_step is None else max(1, int(_CALL_TARGET / (S * sec_per_step)))
                 m = min(count, 1 << (m.bit_length() - 1))  # a power of two: few distinct batches
                 stepper.batch(S, m)  # built outside the timed call
@@ -302,6 +193,10 @@ def run_fixed(stepper, x, t0, h, p, idx, scale, progress, label, tau):
                     n_good = int(np.argmax(bad)) if np.any(bad) else m
                 except RuntimeError:  # e.g. a singular Newton matrix: located step by step
                     n_good = 0
+                cut = None if reanchor is None or not n_good else \
+                    reanchor.cut(Xs[:n_good * S], t0 + (k + 1) * h, h, S)
+                if cut is not None:  # stop where it re-anchors (module reanchor)
+                    n_good = cut[0]
                 elapsed = time.perf_counter() - t_call
                 step_time += elapsed
                 if n_good:
@@ -313,6 +208,19 @@ def run_fixed(stepper, x, t0, h, p, idx, scale, progress, label, tau):
                     iters_max = max(iters_max, float(np.max(ITM[:n_good])))
                     worst = max(worst, float(np.nanmax(np.r_[E[:n_good], 0.0])))
                     lte_max = max(lte_max, float(np.nanmax(np.r_[L[:n_good], -np.inf])))
+                if cut is not None:
+                    count -= n_good
+                    if cut[1]:  # the sample that crossed the floor, a step at a time
+                        x, k, failure, it_good = reanchor.step_through(
+                            stepper, x, k, t0, h, S, inv_scale, track, _bad_state)
+                        iters += it_good
+                        if failure is not None:
+                            break
+                        if k in set(idx.tolist()):
+                            saved_k.append(np.array([k]))
+                            saved_x.append(x[None, keep_cols])
+                        count -= 1
+                    continue
                 if n_good < m:
                     k_bad, t_replay = k, time.perf_counter()
                     failure, x, k, extra, it_good = _replay(
@@ -450,10 +358,12 @@ def _residual_of_failure(stepper, failure, h, p):
         failure["residual"] = float(np.max(np.abs(h * r * step_scales(mech)[ny:])))
 
 
-def run_adaptive(stepper, x, t0, h, duration, p, method, tol, batch, tau):
+def run_adaptive(stepper, x, t0, h, duration, p, method, tol, batch, tau, reanchor=None):
     """Steps adapted in batches to keep the Taylor estimate of each step's local error
     below ``tol`` (see :func:`symcable.solvers.integrate.integrate`): (times, states, failure
-    or None, stats, with the running error estimate of :meth:`RunningEstimate.stats`)."""
+    or None, stats, with the running error estimate of :meth:`RunningEstimate.stats`).
+    ``reanchor`` (or None): re-anchored after each batch whose last margin is low; a batch
+    with a step below the floor is redone from a fresh anchor (then with a cut step)."""
     t_end = t0 + duration
     track = RunningEstimate(stepper.est, x, tau)
     times, Xs, n_x = [t0], [np.asarray(x, float).copy()], stepper.n_x
@@ -468,9 +378,18 @@ def run_adaptive(stepper, x, t0, h, duration, p, method, tol, batch, tau):
         if k * h >= remaining:
             k = max(1, int(np.ceil(remaining / h - 1e-9)))
             h = remaining / k
+        if reanchor is not None:
+            p = reanchor.after(x, len(times) - 1, t)
         X, E, LTE, _, _, FL, _, _ = stepper.run(1, k, x, t, h, p)
         est = float(np.max(LTE)) if np.all(np.isfinite(LTE)) else np.inf
         newton_ok = not np.any(FL > 0)
+        if reanchor is not None and newton_ok and \
+                reanchor.below_floor(X, t + h, h) is not None:
+            fresh = bool(reanchor.changes) and reanchor.changes[-1][1] == t
+            if not fresh:  # from a fresh anchor first, then with a cut step
+                reanchor.after(x, len(times) - 1, t, force=True)
+                continue
+            newton_ok = False
         if not newton_ok or est > tol:
             rejected += 1
             factor = CUT if not (newton_ok and np.isfinite(est)) else \

@@ -287,7 +287,10 @@ def _replay(stepper, x, k, t0, h, p, n_max, save_set, inv_scale, track, sub, S=N
             failed = FL[0] > 0
         except RuntimeError as exc:
             X, failed, message = None, True, str(exc).strip().splitlines()[-1]
-        if failed and isinstance(stepper.method, IMPLICIT):
+        # a Newton iteration that failed, or one that ran off to a blown-up state without
+        # saying so (a violent start: the iterate left the basin), is retried in substeps
+        bad = X is not None and bool(_bad_state(X, inv_scale)[0])
+        if (failed or bad) and isinstance(stepper.method, IMPLICIT):
             done = _substeps(stepper, x, t0 + k * h, h, p, inv_scale, track, sub)
             if done is not None:
                 x, k, through = done[0], k + 1, True
@@ -299,7 +302,7 @@ def _replay(stepper, x, k, t0, h, p, n_max, save_set, inv_scale, track, sub, S=N
             diag.update(reason="error", message=message, residual=float("nan"))
             return diag, x, k, saved, good_iters
         x1 = X[0]
-        if _bad_state(X, inv_scale)[0]:
+        if bad:
             n = inv_scale.size
             with np.errstate(invalid="ignore", over="ignore"):
                 rel = np.abs(x1[:n]) * inv_scale
@@ -310,7 +313,8 @@ def _replay(stepper, x, k, t0, h, p, n_max, save_set, inv_scale, track, sub, S=N
                         worst=f"q[{i}]" if i < nq else f"v[{i - nq}]")
             return diag, x, k, saved, good_iters
         if failed:
-            diag.update(reason="newton", newton_iterations=int(IT[0]) if stepper.full else None,
+            its = int(IT[0]) if stepper.full and np.isfinite(IT[0]) else None
+            diag.update(reason="newton", newton_iterations=its,
                         newton_correction=float(E[0]), residual=float(E[0]), _x=(x, x1))
             return diag, x, k, saved, good_iters
         x, k = x1, k + 1

@@ -163,7 +163,7 @@ def solve_static_3d(scene: Scene, *, tol: float | None = None, max_iter: int = 5
 
 
 #: the warning of a static solve on a seabed with friction but without static friction
-FRICTIONLESS = ("seabed friction is not applied in cable3d statics (seabed.static_friction = "
+FRICTIONLESS = ("seabed friction is not applied in 3D statics (seabed.static_friction = "
                 "'none': frictionless contact; 'laid' holds the line from its as-laid shape)")
 
 

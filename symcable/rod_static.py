@@ -10,7 +10,7 @@ from collections import OrderedDict
 
 import numpy as np
 
-from .cable3d_static import RTOL, _solution
+from .cable3d_static import FRICTIONLESS, RTOL, _frictionless_statics, _solution
 from .errors import ConvergenceError
 from .models.cable3d_starts import force_scale
 from .models.mechanism import Mechanism
@@ -81,7 +81,24 @@ def solve_static_rod(scene: Scene, *, tol: float | None = None, max_iter: int = 
                  outputs=dict(eq.outputs))
     if zones["zones"] or zones["message"] != "zones given":
         stats["zones"] = zones
-    return _solution(scene, seg, eq.outputs, eq.q, "converged", stats, tuple(eq.warnings))
+    warnings = tuple(eq.warnings) + ((FRICTIONLESS,) if _frictionless_statics(scene) else ())
+    return _rod_forces(_solution(scene, seg, eq.outputs, eq.q, "converged", stats, warnings),
+                       eq.outputs)
+
+
+def _rod_forces(sol: StaticSolution, out) -> StaticSolution:
+    """A rod's shear (N, per segment: the internal force across the edge minus its part along
+    the edge) and the magnitude of its internal force at the interior nodes (N, the mean over
+    the two edges), from the output ``internal_force`` (cable3d's solution has no shear and
+    takes the axial force as the tension)."""
+    f = np.asarray(out["internal_force"], float)
+    d = np.diff(sol.positions, axis=0)
+    t = d / np.linalg.norm(d, axis=1, keepdims=True)
+    shear = np.linalg.norm(f - np.sum(f * t, axis=1, keepdims=True) * t, axis=1)
+    mag = np.linalg.norm(f, axis=1)
+    tension = np.array(sol.tension, float)
+    tension[1:-1] = 0.5 * (mag[:-1] + mag[1:])
+    return dataclasses.replace(sol, shear=shear, tension=tension)
 
 
 #: ``zones = "auto"``: a segment is a rod where the bending length sqrt(EI / T) of the

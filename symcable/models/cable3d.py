@@ -25,10 +25,10 @@ elements gives:
   Ca_t t t^T) per node, rho A the displaced water per metre; or, with ``mass_matrix =
   "consistent"``, seed 003's L0 B / 6 [[2, 1], [1, 2]] per element (:func:`_consistent_mass`).
 
-Each node on a flat seabed at z = -depth gets the planar line's smooth penalty contact
-k d b ramp(-depth - z) (b its tributary length), a damper into the bed
-(:func:`_seabed_damper`) and friction, axial and lateral, by the scene's
-``seabed.friction_law`` (:mod:`~symcable.models.seabed_friction`: regularised Coulomb, or an
+Each node on a flat seabed at z = -depth gets (:mod:`.seabed3d`, shared with the rod) the
+planar line's smooth penalty contact k d b ramp(-depth - z) (b its tributary length), a
+damper into the bed (:func:`~symcable.models.seabed3d.seabed_damper`) and friction, axial
+and lateral, by the scene's ``seabed.friction_law`` (:mod:`~symcable.models.seabed_friction`: regularised Coulomb, or an
 elastic bristle per node whose deflections (m, x and y) are first-order states: the last
 entries of q, node by node, their rates in the kinematics, zero at rest or, with
 ``seabed.static_friction = "laid"``, the static spring's deflection from the as-laid
@@ -56,12 +56,13 @@ from ..scene import EndCondition, Scene
 from . import terms
 from .cable3d_bending import bending_terms, linear_axial_law
 from .cable3d_drag import law_table, loading_drag
-from .cable3d_starts import force_scale, laid_shape, starts_of
+from .cable3d_starts import force_scale, starts_of
 from .relax import _ramp_integral
 from .tow import tow_path
 from .mechanism import (Bound, Layout, Mechanism, Output, ParamBlocks, PartLayout, Scales,
                         StateNames)
-from .seabed_friction import friction
+from .seabed3d import (bristle_scale, friction_setup, lumped as _lumped, profile_current,
+                       reaction_bound, seabed_forces)
 from .planar import (CABLE_COMPRESSION, FOLD_PUSH, SLACK_CONTINUATION, segment_table,
                      slack_law)
 
@@ -188,9 +189,7 @@ def build_cable3d(scene: Scene, part: str | None = None,
     free = [a.condition is EndCondition.FREE, b.condition is EndCondition.FREE]
     if all(free) and part is None:
         raise SymcableError(f"scene {scene.name!r}: both ends free; hold one end")
-    rubs = sb is not None and (sb.mu_axial > 0 or sb.mu_lateral > 0)
-    bristle = rubs and sb.friction_law == "bristle"
-    laid = laid_shape(scene, seg) if rubs and sb.static_friction == "laid" else None
+    rubs, bristle, laid = friction_setup(scene, seg)
     names, sizes = P_NAMES + (("static_friction", "laid") if laid is not None else ()), \
         P_SIZES + ((1, laid.size) if laid is not None else ())
     params = ParamBlocks(names, sizes, np.concatenate([
@@ -231,8 +230,8 @@ def build_cable3d(scene: Scene, part: str | None = None,
     BA = np.where(BA < 0, -BA * np.sqrt(seg["EA"] * seg["mass"]) * seg["ds"], BA)
     water = ca.repmat(current, 1, N)
     if env.current_profile:  # the current at each element's mid-depth
-        water = water + _profile_current(env.current_profile,
-                                         0.5 * (Xm[2, :-1] + Xm[2, 1:]))
+        water = water + profile_current(env.current_profile,
+                                        0.5 * (Xm[2, :-1] + Xm[2, 1:]))
     fa, fb, T, e = kernel(Xm[:, :-1], Xm[:, 1:], Vm[:, :-1], Vm[:, 1:], water,
                           row("ds"), row("EA"), ca.DM(BA).T, ca.DM(law["EA_slack"]).T,
                           width * ca.DM(law["delta"]).T, F, row("w"), row("d"), row("cdn"),
@@ -247,41 +246,13 @@ def build_cable3d(scene: Scene, part: str | None = None,
         nodal = nodal + bending[0]
     if not env.in_air and (any(env.current) or env.current_profile):
         term_names.append("drag")
-    if sb is not None:
-        term_names.append("seabed")
-        trib = np.zeros(N + 1)
-        trib[:-1] += 0.5 * seg["d"] * seg["ds"]
-        trib[1:] += 0.5 * seg["d"] * seg["ds"]
-        dlt = terms.contact_smoothing(float(np.max(seg["w"])), sb.stiffness, float(np.min(seg["d"])))
-        # a held end on the seabed takes its neighbour's penetration: the half segment
-        # beside it rests where the neighbour does (as the planar line)
-        sink = max(abs(float(np.max(seg["w"]))) / (sb.stiffness * float(np.min(seg["d"]))),
-                   1e-6 * scene.length)
-        probe = list(range(N + 1))
-        for end, i, nb in ((a, 0, 1), (b, N, N - 1)):
-            if end.condition is not EndCondition.FREE and end.position[2] <= -env.depth + sink:
-                probe[i] = nb
-        pen = ca.horzcat(*[-env.depth - Xm[2, i] for i in probe])
-        ramp = [terms.smooth_ramp(pen[i], dlt) for i in range(N + 1)]
-        # an end joined to a free point: the point's node sits as deep as the point's own
-        # contact and the other lines put it (a clump pressed in, or held higher by a lighter
-        # bed load than this line's), so while the point touches the bed the half segment
-        # beside it rests where the neighbour does (as a held end on the bed); lifted off the
-        # bed, it carries none (the smooth on-off factor of the point's penetration)
-        for k, (i, nb) in enumerate(((0, 1), (N, N - 1))):
-            if joined[k] and N > 0:
-                ramp[i] = terms.smooth_ramp(pen[nb], dlt) * 0.5 * (
-                    1.0 + pen[i] / ca.sqrt(pen[i] * pen[i] + dlt * dlt))
-        contact = ca.DM(trib * sb.stiffness).T * ca.horzcat(*ramp)
-        nodal = nodal + ca.vertcat(ca.SX.zeros(2, N + 1), contact)
-        nodal = nodal + _seabed_damper(sb, Vm, pen, dlt, trib, term_names)
-        if rubs:
-            term_names += ["seabed friction"] + (["friction bristles"] if bristle else []) \
-                + (["static friction"] if laid is not None else [])
-            fr = friction(sb, Xm, Vm, contact, trib, np.abs(_lumped(seg)), state,
-                          None if laid is None else p[params.slice("laid")],
-                          None if laid is None else p[params.slice("static_friction")])
-            nodal = nodal + ca.vertcat(fr.force, ca.SX.zeros(1, N + 1))
+    fr = None
+    if sb is not None:  # contact, damper and friction on the nodes (.seabed3d)
+        sea = seabed_forces(scene, seg, Xm, Vm, nodal, term_names, state=state,
+                            laid=None if laid is None else p[params.slice("laid")],
+                            gate=None if laid is None else p[params.slice("static_friction")],
+                            joined=joined)
+        nodal, contact, fr = sea.nodal, sea.contact, sea.friction
     # what the line exerts on each end (N): its element's pull and the loads lumped on the
     # end node, which the support takes (as the planar line's end forces); on a free end the
     # applied force is not the line's, and balances this
@@ -343,7 +314,7 @@ def build_cable3d(scene: Scene, part: str | None = None,
          + F * 0.005 * ca.exp(-(1.0 + ec) / 0.005))
     potential = ca.dot(ca.DM(seg["ds"]), U) + load * ca.dot(ca.DM(_lumped(seg)), Xm[2, :].T)
     if sb is not None:
-        potential += ca.dot(ca.DM(trib * sb.stiffness), _ramp_integral(pen, dlt).T)
+        potential += sea.energy
     if bending is not None:
         potential += bending[2]
         outputs["bending_moment"] = Output(bending[3].T, "N m", owner, "bending moment vector "
@@ -363,19 +334,9 @@ def build_cable3d(scene: Scene, part: str | None = None,
                                             lower=-push[cab], unit="N", scale=F,
                                             what="a cable (EI = 0) carries no compression")
     if sb is not None:
-        press = float(np.sum(np.maximum(seg["w"], 0.0) * seg["ds"])) + float(np.abs(applied).sum())
-        u2 = max((float(np.dot(r[1:], r[1:])) for r in env.current_profile), default=0.0) * 2.0
         cdn = seg["cdn"] if drag_law is None else drag_law["normal_bound"]
-        drag = float(np.sum(0.5 * rho * cdn * seg["d"] * seg["ds"]))
-        press += drag * u2
-        # the uniform current's share is on the expression's side, in the current parameter,
-        # not a constant of the bound: scenes that differ only in their current then share
-        # one graph, and one compiled library (a sweep of current speeds compiles once)
-        bounds["seabed_reaction"] = Bound(
-            ca.sum2(contact) - 1.01 * drag * ca.dot(current, current),
-            upper=1.01 * press + 1e-6 * F, unit="N", scale=F,
-            what="the seabed carries at most what presses the line onto it (the value: its "
-                 "reaction less 1.01 times the most the uniform current's drag presses)")
+        bounds["seabed_reaction"] = reaction_bound(scene, seg, contact, applied, cdn, rho,
+                                                   current, F)
     coord = L + max((float(np.max(np.abs(e_.position))) for e_ in (a, b)
                      if e_.position is not None), default=0.0)
     floor = 100.0 * np.finfo(float).eps * float(np.max(seg["EA"] / seg["ds"])) * coord
@@ -383,9 +344,7 @@ def build_cable3d(scene: Scene, part: str | None = None,
     total_mass = float(np.sum(seg["mass"] * seg["ds"]))
     q_scale = np.full(n_q, 0.1 * L)
     if bristle:  # a bristle's deflection: up to its mobilisation length mu N / k
-        mob = max(sb.mu_axial, sb.mu_lateral) * np.abs(seg["w"]) / (sb.tangential_stiffness
-                                                                     * seg["d"])
-        q_scale = np.concatenate([q_scale, np.full(2 * (N + 1), float(np.median(mob)) or 1e-3)])
+        q_scale = np.concatenate([q_scale, np.full(2 * (N + 1), bristle_scale(sb, seg))])
     scales = Scales(q=q_scale, v=np.full(n_q, math.sqrt(env.gravity * L)),
                     z=np.zeros(0), force=F, mass=max(total_mass, 1e-6), residual_floor=floor)
     static = {"motion": np.zeros(1)}
@@ -416,30 +375,6 @@ def build_cable3d(scene: Scene, part: str | None = None,
         stability_coordinates=np.arange(n_q) if bristle else None)
 
 
-def _seabed_damper(sb, Vm, pen, dlt, area, term_names):
-    """Nodal forces (3, N+1) of the seabed's normal damper, N: -damping b v_z times the
-    contact's smooth on-off factor 0.5 (1 + g / sqrt(g^2 + delta^2)) (b = ``area``, the node's
-    contact width x length, m^2; g the penetration, m); zero at rest, built only where the
-    scene asks."""
-    out = ca.SX.zeros(3, Vm.shape[1])
-    if sb.damping > 0:
-        term_names.append("seabed damping")
-        on = 0.5 * (1.0 + pen / ca.sqrt(pen * pen + dlt * dlt))
-        out[2, :] = -sb.damping * ca.DM(area).T * Vm[2, :] * on
-    return out
-
-
-def _profile_current(rows, z):
-    """The current (3, N) at depths ``z`` (1, N), m: linear between the profile's rows (z
-    ascending), held beyond the first and the last, written as a sum of ramps."""
-    r = np.asarray(rows, float)
-    zk, U = r[:, 0], r[:, 1:4]
-    slopes = np.diff(U, axis=0) / np.diff(zk)[:, None]
-    kinks = np.vstack([slopes[:1], np.diff(slopes, axis=0), -slopes[-1:]])  # (n, 3)
-    out = ca.repmat(ca.DM(U[0]), 1, z.shape[1])
-    for k in range(len(zk)):
-        out = out + ca.mtimes(ca.DM(kinks[k]), ca.fmax(z - zk[k], 0.0))
-    return out
 
 
 def _consistent_mass(halves, acc, moving, N):
@@ -467,13 +402,6 @@ def _consistent_mass(halves, acc, moving, N):
                     inertia[rows(i)] = inertia[rows(i)] - ca.mtimes(half / 3.0, acc[h])
     return M, inertia
 
-
-def _lumped(seg) -> np.ndarray:
-    """Submerged weight lumped on the nodes (N+1,), N: half of each adjacent segment."""
-    out = np.zeros(len(seg["ds"]) + 1)
-    out[:-1] += 0.5 * seg["w"] * seg["ds"]
-    out[1:] += 0.5 * seg["w"] * seg["ds"]
-    return out
 
 
 def _node_index(N, moving) -> np.ndarray:

@@ -16,8 +16,9 @@ its scene needs:
   current profile, consistent mass, slack continuation);
 - otherwise the generalised rod (named ``"hybrid"``; a guided end on a cable3d section
   with EI > 0 holds its tangent by cable3d's bending term and a ghost that moves with the
-  node; cable3d edges with EI = 0 take the tension-only law at its sharp corner). Not yet
-  (refused, as the rod): seabed contact, a current profile.
+  node; cable3d edges with EI = 0 take the tension-only law at its sharp corner), with
+  cable3d's seabed contact, friction and current profile on every node
+  (:mod:`.rod_loads`).
 
 ``zones = "auto"`` scenes are resolved first (:func:`symcable.rod_static.hybrid_zones`, a
 static solve, which no formulation may call): this module refuses them.

@@ -32,8 +32,11 @@ frame at the end node and M_t = GJ (theta_0 - twist) / (ds / 2)). With no clampe
 edge's twist is held at 0 (the rod's spin about itself is otherwise undetermined); a rod
 needs GJ > 0 (an isotropic rod's twists are otherwise singular).
 
-Not yet: seabed contact (a scene whose rod can reach the bed is refused), a current
-profile, the consistent mass, natural curvature.
+Seabed and water (:mod:`.rod_loads`, cable3d's :mod:`.seabed3d` on the rod's nodes): a
+flat seabed's smooth penalty contact, normal damper and friction by ``seabed.friction_law``
+(regularised Coulomb; the bristle law's deflections are first-order states, the last
+entries of q, node by node), static friction ``"laid"``; ``environment.current_profile``
+at each element's mid-depth. Not yet: the consistent mass, natural curvature.
 
 ``model = "hybrid"`` (:mod:`.hybrid`) builds this Mechanism with a per-segment mask ``rod``
 (:mod:`.hybrid_terms`): the rod's terms on its rod sections, cable3d's elsewhere.
@@ -51,7 +54,8 @@ B, else straight down, with :func:`~symcable.models.rod_frames.reference_directo
 
 Parameters (blocks): ``load``, ``end_a.position``, ``end_b.position``, ``current``,
 ``motion``, ``ramp`` (as cable3d's), ``end_a.twist``, ``end_b.twist`` (a clamp's twist,
-rad; continuation and the Greenhill test move them) and ``frame`` (6 N: the anchors).
+rad; continuation and the Greenhill test move them), ``frame`` (6 N: the anchors) and,
+with static friction, cable3d's ``static_friction`` and ``laid``.
 """
 from __future__ import annotations
 
@@ -62,7 +66,7 @@ import numpy as np
 
 from ..errors import SymcableError
 from ..scene import EndCondition, Scene
-from .cable3d import _element_kernel, _held, _lumped
+from .cable3d import _element_kernel, _held
 from .cable3d_drag import law_table
 from .cable3d_starts import force_scale, starts_of
 from .hybrid_terms import axial_law, cable_bending, rod_mask, rod_vertices, spun_edges
@@ -70,6 +74,8 @@ from .mechanism import Bound, Layout, Mechanism, Output, ParamBlocks, PartLayout
 from .planar import CABLE_COMPRESSION, FOLD_PUSH, segment_table
 from .relax import _ramp_integral
 from .rod_frames import end_moment_force, reference_director, transport, vertex_kernel
+from .rod_loads import rod_mass, rod_seabed, seabed_setup, water_velocity
+from .seabed3d import lumped as _lumped, reaction_bound
 
 __all__ = ["build_rod", "default_anchors", "rod_table"]
 
@@ -152,12 +158,6 @@ def build_rod(scene: Scene, rod: np.ndarray | None = None) -> Mechanism:
     guided = [e.guided for e in (a, b)]
     if all(free):
         raise SymcableError(f"scene {scene.name!r}: both ends free; hold one end")
-    held_z = [e.position[2] for e in (a, b) if e.position is not None]
-    if scene.seabed is not None and min(held_z) - scene.length <= -env.depth:
-        raise SymcableError(f"scene {scene.name!r}: model = 'rod' has no seabed contact yet, "
-                            f"and the rod can reach the seabed at depth {env.depth:g} m (its "
-                            f"lowest held end at z = {min(held_z):g} m, length "
-                            f"{scene.length:g} m): raise it, or shorten it")
     for k, (end, j) in enumerate(((a, 0), (b, N - 1))):
         if guided[k] and not rod[j] and seg["EI"][j] <= 0.0:
             raise SymcableError(f"scene {scene.name!r}: end_{'ab'[k]} is guided, but its "
@@ -167,12 +167,15 @@ def build_rod(scene: Scene, rod: np.ndarray | None = None) -> Mechanism:
     col = np.cumsum(rod) - 1  # each rod edge's column in the frame block
     n_rod = int(np.sum(rod))
     anchors = default_anchors(scene, N)[:6 * n_rod]
+    rubs, bristle, laid = seabed_setup(scene, seg)
     # no rod edge (a hybrid of cable3d sections with a guided end): no frame block
-    params = ParamBlocks(P_NAMES + (("frame",) if n_rod else ()),
-                         P_SIZES + ((6 * n_rod,) if n_rod else ()), np.concatenate([
-        [1.0], a.position if a.position is not None else np.zeros(3),
-        b.position if b.position is not None else np.zeros(3), env.current, [1.0], [1.0],
-        twists, anchors]))
+    params = ParamBlocks(P_NAMES + (("frame",) if n_rod else ()) + (
+        ("static_friction", "laid") if laid is not None else ()),
+        P_SIZES + ((6 * n_rod,) if n_rod else ()) + ((1, laid.size) if laid is not None
+                                                     else ()), np.concatenate([
+            [1.0], a.position if a.position is not None else np.zeros(3),
+            b.position if b.position is not None else np.zeros(3), env.current, [1.0], [1.0],
+            twists, anchors] + ([[0.0], laid] if laid is not None else [])))
     p = ca.SX.sym("p", params.n)
     sl = params.slice
     load, pa, pb, current = p[0], p[sl("end_a.position")], p[sl("end_b.position")], p[7:10]
@@ -184,8 +187,10 @@ def build_rod(scene: Scene, rod: np.ndarray | None = None) -> Mechanism:
     spun = spun_edges(rod, clamped)  # twists in q
     n_x = 3 * len(moving)
     slots = _slots(N, moving, spun)
-    q = ca.SX.sym("q", n_x + len(spun))
-    v = ca.SX.sym("v", q.numel())
+    n_v = n_x + len(spun)
+    q_all = ca.SX.sym("q", n_v + (2 * (N + 1) if bristle else 0))  # bristles last
+    q = q_all[:n_v]
+    v = ca.SX.sym("v", n_v)
     X, V = [None] * (N + 1), [None] * (N + 1)
     for i in moving:
         k = slots[("x", i)]
@@ -204,14 +209,12 @@ def build_rod(scene: Scene, rod: np.ndarray | None = None) -> Mechanism:
     row = lambda key: ca.DM(seg[key]).T  # noqa: E731
     BA = np.array([s.line_type.damping for s in scene.sections for _ in range(s.segments)])
     BA = np.where(BA < 0, -BA * np.sqrt(seg["EA"] * seg["mass"]) * seg["ds"], BA)
-    if env.current_profile:
-        raise SymcableError(f"scene {scene.name!r}: model = 'rod' takes a uniform current "
-                            "for now (remove environment.current_profile)")
     EAs, delta = axial_law(seg, rod, F)
     fa, fb, T, e = _element_kernel(drag_law["shape"] if drag_law else None).map(N)(
-        Xm[:, :-1], Xm[:, 1:], Vm[:, :-1], Vm[:, 1:], ca.repmat(current, 1, N), row("ds"),
-        row("EA"), ca.DM(BA).T, ca.DM(EAs).T, ca.DM(delta).T, F, row("w"), row("d"),
-        row("cdn"), row("cdt"), rho, load, *([ca.DM(drag_law["law"]).T] if drag_law else []))
+        Xm[:, :-1], Xm[:, 1:], Vm[:, :-1], Vm[:, 1:], water_velocity(scene, current, Xm),
+        row("ds"), row("EA"), ca.DM(BA).T, ca.DM(EAs).T, ca.DM(delta).T, F, row("w"),
+        row("d"), row("cdn"), row("cdt"), rho, load,
+        *([ca.DM(drag_law["law"]).T] if drag_law else []))
     nodal = ca.horzcat(fa, ca.SX.zeros(3, 1)) + ca.horzcat(ca.SX.zeros(3, 1), fb)
     torque = ca.SX.zeros(1, N)
 
@@ -316,6 +319,11 @@ def build_rod(scene: Scene, rod: np.ndarray | None = None) -> Mechanism:
             internal[:, i - 1] += fp[:, k]
     if cb is not None:
         internal += cb["straddle"]
+    # the seabed (contact, damper, friction) on the nodes: a held end's goes to its support
+    sea = rod_seabed(scene, seg, Xm, Vm, nodal, q_all[n_v:] if bristle else None,
+                     p[sl("laid")] if laid is not None else None,
+                     p[sl("static_friction")] if laid is not None else None)
+    nodal = sea.nodal
 
     applied = np.zeros((3, N + 1))
     for end, i in ((a, 0), (b, N)):
@@ -333,19 +341,7 @@ def build_rod(scene: Scene, rod: np.ndarray | None = None) -> Mechanism:
                 Xm[:, j], Xm[:, j + 1], theta[j], frame[0:3, col[j]], frame[3:6, col[j]],
                 ca.DM(end.moment), q)
 
-    A_w = math.pi * seg["d"] ** 2 / 4.0
-    blocks = [ca.SX.zeros(3, 3) for _ in range(N + 1)]
-    can = np.array([s.line_type.ca_normal for s in scene.sections for _ in range(s.segments)])
-    cat = np.array([s.line_type.ca_tangential for s in scene.sections for _ in range(s.segments)])
-    for j in range(N):
-        dx = Xm[:, j + 1] - Xm[:, j]
-        tt = ca.mtimes(dx, dx.T) / ca.dot(dx, dx)
-        blk = 0.5 * seg["mass"][j] * seg["ds"][j] * ca.SX.eye(3) + 0.5 * rho * A_w[j] * \
-            seg["ds"][j] * (can[j] * (ca.SX.eye(3) - tt) + cat[j] * tt)
-        blocks[j] += blk
-        blocks[j + 1] += blk
-    spin = seg["mass"] * seg["d"] ** 2 / 8.0 * seg["ds"]  # kg m^2 per edge
-    mass = ca.diagcat(*[blocks[i] if kind == "x" else ca.SX(spin[i]) for kind, i in slots])
+    mass = rod_mass(scene, seg, Xm, rho, slots)
 
     d1 = []  # the current reference directors (the re-anchoring output)
     for j in np.flatnonzero(rod):
@@ -361,6 +357,7 @@ def build_rod(scene: Scene, rod: np.ndarray | None = None) -> Mechanism:
         - load * ca.dot(ca.DM(applied.T.ravel()), ca.vec(Xm))
     if cb is not None:
         potential += cb["energy"]
+    potential += sea.energy
     outputs = {
         "positions": Output(Xm.T, "m", owner, "node positions (x, y, z)"),
         "velocities": Output(ca.densify(Vm.T), "m/s", owner, "node velocities (x, y, z)"),
@@ -376,8 +373,10 @@ def build_rod(scene: Scene, rod: np.ndarray | None = None) -> Mechanism:
         "twisting_moment": Output(mt.T, "N m", owner, "twisting moment GJ tau at each node"),
         "internal_force": Output(internal.T, "N", owner, "internal force across each edge "
                                  "(on the part towards end A; the seed's f): tension and shear"),
-        "contact_force": Output(ca.SX.zeros(N + 1, 1), "N", owner, "seabed contact force "
-                                "on each node (none yet: the rod has no seabed)"),
+        "contact_force": Output(sea.contact.T, "N", owner, "seabed contact force on each "
+                                "node"),
+        **({"friction_force": Output(sea.friction.force.T, "N", owner, "seabed friction force "
+                                     "on each node (x, y)")} if rubs else {}),
         "end_force_a": Output(end_force[0], "N", owner, "force of the rod on end A"),
         "end_force_b": Output(end_force[N], "N", owner, "force of the rod on end B"),
         **({"reference_frame": Output(ca.vertcat(*d1), "1", owner, "each rod edge's tangent "
@@ -385,9 +384,9 @@ def build_rod(scene: Scene, rod: np.ndarray | None = None) -> Mechanism:
                                       "block)")} if d1 else {}),
         "kinetic_energy": Output(0.5 * ca.dot(v, ca.mtimes(mass, v)), "J", owner,
                                  "kinetic energy"),
-        "potential_energy": Output(potential, "J", owner, "bending, twisting, axial, gravity "
-                                   "and applied-force potential energy (the axial term "
-                                   "without the wall's)"),
+        "potential_energy": Output(potential, "J", owner, "bending, twisting, axial, gravity, "
+                                   "contact and applied-force potential energy (the axial "
+                                   "term without the wall's)"),
     }
     L = scene.length
     coord = L + max((float(np.max(np.abs(x.position))) for x in (a, b)
@@ -395,10 +394,13 @@ def build_rod(scene: Scene, rod: np.ndarray | None = None) -> Mechanism:
     floor = 100.0 * np.finfo(float).eps * float(np.max(seg["EA"] / seg["ds"])) * coord
     vx = math.sqrt(env.gravity * L)
     is_x = np.concatenate([[kind == "x"] * (3 if kind == "x" else 1) for kind, _ in slots])
-    scales = Scales(q=np.where(is_x, 0.1 * L, 1.0), v=np.where(is_x, vx, vx / L),
+    scales = Scales(q=np.concatenate([np.where(is_x, 0.1 * L, 1.0),
+                                      np.full(q_all.numel() - n_v, sea.state_scale)]),
+                    v=np.where(is_x, vx, vx / L),
                     z=np.zeros(0), force=F, mass=max(float(np.sum(seg["mass"] * seg["ds"])),
                                                      1e-6), residual_floor=floor)
-    static = {"motion": np.zeros(1)}
+    static = {"motion": np.zeros(1), **({"static_friction": np.ones(1)} if laid is not None
+                                        else {})}
     lo, hi = twists
 
     def starts():
@@ -408,18 +410,21 @@ def build_rod(scene: Scene, rod: np.ndarray | None = None) -> Mechanism:
         for st in starts_of(scene, seg, params, moving):
             x = st.q.reshape(-1, 3)
             yield Start(np.concatenate([x[moving.index(i)] if kind == "x" else th[i:i + 1]
-                                        for kind, i in slots]), st.z,
-                        st.p, st.source, st.homotopy)
+                                        for kind, i in slots] + [np.zeros(q_all.numel() - n_v)]),
+                        st.z, params.with_values(st.p, **static) if laid is not None else st.p,
+                        st.source, st.homotopy)
     node_q = -np.ones((N + 1, 3), dtype=int)
     for i in moving:
         node_q[i] = slots[("x", i)] + np.arange(3)
     layout = Layout(3, {owner: PartLayout(
         "line", seg["s"], node_q, node_q,
-        {i: name for i, name in ((0, "end_a"), (N, "end_b")) if i not in moving})})
+        {i: name for i, name in ((0, "end_a"), (N, "end_b")) if i not in moving})},
+        sea.states)
     terms = ["elastic", "weight"] + (["bending"] if verts or cb is not None else []) + (
         ["torsion"] if verts else []) + (
         ["material damping"] if np.any(BA) else []) + (
-        ["drag"] if rho > 0 and any(env.current) else []) + (
+        ["drag"] if rho > 0 and (any(env.current) or env.current_profile) else []) + (
+        sea.terms) + (
         ["end force"] if np.any(applied) else []) + (
         ["end moment"] if any(x.moment is not None and any(x.moment) for x in (a, b)) else []) + (
         ["tension-torsion coupling"] if coupled else [])
@@ -431,9 +436,15 @@ def build_rod(scene: Scene, rod: np.ndarray | None = None) -> Mechanism:
         bounds["cable_axial_force"] = Bound(T.T[cab.tolist()], lower=-push[cab], unit="N",
                                             scale=F, what="a cable (EI = 0) carries no "
                                             "compression")
+    if scene.seabed is not None:
+        bounds["seabed_reaction"] = reaction_bound(
+            scene, seg, sea.contact, applied,
+            seg["cdn"] if drag_law is None else drag_law["normal_bound"], rho, current, F)
     return Mechanism(
-        name="rod" if whole else "hybrid", q=q, v=v, z=ca.SX.sym("z", 0), t=t, p=p,
+        name="rod" if whole else "hybrid", q=q_all, v=v, z=ca.SX.sym("z", 0), t=t, p=p,
         params=params, mass=mass, force=force, constraint=ca.SX.zeros(0, 1), scales=scales,
         starts=starts, outputs=outputs, layout=layout, terms=tuple(terms),
-        static_params=static, bounds=bounds)
+        static_params=static, bounds=bounds,
+        kinematics=ca.vertcat(v, sea.rate) if bristle else None, rest=sea.rest,
+        stability_coordinates=np.arange(n_v) if bristle else None)
 

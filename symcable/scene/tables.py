@@ -107,7 +107,7 @@ def _seabed(data: Mapping, env: Environment) -> Seabed | None:
 
 def _check_friction_options(seabed: Seabed | None, model: str, several: bool,
                             ends: Mapping | None) -> None:
-    """The seabed's friction law and static friction where they apply: cable3d, one line
+    """The seabed's friction law and static friction where they apply: the 3D lines, one line
     (``several``: scene version 2), both ends held for static friction; the bristle law with
     both coefficients positive (its limit surface divides by each)."""
     if seabed is None:
@@ -116,9 +116,9 @@ def _check_friction_options(seabed: Seabed | None, model: str, several: bool,
                                                         ("static_friction", "none"))
                if getattr(seabed, k) != d]
     for key, value, _ in options:
-        if model != "cable3d":
-            raise _err(f"seabed.{key}", value, "", "a cable3d option (model = 'cable3d'); the "
-                                                   "planar line's seabed is frictionless")
+        if model not in ("cable3d", "rod", "hybrid"):
+            raise _err(f"seabed.{key}", value, "", "a cable3d option (model = 'cable3d', "
+                       "'rod' or 'hybrid'); the planar line's seabed is frictionless")
         if several:
             raise _err(f"seabed.{key}", value, "", "runs on one-line scenes for now (scene "
                                                    "version 1: [[sections]], end_a, end_b)")

@@ -22,11 +22,13 @@ from ..derive_static import SOLVE_MAX_ITER
 from ..errors import ConvergenceError, SymcableError
 from ..models.mechanism import Mechanism
 from ..results_mechanism import Equilibrium
+from ..linalg.eigen import lowest_eigenpair
 from .newton import NewtonResult, newton
 
 __all__ = ["constraint_null_space", "solve_equilibrium"]
 
-#: largest system whose stability is checked by a dense eigenvalue solve
+#: largest system whose stability is checked (the lowest eigenvalue of the tangent: banded
+#: lines in n b^2, others by a dense solve, n^3; symcable.linalg.eigen)
 STABILITY_MAX_N = 3000
 
 
@@ -148,13 +150,15 @@ def _unstable_direction(F, mech, q, z, p):
     if F.massless or mech.rest is not None:  # first-order states: eliminated as internal
         return _schur_direction(F, mech, q, z, p)
     K, _, _, B, *_ = F.tangents(q, np.zeros(mech.n_v), z, 0.0, p)
-    K = np.asarray(K)
-    N = constraint_null_space(np.asarray(B), mech.n_q)
+    K, B = np.asarray(K), np.asarray(B)
+    if B.size == 0 and K.size:  # no constraints: K itself (no n^3 products with I)
+        return lowest_eigenpair(0.5 * (K + K.T))
+    N = constraint_null_space(B, mech.n_q)
     Kr = N.T @ (0.5 * (K + K.T)) @ N
     if Kr.size == 0:
         return float("inf"), np.zeros(mech.n_q)
-    lam, vec = np.linalg.eigh(Kr)
-    return float(lam[0]), N @ vec[:, 0]
+    lam, vec = lowest_eigenpair(Kr)  # banded where the line orders its unknowns
+    return lam, N @ vec
 
 
 def _schur_direction(F, mech, q, z, p):
@@ -176,11 +180,11 @@ def _schur_direction(F, mech, q, z, p):
     S = Kcc - Kci @ X
     if S.size == 0:
         return float("inf"), np.zeros(mech.n_q)
-    lam, vec = np.linalg.eigh(0.5 * (S + S.T))
+    lam, vec = lowest_eigenpair(0.5 * (S + S.T))
     direction = np.zeros(mech.n_q)
-    direction[c] = vec[:, 0]
-    direction[i] = -X @ vec[:, 0]
-    return float(lam[0]), direction
+    direction[c] = vec
+    direction[i] = -X @ vec
+    return lam, direction
 
 
 def _stability(F, mech, q, z, p):

@@ -14,7 +14,6 @@ from __future__ import annotations
 import math
 import time
 from collections import OrderedDict
-from dataclasses import dataclass
 
 import casadi as ca
 import numpy as np
@@ -27,6 +26,7 @@ from .options import RK4, GeneralizedAlpha, GeneralizedAlphaFirstOrder
 from .schedule import runs, with_checkpoints
 from .stepcache import STEP_CACHE, maybe_compiled
 from .steps import galpha_step, rk4_step
+from .time_estimate import EstimatePlan, RunningEstimate, leaky_sum  # noqa: F401 (re-exported)
 
 __all__ = ["BLOWUP", "IMPLICIT", "EstimatePlan", "RunningEstimate", "leaky_sum", "method_name", "run_adaptive",
            "get_stepper", "run_fixed"]
@@ -38,10 +38,6 @@ BLOWUP = 1e6
 _CALL_TARGET = 0.2
 #: adaptive steps: safety factor, largest growth and cut per batch
 SAFETY, GROW, CUT = 0.8, 2.0, 0.2
-#: steps the running error estimate takes at once (its arrays stay in the cache)
-_CHUNK = 256
-#: smallest range of the motion (relative to the scales) the error estimate is relative to
-MOTION_FLOOR = 1e-6
 #: a fixed step whose Newton iteration fails is retried as 2, 4, ... up to this many substeps
 MAX_SUBSTEPS = 16
 
@@ -50,114 +46,6 @@ def method_name(method) -> str:
     """The method's name in stats and messages."""
     return {GeneralizedAlpha: "generalized-alpha",
             GeneralizedAlphaFirstOrder: "generalized-alpha-first-order"}.get(type(method), "rk4")
-
-
-@dataclass(frozen=True)
-class EstimatePlan:
-    """How a method's steps feed the running error estimate (:class:`RunningEstimate`).
-
-    ``kind``: ``"rates"`` (first-order generalized-alpha: the local error of y = (q, v) from
-    the second difference of the carried rates y', C h |y'_{n+1} - 2 y'_n + y'_{n-1}|, C the
-    scheme's error constant), ``"step"`` (second-order generalized-alpha: the step's own
-    Newmark estimate of the position error, its ``lte`` output) or ``"none"`` (RK4). The
-    estimate and the range of the motion cover the ``n_est`` leading entries of the state
-    (y, or q), over ``scale``."""
-
-    kind: str
-    n_est: int
-    scale: np.ndarray
-    constant: float = 0.0
-
-    @staticmethod
-    def of(mech: Mechanism, method) -> "EstimatePlan":
-        sq, sv = (np.asarray(s, dtype=float) for s in (mech.scales.q, mech.scales.v))
-        if isinstance(method, GeneralizedAlphaFirstOrder):
-            return EstimatePlan("rates", mech.n_q + mech.n_v, np.concatenate([sq, sv]),
-                                method.error_constant)
-        if isinstance(method, GeneralizedAlpha):
-            return EstimatePlan("step", mech.n_q, sq)
-        return EstimatePlan("none", 0, np.zeros(0))
-
-
-class RunningEstimate:
-    """The run's error estimate, fed with every step's state as the run goes (in NumPy, on
-    the states the batched calls return: nothing is added to the step itself).
-
-    Each step's local error d_j relative to the scales (max-norm; :class:`EstimatePlan`)
-    feeds a leaky sum E_{j+1} = exp(-h / tau) E_j + d_j. The global error of a response of
-    period P = 2 pi tau is about the local errors of its last radian: a harmonic error
-    source of d per step, d / h per unit time, integrated over time gives an error of
-    amplitude d / (h omega), local error times steps per radian; the leak forgets older
-    errors as a forced, damped response does. A step whose three carried rates do not all
-    come from steps of its size adds nothing (the first two of a run, and the two after a
-    change of step: the rates carry an offset proportional to h). Also kept: the least and
-    largest value of each covered state entry (the range of the motion)."""
-
-    def __init__(self, plan: EstimatePlan, x: np.ndarray, tau: float):
-        self.plan, self.tau = plan, tau
-        y = np.asarray(x, dtype=float)
-        n = plan.n_est
-        self.lo, self.hi = y[:n].copy(), y[:n].copy()
-        self.rates = y[n:2 * n].copy() if plan.kind == "rates" else None  # the last y'
-        self.prev_rates = None  # the y' before it
-        self.h_prev = (math.nan, math.nan)  # sizes of the steps that made them
-        self.E, self.E_max = 0.0, 0.0
-
-    def update(self, h: float, X: np.ndarray, lte: np.ndarray) -> None:
-        """Take k more steps of size h (s): their states X (k, n_x) and lte (k,)."""
-        if self.plan.kind == "none":
-            return
-        for s in range(0, X.shape[0], _CHUNK):  # pieces that stay in the cache
-            self._update(h, X[s:s + _CHUNK], lte[s:s + _CHUNK])
-
-    def _update(self, h, X, lte):
-        plan, k = self.plan, X.shape[0]
-        n = plan.n_est
-        self.lo = np.minimum(self.lo, X[:, :n].min(axis=0))
-        self.hi = np.maximum(self.hi, X[:, :n].max(axis=0))
-        if plan.kind == "step":
-            d = np.maximum(np.asarray(lte, dtype=float), 0.0)
-        else:
-            R = np.vstack([self.prev_rates if self.prev_rates is not None else self.rates,
-                           self.rates, X[:, n:2 * n]])
-            d2 = np.abs(R[2:] - 2.0 * R[1:-1] + R[:-2]) * (1.0 / plan.scale)
-            d = plan.constant * h * np.max(d2, axis=1)
-            if not (h == self.h_prev[0] and h == self.h_prev[1]):
-                d[0] = 0.0
-            if k > 1 and not h == self.h_prev[0]:
-                d[1] = 0.0
-            self.prev_rates = R[-2].copy()
-            self.rates = R[-1].copy()
-        self.h_prev = (h, h) if k > 1 else (h, self.h_prev[0])
-        E = leaky_sum(self.E, d, h / self.tau)
-        self.E, self.E_max = float(E[-1]), max(self.E_max, float(np.max(E)))
-
-    def stats(self) -> dict:
-        """``error_estimate_scaled`` (the largest running estimate, relative to the scales),
-        ``motion_range`` (max_i (hi_i - lo_i) / scale_i over the run) and ``error_estimate``
-        (their ratio: the error relative to the range of the motion, or to MOTION_FLOOR
-        when the motion is smaller: a state at rest up to round-off is not a motion); None
-        without an estimate (RK4)."""
-        if self.plan.kind == "none":
-            return {"error_estimate": None, "error_estimate_scaled": None, "motion_range": None}
-        rng = float(np.max((self.hi - self.lo) / self.plan.scale)) if self.lo.size else 0.0
-        e = self.E_max
-        return {"error_estimate": e / max(rng, MOTION_FLOOR), "error_estimate_scaled": e,
-                "motion_range": rng}
-
-
-def leaky_sum(E0: float, d: np.ndarray, a: float) -> np.ndarray:
-    """E_j = exp(-a) E_{j-1} + d_j from E0, for every j, in chunks short enough that
-    exp(a j) stays below e^30 (E_j = exp(-a j) (E0 + sum_i exp(a i) d_i) within a chunk)."""
-    out = np.empty(d.size)
-    c = max(1, int(30.0 / a)) if a > 0 else max(d.size, 1)
-    E = E0
-    for s in range(0, d.size, c):
-        dd = d[s:s + c]
-        j = a * np.arange(1, dd.size + 1)
-        out[s:s + dd.size] = np.exp(-j) * (E + np.cumsum(np.exp(j) * dd))
-        E = out[s + dd.size - 1]
-    return out
 
 
 class _Stepper:
@@ -399,7 +287,10 @@ def _replay(stepper, x, k, t0, h, p, n_max, save_set, inv_scale, track, sub, S=N
             failed = FL[0] > 0
         except RuntimeError as exc:
             X, failed, message = None, True, str(exc).strip().splitlines()[-1]
-        if failed and isinstance(stepper.method, IMPLICIT):
+        # a Newton iteration that failed, or one that ran off to a blown-up state without
+        # saying so (a violent start: the iterate left the basin), is retried in substeps
+        bad = X is not None and bool(_bad_state(X, inv_scale)[0])
+        if (failed or bad) and isinstance(stepper.method, IMPLICIT):
             done = _substeps(stepper, x, t0 + k * h, h, p, inv_scale, track, sub)
             if done is not None:
                 x, k, through = done[0], k + 1, True
@@ -411,7 +302,7 @@ def _replay(stepper, x, k, t0, h, p, n_max, save_set, inv_scale, track, sub, S=N
             diag.update(reason="error", message=message, residual=float("nan"))
             return diag, x, k, saved, good_iters
         x1 = X[0]
-        if _bad_state(X, inv_scale)[0]:
+        if bad:
             n = inv_scale.size
             with np.errstate(invalid="ignore", over="ignore"):
                 rel = np.abs(x1[:n]) * inv_scale
@@ -422,7 +313,8 @@ def _replay(stepper, x, k, t0, h, p, n_max, save_set, inv_scale, track, sub, S=N
                         worst=f"q[{i}]" if i < nq else f"v[{i - nq}]")
             return diag, x, k, saved, good_iters
         if failed:
-            diag.update(reason="newton", newton_iterations=int(IT[0]) if stepper.full else None,
+            its = int(IT[0]) if stepper.full and np.isfinite(IT[0]) else None
+            diag.update(reason="newton", newton_iterations=its,
                         newton_correction=float(E[0]), residual=float(E[0]), _x=(x, x1))
             return diag, x, k, saved, good_iters
         x, k = x1, k + 1

@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+import math
 import os
 import shutil
 import subprocess
@@ -46,7 +47,7 @@ from .progress import notice
 
 __all__ = ["CodegenWarning", "FastCall", "cache_dir", "cache_info", "cached_only", "clear_cache",
            "compile_functions", "compiler", "export_sources", "graph_size", "use_codegen",
-           "DEFAULT_MAX_SIZE", "FLAGS"]
+           "DEFAULT_MAX_SIZE", "FLAGS", "OPTIMISATION", "flags_for"]
 
 #: compiler flags of cached libraries (part of the cache key). -O2: on the generated step
 #: and Newton functions it is within a few % of -O3 and compiles faster.
@@ -60,6 +61,13 @@ FORMAT = 1
 #: gain per call stays a constant factor; larger graphs run in the virtual machine unless
 #: asked (measured in studies/performance/scaling.py and its README)
 DEFAULT_MAX_SIZE = 5_000_000
+#: the optimisation level by graph size (:func:`graph_size`): [(largest size, flag)]. Every
+#: graph the default ``codegen=None`` compiles gets -O2 (FLAGS); larger ones, compiled only
+#: when asked (``codegen=True``), get less, since gcc's time grows faster than the C's
+#: length while the straight-line code gains little from -O2. Measured on the 8-segment
+#: rod's generalized-alpha step (1.06 MB of C, 3.9 M serialised; notes/rodc14.md): compile
+#: -O2 28 s, -O1 20 s, -O0 5.8 s; per step 47, 43, 85 us (the VM 472 us).
+OPTIMISATION = ((DEFAULT_MAX_SIZE, "-O2"), (4 * DEFAULT_MAX_SIZE, "-O1"), (math.inf, "-O0"))
 _ENV_CACHE = "SYMCABLE_CACHE_DIR"
 _ENV_DEFAULT = "SYMCABLE_CODEGEN"
 
@@ -198,15 +206,25 @@ def _compiler_id(cc: str) -> str:
 _cc_ids: dict = {}
 
 
-def _key(functions: Sequence[ca.Function], cc: str) -> str:
+def flags_for(size: int) -> tuple:
+    """The compiler flags for Functions of graph size ``size`` (:func:`graph_size`): FLAGS
+    with the optimisation level of :data:`OPTIMISATION`."""
+    level = next(flag for top, flag in OPTIMISATION if size <= top)
+    return (level,) + tuple(f for f in FLAGS if not f.startswith("-O"))
+
+
+def _key(functions: Sequence[ca.Function], cc: str) -> tuple[str, tuple]:
+    """(cache key, compiler flags) of ``functions``."""
     h = hashlib.sha256()
     if cc not in _cc_ids:
         _cc_ids[cc] = _compiler_id(cc)
-    h.update(f"symcable-codegen {FORMAT}|casadi {ca.__version__}|{_cc_ids[cc]}|{' '.join(FLAGS)}".encode())
-    for f in functions:
+    graphs = [f.serialize() for f in functions]
+    flags = flags_for(sum(len(g) for g in graphs))
+    h.update(f"symcable-codegen {FORMAT}|casadi {ca.__version__}|{_cc_ids[cc]}|{' '.join(flags)}".encode())
+    for f, g in zip(functions, graphs):
         h.update(f.name().encode())
-        h.update(f.serialize().encode())
-    return h.hexdigest()[:32]
+        h.update(g.encode())
+    return h.hexdigest()[:32], flags
 
 
 def _digest(path: Path) -> str:
@@ -313,7 +331,7 @@ def compile_functions(functions: Sequence[ca.Function], *, jacobians: bool = Fal
     funcs = list(functions)
     if jacobians:
         funcs = funcs + [f.jacobian() for f in funcs]
-    key = _key(funcs, cc)
+    key, flags = _key(funcs, cc)
     with _lock:
         if key in _loaded:
             last_build.update(key=key, action="memory", seconds=0.0)
@@ -330,21 +348,22 @@ def compile_functions(functions: Sequence[ca.Function], *, jacobians: bool = Fal
             return {f.name(): f for f in functions}
         if lib is None:
             notice(f"compiling {what} for this model (once, cached) …")
-            lib = _build(funcs, folder, key, cc)
+            lib = _build(funcs, folder, key, cc, flags)
             action = "compiled"
         loaded = {f.name(): ca.external(f.name(), str(lib)) for f in functions}
         _loaded[key] = loaded
-        last_build.update(key=key, action=action, seconds=time.perf_counter() - t0, library=str(lib))
+        last_build.update(key=key, action=action, seconds=time.perf_counter() - t0,
+                          library=str(lib), flags=list(flags))
         build_counts[action] += 1
         return loaded
 
 
-def _build(funcs, folder: Path, key: str, cc: str) -> Path:
+def _build(funcs, folder: Path, key: str, cc: str, flags: tuple = FLAGS) -> Path:
     with tempfile.TemporaryDirectory(dir=folder, prefix=".build-") as tmp:
         tmp = Path(tmp)
         src = _generate(funcs, tmp, f"sc_{key[:16]}")
         out = tmp / "lib.so"
-        cmd = [cc, *FLAGS, str(src), "-o", str(out), "-lm"]
+        cmd = [cc, *flags, str(src), "-o", str(out), "-lm"]
         proc = subprocess.run(cmd, capture_output=True, text=True)
         if proc.returncode != 0 or not out.exists():
             tail = " | ".join((proc.stderr or proc.stdout).strip().splitlines()[-3:])
@@ -354,7 +373,7 @@ def _build(funcs, folder: Path, key: str, cc: str) -> Path:
         if not lib.exists() or _digest(lib) != digest:
             os.replace(out, lib)
         meta = {"key": key, "library": lib.name, "sha256": digest, "casadi": ca.__version__,
-                "compiler": cc, "flags": list(FLAGS), "functions": [f.name() for f in funcs],
+                "compiler": cc, "flags": list(flags), "functions": [f.name() for f in funcs],
                 "created": time.strftime("%Y-%m-%dT%H:%M:%S%z")}
         _write_atomic(folder / f"{key}.json", json.dumps(meta, indent=1).encode())
         return lib

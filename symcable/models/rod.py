@@ -268,8 +268,8 @@ def build_rod(scene: Scene, rod: np.ndarray | None = None) -> Mechanism:
             cols["wn"].append(wn)
     iso = bool(np.all(seg["EI"][rod] == seg["EI2"][rod]))
     if verts:
-        out = vertex_kernel(iso, coupled).map(len(verts))(*[ca.horzcat(*c)
-                                                             for c in cols.values()])
+        kernel = vertex_kernel(iso, coupled, vertices=len(verts))
+        out = kernel.map(len(verts))(*[ca.horzcat(*c) for c in cols.values()])
     else:
         out = [ca.SX.zeros(n, 0) for n in (3, 3, 3, 1, 1, 1, 2, 1, 3, 1)]
     fp, f, fn, qp, qn, E, kappa, twist, M, Mt = out

@@ -31,11 +31,13 @@ EI_2 about m2. The rest shape is straight and untwisted (no natural curvature ye
 """
 from __future__ import annotations
 
+import math
+
 import casadi as ca
 import numpy as np
 
-__all__ = ["end_moment_force", "reference_director", "reference_twist", "transport",
-           "vertex_kernel"]
+__all__ = ["CALL_MIN_VERTICES", "end_moment_force", "reference_director", "reference_twist",
+           "transport", "vertex_kernel"]
 
 
 def reference_director(t) -> np.ndarray:
@@ -91,7 +93,20 @@ def _frame(e, theta, t0, u0):
     return t, d1, m1, ca.cross(t, m1)
 
 
-def vertex_kernel(isotropic: bool = False, coupled: bool = False) -> ca.Function:
+#: a rod with at least this many vertices gets the vertex kernel as a call
+#: (:func:`vertex_kernel`'s ``call``; ``vertices`` given). Default: never (the straight-line
+#: step is faster in the virtual machine, which runs large steps by default, and other
+#: studies time it). Measured (notes/rodc14.md, anisotropic rod with the frames' spin, one
+#: generalized-alpha step, 3 Newton iterations): 20 segments C 0.39 against 0.97 ms, VM
+#: 7.0 against 2.7 ms; 40 segments C 0.96 against 4.3 ms, VM 14 against 9.3 ms, compile
+#: 52 s (-O1) against 53 s (-O0). Set it (e.g. to 16) before the scene's Mechanism is
+#: first built (:func:`symcable.rod_static.rod_mechanism` keeps it per scene content) for
+#: runs in generated C (``codegen=True``) of long rods.
+CALL_MIN_VERTICES: float = math.inf
+
+
+def vertex_kernel(isotropic: bool = False, coupled: bool = False,
+                  call: bool | None = None, vertices: int = 0) -> ca.Function:
     """The elastic term of one vertex (module docstring). ``isotropic``: EI_1 = EI_2 on both
     edges (only ``Bp[0]``, ``Bn[0]`` read), the bending energy written without the frames,
     (EI_p + EI_n) |kb|^2 / 4 per 2 lbar (the same value: kb is perpendicular to both
@@ -115,7 +130,13 @@ def vertex_kernel(isotropic: bool = False, coupled: bool = False) -> ca.Function
     (twist = tau lbar), ebar = wp e_p + wn e_n the strains of the two edges (e = |edge| /
     ds - 1) weighted by their shares of the cell (0 for a ghost). Extra inputs ``K`` (N m),
     ``dsp``, ``dsn`` (the edges' rest lengths, m), ``wp``, ``wn``; ``Mt`` is then
-    GJ twist / lbar + K ebar."""
+    GJ twist / lbar + K ebar.
+
+    ``call``: a Function that is never inlined: an SX expression that calls it (mapped over
+    the vertices) holds one call node per vertex, its derivatives calls of the kernel's
+    forward derivative (one per direction: 11 per vertex), so generated C holds the kernel
+    and its derivative once, at some cost per evaluation (notes/rodc14.md). The same values."""
+    call = _call(call, vertices)
     xp, x, xn, t0p, u0p, t0n, u0n = (ca.SX.sym(n, 3) for n in
                                      ("xp", "x", "xn", "t0p", "u0p", "t0n", "u0n"))
     Bp, Bn = ca.SX.sym("Bp", 2), ca.SX.sym("Bn", 2)
@@ -129,8 +150,12 @@ def vertex_kernel(isotropic: bool = False, coupled: bool = False) -> ca.Function
     twist = thn - thp + reference_twist(t1, t2, t0p, u0p, t0n, u0n)
     if isotropic:
         bend = 0.5 * (Bp[0] + Bn[0]) * ca.dot(kb, kb)
-    else:
-        bend = 0.5 * (ca.dot(Bp, kp * kp) + ca.dot(Bn, kn * kn))
+    else:  # EI_1 k1^2 + EI_2 k2^2 = EI_1 |kb|^2 + (EI_2 - EI_1) k2^2 (kb is perpendicular
+        # to both tangents): one projection per edge, a fifth fewer operations in the Hessian
+        k2p = ca.cos(thp) * ca.dot(kb, ca.cross(t1, d1p)) - ca.sin(thp) * ca.dot(kb, d1p)
+        k2n = ca.cos(thn) * ca.dot(kb, ca.cross(t2, d1n)) - ca.sin(thn) * ca.dot(kb, d1n)
+        bend = 0.5 * ((Bp[0] + Bn[0]) * ca.dot(kb, kb) + (Bp[1] - Bp[0]) * k2p * k2p
+                      + (Bn[1] - Bn[0]) * k2n * k2n)
     E = (0.5 * bend + 0.5 * GJ * twist * twist) / lbar
     Mt = GJ * twist / lbar
     extra = []
@@ -148,7 +173,12 @@ def vertex_kernel(isotropic: bool = False, coupled: bool = False) -> ca.Function
     return ca.Function("rod_vertex", [xp, x, xn, thp, thn, t0p, u0p, t0n, u0n, Bp, Bn, GJ,
                                       lbar] + extra,
                        [-g[0:3], -g[3:6], -g[6:9], -g[9], -g[10], E, kn / lbar, twist, M, Mt],
-                       names_in, ["fp", "f", "fn", "qp", "qn", "E", "kappa", "twist", "M", "Mt"])
+                       names_in, ["fp", "f", "fn", "qp", "qn", "E", "kappa", "twist", "M", "Mt"],
+                       {"never_inline": True} if call else {})
+
+
+def _call(call: bool | None, vertices: int) -> bool:
+    return bool(call) if call is not None else vertices >= CALL_MIN_VERTICES
 
 
 def end_moment_force(xa, xb, theta, t0, u0, M, q):

@@ -98,10 +98,13 @@ def edge_spins(mech: Mechanism) -> list:
     frame = ca.reshape(mech.p[mech.params.slice("frame")], 6, -1)
     column = {j: c for c, j in enumerate(frame_edges(mech))}
     X = mech.outputs["positions"].expr
+    # q' (v for the nodes and twists; first-order states such as friction bristles after
+    # them have their own rates, which no edge depends on)
+    rate = v if mech.kinematics is None else mech.kinematics
     out = []
     for i, j in twist_edges(mech):
         e = (X[j + 1, :] - X[j, :]).T
-        ed = ca.jtimes(e, q, v) + ca.jacobian(e, mech.t)  # de/dt (a held end's position rate)
+        ed = ca.jtimes(e, q, rate) + ca.jacobian(e, mech.t)  # de/dt (a held end's position rate)
         out.append((int(i), mech.mass[i, i], e, ed, spin_coefficient(e, frame[0:3, column[j]]),
                     frame[0:3, column[j]]))
     return out
@@ -160,10 +163,7 @@ def with_reference_spin(mech: Mechanism) -> Mechanism:
         return out
     if "reference_frame" not in mech.outputs:
         return mech  # no anchored frames (a hybrid with no rod edge is cable3d's): no spin
-    if mech.kinematics is not None:
-        raise SymcableError(f"mechanism {mech.name!r}: not a rod (no reference_frame output, "
-                            "or kinematics other than q' = v)")
-    q, v, t = mech.q, mech.v, mech.t
+    v, t = mech.v, mech.t
     n = mech.n_v
     T_s = ca.SX(0.0)
     mass = ca.SX(mech.mass)

@@ -26,14 +26,28 @@ def _scene_summary(scene, n_unknowns: int, terms) -> str:
         return "\n".join(lines[:2] + _system_summary(scene))
     for k, sec in enumerate(scene.sections):
         lt = sec.line_type
+        ei = f"EI {lt.EI:.4g} N m^2" if getattr(lt, "EI_2", None) is None else \
+            f"EI {lt.EI:.4g}, {lt.EI_2:.4g} N m^2"
+        rod = scene.model.value == "rod" or getattr(sec, "model", None) == "rod"
+        kind = f", {sec.model or 'cable3d'}" if scene.model.value == "hybrid" else ""
         lines.append(f"  section {k}: {sec.length:.3f} m of '{lt.name}' in {sec.segments} segments "
-                     f"(EA {lt.EA:.4g} N, EI {lt.EI:.4g} N m^2, w {lt.weight:.4g} N/m)")
+                     f"(EA {lt.EA:.4g} N, {ei}" + (f", GJ {lt.GJ:.4g} N m^2" if rod else "")
+                     + f", w {lt.weight:.4g} N/m{kind})")
+    if getattr(scene, "zones", "given") == "auto":
+        lines.append("  zones      auto: rod sections chosen from the static tension "
+                     "(sc.solve_static reports them in stats['zones'])")
     for label, end in (("end_a", scene.end_a), ("end_b", scene.end_b)):
         extra = ""
         if end.position is not None:
             extra += f" at ({', '.join(f'{v:.3f}' for v in end.position)}) m"
         if end.angle_deg is not None:
             extra += f", angle {end.angle_deg:g} deg"
+        if getattr(end, "direction", None) is not None and scene.model.value != "planar":
+            extra += f", direction ({', '.join(f'{v:.4g}' for v in end.direction)})"
+        if getattr(end, "twist_deg", None) is not None:
+            extra += f", twist {end.twist_deg:g} deg"
+        if getattr(end, "moment", None) is not None:
+            extra += f", moment ({', '.join(f'{v:.4g}' for v in end.moment)}) N m"
         if end.force is not None:
             extra += f", force ({', '.join(f'{v:.4g}' for v in end.force)}) N"
         if end.motion is not None:
@@ -43,7 +57,8 @@ def _scene_summary(scene, n_unknowns: int, terms) -> str:
                       f", towed at {m.speed:g} m/s heading {m.heading_deg:g} deg"
                       + (f", {len(m.turns)} turn(s) over {m.period:g} s" if m.turns else "")
                       if m.kind == "tow" else f", harmonic motion of period {m.period:g} s")
-        lines.append(f"{label}      {end.condition.value}{extra}")
+        cond = "guided" if getattr(end, "guided", False) else end.condition.value
+        lines.append(f"{label}      {cond}{extra}")
     return "\n".join(lines)
 
 

@@ -277,3 +277,18 @@ def test_hybrid_conserves_energy_in_time():
     assert abs(math.log2(e4 / e2) - 2.0) < 0.4, (e4, e2)
     assert e2 < 1e-5
     assert abs(z4 - z2) < 1e-4
+
+
+def test_check_shows_each_section_model_and_the_guided_end(tmp_path, capsys):
+    """`symcable check` on a hybrid says which sections are rod and which cable3d, the rod
+    sections' torsion, and the guided end with its direction (a reader checks the scene
+    there before a long run)."""
+    import tomli_w
+
+    from symcable.cli import main
+    path = tmp_path / "hybrid.toml"
+    path.write_bytes(tomli_w.dumps(seed(20, sections=[(15, "cable3d"), (5, "rod")])).encode())
+    assert main(["check", str(path)]) == 0
+    out = capsys.readouterr().out
+    assert "cable3d)" in out and "rod)" in out and "GJ " in out
+    assert "guided, direction (" in out

@@ -134,13 +134,8 @@ def test_rod_friction_laws_statics_are_cable3d(law, static):
 L, T, A, EPS = 40.0, 200.0, 5.0, 0.01
 
 
-def _drag(direction, mu_a, mu_l, law="coulomb"):
-    """tests/test_cable3d_friction.py's drag with a rod (EI = 10 N m^2, small: the line
-    bows only when dragged across): both ends move together, 5 m over 200 s; at t = 1.75 T
-    the ends move at their fastest (no acceleration). Returns (the end forces' sum, N; the
-    friction mu = 1 of the grounded weight at that speed, N: the regularised Coulomb law's
-    N v / sqrt(v^2 + v_eps^2), the bristle law's N). The bristle law's states take the
-    first-order generalized-alpha (rho_inf = 0, as cable3d's bristle tests), at 1 s."""
+def _drag_scene(direction, mu_a, mu_l, law) -> dict:
+    """A 20-segment rod laid on the bed, both ends moved together along ``direction``."""
     amp = [A * direction[0], A * direction[1], 0.0]
     motion = {"kind": "harmonic", "period": T, "amplitude": amp, "phase_deg": [0.0, 0.0, 0.0]}
     d = {"model": "rod", "environment": {"depth": 50.0},
@@ -153,6 +148,17 @@ def _drag(direction, mu_a, mu_l, law="coulomb"):
          "end_a": {"condition": "pinned", "position": [0.0, 0.0, -50.0], "motion": motion},
          "end_b": {"condition": "pinned", "position": [L * (1 + 5e-4), 0.0, -50.0],
                    "motion": motion}}
+    return d
+
+
+def _drag(direction, mu_a, mu_l, law="coulomb"):
+    """tests/test_cable3d_friction.py's drag with a rod (EI = 10 N m^2, small: the line
+    bows only when dragged across): both ends move together, 5 m over 200 s; at t = 1.75 T
+    the ends move at their fastest (no acceleration). Returns (the end forces' sum, N; the
+    friction mu = 1 of the grounded weight at that speed, N: the regularised Coulomb law's
+    N v / sqrt(v^2 + v_eps^2), the bristle law's N). The bristle law's states take the
+    first-order generalized-alpha (rho_inf = 0, as cable3d's bristle tests), at 1 s."""
+    d = _drag_scene(direction, mu_a, mu_l, law)
     mech = rod_mechanism(load_scene(d))
     eq = solve_equilibrium(mech, codegen=False)
     method = GeneralizedAlphaFirstOrder(rho_inf=0.0) if law == "bristle" else None
@@ -314,18 +320,7 @@ def test_rod_with_bristle_friction_runs_through_simulate():
     kinematics): dragged along, the ends carry the same friction as the bare Mechanism's run
     above, within 5e-3 of mu N (the drag test's tolerance: nothing turns, so the spin adds
     nothing but round-off)."""
-    amp = [A, 0.0, 0.0]
-    motion = {"kind": "harmonic", "period": T, "amplitude": amp, "phase_deg": [0.0, 0.0, 0.0]}
-    d = {"model": "rod", "environment": {"depth": 50.0},
-         "seabed": {"stiffness": 1e6, "friction_axial": 0.5, "friction_lateral": 1.0,
-                    "friction_velocity": EPS, "friction_law": "bristle"},
-         "line_types": {"c": {"mass": 100.0, "diameter": 0.1, "EA": 1e8, "EI": 10.0,
-                              "GJ": 8.0, "cd_normal": 0.0, "cd_tangential": 0.0,
-                              "ca_normal": 0.0}},
-         "sections": [{"type": "c", "length": L, "segments": 20}],
-         "end_a": {"condition": "pinned", "position": [0.0, 0.0, -50.0], "motion": motion},
-         "end_b": {"condition": "pinned", "position": [L * (1 + 5e-4), 0.0, -50.0],
-                   "motion": motion}}
+    d = _drag_scene((1.0, 0.0), 0.5, 1.0, "bristle")
     tr = sc.simulate(d, 1.75 * T, dt=1.0, codegen=False)
     assert tr.status == "converged"
     total = np.asarray(tr.anchor_force)[-1] + np.asarray(tr.fairlead_force)[-1]

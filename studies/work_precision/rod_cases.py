@@ -85,16 +85,25 @@ def seed(n: int = 20, hybrid: bool = False) -> dict:
     return d
 
 
-def hanging(segments: int = 10, heave: float = 0.05, period: float = 2.0,
-            EI: float = 1.0) -> dict:
+def hanging(segments: int = 12, heave: float = 0.05, period: float = 2.0,
+            EI: float = 1.0, hybrid: bool = False) -> dict:
     """A 5 m rod (2 kg/m, 10 N/m of weight, EI 1, GJ 0.8) hanging from a pinned top, its
     lower end free: the tension falls from 50 N at the top to zero at the end; bending
-    length sqrt(EI / T) = 0.14 m at the top, the whole rod's length near the end."""
+    length sqrt(EI / T) = 0.14 m at the top, the whole rod's length near the end; the top
+    moved 5 cm in x and 2.5 cm in y at T = 2 s. ``hybrid``: cable3d on the upper 3/4, rod
+    on the lowest quarter (where the tension vanishes)."""
     lt = {"EA": 1e5, "EI": EI, "GJ": 0.8 * EI, "mass": 2.0, "diameter": 0.05, "weight": 10.0}
-    return {"model": "rod", "name": f"hanging rod ({segments} segments)",
+    secs = [{"type": "hose", "length": 5.0, "segments": segments}]
+    if hybrid:
+        k = (3 * segments) // 4
+        secs = [{"type": "hose", "length": 5.0 * k / segments, "segments": k, "model": "cable3d"},
+                {"type": "hose", "length": 5.0 * (segments - k) / segments,
+                 "segments": segments - k, "model": "rod"}]
+    return {"model": "hybrid" if hybrid else "rod",
+            "name": f"hanging {'hybrid' if hybrid else 'rod'} ({segments} segments)",
             "environment": {"water_density": 0.0},
             "line_types": {"hose": lt},
-            "sections": [{"type": "hose", "length": 5.0, "segments": segments}],
+            "sections": secs,
             "end_a": {"condition": "pinned", "position": [0.0, 0.0, 0.0],
                       "motion": {"kind": "harmonic", "amplitude": [heave, 0.5 * heave, 0.0],
                                  "period": period}},

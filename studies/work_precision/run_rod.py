@@ -15,8 +15,13 @@ static state at rest (the motion ramped in by ``simulate``) and lasts P periods.
 
 Error: the largest over the saved samples (every T/25) of the node positions' difference
 from the reference, over the reference's largest node excursion (max over nodes of the
-range of |x(t) - x(0)|), and of the end force's (the clamp's force for the cantilever, end
-B's tension for the hose) over its range; the larger of the two. Reference: GA1 at a fine
+range of |x(t) - x(0)|). For context, the end force's (the clamp's force for the
+cantilever, end B's tension for the hose) over its range: not the metric, since the force
+carries the ringing of the highest bending modes (80 Hz and up at 8 segments, undamped
+but for the scheme's numerical damping), which the reference resolves and keeps and the
+coarse runs damp out (the reference cantilever's clamp force jitters by ~1 % of its
+range at T/1600), so its error does not fall at the scheme's order until dt resolves
+them. Reference: GA1 at a fine
 step (full: T/3200; quick: T/400), same start, same P (so the error is the discretisation's
 alone: the orders are read from it). The periodic solvers are compared with the
 reference's last period (its period-to-period change is reported: the transient left).
@@ -153,13 +158,16 @@ def errors(run: dict, ref: dict, T: float, last_period: bool = False) -> dict:
         x = np.stack([np.stack([np.interp(tt, ph, run["x"][:, i, k], period=T)
                                 for k in range(3)], axis=1) for i in range(xr.shape[1])], axis=1)
         f = np.interp(tt, ph, run["f"], period=T)
-    else:
-        if run["t"].shape != ref["t"].shape or np.max(np.abs(run["t"] - ref["t"])) > 1e-9 * T:
-            raise RuntimeError("the run and the reference are not saved at the same times")
+    elif run["t"].shape == ref["t"].shape and np.max(np.abs(run["t"] - ref["t"])) < 1e-9 * T:
         x, f, xr, fr = run["x"], run["f"], ref["x"], ref["f"]
+    else:  # RK4's steps do not fall on the saved times: linear interpolation (its dt ~T/1000)
+        xr, fr = ref["x"], ref["f"]
+        x = np.stack([np.stack([np.interp(ref["t"], run["t"], run["x"][:, i, k]) for k in range(3)],
+                               axis=1) for i in range(xr.shape[1])], axis=1)
+        f = np.interp(ref["t"], run["t"], run["f"])
     ex = float(np.max(np.linalg.norm(x - xr, axis=2))) / scale_x
     ef = float(np.max(np.abs(f - fr))) / scale_f
-    return {"error": max(ex, ef), "error_x": ex, "error_f": ef, "scale_x_m": scale_x,
+    return {"error": ex, "error_x": ex, "error_f": ef, "scale_x_m": scale_x,
             "scale_f_N": scale_f}
 
 
@@ -174,10 +182,10 @@ def run_case(name: str, grid: Grid, log=print) -> dict:
     if ref is None:
         raise RuntimeError(f"{name}: the reference failed: {rinfo['status']}")
     ref_wall = time.perf_counter() - t0
-    last = ref["t"] >= (P - 1) * T - 1e-9 * T
-    prev = (ref["t"] >= (P - 2) * T - 1e-9 * T) & ~last
-    drift = float(np.max(np.abs(ref["f"][last][-SAMPLES_PER_PERIOD:] - ref["f"][prev][-SAMPLES_PER_PERIOD:]))
-                  / np.ptp(ref["f"])) if prev.sum() >= SAMPLES_PER_PERIOD else None
+    k = SAMPLES_PER_PERIOD  # the last period's positions against the one before
+    scale = float(np.max(np.ptp(np.linalg.norm(ref["x"] - ref["x"][0], axis=2), axis=0)))
+    drift = float(np.max(np.linalg.norm(ref["x"][-k:] - ref["x"][-2 * k:-k], axis=2))
+                  ) / scale if len(ref["t"]) >= 2 * k else None
     log(f"{name}: first call {first:.1f} s ({warm[1]['status']}), reference T/{grid.ref_steps} "
         f"{ref_wall:.1f} s, last-period change {drift}")
     rows = []
@@ -221,7 +229,7 @@ def orders(rows: list) -> list:
 def summary_markdown(res: dict) -> str:
     L = ["# Work-precision on the rod and the hybrid", "",
          f"Study wall time {res['wall_s']:.0f} s{' (--quick)' if res['quick'] else ''}. Errors "
-         "in % (positions: of the largest node excursion; force: of its range); wall times of "
+         "in % (the error: node positions, of the largest node excursion; the end force, context: of its range); wall times of "
          "warm calls in the VM.", ""]
     for c in res["cases"]:
         drift = "-" if c["reference_drift"] is None else f"{100 * c['reference_drift']:.2g} %"
@@ -229,16 +237,16 @@ def summary_markdown(res: dict) -> str:
               f"T = {c['period_s']:g} s, {c['periods']} periods from rest. Reference "
               f"{c['reference']} ({c['reference_wall_s']:.1f} s); its last period against the one "
               f"before: {drift} "
-              f"of the force range (the transient left: the periodic rows' floor). First call "
+              f"of the largest excursion (the transient left: the periodic rows' floor). First call "
               f"(builds the VM functions): {c['first_call_s']:.1f} s.", "",
-              "| method | config | error (%) | positions (%) | force (%) | wall (s) | Newton/step "
-              "| substeps | re-anchorings | status |", "|---|---|---|---|---|---|---|---|---|---|"]
+              "| method | config | error (%) | force (%, context) | wall (s) | Newton/step "
+              "| substeps | re-anchorings | status |", "|---|---|---|---|---|---|---|---|---|"]
         for r in c["rows"]:
             def pct(k):
                 v = r.get(k)
                 return "-" if v is None or not np.isfinite(v) else f"{100 * v:.3g}"
             ips = "-" if r.get("iter_per_step") is None else f"{r['iter_per_step']:.2f}"
-            L.append(f"| {r['method']} | {r['config']} | {pct('error')} | {pct('error_x')} | "
+            L.append(f"| {r['method']} | {r['config']} | {pct('error')} | "
                      f"{pct('error_f')} | {r['wall_s']:.3g} | {ips} | {r.get('substeps', '-')} | "
                      f"{r.get('reanchorings', '-')} | {r['status']} |")
         L += ["", "GA1's observed orders: " + (", ".join(f"{k}: {p:.2f}" for k, p in c["orders"])
@@ -269,7 +277,7 @@ def plot(res: dict, path) -> None:
                 ax.loglog(r["wall_s"], 100 * r["error"], marks[r["method"]], color=col, ms=8,
                           label=f"{c['case']}: {r['method']}")
     ax.set_xlabel("wall time of one warm call (VM), s")
-    ax.set_ylabel("largest error (positions, end force), %")
+    ax.set_ylabel("largest node-position error, % of the largest excursion")
     ax.set_title("Work-precision, rod and hybrid" + (" (--quick)" if res["quick"] else ""))
     ax.grid(True, which="both", alpha=0.25)
     ax.legend(fontsize=7)

@@ -39,7 +39,8 @@ Run
     python -u studies/stability/run_rod.py            # full: ~15 min on 2 shared cores
     python -u studies/stability/run_rod.py --quick    # Greenhill 0.95's modes (10 segments),
                                                       # the hybrid seed at dt = 1 s (the test)
-    options: --out DIR (default studies/stability/out/rod/)
+    options: --out DIR (default studies/stability/out/rod/), --groups (of GROUPS: stiff,
+             slack, seed, seed-moving, greenhill; default all)
 
 Writes ``results.csv`` and ``summary.md``; ``main(argv)`` returns the numbers as a dict.
 """
@@ -73,6 +74,7 @@ SEED_DTS_FULL = (1.0, 0.3, 0.1, 0.03, 0.01)
 SEED_REF_DT = 1e-3
 TIME_STEPS = (25, 100)                # GA1 steps per period of the time rows
 REF_STEPS = 1600
+GROUPS = ("stiff", "slack", "seed", "seed-moving", "greenhill")
 SEED_PERIOD = 20.0                    # s, end A's motion in the moving-seed rows
 
 
@@ -106,7 +108,8 @@ def time_row(group: str, d: dict, period: float, periods: int = 2, steps=TIME_ST
     """``sc.simulate`` at T/n for n in ``steps``, each against GA1 at T/ref_steps: node
     positions over the reference's largest excursion (``error``), end-B tension over its
     range (``error_f``, context)."""
-    ts = np.arange(1, 25 * periods + 1) * period / 25
+    k = math.gcd(*steps, *((ref_steps,) if ref_steps else ()))  # samples a period: on every run's steps
+    ts = np.arange(1, k * periods + 1) * period / k
     runs = {}
     for n in ((ref_steps,) if ref_steps else ()) + tuple(steps):
         t0 = time.perf_counter()
@@ -263,6 +266,8 @@ def main(argv=None) -> dict:
     ap.add_argument("--quick", action="store_true",
                     help="Greenhill at 0.95 (10 segments) and the hybrid seed at dt = 1 s")
     ap.add_argument("--out", type=Path, default=HERE / "out" / "rod", help="output directory")
+    ap.add_argument("--groups", nargs="*", default=list(GROUPS), choices=GROUPS,
+                    help="the full run's groups to run (default all)")
     args = ap.parse_args(argv)
     args.out.mkdir(parents=True, exist_ok=True)
     t0 = time.perf_counter()
@@ -271,16 +276,18 @@ def main(argv=None) -> dict:
         cells += greenhill_row((0.95,), segments=10, simulate=False)
         cells += seed_row(True, (1.0,), None)
     else:
-        for hyb in (True, False):
+        g = set(args.groups)
+        for hyb in (True, False) if "stiff" in g else ():
             cells += time_row("stiff bending", rc.hose("hybrid" if hyb else "rod", EI=1000.0), 2.0)
-        for hyb in (False, True):
+        for hyb in (False, True) if "slack" in g else ():
             cells += time_row("near-zero tension", rc.hanging(hybrid=hyb), 2.0)
-        for hyb in (False, True):
+        for hyb in (False, True) if "seed" in g else ():
             cells += seed_row(hyb, SEED_DTS_FULL, SEED_REF_DT)
-        for hyb in (False, True):
+        for hyb in (False, True) if "seed-moving" in g else ():
             cells += time_row("seed dt", seed_moving(hyb), SEED_PERIOD, steps=(20, 200),
                               ref_steps=2000)
-        cells += greenhill_row()
+        if "greenhill" in g:
+            cells += greenhill_row()
     res = {"quick": args.quick, "cells": cells, "wall_s": time.perf_counter() - t0,
            "out": str(args.out)}
     study_io.write_tables(args.out, csv_rows(res), summary_markdown(res))

@@ -206,6 +206,7 @@ def run_case(name: str, grid: Grid, log=print) -> dict:
         time_run(case, None, 1, "rk4")()  # warm-up
         (res, info), wall, reps = _timed(time_run(case, None, P, "rk4"), grid.repeats)
         add("rk4", f"dt={info.get('dt_s', 0):.3g} s", None, res, info, wall, reps)
+    periodic = {}
     for meth in grid.periodic:
         t0 = time.perf_counter()
         periodic_run(case, meth)()  # warm-up (its first call builds the discretisation)
@@ -213,6 +214,10 @@ def run_case(name: str, grid: Grid, log=print) -> dict:
         (res, info), wall, reps = _timed(periodic_run(case, meth), grid.repeats)
         info["first_call_s"] = pfirst
         add(meth, "defaults", None, res, info, wall, reps)
+        periodic[meth] = res
+    if len(periodic) == 2 and None not in periodic.values():
+        a, b = periodic.values()  # shooting against collocation: two routes to one state
+        rows[-2]["vs_other_periodic"] = errors(a, b, T, last_period=True)["error_x"]
     return {"case": name, "scene": case.scene["name"], "period_s": T, "periods": P,
             "first_call_s": first, "reference": f"GA1, dt = T/{grid.ref_steps}",
             "reference_wall_s": ref_wall, "reference_drift": drift,
@@ -249,6 +254,10 @@ def summary_markdown(res: dict) -> str:
             L.append(f"| {r['method']} | {r['config']} | {pct('error')} | "
                      f"{pct('error_f')} | {r['wall_s']:.3g} | {ips} | {r.get('substeps', '-')} | "
                      f"{r.get('reanchorings', '-')} | {r['status']} |")
+        pr = [r for r in c["rows"] if r.get("vs_other_periodic") is not None]
+        if pr:
+            L += ["", f"Shooting against collocation (node positions, % of the excursion): "
+                  f"{100 * pr[0]['vs_other_periodic']:.3g}."]
         L += ["", "GA1's observed orders: " + (", ".join(f"{k}: {p:.2f}" for k, p in c["orders"])
                                                or "-"), ""]
     return "\n".join(L) + "\n"
@@ -257,7 +266,8 @@ def summary_markdown(res: dict) -> str:
 def csv_rows(res: dict) -> list:
     keys = ("case", "method", "config", "resolution", "status", "error", "error_x", "error_f",
             "scale_x_m", "scale_f_N", "wall_s", "repeats", "steps", "dt_s", "iter_per_step",
-            "substeps", "reanchorings", "dt_stable_s", "iterations", "first_call_s")
+            "substeps", "reanchorings", "dt_stable_s", "iterations", "first_call_s",
+            "vs_other_periodic")
     return [{k: r.get(k) for k in keys} for c in res["cases"] for r in c["rows"]]
 
 

@@ -37,7 +37,8 @@ Run
     python -u studies/work_precision/run_rod.py            # full: ~10 min on 2 shared cores
     python -u studies/work_precision/run_rod.py --quick    # GA1 at T/25-T/100 against T/400,
                                                            # 2 periods, both cases (the test)
-    options: --out DIR (default studies/work_precision/out/rod/), --figure PATH
+    options: --out DIR (default studies/work_precision/out/rod/), --figure PATH,
+             --cases NAME [NAME ...] (of CASES)
 
 Writes ``results.csv``, ``summary.md`` and ``work_precision_rod.png``; ``main(argv)``
 returns the numbers as a dict.
@@ -297,8 +298,12 @@ def plot(res: dict, path) -> None:
 
 def main(argv=None) -> dict:
     args = study_io.parse(__doc__, "GA1 T/25-T/100 against T/400, 2 periods (the test)",
-                          HERE / "out" / "rod", argv)
+                          HERE / "out" / "rod", argv,
+                          extra=lambda ap: ap.add_argument("--cases", nargs="*", choices=list(CASES),
+                                                           help="the cases run (default the grid's)"))
     grid = QUICK if args.quick else FULL
+    if args.cases:
+        grid = grid._replace(cases=tuple(args.cases))
     t0 = time.perf_counter()
     res = {"quick": bool(args.quick), "cases": [run_case(n, grid) for n in grid.cases]}
     res["wall_s"] = time.perf_counter() - t0

@@ -41,7 +41,7 @@ from .derive import functions
 from .errors import SymcableError
 from .models.mechanism import Mechanism
 
-__all__ = ["RodFields", "field_residuals", "rod_fields", "trajectory_fields"]
+__all__ = ["RodFields", "field_residuals", "rod_fields", "tension_shear", "trajectory_fields"]
 
 _RATES: "weakref.WeakKeyDictionary[Mechanism, ca.Function]" = weakref.WeakKeyDictionary()
 
@@ -83,6 +83,21 @@ class RodFields:
     moment: np.ndarray
     tension: np.ndarray
     shear: np.ndarray
+
+
+def tension_shear(internal_force, positions) -> tuple[np.ndarray, np.ndarray]:
+    """``(tension, shear)``, N, per edge: the seed's tension f . t and shear
+    |f - (f . t) t| of the internal force f across each edge (``internal_force``, shape
+    (..., n_seg, 3) or flat) on the edge's tangent t (from ``positions``, (..., n, 3) or
+    flat; any leading sample axes are kept)."""
+    X = np.asarray(positions, float)
+    if X.ndim == 1 or X.shape[-1] != 3:
+        X = X.reshape(X.shape[:-1] + (-1, 3))
+    d = np.diff(X, axis=-2)
+    t = d / np.linalg.norm(d, axis=-1, keepdims=True)
+    f = np.asarray(internal_force, float).reshape(t.shape)
+    ten = np.sum(f * t, axis=-1)
+    return ten, np.linalg.norm(f - ten[..., None] * t, axis=-1)
 
 
 def _unit(a: np.ndarray) -> np.ndarray:
@@ -173,13 +188,13 @@ def rod_fields(mech: Mechanism, q, v=None, t: float = 0.0, p=None) -> RodFields:
     curv = np.where(vert[:, None], bend + tau[:, None] * tv, 0.0)
     body = np.column_stack([kap, np.where(vert, tau, 0.0)])
     f = get("internal_force").reshape(N, 3)
-    ten = np.sum(f * tg, axis=1)
+    ten, shear = tension_shear(f, X)
     return RodFields(
         time=float(t), s=s, ds=ds, positions=X, velocity=get("velocities").reshape(-1, 3),
         tangent=tg, m1=m1, m2=m2, angular_velocity=omega, curvature=curv,
         curvature_body=body, vertex=vert, vertex_tangent=tv, internal_force=f,
         moment=np.where(vert[:, None], M + Mt[:, None] * tv, 0.0), tension=ten,
-        shear=np.linalg.norm(f - ten[:, None] * tg, axis=1))
+        shear=shear)
 
 
 def trajectory_fields(mech: Mechanism, traj, k: int, p=None) -> RodFields:

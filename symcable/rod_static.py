@@ -18,6 +18,7 @@ from .models.hybrid import build_hybrid
 from .models.hybrid_terms import rod_runs
 from .models.rod import build_rod, rod_table
 from .results import StaticSolution
+from .rod_fields import tension_shear
 from .scene import Scene
 from .solvers.equilibrium import solve_equilibrium
 
@@ -91,10 +92,8 @@ def _rod_forces(sol: StaticSolution, out) -> StaticSolution:
     the edge) and the magnitude of its internal force at the interior nodes (N, the mean over
     the two edges), from the output ``internal_force`` (cable3d's solution has no shear and
     takes the axial force as the tension)."""
-    f = np.asarray(out["internal_force"], float)
-    d = np.diff(sol.positions, axis=0)
-    t = d / np.linalg.norm(d, axis=1, keepdims=True)
-    shear = np.linalg.norm(f - np.sum(f * t, axis=1, keepdims=True) * t, axis=1)
+    f = np.asarray(out["internal_force"], float).reshape(-1, 3)
+    _, shear = tension_shear(f, sol.positions)
     mag = np.linalg.norm(f, axis=1)
     tension = np.array(sol.tension, float)
     tension[1:-1] = 0.5 * (mag[:-1] + mag[1:])

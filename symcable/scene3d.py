@@ -17,6 +17,7 @@ from .errors import SymcableError
 from .models.rod_spin import with_reference_spin
 from .models.tow import held_tows
 from .results_line3d import LineTrajectory, line_from_outputs
+from .rod_fields import tension_shear
 from .rod_static import rod_mechanism, rod_static_equilibrium
 from .scene import Scene
 
@@ -78,7 +79,7 @@ def start_state(scene: Scene, t0: float, start: str | None, codegen):
         raise SymcableError(f"start = {start!r}: a {scene.model.value} scene runs from rest "
                             "(start = 'rest' or None); a tow (kind = 'tow') is not taken by "
                             "the rod yet")
-    if start is not None and start not in ("rest", "steady"):
+    if start is not None and start != "rest":
         raise SymcableError(f"start = {start!r}: must be 'rest' or None for a "
                             f"{scene.model.value} scene")
     mech, eq = rod_static_equilibrium(scene, codegen=codegen)
@@ -87,7 +88,8 @@ def start_state(scene: Scene, t0: float, start: str | None, codegen):
 
 def rod_line(scene, mech, t, outputs, warnings, common) -> LineTrajectory:
     """A rod's run as a LineTrajectory: the cable's series, and the rod's own
-    (:data:`ROD_SERIES`) in ``stats["outputs"]``; without the cable's slack report (a rod
+    (:data:`ROD_SERIES`, and the seed's ``tension`` f . t and ``shear``, N, (n_t, n_seg),
+    from the internal force f) in ``stats["outputs"]``; without the cable's slack report (a rod
     carries compression: a segment at or below zero strain is not slack)."""
     line = line_from_outputs(scene.name, t, outputs, mech.layout.parts["line"].s,
                              warnings=warnings, **common)
@@ -97,6 +99,9 @@ def rod_line(scene, mech, t, outputs, warnings, common) -> LineTrajectory:
                           "snap_peak_time")}
     stats["outputs"] = {k: np.asarray(outputs[k], float).reshape(n_t, -1)
                         for k in ROD_SERIES if k in outputs}
+    if "internal_force" in outputs:  # the seed's tension f . t and shear, not EA e
+        stats["outputs"]["tension"], stats["outputs"]["shear"] = tension_shear(
+            stats["outputs"]["internal_force"], line.positions)
     return dataclasses.replace(line, stats=stats, warnings=tuple(warnings))
 
 

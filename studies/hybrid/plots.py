@@ -37,14 +37,16 @@ def profiles_figure(st, counts, rx, path) -> None:
         ax[1, 1].plot(p["s_node"][::k], 1e3 * p["M"][::k], "o", ms=3, mfc="none", color="C2")
     ax[0, 0].set(xlabel="x (m)", ylabel="z (m)", title=f"final shape (Fig. 5), {n} segments")
     ax[0, 0].set_aspect("equal")
-    ax[0, 0].legend(fontsize=8)
+    # one legend for the four panels, below them (inside the shape panel it hid the curves)
+    handles, labels = ax[0, 0].get_legend_handles_labels()
+    fig.legend(handles, labels, loc="lower center", ncol=len(labels), fontsize=9, frameon=False)
     ax[0, 1].set(xlabel="s (m)", ylabel="tension (mN)", title="tension (Fig. 6)")
     ax[1, 0].set(xlabel="s (m)", ylabel="shear force (mN)", title="shear (Fig. 7)")
     ax[1, 1].set(xlabel="s (m)", ylabel="bending moment (mN m)", title="moment (Fig. 8)")
     for a in (ax[0, 1], ax[1, 0], ax[1, 1]):
         a.axvline(1.5, color="0.7", lw=0.8)
         a.grid(alpha=0.3)
-    fig.tight_layout()
+    fig.tight_layout(rect=(0, 0.04, 1, 1))
     fig.savefig(path, dpi=120)
     plt.close(fig)
 

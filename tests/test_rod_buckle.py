@@ -1,0 +1,134 @@
+"""Buckled shapes of the twisted rod reached by static continuation (issue 14 item 3):
+:func:`symcable.trace_branch` in a clamp's twist across Greenhill's critical moment, and
+:func:`symcable.self_contact` on rod shapes.
+
+The rod is test_rod_greenhill's (clamped at both ends along x, end rotation held, EA = 1e6
+B / L^2), at 12 segments. With both ends held at distance L an inextensible rod has no shape
+but the straight one: past the critical moment it buckles by stretching, so the tension T
+grows with the buckle and the buckled states sit on Greenhill's curve with tension,
+M = M_cr(T) (the state is neutrally stable for the tension it has made); T ~ (M - M_cr(0))
+and the amplitude ~ sqrt(T) ~ sqrt(M - M_cr(0)): a supercritical pitchfork, stabilised by
+the stretch (its amplitude scales as (B / EA)^(1/2)). The loop of the same rod when its ends
+are brought together is studies/hybrid/loop.py's.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from symcable import SymcableError, self_contact, trace_branch
+from symcable.models.rod import build_rod
+from symcable.scene import load_scene
+
+from test_rod_greenhill import B, GJ, GREENHILL, L, greenhill_with_tension, twisted_rod
+
+N = 12
+FRACS = (0.95, 1.0, 1.05, 1.1, 1.15, 1.2, 1.25, 1.3)  # of GREENHILL; 12 segments: 1.04
+
+
+@pytest.fixture(scope="module")
+def paths():
+    mech = build_rod(load_scene(twisted_rod(N)))
+    p = mech.params.with_values(motion=0.0)
+    twists = np.array(FRACS) * GREENHILL * B / GJ  # rad: M = GJ Phi / L
+    straight = trace_branch(mech, "end_b.twist", twists, p=p, leave_unstable=False)
+    buckled = trace_branch(mech, "end_b.twist", twists, p=p)
+    return mech, straight, buckled
+
+
+def _amplitude(pt) -> float:
+    return float(np.max(np.linalg.norm(pt.outputs["positions"][:, 1:], axis=1)))
+
+
+def test_straight_branch_loses_stability_at_greenhill(paths):
+    """Followed without leaving it, the straight branch stays straight (to 1e-12 m) and its
+    lowest reduced stiffness changes sign once, between the points bracketing the rod's
+    discrete critical moment; interpolated linearly there, M_cr L / B = 9.3496 at 12
+    segments, 4.04 % above Greenhill's 8.98682 (9.0744, 0.97 % at 24; 9.0087, 0.24 % at 48:
+    second order, as test_rod_greenhill's from the modes): asserted within 3-6 %."""
+    _, straight, _ = paths
+    lam = np.array([pt.min_stiffness for pt in straight.points])
+    assert all(_amplitude(pt) < 1e-12 for pt in straight.points)
+    assert [pt.stable for pt in straight.points] == [bool(x > 0) for x in lam]
+    flips = np.flatnonzero(np.diff(np.sign(lam)))
+    assert flips.size == 1, lam
+    k = int(flips[0])
+    M = np.array(FRACS) * GREENHILL
+    m_cr = M[k] - lam[k] * (M[k + 1] - M[k]) / (lam[k + 1] - lam[k])
+    assert 0.03 < m_cr / GREENHILL - 1.0 < 0.06, m_cr
+    paths[1].stats["m_cr"] = m_cr
+
+
+def test_buckled_branch_is_greenhill_with_its_tension(paths):
+    """Leaving the straight branch along its unstable mode: every point past the critical
+    moment is buckled (the first one marked ``left``) and stable (its lowest stiffness is
+    the zero of the buckle's turn about the axis, within the 1e-9 scale tolerance), none
+    before. Each buckled state's (T, M) lies on the closed-form M_cr(T) times the rod's
+    discretisation factor at T = 0 (M_cr,12 / 8.98682): measured 0.09 % high at T = 0.5 N
+    growing to 1.25 % at T = 15 N (the discrete slope dM_cr/dT: 0.35 %, 0.09 % at T = 15 N
+    with 24, 48 segments, second order); asserted 1.5 % (M = M_cr(0), no tension effect,
+    would be 19 % off at T = 15 N). The rotation held: the twisting moment is GJ Phi / L
+    within 4e-5 (the writhe takes the rest). The amplitude against M - M_cr,12: log-log
+    slope 0.5 at the bifurcation (supercritical pitchfork), measured 0.494 over these points
+    (0.476, 0.471 at 24, 48 segments, whose points lie further past it: M_cr(T) bends);
+    asserted within 0.05."""
+    _, straight, buckled = paths
+    if "m_cr" not in straight.stats:
+        test_straight_branch_loses_stability_at_greenhill(paths)
+    m_cr = straight.stats["m_cr"]
+    M = np.array(FRACS) * GREENHILL
+    past = M > m_cr
+    amp = np.array([_amplitude(pt) for pt in buckled.points])
+    assert np.all(amp[~past] < 1e-12) and np.all(amp[past] > 1e-4), amp
+    assert [pt.left for pt in buckled.points] == [bool(x) for x in
+                                                  np.r_[False, past[1:] & ~past[:-1]]]
+    assert all(pt.stable for pt in buckled.points)
+    factor = m_cr / GREENHILL
+    rows = []
+    for pt, m in zip(np.array(buckled.points)[past], M[past]):
+        T = -float(pt.outputs["end_force_b"][0])
+        Mt = float(np.mean(pt.outputs["twisting_moment"]))
+        assert Mt == pytest.approx(m, rel=1e-3)
+        rows.append((T, Mt, factor * greenhill_with_tension(T)))
+    rows = np.array(rows)
+    assert np.all(rows[:, 0] > 0)
+    assert np.max(np.abs(rows[:, 1] / rows[:, 2] - 1.0)) < 0.015, rows
+    slope = np.polyfit(np.log(M[past] - m_cr), np.log(amp[past]), 1)[0]
+    assert abs(slope - 0.5) < 0.05, slope
+
+
+def test_self_contact():
+    """Two crossing segments 0.3 m apart: distance 0.3 to 1e-12 m, the closest points where
+    they cross; a straight line has no pair closer than its segments' separation; a closed
+    planar loop (a circle's polyline returning past its start) touches itself; bad input
+    refused naming the argument."""
+    X = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0.3], [0.5, -1, 0.3], [0.5, -2, 0.3]], float)
+    c = self_contact(X, 0.35, skip=1)
+    assert c.min_distance == pytest.approx(0.3, abs=1e-12) and c.pair == (0, 2)
+    assert c.contact and c.gap == pytest.approx(-0.05, abs=1e-12)
+    assert np.allclose(c.points, [[0.75, 0, 0], [0.75, 0, 0.3]], atol=1e-12)
+    line = np.c_[np.linspace(0, 1, 11), np.zeros((11, 2))]
+    c = self_contact(line, 0.01)
+    assert c.skip == 1 and c.min_distance == pytest.approx(0.1) and not c.contact
+    a = np.linspace(0, 2.2 * math.pi, 45)
+    ring = np.c_[np.cos(a), np.sin(a), 0.002 * a]
+    c = self_contact(ring, 0.02)
+    assert c.contact and c.min_distance < 0.02 and c.pair[1] - c.pair[0] > 35
+    for args, word in [((np.zeros((3, 2)), 0.1), "positions"), ((line, -1.0), "diameter"),
+                       ((line, 0.1, ), "skip")]:
+        with pytest.raises(SymcableError, match=word):
+            self_contact(*args, **({"skip": 0} if word == "skip" else {}))
+
+
+def test_trace_branch_refuses_bad_input(paths):
+    mech = paths[0]
+    with pytest.raises(SymcableError, match="block = 'twist'.*allowed: load"):
+        trace_branch(mech, "twist", [0.0, 1.0])
+    with pytest.raises(SymcableError, match=r"shape \(K, 3\)"):
+        trace_branch(mech, "end_b.position", [1.0, 0.9])
+    with pytest.raises(SymcableError, match="component = 3"):
+        trace_branch(mech, "end_b.position", [1.0, 0.9], component=3)
+    with pytest.raises(SymcableError, match="at least two finite"):
+        trace_branch(mech, "end_b.twist", [0.0, np.nan])

@@ -25,7 +25,7 @@ import numpy as np
 
 from .errors import SymcableError
 
-__all__ = ["SelfContact", "self_contact", "segment_distances"]
+__all__ = ["SelfContact", "self_contact", "segment_distances", "writhe"]
 
 
 @dataclass(frozen=True)
@@ -70,6 +70,44 @@ def segment_distances(P0, P1, Q0, Q1):
     v = v_cl
     gap = (P0 + u[..., None] * d1) - (Q0 + v[..., None] * d2)
     return np.linalg.norm(gap, axis=-1), u, v
+
+
+def writhe(positions, axis=None, extension: float = 1e3) -> float:
+    """The writhe Wr (turns) of the polyline ``positions`` (n_nodes, 3; m), its ends
+    extended by straight segments ``extension`` times its length along ``axis`` (a unit
+    vector; default the chord from its first node to its last): the closure of a rod whose
+    ends are clamped on one axis, so that its end rotation is 2 pi (Tw + Wr) (Calugareanu,
+    White, Fuller). The double sum of the Gauss integral over segment pairs, each the signed
+    solid angle of Klenin & Langowski (Biopolymers 54, 2000), n^2 / 2 pairs.
+
+    Without contact a rod may pass through itself: Wr then jumps by 2 at once (the link
+    changes by 2 when one strand crosses another), which the twist cannot follow. A jump
+    of 2 between two states of a continuation says the shape crossed itself in between."""
+    X = np.asarray(positions, dtype=float)
+    if X.ndim != 2 or X.shape[1] != 3 or X.shape[0] < 2 or not np.all(np.isfinite(X)):
+        raise SymcableError(f"positions: an (n_nodes >= 2, 3) array of finite node positions "
+                            f"in m is needed, got shape {X.shape}")
+    length = float(np.sum(np.linalg.norm(np.diff(X, axis=0), axis=1)))
+    e = X[-1] - X[0] if axis is None else np.asarray(axis, float)
+    if np.linalg.norm(e) == 0 or not np.all(np.isfinite(e)):
+        raise SymcableError(f"axis = {axis!r}: a nonzero direction is needed (the chord is "
+                            "zero: give the clamps' axis)")
+    e = e / np.linalg.norm(e)
+    X = np.vstack([X[0] - extension * length * e, X, X[-1] + extension * length * e])
+    i, j = np.triu_indices(X.shape[0] - 1, k=2)
+    p1, p2, p3, p4 = X[i], X[i + 1], X[j], X[j + 1]
+    r13, r14, r23, r24 = p3 - p1, p4 - p1, p3 - p2, p4 - p2
+
+    def unit(v):
+        n = np.linalg.norm(v, axis=1, keepdims=True)
+        return np.divide(v, n, out=np.zeros_like(v), where=n > 0)
+    n1, n2 = unit(np.cross(r13, r14)), unit(np.cross(r14, r24))
+    n3, n4 = unit(np.cross(r24, r23)), unit(np.cross(r23, r13))
+    dots = [np.clip(np.sum(a * b, axis=1), -1.0, 1.0) for a, b in
+            ((n1, n2), (n2, n3), (n3, n4), (n4, n1))]
+    omega = sum(np.arcsin(d) for d in dots)
+    sign = np.sign(np.sum(np.cross(p4 - p3, p2 - p1) * r13, axis=1))
+    return float(2.0 * np.sum(omega * sign) / (4.0 * math.pi))
 
 
 def self_contact(positions, diameter: float, *, skip: int | None = None) -> SelfContact:

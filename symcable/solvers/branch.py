@@ -22,7 +22,7 @@ its anchor (the anchored frame is singular at a half turn: a loop turns edges by
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 
 import casadi as ca
 import numpy as np
@@ -31,7 +31,8 @@ from ..derive import functions
 from ..errors import ConvergenceError, SymcableError
 from ..models.mechanism import Mechanism
 from ..models.rod_reanchor import reanchor_hook
-from .equilibrium import _check, _ptc_stable, _x_scale, solve_equilibrium
+from .equilibrium import (ESCAPES, _check, _ptc, _stability,
+                          _unstable_direction, _x_scale, solve_equilibrium)
 from .newton import newton
 
 __all__ = ["Branch", "BranchPoint", "trace_branch"]
@@ -67,8 +68,8 @@ class BranchPoint:
 class Branch:
     """The points of :func:`trace_branch`, in order; ``stats``: ``wall_time`` (s),
     ``reanchored`` (points after which the anchors were renewed), ``halvings`` (failed
-    steps halved), ``snaps`` (points reached by relaxing past a fold: no equilibrium near
-    the last one at the new value), ``reached`` (after a stall: the last value at which
+    steps halved), ``snaps`` ((k, value): point k reached by relaxing past a fold, value the
+    last one solved before it, the fold's bracket), ``reached`` (after a stall: the last value at which
     Newton converged, the fold's bracket)."""
 
     mechanism: str
@@ -116,6 +117,67 @@ def _path(mech: Mechanism, block: str, values, component):
     if v.shape[0] < 2 or not np.all(np.isfinite(v)):
         raise SymcableError(f"values: at least two finite values along the path, got {v!r}")
     return v
+
+
+class _Charts:
+    """The re-anchoring of a Mechanism with anchored frames (none: every call a no-op)."""
+
+    def __init__(self, mech, reanchor):
+        hook = reanchor_hook(mech) if reanchor is True else (reanchor or None)
+        self.hook, self.margin, self.update = hook, None, None
+        if hook is not None:
+            self.margin = ca.Function("margin", [mech.q, mech.t, mech.p], [hook.margin])
+            self.update = ca.Function("update", [mech.q, mech.t, mech.p], [hook.update])
+
+    def ok(self, q, p) -> bool:
+        """No edge within the hook's floor of the half turn from its anchor."""
+        return self.hook is None or float(self.margin(q, 0.0, p)) >= self.hook.floor
+
+    def renew(self, q, p):
+        """(p, renewed): the anchors renewed at q when some edge has turned past the hook's
+        threshold from its anchor."""
+        if self.hook is None or float(self.margin(q, 0.0, p)) >= self.hook.threshold:
+            return p, False
+        return np.asarray(self.update(q, 0.0, p), float).ravel(), True
+
+
+def _relax(F, mech, x, p, tol, charts):
+    """Pseudo-transient continuation from x at p, the anchors renewed after every step that
+    turned an edge past the hook's threshold and a step refused that takes one near the half
+    turn (a relaxation that swings a loop round turns edges by more than that: through the
+    singular frame the reference twist would jump by a turn, and the rod would lose a turn
+    of link): (result, p)."""
+    res = _ptc(F, mech, x, p, tol, charts=charts if charts.hook is not None else None)
+    return res, res.p
+
+
+def _escape(F, mech, x, p, tol, charts):
+    """From an unstable equilibrium x: pushes both ways along its most unstable mode (10 %
+    of the coordinate scale), each relaxed, up to ESCAPES times: (result, p) of a stable
+    equilibrium, or None."""
+    its = 0
+    for _ in range(ESCAPES):
+        q, z = x[:mech.n_q], x[mech.n_q:]
+        lam, mode = _unstable_direction(F, mech, q, z, p)
+        if lam is None:
+            return None
+        push = 0.1 * float(np.median(mech.scales.q)) * mode / max(np.max(np.abs(mode)), 1e-300)
+        found = []
+        for sgn in (1.0, -1.0):
+            res, pp = _relax(F, mech, np.concatenate([q + sgn * push, z]), p, tol, charts)
+            its += res.iterations
+            if res.converged:
+                found.append((res, pp, _stability(F, mech, res.x[:mech.n_q],
+                                                  res.x[mech.n_q:], pp)[0]))
+        if not found:
+            return None
+        stable = [f for f in found if f[2]]
+        if stable:
+            res, pp, _ = stable[0]
+            res.iterations = its
+            return res, pp
+        x, p = found[0][0].x, found[0][1]  # a saddle further on: escape from it in turn
+    return None
 
 
 def trace_branch(mech: Mechanism, block: str, values, *, component: int | None = None,
@@ -178,11 +240,7 @@ def trace_branch(mech: Mechanism, block: str, values, *, component: int | None =
             out[sl.start + component] = float(np.ravel(v)[0])
         return out
 
-    hook = reanchor_hook(mech) if reanchor is True else (reanchor or None)
-    margin_fn = update_fn = None
-    if hook is not None:
-        margin_fn = ca.Function("margin", [mech.q, mech.t, mech.p], [hook.margin])
-        update_fn = ca.Function("update", [mech.q, mech.t, mech.p], [hook.update])
+    charts = _Charts(mech, reanchor)
     F = functions(mech)
     S = F.static_solver(codegen)
     if tol is None:
@@ -200,19 +258,18 @@ def trace_branch(mech: Mechanism, block: str, values, *, component: int | None =
                            x[mech.n_q:].copy(), out, info["stable"],
                            float(info["min_stiffness"]), left, its), ""
 
-    def settle(x, pp, v, its):
-        """The point at x (converged at pp): left along the unstable mode where asked."""
-        pt, why = point(x, pp, v, False, its)
+    def settle(x, pp, v, its, left=False):
+        """(point, why): the point at x (converged at pp), left along its unstable mode to
+        a stable equilibrium where asked and found."""
+        pt, why = point(x, pp, v, left, its)
         if pt is None or pt.stable is not False or not leave_unstable:
             return pt, why
-        res = _ptc_stable(F, mech, x, pp, tol)
-        if res.converged:
-            moved = float(np.max(np.abs(res.x - x) / np.concatenate(
-                [mech.scales.q, np.ones(mech.n_z)])))
-            new, _ = point(res.x, pp, v, moved > 1e-6, its + res.iterations)
+        out = _escape(F, mech, x, pp, tol, charts)
+        if out is not None:
+            new, _ = point(out[0].x, out[1], v, True, its + out[0].iterations)
             if new is not None and new.stable:
                 return new, ""
-        return pt, why  # no stable state nearby: the unstable one, flagged
+        return pt, why  # no stable state found from it: the unstable one, flagged
 
     p_cur = at(path[0], p)
     if start is None:
@@ -236,12 +293,11 @@ def trace_branch(mech: Mechanism, block: str, values, *, component: int | None =
     for k in range(1, len(path)):
         last = branch.points[-1]
         x_last = np.concatenate([last.q, last.z])
-        p_base = last.p
-        if margin_fn is not None and float(margin_fn(last.q, 0.0, p_base)) < hook.threshold:
-            p_base = np.asarray(update_fn(last.q, 0.0, p_base), float).ravel()
+        p_base, renewed = charts.renew(last.q, last.p)
+        if renewed:
             branch.stats["reanchored"].append(k - 1)
         v0, v1 = np.atleast_1d(np.array(path[k - 1], float)), np.atleast_1d(np.array(path[k], float))
-        frac, done, its = 0.0, False, 0
+        frac, its = 0.0, 0
         x_cur, v_cur, jumped = x_last, v0, False
         h, halvings = 1.0, 0
         while frac < 1.0:
@@ -266,11 +322,12 @@ def trace_branch(mech: Mechanism, block: str, values, *, component: int | None =
                 h *= 0.5
                 if halvings > max_halvings:
                     if leave_unstable:  # a fold: the branch ends; snap to where it relaxes
-                        snap = _ptc_stable(F, mech, x_cur, at(v1, p_base), tol)
+                        snap, p_snap = _relax(F, mech, x_cur, at(v1, p_base), tol, charts)
                         its += snap.iterations
                         if snap.converged:
+                            branch.stats["snaps"].append((k, np.array(v_cur)))
                             x_cur, v_cur, frac, jumped = snap.x, v1, 1.0, True
-                            branch.stats["snaps"].append(k)
+                            p_base = p_snap
                             break
                     branch.stats["wall_time"] = time.perf_counter() - t0
                     branch.stats["reached"] = v_cur
@@ -278,9 +335,7 @@ def trace_branch(mech: Mechanism, block: str, values, *, component: int | None =
                         f"continuation in {block} stalled between {path[k - 1]} and "
                         f"{path[k]} after {max_halvings} halvings, at {v_cur} ({res.message})",
                         partial=branch, diagnostics={"reached": v_cur, "x": x_cur})
-        pt, why = settle(x_cur, at(v1, p_base), path[k], its)
-        if pt is not None and jumped and not pt.left:
-            pt = replace(pt, left=True)
+        pt, why = settle(x_cur, at(v1, p_base), path[k], its, jumped)
         if pt is None:
             branch.stats["wall_time"] = time.perf_counter() - t0
             raise ConvergenceError(f"the point at {block} = {path[k]} failed its check: {why}",

@@ -122,9 +122,10 @@ def _path(mech: Mechanism, block: str, values, component):
 class _Charts:
     """The re-anchoring of a Mechanism with anchored frames (none: every call a no-op)."""
 
-    def __init__(self, mech, reanchor):
+    def __init__(self, mech, reanchor, every_step: bool = False):
         hook = reanchor_hook(mech) if reanchor is True else (reanchor or None)
         self.hook, self.margin, self.update = hook, None, None
+        self.every_step = every_step
         if hook is not None:
             self.margin = ca.Function("margin", [mech.q, mech.t, mech.p], [hook.margin])
             self.update = ca.Function("update", [mech.q, mech.t, mech.p], [hook.update])
@@ -133,21 +134,30 @@ class _Charts:
         """No edge within the hook's floor of the half turn from its anchor."""
         return self.hook is None or float(self.margin(q, 0.0, p)) >= self.hook.floor
 
+    def stepwise(self) -> "_Charts":
+        """The same charts renewed at every accepted step (a relaxation's)."""
+        c = _Charts.__new__(_Charts)
+        c.__dict__.update(self.__dict__, every_step=True)
+        return c
+
     def renew(self, q, p):
         """(p, renewed): the anchors renewed at q when some edge has turned past the hook's
-        threshold from its anchor."""
-        if self.hook is None or float(self.margin(q, 0.0, p)) >= self.hook.threshold:
+        threshold from its anchor (``every_step``: when any has turned)."""
+        if self.hook is None:
+            return p, False
+        margin = float(self.margin(q, 0.0, p))
+        if margin >= (2.0 - 1e-12 if self.every_step else self.hook.threshold):
             return p, False
         return np.asarray(self.update(q, 0.0, p), float).ravel(), True
 
 
 def _relax(F, mech, x, p, tol, charts):
-    """Pseudo-transient continuation from x at p, the anchors renewed after every step that
-    turned an edge past the hook's threshold and a step refused that takes one near the half
-    turn (a relaxation that swings a loop round turns edges by more than that: through the
-    singular frame the reference twist would jump by a turn, and the rod would lose a turn
-    of link): (result, p)."""
-    res = _ptc(F, mech, x, p, tol, charts=charts if charts.hook is not None else None)
+    """Pseudo-transient continuation from x at p, the anchors renewed at every accepted step
+    and a step refused that turns an edge within the hook's floor of the half turn from
+    where it was (a relaxation that swings a loop round turns edges by more than a half
+    turn; a step across the anchored frame's singularity would make the reference twist
+    jump by a turn: measured, a snap that lost one turn of link without it): (result, p)."""
+    res = _ptc(F, mech, x, p, tol, charts=charts.stepwise() if charts.hook is not None else None)
     return res, res.p
 
 

@@ -161,5 +161,6 @@ def self_contact(positions, diameter: float, *, skip: int | None = None) -> Self
     a, b = int(i[k]), int(j[k])
     pts = np.array([X[a] + u[k] * seg[a], X[b] + v[k] * seg[b]])
     dmin = float(d[k])
-    return SelfContact(dmin, (a, b), pts, (float(s0[a] + u[k] * ds[a]), float(s0[b] + v[k] * ds[b])),
+    s_ab = (float(s0[a] + u[k] * ds[a]), float(s0[b] + v[k] * ds[b]))
+    return SelfContact(dmin, (a, b), pts, s_ab,
                        float(diameter), int(skip), dmin < diameter, dmin - float(diameter))

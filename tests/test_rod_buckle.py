@@ -1,6 +1,7 @@
 """Buckled shapes of the twisted rod reached by static continuation (issue 14 item 3):
-:func:`symcable.trace_branch` in a clamp's twist across Greenhill's critical moment, and
-:func:`symcable.self_contact` on rod shapes.
+:func:`symcable.trace_branch` in a clamp's twist across Greenhill's critical moment;
+:func:`symcable.self_contact` on shapes; the loop oracle (:func:`symcable.analytic.twisted_loop`)
+and :func:`symcable.rod_contact.writhe` checked on each other and the Kirchhoff equations.
 
 The rod is test_rod_greenhill's (clamped at both ends along x, end rotation held, EA = 1e6
 B / L^2), at 12 segments. With both ends held at distance L an inextensible rod has no shape
@@ -8,8 +9,8 @@ but the straight one: past the critical moment it buckles by stretching, so the 
 grows with the buckle and the buckled states sit on Greenhill's curve with tension,
 M = M_cr(T) (the state is neutrally stable for the tension it has made); T ~ (M - M_cr(0))
 and the amplitude ~ sqrt(T) ~ sqrt(M - M_cr(0)): a supercritical pitchfork, stabilised by
-the stretch (its amplitude scales as (B / EA)^(1/2)). The loop of the same rod when its ends
-are brought together is studies/hybrid/loop.py's.
+the stretch (its amplitude scales as (B / EA)^(1/2)). The loop a twisted rod forms when its
+ends are brought together (a longer, finer case: 20-70 s) is studies/hybrid/loop.py's.
 """
 from __future__ import annotations
 

@@ -137,8 +137,8 @@ def run(n: int) -> dict:
                      "amplitude": float(np.max(np.linalg.norm(X[:, 1:], axis=1)))})
     for w in rows:  # Lk = R / 2 pi = Tw + Wr: what is left over is self-crossings (each 2)
         w["crossings"] = (w["loop_rotation"] - w["writhe_rotation"]) / (4.0 * math.pi)
-    return {"n": n, "rows": rows, "greenhill_at_D0": greenhill_clamped(rows[0]["T"]), "positions": [np.asarray(pt.outputs["positions"])
-                                                for pt in br.points],
+    return {"n": n, "rows": rows, "greenhill_at_D0": greenhill_clamped(rows[0]["T"]),
+            "positions": [np.asarray(pt.outputs["positions"]) for pt in br.points],
             "stall_after": stall, "reanchored": br.stats["reanchored"],
             "snaps": [(L - float(np.ravel(v)[0]), float(SHORTEN[k]))
                       for k, v in br.stats["snaps"]],

@@ -14,10 +14,10 @@ stable equilibrium found so is the point (``left`` = True: a bifurcation or a fo
 and the path jumped to another branch). Without ``leave_unstable`` the unstable branch is
 followed and flagged. Where Newton fails after ``max_halvings`` halvings of a step (a
 fold: the branch turns back), the last state is relaxed at the step's target (the snap an
-experiment would see), again with ``left`` = True. A Mechanism with anchored frames (the rod's ``frame`` block) is
-re-anchored between steps when some edge has turned by more than its hook's threshold from
-its anchor (the anchored frame is singular at a half turn: a loop turns edges by nearly
-180 degrees).
+experiment would see), again with ``left`` = True. A Mechanism with anchored frames (the
+rod's ``frame`` block) is re-anchored between steps when some edge has turned by more than
+its hook's threshold from its anchor (the anchored frame is singular at a half turn: a loop
+turns edges by nearly 180 degrees), and at every step of a relaxation.
 """
 from __future__ import annotations
 
@@ -69,8 +69,8 @@ class Branch:
     """The points of :func:`trace_branch`, in order; ``stats``: ``wall_time`` (s),
     ``reanchored`` (points after which the anchors were renewed), ``halvings`` (failed
     steps halved), ``snaps`` ((k, value): point k reached by relaxing past a fold, value the
-    last one solved before it, the fold's bracket), ``reached`` (after a stall: the last value at which
-    Newton converged, the fold's bracket)."""
+    last one solved before it, the fold's bracket), ``reached`` (after a stall: the last
+    value at which Newton converged, the fold's bracket)."""
 
     mechanism: str
     block: str
@@ -257,7 +257,8 @@ def trace_branch(mech: Mechanism, block: str, values, *, component: int | None =
         tol = max(1e-9 * mech.scales.force, 10 * mech.scales.residual_floor)
     opts = dict(tol=tol, max_iter=max_iter, x_scale=_x_scale(F), merit_weights=mech.scales.merit)
     step = S.fast("step")
-    branch = Branch(mech.name, block, component, stats={"reanchored": [], "halvings": 0, "snaps": []})
+    branch = Branch(mech.name, block, component,
+                    stats={"reanchored": [], "halvings": 0, "snaps": []})
 
     def point(x, pp, v, left, its):
         ok, why, info = _check(S, F, mech, x, pp, tol, False)
@@ -306,7 +307,8 @@ def trace_branch(mech: Mechanism, block: str, values, *, component: int | None =
         p_base, renewed = charts.renew(last.q, last.p)
         if renewed:
             branch.stats["reanchored"].append(k - 1)
-        v0, v1 = np.atleast_1d(np.array(path[k - 1], float)), np.atleast_1d(np.array(path[k], float))
+        v0 = np.atleast_1d(np.array(path[k - 1], float))
+        v1 = np.atleast_1d(np.array(path[k], float))
         frac, its = 0.0, 0
         x_cur, v_cur, jumped = x_last, v0, False
         h, halvings = 1.0, 0

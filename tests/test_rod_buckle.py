@@ -194,3 +194,47 @@ def test_writhe_of_the_loop():
     assert writhe(X * [1.0, 1.0, -1.0], axis=[0.0, 0.0, -1.0]) == pytest.approx(-w)
     a = np.linspace(0.0, 1.8 * math.pi, 50)
     assert abs(writhe(np.c_[np.cos(a), np.sin(a), 0 * a])) < 1e-12
+
+
+def test_reanchoring_keeps_every_vertex_twist():
+    """Re-anchoring in trace_branch's relaxations (``_Charts.renew``): a 6-segment rod whose
+    edges 1-3 turn to 170 deg from their anchors (along x) on alternate sides, so that two
+    vertices carry reference twists of +-5.93 rad (beyond pi). The new chart takes the
+    anchors' angle afresh by atan2 and gives them -+0.35 rad: without more, each vertex's
+    twist would jump by a turn (what made a coarse loop's snap lose a turn of link). The
+    edge twist between them is shifted by 2 pi instead: every vertex twist the same to
+    1e-12 rad. With one such vertex alone no shift restores it (the clamps hold the total):
+    the chart is kept."""
+    import casadi as ca
+    from symcable.solvers.branch import _Charts
+
+    mech = build_rod(load_scene(twisted_rod(6)))
+    p = mech.params.with_values(motion=0.0)
+    pos = mech.outputs["positions"].expr
+    tw = ca.Function("tw", [mech.q, mech.p], [mech.outputs["twist"].expr])
+    q0 = np.zeros(mech.n_q)
+    J = np.asarray(ca.Function("J", [mech.q, mech.p], [ca.jacobian(pos, mech.q)])(q0, p))
+    x0 = np.asarray(ca.Function("x", [mech.q, mech.p], [pos])(q0, p)).ravel(order="F")
+
+    def state(*dirs):  # nodes 0.2 m apart along the directions (polar, azimuth deg about x)
+        X = [np.zeros(3), np.array([0.2, 0.0, 0.0])]
+        for a, f in dirs:
+            a, f = math.radians(a), math.radians(f)
+            X.append(X[-1] + 0.2 * np.array([math.cos(a), math.sin(a) * math.cos(f),
+                                             math.sin(a) * math.sin(f)]))
+        X.append(np.array([L, 0.0, 0.0]))  # the clamp at end B (positions in p)
+        return np.linalg.lstsq(J, np.array(X).ravel(order="F") - x0, rcond=None)[0]
+
+    charts = _Charts(mech, True).stepwise()
+    q = state((170, 90), (170, -80), (170, 90), (0, 0))
+    before = np.asarray(tw(q, p)).ravel()
+    assert np.allclose(before[2:4], [5.9314, -5.9314], atol=1e-4), before
+    p_new, renewed, q_new = charts.renew(q, p)
+    assert renewed and not np.array_equal(p_new, p)
+    assert np.allclose(np.asarray(tw(q, p_new)).ravel()[2:4], [-0.3517, 0.3517], atol=1e-4)
+    assert np.max(np.abs(np.asarray(tw(q_new, p_new)).ravel() - before)) < 1e-12
+    assert np.sort(np.abs(q_new - q))[-2] == 0.0  # one coordinate moved,
+    assert np.max(np.abs(q_new - q)) == pytest.approx(2.0 * math.pi)  # by one turn
+    q = state((170, 90), (170, -80), (60, 0), (0, 0))
+    p_same, renewed, q_same = charts.renew(q, p)
+    assert not renewed and p_same is p and q_same is q

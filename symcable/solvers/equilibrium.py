@@ -101,8 +101,8 @@ def _ptc(F, mech, x0, p, tol, max_steps: int = PTC_MAX_STEPS, dtau0: float = PTC
     steps from the pseudo-time step ``dtau0``. ``charts`` (optional, a Mechanism with
     anchored frames): ``charts.ok(x, p)`` False rejects a step (it turned some edge too near
     the half turn from its anchor, where the frame is singular), ``charts.renew(q, p) ->
-    (p, renewed)`` re-anchors after each accepted step; the result's ``p`` is the last
-    parameters (the state is the same physical one in either chart)."""
+    (p, renewed, q)`` re-anchors after each accepted step (q: the same state in the new
+    chart); the result's ``p`` is the last parameters."""
     D = mech.scales.force / np.concatenate([mech.scales.q, np.ones(mech.n_z)])
     if mech.n_z:
         D[mech.n_q:] = 0.0  # constraint rows are not relaxed: they hold at every step
@@ -131,7 +131,8 @@ def _ptc(F, mech, x0, p, tol, max_steps: int = PTC_MAX_STEPS, dtau0: float = PTC
         x, nr = x_new, nr_new
         dtau = min(2.0 * dtau, PTC_DT_NEWTON)
         if charts is not None:
-            p = charts.renew(x[:mech.n_q], p)[0]
+            p, _, q = charts.renew(x[:mech.n_q], p)
+            x = np.concatenate([q, x[mech.n_q:]])
     return SimpleNamespace(x=x, converged=nr <= tol, iterations=max_steps, residual_norm=nr,
                            message="converged" if nr <= tol else
                            f"pseudo-transient continuation: residual {nr:.3g} after "

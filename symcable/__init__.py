@@ -33,6 +33,8 @@ from .offsets import offset_sweep, offsets_along
 from .results_offsets import OffsetSweep
 from .sweep import read_sweep, run_sweep
 from .solvers.equilibrium import solve_equilibrium
+from .solvers.branch import Branch, BranchPoint, trace_branch
+from .rod_contact import SelfContact, self_contact
 from .solvers.integrate import integrate
 from .solvers.linearize import linearize_mechanism, mechanism_modes, output_sensitivity
 from .solvers.options import (RK4, Collocation, GeneralizedAlpha, GeneralizedAlphaFirstOrder,
@@ -97,6 +99,11 @@ __all__ = [
     "MechanismPeriodic",
     "MechanismTrajectory",
     "solve_equilibrium",
+    "trace_branch",
+    "Branch",
+    "BranchPoint",
+    "self_contact",
+    "SelfContact",
     "integrate",
     "solve_periodic_mech",
     "mechanism_modes",

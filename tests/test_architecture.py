@@ -67,6 +67,7 @@ LAYERS = {
     "symcable.results_sweep": 4,
     "symcable.results_offsets": 4,
     "symcable.rod_fields": 4,
+    "symcable.rod_contact": 4,
     "symcable.solvers": 5,
     "symcable.api": 6,
     "symcable.planar_static": 6,

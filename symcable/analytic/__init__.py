@@ -13,6 +13,8 @@ Contents
 * :func:`cantilever_tip_load_small`, :func:`heavy_cantilever_small` -- linear beam theory.
 * :func:`taut_string_frequencies`, :func:`sagged_cable_frequencies` -- natural frequencies of
   a taut string and of a shallow sagged elastic cable (Irvine & Caughey 1974).
+* :func:`twisted_loop` -- the localized loop of an infinite twisted rod under tension
+  (Love's homoclinic solution): its shortening and end rotation.
 * :func:`carlson_rf`, :func:`carlson_rd`, :func:`elliptic_f`, :func:`elliptic_e` -- the
   special functions these need.
 
@@ -25,8 +27,11 @@ from .catenary import VERTICAL_SPAN_RATIO, CatenarySolution, elastic_catenary
 from .elastica import cantilever_tip_load, cantilever_tip_load_small, heavy_cantilever_small
 from .frequencies import SaggedCableFrequencies, sagged_cable_frequencies, taut_string_frequencies
 from .special import carlson_rd, carlson_rf, elliptic_e, elliptic_f
+from .twisted_rod import TwistedLoop, twisted_loop
 
 __all__ = [
+    "TwistedLoop",
+    "twisted_loop",
     "CatenarySolution",
     "VERTICAL_SPAN_RATIO",
     "elastic_catenary",

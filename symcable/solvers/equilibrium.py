@@ -87,7 +87,8 @@ def _continuation(step, x0, p0, p1, opts, polish: bool, dt0: float, dt_max: floa
 PTC_MAX_STEPS, PTC_DT0, PTC_DT_NEWTON = 400, 1e-2, 1e10
 
 
-def _ptc(F, mech, x0, p, tol):
+def _ptc(F, mech, x0, p, tol, max_steps: int = PTC_MAX_STEPS, dtau0: float = PTC_DT0,
+         charts=None):
     """Pseudo-transient continuation (Kelley & Keyes 1998): steps (D/dtau - J) dx = R(x) of
     a damped relaxation in pseudo-time, D = force scale / coordinate scale per unknown. For a
     conservative system (R = -grad E, J = -Hessian) a short step goes down the energy, so it
@@ -96,18 +97,23 @@ def _ptc(F, mech, x0, p, tol):
     doubles after every accepted step (so the end is Newton's quadratic convergence) and is
     cut by 4 when the residual jumps: not switched evolution relaxation, whose step shrinks
     while the residual grows, as it does for a while along a buckling path (measured: SER
-    stalled on compressed chains under gravity at steps of 3e-5 m)."""
+    stalled on compressed chains under gravity at steps of 3e-5 m). At most ``max_steps``
+    steps from the pseudo-time step ``dtau0``. ``charts`` (optional, a Mechanism with
+    anchored frames): ``charts.ok(x, p)`` False rejects a step (it turned some edge too near
+    the half turn from its anchor, where the frame is singular), ``charts.renew(q, p) ->
+    (p, renewed, q)`` re-anchors after each accepted step (q: the same state in the new
+    chart); the result's ``p`` is the last parameters."""
     D = mech.scales.force / np.concatenate([mech.scales.q, np.ones(mech.n_z)])
     if mech.n_z:
         D[mech.n_q:] = 0.0  # constraint rows are not relaxed: they hold at every step
     x = np.array(x0, dtype=float)
-    dtau = PTC_DT0
+    dtau = dtau0
     r = np.asarray(F.static_residual(x, p)).ravel()
     nr = float(np.max(np.abs(r))) if r.size else 0.0
-    for it in range(1, PTC_MAX_STEPS + 1):
+    for it in range(1, max_steps + 1):
         if nr <= tol:
             return SimpleNamespace(x=x, converged=True, iterations=it - 1, residual_norm=nr,
-                                   message="converged")
+                                   message="converged", dtau=dtau, p=p)
         try:
             _, dx = (np.asarray(a).ravel() for a in F.static_ptc_step(x, p, D / dtau))
         except RuntimeError:  # a singular matrix (the VM's QR refuses it): a smaller step
@@ -116,17 +122,21 @@ def _ptc(F, mech, x0, p, tol):
         r_new = np.asarray(F.static_residual(x_new, p)).ravel() if np.all(np.isfinite(dx)) \
             else np.full(r.shape, np.inf)
         nr_new = float(np.max(np.abs(r_new))) if r_new.size else 0.0
-        if not np.isfinite(nr_new) or nr_new > 100.0 * nr:
+        if not np.isfinite(nr_new) or nr_new > 100.0 * nr or (
+                charts is not None and not charts.ok(x_new[:mech.n_q], p)):
             dtau /= 4.0
             if dtau < 1e-12:
                 break
             continue
         x, nr = x_new, nr_new
         dtau = min(2.0 * dtau, PTC_DT_NEWTON)
-    return SimpleNamespace(x=x, converged=nr <= tol, iterations=PTC_MAX_STEPS, residual_norm=nr,
+        if charts is not None:
+            p, _, q = charts.renew(x[:mech.n_q], p)
+            x = np.concatenate([q, x[mech.n_q:]])
+    return SimpleNamespace(x=x, converged=nr <= tol, iterations=max_steps, residual_norm=nr,
                            message="converged" if nr <= tol else
                            f"pseudo-transient continuation: residual {nr:.3g} after "
-                           f"{PTC_MAX_STEPS} steps")
+                           f"{max_steps} steps", dtau=dtau, p=p)
 
 
 def constraint_null_space(B: np.ndarray, n: int) -> np.ndarray:

@@ -23,11 +23,16 @@ import scipy.sparse.linalg as spl
 from scipy.special import ellipj, ellipk
 
 from symcable.derive import functions
-from symcable.solvers.options import GeneralizedAlpha
+from symcable.solvers.galpha1 import galpha1_kernel, step_scales
+from symcable.solvers.options import GeneralizedAlpha, GeneralizedAlphaFirstOrder
 
 from symcable.models.rod import rod_table
 
 from inext_statics import benchmark, cond, pair, pendulum_scene, static_pair
+
+
+#: the library's second-order generalized-alpha tolerance (GeneralizedAlpha().tol)
+STEP_TOL = GeneralizedAlpha().tol
 
 
 class Stepper:
@@ -131,6 +136,40 @@ def run(mech, x0, p, dt: float, duration: float, rho_inf: float, tol: float = 1e
             "x": x}
 
 
+def run_ga1(mech, q0, v0, p, dt: float, duration: float, rho_inf: float,
+            tol: float = 1e-8) -> dict:
+    """The library's first-order generalized-alpha step (``galpha1_kernel``: the unrolled
+    Newton of ``sc.simulate``, in the virtual machine; tolerance ``tol`` on its scaled
+    residual, ``sc.simulate``'s 1e-8), which takes no constraints: the stiff rod only. The
+    same outputs as :func:`run` (tension per edge at every step)."""
+    kern = galpha1_kernel(mech, GeneralizedAlphaFirstOrder(rho_inf=rho_inf, tol=tol))
+    F = functions(mech)
+    r_f, _ = F.acc_residual(q0, v0, np.zeros(mech.n_v), np.zeros(0), 0.0, p)
+    M = np.array(ca.DM(F.tangents(q0, v0, np.zeros(0), 0.0, p)[2]).full())
+    a0 = np.linalg.solve(M, -np.asarray(r_f).ravel())
+    x = np.concatenate([q0, v0, v0, a0])
+    consts = (ca.DM([rho_inf, tol]), ca.DM(step_scales(mech)))
+    nq, nv = mech.n_q, mech.n_v
+
+    def sample(x):
+        return tension(mech, np.concatenate([x[:nq + nv], a0, a0]), p)
+    kern(x, 0.0, dt, p, *consts)  # build and warm
+    n = int(round(duration / dt))
+    its, ys, ok = [], [sample(x)], True
+    t0 = time.perf_counter()
+    for k in range(n):
+        x1, _, _, it, failed = kern(x, k * dt, dt, p, *consts)
+        its.append(float(it))
+        if float(failed):
+            ok = False
+            break
+        x = np.asarray(x1).ravel()
+        ys.append(sample(x))
+    wall = time.perf_counter() - t0
+    return {"y": np.array(ys), "iterations": np.array(its), "converged": ok,
+            "time_per_step": wall / max(len(its), 1)}
+
+
 def tension(mech, x, p) -> np.ndarray:
     """Tension per edge, N: the stiff rod's EA e, the constrained rod's multiplier z."""
     F = functions(mech)
@@ -223,7 +262,7 @@ def pendulum(dts, rhos, theta0_deg: float = 60.0, length: float = 2.0) -> list[d
 
 
 def perturbed(n: int, duration: float, dts, rhos, speed: float = 0.01,
-              ea_factors=(1.0,)) -> list[dict]:
+              ea_factors=(1.0,), ga1: bool = True) -> list[dict]:
     """The benchmark at ``n`` segments from its static state (each model's own), every node
     given the vertical velocity ``speed`` sin(pi s / L) m/s (projected so that the edge
     lengths do not change to first order: the same start for both models), marched over
@@ -231,7 +270,12 @@ def perturbed(n: int, duration: float, dts, rhos, speed: float = 0.01,
     time per step, the step Jacobian's condition numbers (and, for the constrained rod, with
     its constraint rows left unscaled), the tension history's roughness
     (:func:`roughness`), the largest tension difference from the constrained rod at the same
-    dt and rho_inf (relative to the peak tension), the axial frequency sqrt(EA/m)/ds x dt."""
+    dt and rho_inf (relative to the peak tension), the axial frequency sqrt(EA/m)/ds x dt.
+    Newton tolerance: the library's :data:`STEP_TOL`, or for a stiff rod whose round-off
+    eps EA/ds max|x| (over the force scale) comes within a tenth of it, 10 x that round-off
+    (EA x 100 at 40 segments: 3.5e-9, which no step meets at 1e-10).
+    ``ga1``: also the stiff rod (first EA factor) through the library's first-order step
+    (:func:`run_ga1`), which ``sc.simulate`` runs and which takes no constraints."""
     rows = []
     mechs = {}
     for fac in ea_factors:
@@ -256,12 +300,17 @@ def perturbed(n: int, duration: float, dts, rhos, speed: float = 0.01,
             for name, mech in mechs.items():
                 p, (q_s, z_s) = mech.static_p, eqs[name]
                 x0 = initial_state(mech, q_s, v, p, z_s if mech.n_z else None)
-                r = run(mech, x0, p, dt, duration, rho)
-                hist[name] = r["y"]
                 fac = ea_factors[list(mechs).index(name)] if mech.n_z == 0 else 0.0
+                # the library's step tolerance 1e-10 (force rows over the force scale),
+                # or 10 x the stiff rod's round-off eps EA/ds max|x| where that exceeds it
+                roundoff = np.finfo(float).eps * fac * float(np.max(seg["EA"] / seg["ds"])) \
+                    * float(np.max(np.abs(q_s))) / mech.scales.force
+                tol = max(STEP_TOL, 10 * roundoff)
+                r = run(mech, x0, p, dt, duration, rho, tol=tol)
+                hist[name] = r["y"]
                 w_ax = math.sqrt(fac * seg["EA"][0] / seg["mass"][0]) / seg["ds"][0]
                 row = {"case": "benchmark perturbed", "segments": n, "model": name,
-                       "rho_inf": rho, "dt": dt, "steps": len(r["iterations"]),
+                       "rho_inf": rho, "dt": dt, "tol": tol, "steps": len(r["iterations"]),
                        "converged": r["converged"],
                        "its_mean": float(r["iterations"].mean()),
                        "its_max": int(r["iterations"].max()),
@@ -272,9 +321,22 @@ def perturbed(n: int, duration: float, dts, rhos, speed: float = 0.01,
                     st = Stepper(mech, rho, scale_constraints=False)
                     row["cond_unscaled"] = st.jacobian_cond(x0, 0.0, dt, p)[0]
                 rows.append(row)
+            if ga1:  # the library's sc.simulate step on the stiff rod at the same dt
+                name = next(iter(mechs))
+                mech = mechs[name]
+                r = run_ga1(mech, eqs[name][0], v, mech.static_p, dt, duration, rho)
+                hist[name + ", first-order GA"] = r["y"]
+                rows.append({"case": "benchmark perturbed", "segments": n,
+                             "model": name + ", first-order GA", "rho_inf": rho, "dt": dt,
+                             "tol": 1e-8,
+                             "steps": len(r["iterations"]), "converged": r["converged"],
+                             "its_mean": float(r["iterations"].mean()),
+                             "its_max": int(r["iterations"].max()),
+                             "time_per_step": r["time_per_step"],
+                             "roughness": roughness(r["y"], float(np.max(np.abs(r["y"]))))})
             ref = hist["constrained"]
             peak = float(np.max(np.abs(ref)))
-            for row in rows[-len(mechs):]:
+            for row in rows[-len(hist):]:
                 y = hist[row["model"]]
                 k = min(len(y), len(ref))
                 row["dT"] = float(np.max(np.abs(y[:k] - ref[:k]))) / peak

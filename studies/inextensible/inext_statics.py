@@ -2,12 +2,12 @@
 Newton solve measured (iterations, wall time, condition number of the Jacobian at the
 solution) and the profiles compared.
 
-Units: m, N, s. Both mechanisms are solved by the library's damped Newton
+Units: m, N, s. Both mechanisms are solved by the same Newton on the Mechanism's own static
+residual and its exact Jacobian (``derive.functions(mech).static_step``: sparse QR): plain
+full steps (:func:`plain_newton`), or the library's damped Newton
 (:func:`symcable.solvers.newton.newton`: Armijo line search, each unknown's step bounded by
-its scale, as ``solve_equilibrium``'s damped attempt) on the Mechanism's own static residual
-and its exact Jacobian (``derive.functions(mech).static_step``: sparse QR), from the same
-start and to the same tolerance, so the iteration counts and times compare the formulations,
-not two solvers.
+its scale, as ``solve_equilibrium``'s damped attempt), from the same start and to the same
+tolerance, so the iteration counts and times compare the formulations, not two solvers.
 """
 from __future__ import annotations
 
@@ -21,7 +21,7 @@ from symcable.derive import functions
 from symcable.models.rod import rod_table
 from symcable.rod_static import rod_mechanism
 from symcable.scene import load_scene
-from symcable.solvers.equilibrium import _x_scale
+from symcable.solvers.equilibrium import _x_scale, solve_equilibrium
 from symcable.solvers.newton import newton
 
 from inext_constrained import constrained
@@ -160,9 +160,9 @@ def profile(mech, x, p) -> dict:
 
 def static_pair(rod, con, load: float = 1.0, tol_rel: float = 1e-9):
     """(x_stiff, x_constrained), x = (q, z), the benchmark at ``load`` x its loads: the stiff
-    rod by plain Newton from its first start (the line hanging straight along its load:
-    converges on this benchmark), the constrained rod by plain Newton from the stiff rod's
-    solution with least-squares multipliers."""
+    rod by plain Newton from its first start (the line hanging straight along its load), the
+    constrained rod by plain Newton from the stiff rod's solution with least-squares
+    multipliers; where plain Newton fails, from the library's ``solve_equilibrium``."""
     st = next(iter(rod.starts()))
     out = []
     for mech in (rod, con):
@@ -170,20 +170,21 @@ def static_pair(rod, con, load: float = 1.0, tol_rel: float = 1e-9):
         q0 = st.q if mech is rod else out[0][:rod.n_q]
         tol = max(tol_rel * rod.scales.force, 10 * mech.scales.residual_floor)
         sol = solve(mech, q0, p, tol)
-        if not sol["converged"]:
-            raise RuntimeError(f"{mech.name}: no static solution at load {load}")
+        if not sol["converged"]:  # the library's solve (line search, continuations)
+            eq = solve_equilibrium(mech, p, tol=tol)
+            sol = solve(mech, eq.q, p, tol, z0=eq.z)
         out.append(sol["x"])
     return out
 
 
-def compare(n: int, ea_factors, tol_rel: float = 1e-9) -> list[dict]:
+def compare(n: int, ea_factors, tol_rel: float = 1e-9, damped: bool = True) -> list[dict]:
     """The benchmark at ``n`` segments: the constrained rod and the stiff rod at each EA
     factor. Newton iterations and wall time (plain Newton) from two starts: ``cold``, the
     rod's own first start (the line hanging straight along its load; multipliers by least
-    squares; also damped), and ``warm``, each model's solution at 0.9 x the loads (a
-    continuation step). Tolerance max(tol_rel x force scale, 10 x the Mechanism's residual
-    floor), as ``solve_equilibrium``'s default. Rows: model, EA, iterations, times,
-    condition numbers of the static Jacobian at the solution (raw: rows in N, the
+    squares; also ``damped``, -1 when not run), and ``warm``, each model's solution at 0.9 x
+    the loads (a continuation step). Tolerance max(tol_rel x force scale, 10 x the
+    Mechanism's residual floor), as ``solve_equilibrium``'s default. Rows: model, EA,
+    iterations, times, condition numbers of the static Jacobian at the solution (raw: rows in N, the
     constraint's scaled to N by the library's force / q_ref; equilibrated), and against the
     constrained solution the largest tension difference (relative to the peak tension) and
     position difference (m); T/EA (the peak tension over EA)."""
@@ -196,7 +197,8 @@ def compare(n: int, ea_factors, tol_rel: float = 1e-9) -> list[dict]:
         p = mech.static_p
         tol = max(tol_rel * rod.scales.force, 10 * mech.scales.residual_floor)
         cold = solve(mech, start.q, p, tol)
-        damped = solve(mech, start.q, p, tol, damped=True)
+        damped_ = solve(mech, start.q, p, tol, damped=True) if damped else \
+            {"iterations": -1, "converged": False}
         x9 = static_pair(rod, con, 0.9)[1 if mech is con else 0]
         sol = solve(mech, x9[:mech.n_q], p, tol, z0=x9[mech.n_q:])
         pr = profile(mech, sol["x"], p)
@@ -205,8 +207,8 @@ def compare(n: int, ea_factors, tol_rel: float = 1e-9) -> list[dict]:
                "EA": float(s.line_types["cable"].EA) if fac is not None else float("inf"),
                "unknowns": pr["n"], "tol": tol,
                "cold_iterations": cold["iterations"], "cold_converged": cold["converged"],
-               "damped_iterations": damped["iterations"],
-               "damped_converged": damped["converged"],
+               "damped_iterations": damped_["iterations"],
+               "damped_converged": damped_["converged"],
                "iterations": sol["iterations"], "converged": sol["converged"],
                "residual": sol["residual"], "time": sol["time"],
                "time_per_iteration": sol["time"] / max(sol["iterations"], 1),

@@ -274,8 +274,8 @@ def perturbed(n: int, duration: float, dts, rhos, speed: float = 0.01,
     Newton tolerance: the library's :data:`STEP_TOL`, or for a stiff rod whose round-off
     eps EA/ds max|x| (over the force scale) comes within a tenth of it, 10 x that round-off
     (EA x 100 at 40 segments: 3.5e-9, which no step meets at 1e-10).
-    ``ga1``: also the stiff rod (first EA factor) through the library's first-order step
-    (:func:`run_ga1`), which ``sc.simulate`` runs and which takes no constraints."""
+    ``ga1``: also each stiff rod through the library's first-order step (:func:`run_ga1`),
+    which ``sc.simulate`` runs and which takes no constraints."""
     rows = []
     mechs = {}
     for fac in ea_factors:
@@ -321,8 +321,7 @@ def perturbed(n: int, duration: float, dts, rhos, speed: float = 0.01,
                     st = Stepper(mech, rho, scale_constraints=False)
                     row["cond_unscaled"] = st.jacobian_cond(x0, 0.0, dt, p)[0]
                 rows.append(row)
-            if ga1:  # the library's sc.simulate step on the stiff rod at the same dt
-                name = next(iter(mechs))
+            for name in (list(mechs)[:-1] if ga1 else []):  # sc.simulate's step, stiff rods
                 mech = mechs[name]
                 r = run_ga1(mech, eqs[name][0], v, mech.static_p, dt, duration, rho)
                 hist[name + ", first-order GA"] = r["y"]

@@ -91,7 +91,7 @@ def main(argv=None) -> dict:
     pert = dynamics.perturbed(10 if quick else 40, 2.0 if quick else 5.0,
                               (1.0, 0.1) if quick else (1.0, 0.1, 0.01),
                               (0.8,) if quick else (0.0, 0.8, 1.0),
-                              ea_factors=(1.0,) if quick else (1.0, 100.0))
+                              ea_factors=(1.0,) if quick else EA_FACTORS)
     pend = dynamics.pendulum((0.1, 0.01) if quick else (0.1, 0.01, 0.001),
                              (0.8,) if quick else (0.0, 0.8, 1.0))
     rows = cf_rows + st_rows + pert + pend

@@ -259,9 +259,12 @@ def closed_form(n: int, ea: float, tip: float = 0.05, length: float = 2.0) -> di
 
 
 def pendulum_scene(length: float = 2.0, ea_factor: float = 1.0):
-    """One edge of the benchmark's cable, pinned at the origin, its other end free: in air
-    and without drag, a simple pendulum of length ``length`` m whose mass is the lumped half
-    edge at its tip (the pinned node's is held). EA x ``ea_factor``."""
+    """One edge of the benchmark's cable, pinned at the origin, its other end free: no water
+    (no drag, no added mass), a simple pendulum of length ``length`` m whose mass is the
+    lumped half edge at its tip (the pinned node's is held). Its weight is the line type's
+    as written in the benchmark's scene (the submerged weight with rho_f = 1: the dict
+    carries it), so the pendulum's g is the tip weight over the tip mass (9.79 m/s^2).
+    EA x ``ea_factor``."""
     d = load_scene(str(scene_path("seed000_rod"))).to_dict()
     d["environment"]["water_density"] = 0.0
     lt = d["line_types"]["cable"]

@@ -253,8 +253,9 @@ def run_fixed(stepper, x, t0, h, p, idx, scale, progress, label, tau, reanchor=N
     ks, Xs = ks[chosen], Xs[chosen]
     if failure is not None:
         failure["dt"] = h
-        if not ks.size or ks[-1] != k:  # the last good state, saved or not
-            ks, Xs = np.append(ks, k), np.vstack([Xs, x[None, keep_cols]])
+        if not ks.size or ks[-1] != k:  # the last good state, saved or not (in its chart)
+            last = x if reanchor is None else reanchor.state_at(k, x)
+            ks, Xs = np.append(ks, k), np.vstack([Xs, last[None, keep_cols]])
         _residual_of_failure(stepper, failure, h, p)
     full = stepper.full
     # (a rootfinder Newton reports no iteration counts: NaN)

@@ -126,6 +126,7 @@ class Reanchoring:
         #: the refused renewal pending (None once renewed): its time (s), the vertices whose
         #: twist would jump and by how many turns
         self.refused: dict | None = None
+        self.before: tuple | None = None  # (k, the carried state before the last renewal)
 
     def margins(self, Q: np.ndarray, T: np.ndarray, record: bool = True) -> np.ndarray:
         """(K,) the margins of K states (``Q`` (K, >= n_q), ``T`` (K,) s) in the current
@@ -198,6 +199,7 @@ class Reanchoring:
                 return self.p
             if q_new is not q:
                 self.shifted += 1
+            self.before = (int(k), np.array(x, float))  # step k's state in the old chart
             if self.velocity_fn is not None:  # in place: the march's carried state
                 v = np.asarray(self.velocity_fn(q, x[nq:nq + nv], t, self.p), float).ravel()
                 x[nq:nq + nv] = v
@@ -208,6 +210,15 @@ class Reanchoring:
             self.refused = None
             self.changes.append((int(k), float(t), self.p.copy()))
         return self.p
+
+    def state_at(self, k: int, x: np.ndarray) -> np.ndarray:
+        """The carried state ``x`` of step ``k`` as saved: in the chart it was stepped in
+        (:meth:`p_of` gives step k the parameters before a renewal at k), i.e. as it was
+        before that renewal where the last one happened at k."""
+        if self.before is not None and self.before[0] == k and self.changes \
+                and self.changes[-1][0] == k:
+            return self.before[1]
+        return x
 
     def refused_failure(self, t: float, h: float, k: int) -> dict:
         """The march's failure (diagnostics of its ConvergenceError) where a step from

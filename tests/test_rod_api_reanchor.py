@@ -145,3 +145,77 @@ def test_frame_margin_needs_anchored_frames():
          "end_b": {"condition": "pinned", "position": [8.0, 0.0, -15.0]}}
     with pytest.raises(SymcableError, match="frame"):
         frame_margin(cable3d_mechanism(load_scene(d)))
+
+
+def _wrapped(*dirs):
+    """(mechanism, q, p): a rod of 6 segments (L / 6 each), clamped along +x at both ends,
+    the clamp of end B placed where the edges end (nothing stretched), its edges 1-4 along
+    ``dirs`` (polar angle from +x, azimuth about it, degrees); every anchor along +x."""
+    import casadi as ca
+    from test_rod_greenhill import twisted_rod
+    mech = build_rod(load_scene(twisted_rod(6)))
+    h = L / 6
+    X = [np.zeros(3), np.array([h, 0.0, 0.0])]
+    for a, f in dirs:
+        a, f = math.radians(a), math.radians(f)
+        X.append(X[-1] + h * np.array([math.cos(a), math.sin(a) * math.cos(f),
+                                       math.sin(a) * math.sin(f)]))
+    X.append(X[-1] + [h, 0.0, 0.0])
+    p = mech.params.with_values(**{"end_b.position": X[-1]})
+    pos = ca.Function("x", [mech.q, mech.p], [mech.outputs["positions"].expr])
+    J = np.asarray(ca.Function("J", [mech.q, mech.p],
+                               [ca.jacobian(mech.outputs["positions"].expr, mech.q)])(0, p))
+    x0 = np.asarray(pos(np.zeros(mech.n_q), p)).ravel(order="F")
+    q = np.linalg.lstsq(J, np.array(X).ravel(order="F") - x0, rcond=None)[0]
+    assert np.max(np.abs(np.asarray(pos(q, p)) - np.array(X))) < 1e-12
+    return mech, q, p
+
+
+def test_reanchoring_keeps_whole_turns_of_twist():
+    """The march re-anchors a state whose vertices carry reference twists beyond pi: edges
+    1-3 at 170 deg from their anchors on alternate sides give vertices 2 and 3 twists of
+    +-5.93 rad (measured), which the new chart, taking the anchors' angle afresh (modulo
+    2 pi), would give as -+0.35 rad: each vertex would jump by a turn (buckle14's finding).
+    The march's re-anchoring (``Reanchoring.after``) shifts the edge twist between them by
+    2 pi instead: every vertex twist the same to 1e-12 rad (round-off of the shift of 2 pi),
+    and in a march of 4 steps of 1 us from there (re-anchored at t = 0; the rod, bent
+    hard and released, changes a vertex twist by up to 9e-4 rad a step, measured)
+    consecutive samples differ by less than 0.05 rad (a lost turn: 6.28), the total twist
+    too (the clamps hold the link; without the shift both tests fail by a whole turn)."""
+    import casadi as ca
+    from symcable.solvers.reanchor import Reanchoring
+    mech, q, p = _wrapped((170, 90), (170, -80), (170, 90), (0, 0))
+    hook = reanchor_hook(mech)
+    tw = ca.Function("tw", [mech.q, mech.t, mech.p], [mech.outputs["twist"].expr])
+    before = np.asarray(tw(q, 0.0, p)).ravel()
+    assert np.allclose(before[2:4], [5.9314, -5.9314], atol=1e-3), before
+    tr = integrate(mech, 4e-6, 1e-6, method=METHOD, q0=q, p=p, codegen=False, reanchor=hook)
+    twist = tr.outputs["twist"].reshape(tr.time.size, -1)
+    assert np.max(np.abs(np.diff(twist, axis=0))) < 0.05, twist
+    assert np.max(np.abs(np.diff(twist.sum(axis=1)))) < 0.05
+    assert tr.stats["reanchorings"] >= 1 and tr.stats["reanchor_shifted"] >= 1
+    ra = Reanchoring(mech, hook, p)  # the march's re-anchoring, called directly
+    x = np.concatenate([q, np.zeros(mech.n_v)])
+    p_new = ra.after(x, 0, 0.0)
+    assert ra.stats()["reanchorings"] == 1 and ra.shifted == 1 and ra.refused is None
+    assert np.allclose(np.asarray(tw(q, 0.0, p_new)).ravel()[2:4], [-0.3517, 0.3517],
+                       atol=1e-3)  # what the bare re-anchoring gives
+    assert np.max(np.abs(np.asarray(tw(x[:mech.n_q], 0.0, p_new)).ravel() - before)) < 1e-12
+    assert np.max(np.abs(x[mech.n_q:])) == 0.0  # at rest: no rate moved
+
+
+def test_reanchoring_that_would_lose_a_turn_stops_the_march():
+    """With one such vertex alone (edges 1-2 at 170 deg, edge 3 back at 60 deg: vertex 2 at
+    +5.93 rad, the others within pi) no shift of the free edge twists restores it (the
+    clamps hold the total twist): the renewal is refused and the march stays in the old
+    chart; the state is already within the floor of the half turn, so its first step
+    stops the run with a ConvergenceError naming the re-anchoring and the vertex (the bare
+    re-anchoring ran on with a turn of link lost)."""
+    mech, q, p = _wrapped((170, 90), (170, -80), (60, 0), (0, 0))
+    with pytest.raises(ConvergenceError, match="re-anchoring") as err:
+        integrate(mech, 4e-5, 1e-5, method=METHOD, q0=q, p=p, codegen=False,
+                  reanchor=reanchor_hook(mech))
+    diag = err.value.diagnostics
+    assert diag["reason"] == "reanchor" and diag["refused"]["vertices"], diag
+    turns = np.array(diag["refused"]["turns"])
+    assert np.allclose(turns, np.round(turns), atol=1e-9) and np.any(np.abs(turns) >= 1)

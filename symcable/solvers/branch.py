@@ -21,7 +21,6 @@ turns edges by nearly 180 degrees), and at every step of a relaxation.
 """
 from __future__ import annotations
 
-import math
 import time
 from dataclasses import dataclass, field
 
@@ -35,6 +34,7 @@ from ..models.rod_reanchor import reanchor_hook
 from .equilibrium import (ESCAPES, _check, _ptc, _stability,
                           _unstable_direction, _x_scale, solve_equilibrium)
 from .newton import newton
+from .reanchor import twist_turns
 
 __all__ = ["Branch", "BranchPoint", "trace_branch"]
 
@@ -127,21 +127,11 @@ class _Charts:
         hook = reanchor_hook(mech) if reanchor is True else (reanchor or None)
         self.hook, self.margin, self.update = hook, None, None
         self.every_step = every_step
-        self.twist = None
+        self.turns = None
         if hook is not None:
             self.margin = ca.Function("margin", [mech.q, mech.t, mech.p], [hook.margin])
             self.update = ca.Function("update", [mech.q, mech.t, mech.p], [hook.update])
-            if "twist" in mech.outputs and "twist_angles" in mech.outputs:
-                tw = mech.outputs["twist"].expr
-                th = mech.outputs["twist_angles"].expr
-                try:  # the vertex twists and the edge twists' place in q (selection rows)
-                    self.twist = ca.Function("twist", [mech.q, mech.p], [tw])
-                    self.twist_q = ca.Function("twist_q", [mech.q, mech.p],
-                                               [ca.jacobian(tw, mech.q)])
-                    self.select = ca.Function("select", [mech.q, mech.p],
-                                              [ca.jacobian(th, mech.q)])
-                except RuntimeError:  # outputs of more than (q, p): leave the twists
-                    self.twist = None
+            self.turns = twist_turns(mech)  # the whole turns a renewal must keep
 
     def ok(self, q, p) -> bool:
         """No edge within the hook's floor of the half turn from its anchor."""
@@ -157,31 +147,19 @@ class _Charts:
         """(p, renewed, q): the anchors renewed at q when some edge has turned past the
         hook's threshold from its anchor (``every_step``: when any has turned), and the
         edge twists shifted by whole turns where the new chart's reference twist at a vertex
-        is the old one's wrapped by 2 pi (the anchors' angle is taken afresh by atan2):
-        without the shift the vertex's twist would jump by a turn (measured: a coarse loop's
-        snap lost a turn of link so). Not renewed where no shift restores every vertex."""
+        is the old one's wrapped by 2 pi (the anchors' angle is taken afresh by atan2;
+        :class:`~symcable.solvers.reanchor.TwistTurns`, as the time march does): without the
+        shift the vertex's twist would jump by a turn (measured: a coarse loop's snap lost a
+        turn of link so). Not renewed where no shift restores every vertex."""
         if self.hook is None:
             return p, False, q
         margin = float(self.margin(q, 0.0, p))
         if margin >= (2.0 - 1e-12 if self.every_step else self.hook.threshold):
             return p, False, q
         p_new = np.asarray(self.update(q, 0.0, p), float).ravel()
-        if self.twist is None:
-            return p_new, True, q
-        jump = np.asarray(self.twist(q, p), float).ravel() - \
-            np.asarray(self.twist(q, p_new), float).ravel()
-        if not np.max(np.abs(jump), initial=0.0) > 1e-9:
-            return p_new, True, q
-        sel = np.asarray(self.select(q, p_new), float)
-        rows = np.flatnonzero(np.any(sel != 0.0, axis=1))
-        idx = np.argmax(np.abs(sel[rows]), axis=1)  # q slot of each free edge twist
-        A = np.asarray(self.twist_q(q, p_new), float)[:, idx]
-        shift = np.linalg.lstsq(A, jump, rcond=None)[0]
-        shift = 2.0 * math.pi * np.round(shift / (2.0 * math.pi))  # whole turns
-        if np.max(np.abs(A @ shift - jump)) > 1e-9 * (1.0 + np.max(np.abs(jump))):
-            return p, False, q  # a jump no shift of the twists undoes: keep the old chart
-        q_new = np.array(q, float)
-        q_new[idx] += shift
+        q_new = q if self.turns is None else self.turns(q, p, p_new)
+        if q_new is None:  # a jump no shift of the twists undoes: keep the old chart
+            return p, False, q
         return p_new, True, q_new
 
 

@@ -168,7 +168,8 @@ def run_fixed(stepper, x, t0, h, p, idx, scale, progress, label, tau, reanchor=N
     track = RunningEstimate(stepper.est, x, tau)
     x = stepper.extend(x)
     keep_cols = slice(0, stepper.n_keep if stepper.n_keep is not None else stepper.n_x)
-    saved_x, saved_k = ([x[None, keep_cols]], [np.zeros(1, int)]) if idx[0] == 0 else ([], [])
+    saved_x, saved_k = ([x[None, keep_cols].copy()], [np.zeros(1, int)]) if idx[0] == 0 \
+        else ([], [])  # a copy: re-anchoring changes x in place
     k, iters, iters_max, worst, lte_max, step_time = 0, 0.0, 0.0, 0.0, -np.inf, 0.0
     # the cost per step measured by this stepper's first run sizes every later batch, so
     # that repeated runs (sweeps, studies) reuse the batches built (a mapaccum of a mapaccum
@@ -216,9 +217,9 @@ def run_fixed(stepper, x, t0, h, p, idx, scale, progress, label, tau, reanchor=N
                         iters += it_good
                         if failure is not None:
                             break
-                        if k in set(idx.tolist()):
+                        if k in set(idx.tolist()):  # a copy: re-anchoring shifts x
                             saved_k.append(np.array([k]))
-                            saved_x.append(x[None, keep_cols])
+                            saved_x.append(x[None, keep_cols].copy())
                         count -= 1
                     continue
                 if n_good < m:
@@ -252,8 +253,9 @@ def run_fixed(stepper, x, t0, h, p, idx, scale, progress, label, tau, reanchor=N
     ks, Xs = ks[chosen], Xs[chosen]
     if failure is not None:
         failure["dt"] = h
-        if not ks.size or ks[-1] != k:  # the last good state, saved or not
-            ks, Xs = np.append(ks, k), np.vstack([Xs, x[None, keep_cols]])
+        if not ks.size or ks[-1] != k:  # the last good state, saved or not (in its chart)
+            last = x if reanchor is None else reanchor.state_at(k, x)
+            ks, Xs = np.append(ks, k), np.vstack([Xs, last[None, keep_cols]])
         _residual_of_failure(stepper, failure, h, p)
     full = stepper.full
     # (a rootfinder Newton reports no iteration counts: NaN)
@@ -392,7 +394,11 @@ def run_adaptive(stepper, x, t0, h, duration, p, method, tol, batch, tau, reanch
             fresh = bool(reanchor.changes) and reanchor.changes[-1][1] == t
             if not fresh:  # from a fresh anchor first, then with a cut step
                 reanchor.after(x, len(times) - 1, t, force=True)
-                continue
+                if reanchor.refused is None:
+                    continue
+                # no fresh anchor keeps the vertex twists: a cut step would not help
+                failure = reanchor.refused_failure(t, h, len(times) - 1)
+                break
             newton_ok = False
         if not newton_ok or est > tol:
             rejected += 1
@@ -412,7 +418,7 @@ def run_adaptive(stepper, x, t0, h, duration, p, method, tol, batch, tau, reanch
         steps += k
         h_min, h_max = min(h_min, h), max(h_max, h)
         worst_lte = max(worst_lte, est)
-        x = X[-1]
+        x = X[-1].copy()  # not the saved sample's row: re-anchoring changes x in place
         track.update(h, X, LTE)
         t += k * h
         h *= min(GROW, SAFETY * (tol / max(est, 1e-300)) ** (1.0 / 3.0))

@@ -9,6 +9,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Callable
 
+import casadi as ca
 import numpy as np
 
 
@@ -35,6 +36,29 @@ class NewtonResult:
 
 
 StepFn = Callable[[np.ndarray, np.ndarray], tuple]
+
+#: a time step's first predictor whose scaled residual (max-norm) is at most this is taken
+#: as Newton's start without trying the others (:func:`best_start`): the usual step pays
+#: one residual, a violent one (residuals of 1e7 from the constant-acceleration start
+#: after a release) three
+PREDICTOR_TRUST = 1.0
+
+
+def best_start(res: Callable, candidates: list):
+    """Newton's start among ``candidates`` (CasADi expressions): the first when its
+    ``res(candidate)`` (a scaled residual norm, CasADi scalar) is at most PREDICTOR_TRUST,
+    else the one whose residual is smallest (the earlier on a tie; a residual that is not
+    finite is never chosen). In CasADi's graph: the other residuals are evaluated only
+    where the first is above the bound (a short-circuiting ``if_else``)."""
+    def finite(nrm):
+        return ca.if_else(nrm - nrm == 0, nrm, ca.inf)  # NaN or inf: never chosen
+
+    first = finite(res(candidates[0]))
+    best, best_norm = candidates[0], first
+    for w in candidates[1:]:
+        nrm = finite(res(w))
+        best, best_norm = ca.if_else(nrm < best_norm, w, best), ca.fmin(nrm, best_norm)
+    return ca.if_else(first <= PREDICTOR_TRUST, candidates[0], best, True)
 
 
 class _Singular(Exception):

@@ -141,10 +141,13 @@ class Reanchoring:
                 "reanchor_retaken": self.retaken,
                 "reanchor_threshold": self.threshold}
 
-    def step_through(self, stepper, x, k, t0, h, S, inv_scale, track, bad_state):
+    def step_through(self, stepper, x, k, t0, h, S, inv_scale, track, bad_state,
+                     substeps=None):
         """S single steps from the carried state ``x`` after step ``k``, re-anchoring after
         each whose margin is below ``threshold``: (x, k, failure or None, Newton
-        iterations). ``bad_state`` the march's test of a blown-up state."""
+        iterations). ``bad_state`` the march's test of a blown-up state; ``substeps``
+        (optional) ``substeps(x, t, h, p) -> (x1, iterations) or None``, the march's retry
+        of a failed step as substeps (which keep every substep's margin above ``floor``)."""
         iters = 0.0
         self.after(x, k, t0 + k * h, force=True)
         for _ in range(S):
@@ -157,8 +160,14 @@ class Reanchoring:
                 fail["message"] = str(exc).strip().splitlines()[-1]
                 return x, k, fail, iters
             if FL[0] > 0 or bad_state(X, inv_scale)[0]:
-                fail["message"] = "the step failed while re-anchoring every step"
-                return x, k, fail, iters
+                done = None if substeps is None else substeps(x, t, h, self.p)
+                if done is None:
+                    fail["message"] = "the step failed while re-anchoring every step"
+                    return x, k, fail, iters
+                x, k = done[0], k + 1
+                iters += done[1]
+                self.after(x, k, t0 + k * h)
+                continue
             if self.below_floor(X, t + h, h) is not None:
                 fail["message"] = (f"an anchored frame turned to within {self.floor:g} of its "
                                    "half turn (1 + t0 . t) in one step from a fresh anchor: "

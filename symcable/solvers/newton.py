@@ -41,9 +41,10 @@ StepFn = Callable[[np.ndarray, np.ndarray], tuple]
 #: as Newton's start without trying the others (:func:`best_start`): an accurate step pays
 #: one residual, a large one three. Not larger: near rest on seed 000's hybrid (80
 #: segments, t = 41 s) the constant-acceleration start of a 1 s step has a residual of 0.6
-#: force scales (the carried accelerations of the twists, whose inertia is 1e-12 kg m^2,
-#: are round-off amplified: h^2 a / 2 of a radian) where rest has 5e-11, and Newton from
-#: the former runs off (1e7); after a release the former is 1e7
+#: force scales where rest has 5e-11, and Newton from the former runs off (1e7): the
+#: accelerations at rest are the round-off of the forces (7e-11 N on nodes of 2e-5 kg:
+#: 4e-6 m/s^2), and h^2 a of them along a segment of EA / ds = 1.6e5 N/m is 0.6 N; after
+#: a release the former is 1e7
 PREDICTOR_TRUST = 1e-3
 
 

@@ -19,16 +19,17 @@ The Newton unknowns are the step's displacement d = q1 - q0 and z1 (a1, abar1 an
 follow from d): q1 = q0 + d is then exact to the round-off of q, where q0 + h^2 (...) from
 accelerations loses |h^2 abar| eps to cancellation (at h = 1 s after a release, abar ~ 200
 m/s^2: 4e-14 m, which a stiff axial law turns into 1e-9 N of residual, above the
-tolerance). Newton starts from the best of three predictors, the one whose residual is
-smallest (max-norm, scaled rows): constant acceleration (a1 = a0, exact for small h),
-constant velocity (q1 = q0 + h v0) and rest (q1 = q0), the latter two only where the
-first's residual exceeds PREDICTOR_TRUST force scales: where a large step follows a
-violent start (a line released from a kink accelerates at 200 m/s^2) the first would move
-the nodes by h^2 a0 / 2 ~ 100 m, whose residual (the axial law stretched) is 1e7 N, and
-Newton never recovers. It iterates first without a line search (full Newton steps: on a
-line the residual's norm has narrow valleys along its stiff axial rows, where the line
-search's steps shrink to nothing, 5 N of residual left after 50 iterations), and only
-where that fails, again from the same predictor with CasADi's backtracking line search.
+tolerance). Newton starts from the best of three predictors (:func:`_predictor`): constant
+acceleration (a1 = a0, exact for small h), constant velocity (q1 = q0 + h v0) and rest
+(q1 = q0), the latter two only where the first's residual exceeds PREDICTOR_TRUST force
+scales and theirs is far smaller: where a large step follows a violent start (a line
+released from a kink accelerates at 200 m/s^2) the first would move the nodes by
+h^2 a0 / 2 ~ 100 m, whose residual (the axial law stretched) is 1e7 N, and Newton never
+recovers. It iterates with CasADi's backtracking line search, and where that fails, again
+from the same predictor without it (full Newton steps: on a line the residual's norm has
+narrow valleys along its stiff axial rows, where the line search's steps shrink to
+nothing, 5 N of residual left after 50 iterations; on smooth steps the line search's
+Newton is the cheaper, a rod's period map 1.4 times).
 """
 from __future__ import annotations
 
@@ -116,14 +117,21 @@ def galpha_step(mech: Mechanism, opts: GeneralizedAlpha) -> ca.Function:
     search = ca.rootfinder(f"{mech.name}_ga_newton_ls", "newton", G, newton)
     z0 = _seg(x0, nq + 3 * nv, nq + 3 * nv + nz)
     w_guess = _predictor(G, x0, t, h, p, z0, nv, am, beta)
-    w1 = plain(w_guess, x0, t, h, p)
-    # the line search's Newton only where the plain one failed (the branch not taken is not
-    # evaluated)
-    missed = ca.logic_not(norm_inf(G(w1, x0, t, h, p)) <= opts.tol)  # NaN: missed
-    w1 = ca.if_else(missed, search(w_guess, x0, t, h, p), w1, True)
+    g_scale = ca.DM(mech.scales.g_scale())
+
+    def judged(w_):
+        """(w, err): err the residual's max-norm in the rows' own units (forces over the
+        force scale, constraint rows over their scale)."""
+        q1_, v1_, a1_, _, z1_ = state(w_)
+        r_f1, r_g1 = F.acc_residual(q1_, v1_, a1_, z1_, t + h, p)
+        return w_, norm_inf(ca.vertcat(r_f1 / fs, r_g1 / g_scale))
+
+    w1, err = judged(search(w_guess, x0, t, h, p))
+    # plain Newton only where the line search's failed (a short-circuiting if_else: the
+    # branch not taken is not evaluated); NaN counts as failed
+    w1, err = (ca.if_else(err <= opts.tol, a, b, True)
+               for a, b in zip((w1, err), judged(plain(w_guess, x0, t, h, p))))
     q1, v1, a1, ab1, z1 = state(w1)
-    r_f1, r_g1 = F.acc_residual(q1, v1, a1, z1, t + h, p)
-    err = norm_inf(ca.vertcat(r_f1 / fs, r_g1 / ca.DM(mech.scales.g_scale())))
     # local error of the positions, Newmark's estimate (beta - 1/6) h^2 (a1 - a0) (the h^3
     # jerk term the update leaves out), relative to the coordinate scales
     lte = norm_inf(abs(beta - 1.0 / 6.0) * h ** 2 * (a1 - a0) / ca.DM(mech.scales.q))

@@ -28,8 +28,8 @@ per-segment cost model 1 / (f + 0.22 (1 - f)) (studies/hybrid/README.md); the hy
 difference from the rod:
 tension along the line (relative to the rod's peak), node positions, the lifted end.
 
-Run: ``python studies/hybrid/laid.py [--quick] [--out DIR]`` (quick: 3 m, rod and hybrid,
-1 repeat).
+Run: ``python studies/hybrid/laid.py [--quick] [--out DIR]`` (quick: 3 m at ds = 0.1 m,
+rod and hybrid, 1 repeat).
 Writes ``results_laid.csv`` and ``summary_laid.md`` to DIR (default studies/hybrid/out/).
 Units: m, N, s.
 """
@@ -123,10 +123,10 @@ def flat_start(mech, s) -> Start:
     return Start(q, st.z, st.p, "laid straight on the bed")
 
 
-def case(model: str, length: float) -> dict:
+def case(model: str, length: float, ds: float = DS) -> dict:
     """Build, solve once (cold) and warm the 1 s steps of one model at one length: a dict
     with the Mechanism, the solution, the rod fraction and callables for the timed parts."""
-    s = scene(model, length)
+    s = scene(model, length, ds=ds)
     t0 = time.perf_counter()
     zones = None
     if model == "auto":
@@ -158,7 +158,7 @@ def case(model: str, length: float) -> dict:
             "steps": steps, "cold": cold, "n_q": mech.n_q, "f": rod_len / length,
             "zones": zones, "iterations": eq.stats["iterations"], "drift": drift,
             "step_iterations": tr.stats.get("newton_iterations", float("nan")),
-            "segments": round(length / DS)}
+            "segments": round(length / ds)}
 
 
 def interleaved(jobs: dict, repeats: int) -> dict:
@@ -203,13 +203,14 @@ def predicted(f: float) -> float:
     return 1.0 / (f + C_RATIO * (1.0 - f))
 
 
-def run(length: float, repeats: int, models=("rod", "hybrid", "auto")) -> list[dict]:
+def run(length: float, repeats: int, models=("rod", "hybrid", "auto"), ds: float = DS
+        ) -> list[dict]:
     """One length: each model built and solved, then its static solve and its 1 s steps
     timed interleaved; rows with the ratios and the differences from the rod."""
     cases = {}
     for m in models:
         try:
-            cases[m] = case(m, length)
+            cases[m] = case(m, length, ds)
         except SymcableError as exc:
             print(f"  {length:g} m {m}: failed: {str(exc)[:200]}")
     jobs = {}
@@ -263,14 +264,15 @@ def table(rows: list[dict]) -> str:
 
 
 def main(argv=None) -> dict:
-    args = study_io.parse(__doc__, "3 m, rod and hybrid, 1 repeat", HERE / "out", argv)
+    args = study_io.parse(__doc__, "3 m at ds = 0.1 m, rod and hybrid, 1 repeat", HERE / "out", argv)
     lengths, repeats = ((3.0,), 1) if args.quick else ((3.0, 10.0, 20.0, 40.0), 5)
+    ds = 0.1 if args.quick else DS
     models = ("rod", "hybrid") if args.quick else ("rod", "hybrid", "hybrid-td", "auto")
     rows = []
     for L in lengths:
-        rows += run(L, repeats, models)
+        rows += run(L, repeats, models, ds)
     text = ("# The seed cable laid on the bed: rod vs hybrid against the rod fraction\n\n"
-            f"Medians of {repeats} interleaved warm repeats; ds = {DS} m; {STEPS} steps of "
+            f"Medians of {repeats} interleaved warm repeats; ds = {ds} m; {STEPS} steps of "
             f"{DT} s (first-order generalized-alpha, rho_inf = 0) per timing; the VM "
             "throughout.\n\n"
             + table(rows))

@@ -4,10 +4,9 @@ fraction ..., where the hybrid's advantage should grow with the ratio of the zon
 it"), solved as a pure rod and as the hybrid rod-catenary line.
 
 The line (tests/test_rod_seabed.py::laid_seed, lengthened): seed 000's cable (D = 1 mm,
-Table 1; submerged weight 7.689e-3 N/m) pinned on the bed (depth 1 m, stiffness 1e4 N/m^2,
-frictionless: the test's mu = 0.3 is not applied in 3D statics anyway, symcable's
-FRICTIONLESS warning, and from that rest state a first try of its Coulomb steps, second
-order at Newton tolerance 1e-10, failed at 6 m) and running along it to the benchmark's
+Table 1; submerged weight 7.689e-3 N/m) pinned on a frictional bed (depth 1 m, stiffness
+1e4 N/m^2, Coulomb mu = 0.3 in the time steps; 3D statics are frictionless, symcable's
+FRICTIONLESS warning) and running along it to the benchmark's
 guided, tension-free right end (tangent 30 deg below the horizontal, 0.01 N normal to it),
 which lifts the last ~1 m off the bed. L = 3, 10, 20, 40 m at the same ds = 5 cm (60-800
 segments). Models:
@@ -60,8 +59,8 @@ ZONE = 0.5        # m: the given hybrid's rod zone, the seed's last 0.5 m
 ZONE_TD = 1.5     # m: "hybrid-td"'s rod zone, through the touchdown (~1 m from the end)
 C_RATIO = 0.22    # a catenary segment's cost / a rod segment's (studies/hybrid README)
 STEPS, DT = 3, 1.0
-FRICTION = 0.0    # see the module docstring
-STEP_TOL = 1e-8   # the steps' scaled Newton tolerance (1e-10: below round-off from 6 m)
+FRICTION = 0.3    # Coulomb, the test's (the time steps only)
+STEP_TOL = 1e-8   # the steps' scaled Newton tolerance (1e-10 stalls at round-off from 6 m)
 CABLE = {"EA": 3926.990816987241, "EI": 2.454369260617026e-4, "GJ": 1.9634954084936207e-4,
          "mass": 7.853981633974483e-4, "diameter": 1.0e-3, "cd_normal": 1.0,
          "cd_tangential": 0.3141592653589793, "ca_normal": 0.0, "ca_tangential": 0.0}

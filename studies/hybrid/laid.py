@@ -263,7 +263,8 @@ def table(rows: list[dict]) -> str:
 
 
 def main(argv=None) -> dict:
-    args = study_io.parse(__doc__, "3 m at ds = 0.1 m, rod and hybrid, 1 repeat", HERE / "out", argv)
+    args = study_io.parse(__doc__, "3 m at ds = 0.1 m, rod and hybrid, 1 repeat",
+                          HERE / "out", argv)
     lengths, repeats = ((3.0,), 1) if args.quick else ((3.0, 10.0, 20.0, 40.0), 5)
     ds = 0.1 if args.quick else DS
     models = ("rod", "hybrid") if args.quick else ("rod", "hybrid", "hybrid-td", "auto")

@@ -149,6 +149,26 @@ def test_hybrid_quick(tmp_path):
             assert d["tension_err"] < 0.01 and d["shear_err"] < 0.05 and d["moment_err"] < 0.05
 
 
+
+def test_hybrid_laid_quick(tmp_path):
+    """The laid-cable study's --quick mode (studies/hybrid/laid.py: the seed's cable laid on
+    the bed, 3 m at ds = 0.1 m, its lifted guided end in a 0.5 m rod zone): it writes its
+    tables; the hybrid has fewer unknowns than the rod (3 per catenary node against 4) and
+    rod fraction 0.5 / 3; its tension is the rod's within the issue's 1 % of the peak
+    everywhere (measured 0.56 %; 0.65 % at the full run's 5 cm) and its nodes within 3 cm
+    (measured 1.9 cm: the EI = 0 catenary takes the lift-off ~1 m from the end, outside the
+    rod zone, as the benchmark's sags 3.8 cm deeper); both stay at rest over their 1 s steps
+    (1e-6 m: they start at their own static solutions). Speed is measured in the study, not
+    asserted here."""
+    res = load_study("hybrid", "laid.py").main(["--quick", "--out", str(tmp_path)])
+    for name in ("results_laid.csv", "summary_laid.md"):
+        assert (tmp_path / name).stat().st_size > 0, name
+    rows = {r["model"]: r for r in res["rows"]}
+    rod, hyb = rows["rod"], rows["hybrid"]
+    assert hyb["n_q"] < rod["n_q"] and hyb["f"] == pytest.approx(0.5 / 3.0)
+    assert hyb["tension_err"] < 0.01 and hyb["pos_err"] < 0.03
+    assert rod["drift"] < 1e-6 and hyb["drift"] < 1e-6
+
 def test_work_precision_rod_quick(tmp_path):
     """The rod and hybrid work-precision rows' --quick mode (studies/work_precision/
     run_rod.py: the damped rod cantilever heaving at its clamp, T = 1 s, and the taut

@@ -20,6 +20,7 @@ import symcable.solvers.equilibrium as _equilibrium
 from symcable.cable3d_static import cable3d_mechanism
 from symcable.data import scene_path
 from symcable.errors import ConvergenceError, SymcableError
+from symcable.models.rod_reanchor import reanchor_hook
 from symcable.rod_static import rod_mechanism
 from symcable.scene import load_scene
 from symcable.solvers.integrate import integrate
@@ -175,44 +176,57 @@ def straight_q(mech, s) -> np.ndarray:
     return q
 
 
-LADDER = (0.05, 0.1, 0.25, 0.5)  # s: 10 steps each between the snap and the seed's 1 s
+#: the release from straight before the seed's 1 s steps: (step, duration) s. The straight
+#: start is a 30 deg kink at the guided end (accelerations of 1e4 m/s^2 on its node at 80
+#: segments) and a line in free fall: from there the first 1 s step's Newton (from any
+#: predictor, with or without a line search or step bounds) wanders among iterates whose
+#: axial penalty is stretched by metres at 80 segments (it converges at 20); one second
+#: of 0.01 s then 0.1 s steps takes the line past it
+RELEASE = ((0.01, 0.1), (0.1, 0.9))
 
 
-def relax(s, t_snap: float, duration: float, dt: float = 1.0, tol: float = 1e-3):
+def relax(s, duration: float, dt: float = 1.0, release=RELEASE):
     """The dynamic relaxation from straight by generalized-alpha (second order in time,
-    CasADi's Newton with its line search, substeps where a step fails): the first ``t_snap``
-    s with adapted steps (``tol``: the release's snap, which no 1 s step survives, see the
-    README), 10 steps at each of LADDER's sizes, then ``duration`` s at the seed's ``dt``,
-    all at rho_inf = 0 after the snap (the most numerical dissipation: a relaxation, as
-    the seed's). Returns a dict: the final outputs, the kinetic energy history, the wall
-    times and step counts."""
+    rho_inf = 0, the most numerical dissipation: a relaxation, as the seed's; CasADi's
+    Newton, substeps where a step fails), the rod's frames re-anchored where an edge turns
+    far from its anchor (``reanchor_hook``: without it a rod edge that swings to the half
+    turn from its anchor meets the chart's singularity, where the step fails at any size:
+    what stopped the seed's catenary hybrid at t = 0.23 s before). ``release`` (step,
+    duration) legs from straight, then ``duration`` s at the seed's ``dt``. Returns a dict:
+    the final outputs, the kinetic energy history, the wall times (the release's and the
+    1 s steps'), step counts and substepped steps."""
     mech = mechanism(s)
+    hook = reanchor_hook(mech)
     q = straight_q(mech, s)
-    t0 = time.perf_counter()
-    tr = integrate(mech, t_snap, 1e-4, tol=tol, method=GeneralizedAlpha(rho_inf=0.5), q0=q,
-                   v0=np.zeros_like(q), progress=False)
-    wall1, steps1 = time.perf_counter() - t0, tr.stats["steps"]
-    ts, Ks, t_now = [np.asarray(tr.time)], [np.ravel(tr.outputs["kinetic_energy"])], t_snap
+    v, p = np.zeros_like(q), mech.params.values
+    ts, Ks, t_now, wall1, steps1, sub1 = [], [], 0.0, 0.0, 0, 0
     method = GeneralizedAlpha(rho_inf=0.0)
-    for h, dur in [(x, 10 * x) for x in LADDER] + [(dt, duration)]:
-        q, v = np.asarray(tr.q)[-1], np.asarray(tr.v)[-1]
+    for h, dur in tuple(release) + ((dt, duration),):
         t0 = time.perf_counter()
-        try:
-            tr = integrate(mech, dur, h, method=method, q0=q, v0=v, progress=False)
-        except ConvergenceError:
-            if h == dt:
-                raise
-            tr = integrate(mech, dur, h / 4, method=method, q0=q, v0=v, progress=False)
+        tr = integrate(mech, dur, h, method=method, q0=q, v0=v, p=p, progress=False,
+                       reanchor=hook)
         wall = time.perf_counter() - t0
+        if h != dt:
+            wall1, steps1 = wall1 + wall, steps1 + tr.stats["steps"]
+            sub1 += tr.stats.get("substepped_steps", 0)
         ts.append(t_now + np.asarray(tr.time))
         Ks.append(np.ravel(tr.outputs["kinetic_energy"]))
         t_now += dur
+        q, v, p = np.asarray(tr.q)[-1], np.asarray(tr.v)[-1], _final_p(tr, p)
     last = {k: np.asarray(v)[-1] for k, v in tr.outputs.items()
             if k in ("positions", "internal_force", "bending_moment", "axial_force")}
-    return {"last": last, "t": np.concatenate(ts), "K": np.concatenate(Ks), "snap_wall": wall1,
-            "snap_steps": steps1, "wall": wall, "steps": tr.stats["steps"],
+    return {"last": last, "t": np.concatenate(ts), "K": np.concatenate(Ks),
+            "release_wall": wall1, "release_steps": steps1, "release_substepped": sub1,
+            "wall": wall, "steps": tr.stats["steps"],
             "substepped": tr.stats.get("substepped_steps", 0),
+            "max_substeps": tr.stats.get("max_substeps", 1),
             "us_per_step": 1e6 * wall / tr.stats["steps"], "n_q": mech.n_q}
+
+
+def _final_p(tr, p) -> np.ndarray:
+    """The parameters at a run's end: re-anchored frames (the next leg's q is in their
+    chart), else ``p``."""
+    return np.asarray(tr.stats.get("p_final", p), float)
 
 
 def step_runner(s, steps: int = 10, dt: float = 1.0, codegen: bool | None = False):

@@ -75,3 +75,33 @@ def speed_figure(st, lg, path) -> None:
     fig.tight_layout()
     fig.savefig(path, dpi=120)
     plt.close(fig)
+
+
+def relaxation_figure(rx, path) -> None:
+    """The relaxation from straight: kinetic energy (J) against time for each model that
+    ran (the release's small steps, then the seed's 1 s steps), and the relaxed shape
+    against the static one."""
+    fig, ax = plt.subplots(1, 2, figsize=(11, 4))
+    for m, sty in STYLE.items():
+        r = rx.get(m, {})
+        if "K" not in r:
+            continue
+        ax[0].semilogy(r["t"], np.maximum(r["K"], 1e-30), **sty)
+        if "profile" in r:
+            p, q = r["profile"], r["static"]
+            ax[1].plot(q["X"][:, 0], q["X"][:, 2], **sty)
+            k = max(1, len(p["X"]) // 30)
+            ax[1].plot(p["X"][::k, 0], p["X"][::k, 2], "o", ms=3, mfc="none",
+                       color=sty["color"])
+    ax[0].axvline(1.0, color="0.7", lw=0.8)
+    ax[0].set(xlabel="t (s)", ylabel="kinetic energy (J)",
+              title="relaxation from straight: release, then dt = 1 s (rho_inf = 0)")
+    ax[1].set(xlabel="x (m)", ylabel="z (m)",
+              title="relaxed (circles) against static (lines)")
+    ax[1].set_aspect("equal")
+    for a in ax:
+        a.grid(alpha=0.3)
+        a.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)

@@ -13,15 +13,17 @@ alpha_m dF/dy' + alpha_f gamma h dF/dy, in one of two ways (:class:`~.options.Ne
   ``max_iter`` times, a converged iteration switching the rest off (CasADi evaluates only
   the taken branch of an ``if_else``). The residual is SX (the Mechanism's expressions
   inlined); the iteration matrix is factorised at the start of the step and reused by the
-  next iterations (chord iterations) up to CHORD_ITERATIONS, then refactorised at every
-  iteration. The factorisation is the block LU of :mod:`symcable.linalg.sxlu` written out in
-  SX, on the matrix permuted to a fill-reducing order (approximate minimum degree of its
-  pattern: it depends on the pattern alone), for at most SXLU_MAX_STATES unknowns (up to
-  SXLU_MAX_STATES_C when generated C is asked for explicitly, ``codegen=True``); above, the
-  banded LU of :mod:`symcable.linalg.banded` (loops whose C compiles in seconds at any
-  size; on the Schur complement of the kinematic rows where their block is diagonal) where
-  the matrix is banded in reverse Cuthill-McKee order (a line's nodes: BANDED_MAX_WIDTH),
-  else CasADi's sparse QR (:func:`symcable.linalg.sparse.sparse_solve`). Compiled to C through
+  next iterations (chord iterations) up to CHORD_ITERATIONS while they cut the residual by
+  CHORD_CONTRACTION at least, then refactorised at every iteration; it starts from the best
+  of three predictors (:func:`_predictor`). The factorisation is the block LU of
+  :mod:`symcable.linalg.sxlu` written out in SX, on the matrix permuted to a fill-reducing
+  order (approximate minimum degree of its pattern: it depends on the pattern alone), for at
+  most SXLU_MAX_STATES unknowns (up to SXLU_MAX_STATES_C when generated C is asked for
+  explicitly, ``codegen=True``); above, the banded LU of :mod:`symcable.linalg.banded`
+  (loops whose C compiles in seconds at any size; on the Schur complement of the kinematic
+  rows where their block is diagonal) where the matrix is banded in reverse Cuthill-McKee
+  order (a line's nodes: BANDED_MAX_WIDTH), else CasADi's sparse QR
+  (:func:`symcable.linalg.sparse.sparse_solve`). Compiled to C through
   :mod:`symcable.codegen` when asked (or, by default, when it pays). Its derivative with
   respect to the step's inputs is that of the iterations taken: near the exact one (the
   chord iterations contract fast) but not equal to it;
@@ -51,6 +53,7 @@ from ..linalg.banded import (BandedLU, SchurBandedLU, bandwidths, leading_diagon
 from ..linalg.sparse import jacobian as _jacobian, norm_inf, sparse_solve
 from ..linalg.sxlu import block_lu, block_plan
 from ..models.mechanism import Mechanism
+from .newton import best_start
 from .options import GeneralizedAlphaFirstOrder, NewtonScheme
 from .stepcache import STEP_CACHE, maybe_compiled
 
@@ -59,6 +62,11 @@ __all__ = ["CHORD_ITERATIONS", "SXLU_MAX_STATES", "SXLU_MAX_STATES_C", "coeffici
 
 #: iterations of a step that reuse the matrix factorised at its start (chord iterations)
 CHORD_ITERATIONS = 4
+#: a chord iteration whose residual (scaled, max-norm) was not cut at least this much by
+#: the last one refactorises instead: far from the solution (a 1 s step after a violent
+#: release) the start's matrix sends chord iterations off to 1e30 times the scales, where
+#: Newton with the current matrix converges (10 iterations on seed 000's line)
+CHORD_CONTRACTION = 0.5
 #: largest state (entries of y) whose iteration matrix is factorised by the block LU written
 #: out in SX; above it, by sparse QR (fill-reducing column order, dense rows split off),
 #: whose construction is O(n)
@@ -249,6 +257,21 @@ def _taylor_lte(mech, y0, y1, t, h, p, rho, y_scale):
     return norm_inf(C / (C + 1.0 / 6.0) * (y1 - y_pred) / y_scale)
 
 
+def _predictor(res, x, ny: int, nq: int, gamma):
+    """Newton's start y'1 for the step from x = (y0, y'0): of the constant rate y'1 = y'0,
+    constant velocity (q1 = q0 + h q'0, v1 = v0) and rest (y1 = y0), the one whose scaled
+    residual ``res(w)`` (max-norm) is smallest (the first on a tie; a residual that is not
+    finite is never chosen). After a violent start (a line released from a kink, v' ~ 200
+    m/s^2) the constant rate puts v1 = h v'0 ~ 200 m/s into the drag at h = 1 s, and
+    Newton runs off (to 1e30 times the scales) from there. Rest is y'1 = (1 - 1 /
+    gamma) y'0 (the update y1 = y0 + h y'0 + gamma h (y'1 - y'0) = y0). The others are
+    tried only where the constant rate's residual exceeds PREDICTOR_TRUST
+    (:func:`~symcable.solvers.newton.best_start`)."""
+    yd0 = x[ny:]
+    stay = (1 - 1 / gamma) * yd0
+    return best_start(res, [yd0, ca.vertcat(yd0[:nq], stay[nq:]), stay])
+
+
 def _unrolled(mech: Mechanism, max_iter: int, with_lte: bool, lu: bool) -> ca.Function:
     """The kernel of the unrolled Newton loop (see :func:`galpha1_kernel`)."""
     ny = mech.n_q + mech.n_v
@@ -261,18 +284,19 @@ def _unrolled(mech: Mechanism, max_iter: int, with_lte: bool, lu: bool) -> ca.Fu
     cache = STEP_CACHE.get(mech, ("block_lu",), dict)
     factor, solve, n_f, _ = _linear_solver(_jacobian(r, w), args, cache, lu, mech.n_q)
 
-    # one iteration: (z, done, it, measure, f; x, t, h, p, settings, scales) -> ...
+    # one iteration: (z, done, it, measure, f, previous residual; x, t, h, p, settings,
+    # scales) -> ...
     z, done, it, meas = ca.MX.sym("z", ny), ca.MX.sym("done"), ca.MX.sym("it"), ca.MX.sym("measure")
-    f = ca.MX.sym("f", n_f)
+    f, prev = ca.MX.sym("f", n_f), ca.MX.sym("previous")
     x, t, h, p, st, sc = _symbols(mech, ca.MX)
     tol, gamma = st[1], coefficients(st[0])[2]
     rv = R(z, x, t, h, p, st)
     res = norm_inf(h * rv * sc[ny:])
     conv = res <= tol
-    names = ["z", "done", "it", "measure", "f"] + _IN
+    names = ["z", "done", "it", "measure", "f", "previous"] + _IN
     outs = ["z_out", "done_out", "it_out", "measure_out"]
-    fargs = [z, done, it, meas, f, x, t, h, p, st, sc]
-    rest = fargs[5:]
+    fargs = [z, done, it, meas, f, prev, x, t, h, p, st, sc]
+    rest = fargs[6:]
     # the loop from iteration i on, nested so that a converged step returns at once:
     # loop_i = if done: (z, done, it, measure) else loop_{i+1}(iteration_i(...))
     # after the last iteration: its iterate judged by its own residual (a step whose last
@@ -282,12 +306,15 @@ def _unrolled(mech: Mechanism, max_iter: int, with_lte: bool, lu: bool) -> ca.Fu
                        [z, ca.logic_or(done, res_end <= tol), it,
                         ca.if_else(done, meas, res_end, True)], names, outs)
     for i in range(max_iter - 1, -1, -1):
-        refactor = i == 0 or i >= CHORD_ITERATIONS
-        f_new = ca.if_else(conv, f, factor(z, x, t, h, p, st), True) if refactor else f
+        if i == 0 or i >= CHORD_ITERATIONS:
+            f_new = ca.if_else(conv, f, factor(z, x, t, h, p, st), True)
+        else:  # a chord iteration, unless the last one did not contract the residual
+            slow = ca.logic_and(ca.logic_not(conv), ca.logic_not(res <= CHORD_CONTRACTION * prev))
+            f_new = ca.if_else(slow, factor(z, x, t, h, p, st), f, True)
         dz = ca.if_else(conv, ca.MX.zeros(ny), -solve(f_new, rv), True)
         corr = norm_inf(gamma * h * dz / sc[:ny])
         nxt = loop(z + dz, ca.logic_or(conv, corr <= tol), it + 1 - conv,
-                   ca.if_else(conv, res, corr), f_new, *rest)
+                   ca.if_else(conv, res, corr), f_new, res, *rest)
         go_on = ca.Function(f"{name}_from{i}", fargs, nxt, names, outs)
         stop = ca.Function(f"{name}_stop{i}", fargs, [z, done, it, meas], names, outs)
         loop = ca.Function.if_else(f"{name}_loop{i}", stop, go_on)
@@ -295,7 +322,9 @@ def _unrolled(mech: Mechanism, max_iter: int, with_lte: bool, lu: bool) -> ca.Fu
 
     x, t, h, p, st, sc = _symbols(mech, ca.MX)
     y0, yd0 = x[:ny], x[ny:]
-    z, done, it, meas = loop(yd0, 0, 0, np.inf, ca.MX.zeros(n_f), x, t, h, p, st, sc)
+    start = _predictor(lambda w_: norm_inf(h * R(w_, x, t, h, p, st) * sc[ny:]), x, ny,
+                       mech.n_q, coefficients(st[0])[2])
+    z, done, it, meas = loop(start, 0, 0, np.inf, ca.MX.zeros(n_f), np.inf, x, t, h, p, st, sc)
     y1 = y0 + h * yd0 + coefficients(st[0])[2] * h * (z - yd0)
     lte = _taylor_lte(mech, y0, y1, t, h, p, st[0], sc[:ny]) if with_lte else ca.MX(np.nan)
     return ca.Function(f"{name}_kernel{max_iter}{'_lte' if with_lte else ''}",
@@ -318,7 +347,9 @@ def _rootfinder(mech: Mechanism, tol: float, max_iter: int, with_lte: bool) -> c
                        {"abstol": tol, "abstolStep": 1e-14, "max_iter": max_iter,
                         "error_on_fail": False, "show_eval_warnings": False})
     y0, yd0 = x[:ny], x[ny:]
-    w1 = rf(yd0, x, t, h, p, st, sc)
+    start = _predictor(lambda w_: norm_inf(scaled(w_)), x, ny, mech.n_q,
+                       coefficients(st[0])[2])
+    w1 = rf(start, x, t, h, p, st, sc)
     y1 = y0 + h * yd0 + coefficients(st[0])[2] * h * (w1 - yd0)
     err = norm_inf(scaled(w1))
     lte = _taylor_lte(mech, y0, y1, t, h, p, st[0], sc[:ny]) if with_lte else ca.MX(np.nan)

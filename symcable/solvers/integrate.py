@@ -313,7 +313,9 @@ def _message(failure, label, method, stats) -> str:
     if reason == "newton":
         msg = (f"{label}: Newton did not converge in {method.max_iter} iterations in the step "
                f"from t = {failure['time_last_good']:.6g} to {failure['time']:.6g} s (scaled "
-               f"residual {failure['residual']:.3g}, tolerance {method.tol:.3g}): try a smaller dt")
+               f"residual {failure['residual']:.3g}, tolerance {method.tol:.3g}"
+               + ("; its iterate ran off beyond the blow-up bound" if failure.get("diverged")
+                  else "") + "): try a smaller dt")
     elif reason == "error":
         msg = (f"{label}: the step from t = {failure['time_last_good']:.6g} s failed "
                f"({failure['message']})")

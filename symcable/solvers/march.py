@@ -179,6 +179,9 @@ def run_fixed(stepper, x, t0, h, p, idx, scale, progress, label, tau, reanchor=N
     wanted = idx
     idx = with_checkpoints(idx)
     bar = ProgressBar(int(idx[-1]), progress, label=f"simulate {label}")
+    # substeps of a failed step are taken only where they keep the frames off their floor
+    accept = None if reanchor is None else \
+        (lambda Xs_, t1, hs: reanchor.below_floor(Xs_, t1, hs) is None)
     try:
         for S, count in runs(idx):
             while count > 0 and failure is None:
@@ -213,7 +216,9 @@ def run_fixed(stepper, x, t0, h, p, idx, scale, progress, label, tau, reanchor=N
                     count -= n_good
                     if cut[1]:  # the sample that crossed the floor, a step at a time
                         x, k, failure, it_good = reanchor.step_through(
-                            stepper, x, k, t0, h, S, inv_scale, track, _bad_state)
+                            stepper, x, k, t0, h, S, inv_scale, track, _bad_state,
+                            lambda x_, t_, h_, p_: _substeps(
+                                stepper, x_, t_, h_, p_, inv_scale, track, sub, accept))
                         iters += it_good
                         if failure is not None:
                             break
@@ -226,7 +231,7 @@ def run_fixed(stepper, x, t0, h, p, idx, scale, progress, label, tau, reanchor=N
                     k_bad, t_replay = k, time.perf_counter()
                     failure, x, k, extra, it_good = _replay(
                         stepper, x, k, t0, h, p, (m - n_good) * S, set(idx.tolist()), inv_scale,
-                        track, sub, S)
+                        track, sub, S, accept)
                     step_time += time.perf_counter() - t_replay
                     for kk, xx in extra:
                         saved_k.append(np.array([kk]))
@@ -270,14 +275,16 @@ def run_fixed(stepper, x, t0, h, p, idx, scale, progress, label, tau, reanchor=N
     return ks.astype(float), Xs, failure, extra
 
 
-def _replay(stepper, x, k, t0, h, p, n_max, save_set, inv_scale, track, sub, S=None):
+def _replay(stepper, x, k, t0, h, p, n_max, save_set, inv_scale, track, sub, S=None,
+            accept=None):
     """Step one at a time from a good state to find the first bad step: (failure or None,
     x, k of the last good step, the (k, x) of saved steps passed, Newton iterations); the
     good steps update ``track``. A step whose Newton iteration fails (or whose matrix is
     singular) is retried as 2, 4, ... MAX_SUBSTEPS substeps (:func:`_substeps`) before it
     counts as failed; ``sub`` counts such steps. With ``S``, it returns at the first
     multiple of S steps after such a step is through (the caller's batches of S-step
-    samples take over again), else after ``n_max`` steps."""
+    samples take over again), else after ``n_max`` steps. ``accept``: as
+    :func:`_substeps`'."""
     saved, good_iters, k0, through = [], 0.0, k, False
     for _ in range(n_max):
         if through and S and (k - k0) % S == 0:
@@ -293,7 +300,7 @@ def _replay(stepper, x, k, t0, h, p, n_max, save_set, inv_scale, track, sub, S=N
         # saying so (a violent start: the iterate left the basin), is retried in substeps
         bad = X is not None and bool(_bad_state(X, inv_scale)[0])
         if (failed or bad) and isinstance(stepper.method, IMPLICIT):
-            done = _substeps(stepper, x, t0 + k * h, h, p, inv_scale, track, sub)
+            done = _substeps(stepper, x, t0 + k * h, h, p, inv_scale, track, sub, accept)
             if done is not None:
                 x, k, through = done[0], k + 1, True
                 good_iters += done[1]
@@ -304,7 +311,7 @@ def _replay(stepper, x, k, t0, h, p, n_max, save_set, inv_scale, track, sub, S=N
             diag.update(reason="error", message=message, residual=float("nan"))
             return diag, x, k, saved, good_iters
         x1 = X[0]
-        if bad:
+        if bad and not failed:  # a step that said it converged, to a blown-up state
             n = inv_scale.size
             with np.errstate(invalid="ignore", over="ignore"):
                 rel = np.abs(x1[:n]) * inv_scale
@@ -316,7 +323,8 @@ def _replay(stepper, x, k, t0, h, p, n_max, save_set, inv_scale, track, sub, S=N
             return diag, x, k, saved, good_iters
         if failed:
             its = int(IT[0]) if stepper.full and np.isfinite(IT[0]) else None
-            diag.update(reason="newton", newton_iterations=its,
+            # (its last iterate may have run off, ``diverged``: never accepted)
+            diag.update(reason="newton", newton_iterations=its, diverged=bad,
                         newton_correction=float(E[0]), residual=float(E[0]), _x=(x, x1))
             return diag, x, k, saved, good_iters
         x, k = x1, k + 1
@@ -327,9 +335,11 @@ def _replay(stepper, x, k, t0, h, p, n_max, save_set, inv_scale, track, sub, S=N
     return None, x, k, saved, good_iters
 
 
-def _substeps(stepper, x, t, h, p, inv_scale, track, sub):
+def _substeps(stepper, x, t, h, p, inv_scale, track, sub, accept=None):
     """The step from ``t`` over ``h`` as n = 2, 4, ... MAX_SUBSTEPS equal substeps, the first n
-    whose every Newton iteration converges and whose state stays bounded: (state at t + h,
+    whose every Newton iteration converges and whose state stays bounded (and, given
+    ``accept``, for which ``accept(Xs, t1, h / n)`` holds, Xs the n substeps' states, the
+    first at t1 = t + h / n: the re-anchoring's margins above its floor): (state at t + h,
     Newton iterations), ``track`` and ``sub`` updated; None when none does. A snap (a slack
     line jerked taut) or an impact concentrates in a fraction of a step what the step was
     sized for; the few steps that need it pay for it, the others keep ``h``."""
@@ -339,7 +349,8 @@ def _substeps(stepper, x, t, h, p, inv_scale, track, sub):
             X, _, _, IT, _, FL, Xs, L = stepper.run(n, 1, x, t, h / n, p)
         except RuntimeError:
             X = None
-        if X is not None and FL[0] == 0 and not _bad_state(X, inv_scale)[0]:
+        if X is not None and FL[0] == 0 and not _bad_state(X, inv_scale)[0] \
+                and (accept is None or accept(Xs, t + h / n, h / n)):
             track.update(h / n, Xs, L)
             sub["substepped_steps"] += 1
             sub["max_substeps"] = max(sub["max_substeps"], n)

@@ -9,6 +9,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Callable
 
+import casadi as ca
 import numpy as np
 
 
@@ -35,6 +36,45 @@ class NewtonResult:
 
 
 StepFn = Callable[[np.ndarray, np.ndarray], tuple]
+
+#: a time step's first predictor whose scaled residual (max-norm) is at most this is taken
+#: as Newton's start without trying the others (:func:`best_start`): an accurate step pays
+#: one residual, a large one three. Not larger: near rest on seed 000's hybrid (80
+#: segments, t = 41 s) the constant-acceleration start of a 1 s step has a residual of 0.6
+#: force scales where rest has 5e-11, and Newton from the former runs off (1e7): the
+#: accelerations at rest are the round-off of the forces (7e-11 N on nodes of 2e-5 kg:
+#: 4e-6 m/s^2), and h^2 a of them along a segment of EA / ds = 1.6e5 N/m is 0.6 N; after
+#: a release the former is 1e7
+PREDICTOR_TRUST = 1e-3
+#: another predictor replaces the first only where its residual is below this fraction of
+#: the first's: a residual dominated by a stiff (axial) row is a poor distance, and on a
+#: smooth periodic rod (shooting at T/100) a start at rest with a 10 times smaller
+#: residual took more iterations than the constant acceleration (a period map 1.7 times
+#: slower); the starts it is for are 1e9 (release, 2.4e7 against 0.046) and 1e10 (rest,
+#: 0.6 against 5e-11) times better
+PREDICTOR_MARGIN = 1e-3
+
+
+def best_start(res: Callable, candidates: list):
+    """Newton's start among ``candidates`` (CasADi expressions): the first when its
+    ``res(candidate)`` (a scaled residual norm, CasADi scalar) is at most PREDICTOR_TRUST,
+    else the one whose residual is smallest, another than the first only where its
+    residual is below PREDICTOR_MARGIN times the first's (the earlier on a tie; a residual
+    that is not finite is never chosen). In CasADi's graph: the other residuals are evaluated only
+    where the first is above the bound (a short-circuiting ``if_else``)."""
+    def finite(nrm):
+        return ca.if_else(nrm - nrm == 0, nrm, ca.inf)  # NaN or inf: never chosen
+
+    first = finite(res(candidates[0]))
+    best, best_norm = candidates[0], PREDICTOR_MARGIN * first
+    for w in candidates[1:]:
+        nrm = finite(res(w))
+        best, best_norm = ca.if_else(nrm < best_norm, w, best), ca.fmin(nrm, best_norm)
+    # a start, not a function of the step's inputs to differentiate: the solution does not
+    # depend on it (an exact Newton's; the unrolled loop's derivative through its start
+    # decays with its contraction), and its derivative would cost as many residual
+    # derivatives as candidates
+    return ca.if_else(first <= PREDICTOR_TRUST, candidates[0], best, True)
 
 
 class _Singular(Exception):

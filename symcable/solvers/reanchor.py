@@ -259,10 +259,13 @@ class Reanchoring:
                 "reanchor_shifted": self.shifted, "reanchor_refused": self.refusals,
                 "reanchor_threshold": self.threshold}
 
-    def step_through(self, stepper, x, k, t0, h, S, inv_scale, track, bad_state):
+    def step_through(self, stepper, x, k, t0, h, S, inv_scale, track, bad_state,
+                     substeps=None):
         """S single steps from the carried state ``x`` after step ``k``, re-anchoring after
         each but the last whose margin is below ``threshold``: (x, k, failure or None, Newton
-        iterations). ``bad_state`` the march's test of a blown-up state."""
+        iterations). ``bad_state`` the march's test of a blown-up state; ``substeps``
+        (optional) ``substeps(x, t, h, p) -> (x1, iterations) or None``, the march's retry
+        of a failed step as substeps (which keep every substep's margin above ``floor``)."""
         iters = 0.0
         self.after(x, k, t0 + k * h, force=True)
         for i in range(S):
@@ -275,8 +278,15 @@ class Reanchoring:
                 fail["message"] = str(exc).strip().splitlines()[-1]
                 return x, k, fail, iters
             if FL[0] > 0 or bad_state(X, inv_scale)[0]:
-                fail["message"] = "the step failed while re-anchoring every step"
-                return x, k, fail, iters
+                done = None if substeps is None else substeps(x, t, h, self.p)
+                if done is None:
+                    fail["message"] = "the step failed while re-anchoring every step"
+                    return x, k, fail, iters
+                x, k = np.array(done[0], float), k + 1
+                iters += done[1]
+                if i < S - 1:  # as below: the march's next call re-anchors after the last
+                    self.after(x, k, t0 + k * h)
+                continue
             if self.below_floor(X, t + h, h) is not None:
                 if self.refused is not None:
                     return x, k, self.refused_failure(t, h, k), iters

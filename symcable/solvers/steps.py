@@ -10,10 +10,26 @@ g(q, v, z, t) = 0, with a pseudo-acceleration abar:
     q1 = q0 + h v0 + h^2 (1/2 - beta) abar0 + h^2 beta abar1
     v1 = v0 + h (1 - gamma) abar0 + h gamma abar1
 
-and the equations of motion and the constraints imposed at t1, unknowns (a1, z1), solved
-by Newton on the exact Jacobian (CasADi's rootfinder). Position-level constraints are met
-to the Newton tolerance at every step (no drift). Second order for positions and
-velocities. It needs q' = v (no ``kinematics``).
+and the equations of motion and the constraints imposed at t1, solved by Newton on the
+exact Jacobian (CasADi's rootfinder). Position-level constraints are met to the Newton
+tolerance at every step (no drift). Second order for positions and velocities. It needs
+q' = v (no ``kinematics``).
+
+The Newton unknowns are the step's displacement d = q1 - q0 and z1 (a1, abar1 and v1
+follow from d): q1 = q0 + d is then exact to the round-off of q, where q0 + h^2 (...) from
+accelerations loses |h^2 abar| eps to cancellation (at h = 1 s after a release, abar ~ 200
+m/s^2: 4e-14 m, which a stiff axial law turns into 1e-9 N of residual, above the
+tolerance). Newton starts from the best of three predictors (:func:`_predictor`): constant
+acceleration (a1 = a0, exact for small h), constant velocity (q1 = q0 + h v0) and rest
+(q1 = q0), the latter two only where the first's residual exceeds PREDICTOR_TRUST force
+scales and theirs is far smaller: where a large step follows a violent start (a line
+released from a kink accelerates at 200 m/s^2) the first would move the nodes by
+h^2 a0 / 2 ~ 100 m, whose residual (the axial law stretched) is 1e7 N, and Newton never
+recovers. It iterates with CasADi's backtracking line search, and where that fails, again
+from the same predictor without it (full Newton steps: on a line the residual's norm has
+narrow valleys along its stiff axial rows, where the line search's steps shrink to
+nothing, 5 N of residual left after 50 iterations; on smooth steps the line search's
+Newton is the cheaper, a rod's period map 1.4 times).
 """
 from __future__ import annotations
 
@@ -26,6 +42,7 @@ from ..derive import functions
 from ..errors import SymcableError
 from ..linalg.sparse import norm_inf
 from ..models.mechanism import Mechanism
+from .newton import best_start
 from .options import GeneralizedAlpha
 from .stepcache import STEP_CACHE
 
@@ -51,6 +68,19 @@ def check_second_order(mech: Mechanism) -> None:
                             "kinematics q' = G(q) v (+ w) runs with GeneralizedAlphaFirstOrder()")
 
 
+def _predictor(G, x0, t, h, p, z0, nv: int, am: float, beta: float):
+    """Newton's start (d, z) for the step (module docstring): of constant acceleration
+    (a1 = a0, abar1 = (a0 - alpha_m abar0) / (1 - alpha_m), d = h v0 + h^2 ((1/2 - beta)
+    abar0 + beta abar1)), constant velocity (d = h v0) and rest (d = 0), the one whose
+    scaled residual G is smallest (max-norm; :func:`~symcable.solvers.newton.best_start`:
+    the others only where the first's exceeds PREDICTOR_TRUST)."""
+    v0, a0, ab0 = _seg(x0, nv, 2 * nv), _seg(x0, 2 * nv, 3 * nv), _seg(x0, 3 * nv, 4 * nv)
+    ab1 = (a0 - am * ab0) / (1 - am)
+    cands = [h * v0 + h ** 2 * ((0.5 - beta) * ab0 + beta * ab1), h * v0, ca.MX.zeros(nv)]
+    return best_start(lambda w_: norm_inf(G(w_, x0, t, h, p)),
+                      [ca.vertcat(d, z0) for d in cands])
+
+
 def galpha_step(mech: Mechanism, opts: GeneralizedAlpha) -> ca.Function:
     """``step(x, t, h, p) -> (x1, err, lte)`` with x = (q, v, a, abar, z): one
     generalized-alpha step of size h (s) from t (s); err is the max-norm of the residual at
@@ -69,11 +99,11 @@ def galpha_step(mech: Mechanism, opts: GeneralizedAlpha) -> ca.Function:
     w = ca.MX.sym("w", nv + nz)
 
     def state(w_):
-        a1, z1 = _seg(w_, 0, nv), _seg(w_, nv, nv + nz)
-        ab1 = ((1 - af) * a1 + af * a0 - am * ab0) / (1 - am)
-        q1 = q0 + h * v0 + h ** 2 * ((0.5 - beta) * ab0 + beta * ab1)
+        d, z1 = _seg(w_, 0, nv), _seg(w_, nv, nv + nz)
+        ab1 = (d - h * v0 - h ** 2 * (0.5 - beta) * ab0) / (beta * h ** 2)
+        a1 = ((1 - am) * ab1 + am * ab0 - af * a0) / (1 - af)
         v1 = v0 + h * ((1 - gamma) * ab0 + gamma * ab1)
-        return q1, v1, a1, ab1, z1
+        return q0 + d, v1, a1, ab1, z1
 
     def residual(w_):
         q1, v1, a1, _, z1 = state(w_)
@@ -81,17 +111,27 @@ def galpha_step(mech: Mechanism, opts: GeneralizedAlpha) -> ca.Function:
         return ca.vertcat(r_f / fs, r_g * (ms / (beta * h ** 2 * fs)))
 
     G = ca.Function("ga_res", [w, x0, t, h, p], [residual(w)])
-    rf = ca.rootfinder(f"{mech.name}_ga_newton", "newton", G,
-                       {"abstol": opts.tol, "abstolStep": 1e-14, "max_iter": opts.max_iter,
-                        "error_on_fail": False, "show_eval_warnings": False})
-    w_guess = ca.vertcat(a0, _seg(x0, nq + 3 * nv, nq + 3 * nv + nz))
-    w1 = rf(w_guess, x0, t, h, p)
+    newton = {"abstol": opts.tol, "abstolStep": 1e-14, "max_iter": opts.max_iter,
+              "error_on_fail": False, "show_eval_warnings": False}
+    plain = ca.rootfinder(f"{mech.name}_ga_newton", "newton", G, dict(newton, line_search=False))
+    search = ca.rootfinder(f"{mech.name}_ga_newton_ls", "newton", G, newton)
+    z0 = _seg(x0, nq + 3 * nv, nq + 3 * nv + nz)
+    w_guess = _predictor(G, x0, t, h, p, z0, nv, am, beta)
+    g_scale = ca.DM(mech.scales.g_scale())
+
+    def judged(w_):
+        """(w, err): err the residual's max-norm in the rows' own units (forces over the
+        force scale, constraint rows over their scale)."""
+        q1_, v1_, a1_, _, z1_ = state(w_)
+        r_f1, r_g1 = F.acc_residual(q1_, v1_, a1_, z1_, t + h, p)
+        return w_, norm_inf(ca.vertcat(r_f1 / fs, r_g1 / g_scale))
+
+    w1, err = judged(search(w_guess, x0, t, h, p))
+    # plain Newton only where the line search's failed (a short-circuiting if_else: the
+    # branch not taken is not evaluated); NaN counts as failed
+    w1, err = (ca.if_else(err <= opts.tol, a, b, True)
+               for a, b in zip((w1, err), judged(plain(w_guess, x0, t, h, p))))
     q1, v1, a1, ab1, z1 = state(w1)
-    # convergence is judged in the rows' own units (forces over the force scale, constraint
-    # rows over their scale), not in the conditioned scaling Newton uses, whose constraint rows
-    # carry a 1/h^2 that lifts their round-off floor above any fixed tolerance at small h
-    r_f1, r_g1 = F.acc_residual(q1, v1, a1, z1, t + h, p)
-    err = norm_inf(ca.vertcat(r_f1 / fs, r_g1 / ca.DM(mech.scales.g_scale())))
     # local error of the positions, Newmark's estimate (beta - 1/6) h^2 (a1 - a0) (the h^3
     # jerk term the update leaves out), relative to the coordinate scales
     lte = norm_inf(abs(beta - 1.0 / 6.0) * h ** 2 * (a1 - a0) / ca.DM(mech.scales.q))

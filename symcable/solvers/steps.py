@@ -15,7 +15,8 @@ exact Jacobian (CasADi's rootfinder). Position-level constraints are met to the 
 tolerance at every step (no drift). Second order for positions and velocities. It needs
 q' = v (no ``kinematics``).
 
-The Newton unknowns are the step's displacement d = q1 - q0 and z1 (a1, abar1 and v1
+The Newton unknowns are the step's displacement d = q1 - q0, scaled to d / (beta h^2)
+(an acceleration, so that abstolStep means what it did for a1), and z1 (a1, abar1 and v1
 follow from d): q1 = q0 + d is then exact to the round-off of q, where q0 + h^2 (...) from
 accelerations loses |h^2 abar| eps to cancellation (at h = 1 s after a release, abar ~ 200
 m/s^2: 4e-14 m, which a stiff axial law turns into 1e-9 N of residual, above the
@@ -78,7 +79,7 @@ def _predictor(G, x0, t, h, p, z0, nv: int, am: float, beta: float):
     ab1 = (a0 - am * ab0) / (1 - am)
     cands = [h * v0 + h ** 2 * ((0.5 - beta) * ab0 + beta * ab1), h * v0, ca.MX.zeros(nv)]
     return best_start(lambda w_: norm_inf(G(w_, x0, t, h, p)),
-                      [ca.vertcat(d, z0) for d in cands])
+                      [ca.vertcat(d / (beta * h ** 2), z0) for d in cands])
 
 
 def galpha_step(mech: Mechanism, opts: GeneralizedAlpha) -> ca.Function:
@@ -99,7 +100,10 @@ def galpha_step(mech: Mechanism, opts: GeneralizedAlpha) -> ca.Function:
     w = ca.MX.sym("w", nv + nz)
 
     def state(w_):
-        d, z1 = _seg(w_, 0, nv), _seg(w_, nv, nv + nz)
+        # the unknown is d / (beta h^2) (an acceleration's units): d itself would shrink
+        # Newton's steps by beta h^2 (6e-6 at h = 5 ms) below abstolStep, which then stops
+        # Newton above tol; the product keeps d's precision (one rounding)
+        d, z1 = beta * h ** 2 * _seg(w_, 0, nv), _seg(w_, nv, nv + nz)
         ab1 = (d - h * v0 - h ** 2 * (0.5 - beta) * ab0) / (beta * h ** 2)
         a1 = ((1 - am) * ab1 + am * ab0 - af * a0) / (1 - af)
         v1 = v0 + h * ((1 - gamma) * ab0 + gamma * ab1)

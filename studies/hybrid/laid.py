@@ -34,8 +34,6 @@ Units: m, N, s.
 """
 from __future__ import annotations
 
-import contextlib
-import statistics
 import sys
 import time
 from pathlib import Path
@@ -45,6 +43,11 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 sys.path.append(str(HERE.parent))
 import study_io  # noqa: E402
+
+# the benchmark study's timing helpers (interleaved warm medians, the static solve without
+# its stability verdict), shared rather than copied
+bench = study_io.load_module(HERE / "bench.py", "hybrid_bench")
+interleaved, no_stability_check = bench.interleaved, bench.no_stability_check
 
 import symcable.solvers.equilibrium as _equilibrium  # noqa: E402
 from symcable.errors import SymcableError  # noqa: E402
@@ -93,18 +96,6 @@ def scene(model: str, length: float, zone: float = ZONE, ds: float = DS):
     elif model != "rod":
         raise ValueError(model)
     return load_scene(d)
-
-
-@contextlib.contextmanager
-def no_stability_check():
-    """The static solve without its stability verdict (a dense n^3 eigenvalue solve, the
-    same for every model: not what the formulations differ in)."""
-    old = _equilibrium.STABILITY_MAX_N
-    _equilibrium.STABILITY_MAX_N = 0
-    try:
-        yield
-    finally:
-        _equilibrium.STABILITY_MAX_N = old
 
 
 def flat_start(mech, s) -> Start:
@@ -158,18 +149,6 @@ def case(model: str, length: float, ds: float = DS) -> dict:
             "zones": zones, "iterations": eq.stats["iterations"], "drift": drift,
             "step_iterations": tr.stats.get("newton_iterations", float("nan")),
             "segments": round(length / ds)}
-
-
-def interleaved(jobs: dict, repeats: int) -> dict:
-    """Median wall time (s) of each warm job, the jobs taken in turn in each round."""
-    times = {k: [] for k in jobs}
-    with no_stability_check():
-        for _ in range(repeats):
-            for k, f in jobs.items():
-                t0 = time.perf_counter()
-                f()
-                times[k].append(time.perf_counter() - t0)
-    return {k: statistics.median(v) for k, v in times.items()}
 
 
 def tension(out) -> tuple[np.ndarray, np.ndarray]:

@@ -63,11 +63,14 @@ FORMAT = 1
 DEFAULT_MAX_SIZE = 5_000_000
 #: the optimisation level by graph size (:func:`graph_size`): [(largest size, flag)]. Every
 #: graph the default ``codegen=None`` compiles gets -O2 (FLAGS); larger ones, compiled only
-#: when asked (``codegen=True``), get less, since gcc's time grows faster than the C's
-#: length while the straight-line code gains little from -O2. Measured on the 8-segment
-#: rod's generalized-alpha step (1.06 MB of C, 3.9 M serialised; notes/rodc14.md): compile
-#: -O2 28 s, -O1 20 s, -O0 5.8 s; per step 47, 43, 85 us (the VM 472 us).
-OPTIMISATION = ((DEFAULT_MAX_SIZE, "-O2"), (4 * DEFAULT_MAX_SIZE, "-O1"), (math.inf, "-O0"))
+#: when asked (``codegen=True``), get -O1, which runs as fast (gcc's time grows faster than
+#: the C's length, and -O2 gains little on straight-line code), and -O0 only beyond
+#: 10 DEFAULT_MAX_SIZE, where -O1 would take many minutes. Measured on the 8-segment rod's
+#: generalized-alpha step (1.06 MB of C, 3.9 M serialised; notes/rodc14.md): compile -O2
+#: 28 s, -O1 20 s, -O0 5.8 s; per step 47, 43, 85 us (the VM 472 us); on the WD0600 chain's
+#: step (1014 states, 36 M serialised; studies/chains): 0.237 s (-O2), 0.263 s (-O1) and
+#: 0.67 s (-O0) for its 300 steps at 0.1 s.
+OPTIMISATION = ((DEFAULT_MAX_SIZE, "-O2"), (10 * DEFAULT_MAX_SIZE, "-O1"), (math.inf, "-O0"))
 _ENV_CACHE = "SYMCABLE_CACHE_DIR"
 _ENV_DEFAULT = "SYMCABLE_CODEGEN"
 

@@ -53,7 +53,7 @@ from ..linalg.banded import (BandedLU, SchurBandedLU, bandwidths, leading_diagon
 from ..linalg.sparse import jacobian as _jacobian, norm_inf, sparse_solve
 from ..linalg.sxlu import block_lu, block_plan
 from ..models.mechanism import Mechanism
-from .newton import best_start
+from .newton import best_start, best_start_residual
 from .options import GeneralizedAlphaFirstOrder, NewtonScheme
 from .stepcache import STEP_CACHE, maybe_compiled
 
@@ -257,7 +257,7 @@ def _taylor_lte(mech, y0, y1, t, h, p, rho, y_scale):
     return norm_inf(C / (C + 1.0 / 6.0) * (y1 - y_pred) / y_scale)
 
 
-def _predictor(res, x, ny: int, nq: int, gamma):
+def _predictor(res, x, ny: int, nq: int, gamma, residual=None, symbols=None):
     """Newton's start y'1 for the step from x = (y0, y'0): of the constant rate y'1 = y'0,
     constant velocity (q1 = q0 + h q'0, v1 = v0) and rest (y1 = y0), the one whose scaled
     residual ``res(w)`` (max-norm) is smallest (the first on a tie; a residual that is not
@@ -266,10 +266,15 @@ def _predictor(res, x, ny: int, nq: int, gamma):
     Newton runs off (to 1e30 times the scales) from there. Rest is y'1 = (1 - 1 /
     gamma) y'0 (the update y1 = y0 + h y'0 + gamma h (y'1 - y'0) = y0). The others are
     tried only where the constant rate's residual exceeds PREDICTOR_TRUST
-    (:func:`~symcable.solvers.newton.best_start`)."""
+    (:func:`~symcable.solvers.newton.best_start`). With ``residual`` (w -> the residual
+    vector, whose scaled norm is ``res``) and ``symbols`` (the MX inputs the expressions are
+    of), ``(start, residual(start), res(residual(start)))``."""
     yd0 = x[ny:]
     stay = (1 - 1 / gamma) * yd0
-    return best_start(res, [yd0, ca.vertcat(yd0[:nq], stay[nq:]), stay])
+    cands = [yd0, ca.vertcat(yd0[:nq], stay[nq:]), stay]
+    if residual is None:
+        return best_start(res, cands)
+    return best_start_residual(residual, res, cands, symbols)
 
 
 def _unrolled(mech: Mechanism, max_iter: int, with_lte: bool, lu: bool) -> ca.Function:
@@ -284,47 +289,69 @@ def _unrolled(mech: Mechanism, max_iter: int, with_lte: bool, lu: bool) -> ca.Fu
     cache = STEP_CACHE.get(mech, ("block_lu",), dict)
     factor, solve, n_f, _ = _linear_solver(_jacobian(r, w), args, cache, lu, mech.n_q)
 
-    # one iteration: (z, done, it, measure, f, previous residual; x, t, h, p, settings,
-    # scales) -> ...
-    z, done, it, meas = ca.MX.sym("z", ny), ca.MX.sym("done"), ca.MX.sym("it"), ca.MX.sym("measure")
+    # the loop's state: z (y'1), rz = F(z) and res its scaled norm (evaluated where the loop
+    # goes on, zero where it stops), done, it (linear solves), measure, f (the factors), the
+    # previous scaled residual; then the step's inputs. Every branch is a Function of values
+    # computed once (``Function.if_else``): CasADi's short-circuiting ``if_else`` of
+    # expressions builds its branches from the symbols and computes again, inside each,
+    # what the expression shares with the rest of the graph (on the WD0050 chain the
+    # matrix was factorised twice per refactorisation and the residual's norm 5 times)
+    z, rz, res = ca.MX.sym("z", ny), ca.MX.sym("rz", ny), ca.MX.sym("res")
+    done, it, meas = ca.MX.sym("done"), ca.MX.sym("it"), ca.MX.sym("measure")
     f, prev = ca.MX.sym("f", n_f), ca.MX.sym("previous")
     x, t, h, p, st, sc = _symbols(mech, ca.MX)
+    step_in = [x, t, h, p, st]
     tol, gamma = st[1], coefficients(st[0])[2]
-    rv = R(z, x, t, h, p, st)
-    res = norm_inf(h * rv * sc[ny:])
-    conv = res <= tol
-    names = ["z", "done", "it", "measure", "f", "previous"] + _IN
+    names = ["z", "rz", "res", "done", "it", "measure", "f", "previous"] + _IN
     outs = ["z_out", "done_out", "it_out", "measure_out"]
-    fargs = [z, done, it, meas, f, prev, x, t, h, p, st, sc]
-    rest = fargs[6:]
+    fargs = [z, rz, res, done, it, meas, f, prev, x, t, h, p, st, sc]
+    rest = fargs[8:]
+    r_z = R(z, *step_in)
+    refactor_or_keep = ca.Function.if_else(
+        f"{name}_refactor",
+        ca.Function(f"{name}_factorise", [z, f] + step_in, [factor(z, *step_in)]),
+        ca.Function(f"{name}_keep", [z, f] + step_in, [f]))
+    residual_unless = ca.Function.if_else(
+        f"{name}_next_residual",
+        ca.Function(f"{name}_no_residual", [z, sc] + step_in, [ca.MX.zeros(ny), 0]),
+        ca.Function(f"{name}_residual", [z, sc] + step_in,
+                    [r_z, norm_inf(h * r_z * sc[ny:])]))
     # the loop from iteration i on, nested so that a converged step returns at once:
-    # loop_i = if done: (z, done, it, measure) else loop_{i+1}(iteration_i(...))
+    # loop_i = if done: (z, ...) else if F(z) converged: (z, ...) else loop_{i+1}(...)
     # after the last iteration: its iterate judged by its own residual (a step whose last
     # correction was too large may still have landed on the solution)
-    res_end = norm_inf(h * R(z, x, t, h, p, st) * sc[ny:])
     loop = ca.Function(f"{name}_done{max_iter}", fargs,
-                       [z, ca.logic_or(done, res_end <= tol), it,
-                        ca.if_else(done, meas, res_end, True)], names, outs)
+                       [z, ca.logic_or(done, res <= tol), it,
+                        ca.if_else(done, meas, res)], names, outs)
+    stop = ca.Function(f"{name}_stop", fargs, [z, done, it, meas], names, outs)
+    converged = ca.Function(f"{name}_converged", fargs, [z, 1, it, res], names, outs)
     for i in range(max_iter - 1, -1, -1):
-        if i == 0 or i >= CHORD_ITERATIONS:
-            f_new = ca.if_else(conv, f, factor(z, x, t, h, p, st), True)
-        else:  # a chord iteration, unless the last one did not contract the residual
-            slow = ca.logic_and(ca.logic_not(conv), ca.logic_not(res <= CHORD_CONTRACTION * prev))
-            f_new = ca.if_else(slow, factor(z, x, t, h, p, st), f, True)
-        dz = ca.if_else(conv, ca.MX.zeros(ny), -solve(f_new, rv), True)
+        if 0 < i < CHORD_ITERATIONS:
+            # a chord iteration, unless the last one did not contract the residual
+            f_new = refactor_or_keep(ca.logic_not(res <= CHORD_CONTRACTION * prev), z, f,
+                                     *step_in)
+        else:
+            f_new = factor(z, *step_in)
+        dz = -solve(f_new, rz)
         corr = norm_inf(gamma * h * dz / sc[:ny])
-        nxt = loop(z + dz, ca.logic_or(conv, corr <= tol), it + 1 - conv,
-                   ca.if_else(conv, res, corr), f_new, res, *rest)
-        go_on = ca.Function(f"{name}_from{i}", fargs, nxt, names, outs)
-        stop = ca.Function(f"{name}_stop{i}", fargs, [z, done, it, meas], names, outs)
-        loop = ca.Function.if_else(f"{name}_loop{i}", stop, go_on)
-        loop = ca.Function(f"{name}_newton{i}", fargs, loop(done, *fargs), names, outs)
+        done_new = corr <= tol
+        z_new = z + dz
+        r_new, res_new = residual_unless(done_new, z_new, sc, *step_in)
+        body = ca.Function(f"{name}_iterate{i}", fargs,
+                           loop(z_new, r_new, res_new, done_new, it + 1, corr, f_new, res,
+                                *rest), names, outs)
+        test = ca.Function.if_else(f"{name}_test{i}", converged, body)
+        go_on = ca.Function(f"{name}_from{i}", fargs, test(res <= tol, *fargs), names, outs)
+        branch = ca.Function.if_else(f"{name}_loop{i}", stop, go_on)
+        loop = ca.Function(f"{name}_newton{i}", fargs, branch(done, *fargs), names, outs)
 
     x, t, h, p, st, sc = _symbols(mech, ca.MX)
     y0, yd0 = x[:ny], x[ny:]
-    start = _predictor(lambda w_: norm_inf(h * R(w_, x, t, h, p, st) * sc[ny:]), x, ny,
-                       mech.n_q, coefficients(st[0])[2])
-    z, done, it, meas = loop(start, 0, 0, np.inf, ca.MX.zeros(n_f), np.inf, x, t, h, p, st, sc)
+    start, r_start, res_start = _predictor(
+        lambda r_: norm_inf(h * r_ * sc[ny:]), x, ny, mech.n_q, coefficients(st[0])[2],
+        residual=lambda w_: R(w_, x, t, h, p, st), symbols=[x, t, h, p, st, sc])
+    z, done, it, meas = loop(start, r_start, res_start, 0, 0, np.inf, ca.MX.zeros(n_f),
+                             np.inf, x, t, h, p, st, sc)
     y1 = y0 + h * yd0 + coefficients(st[0])[2] * h * (z - yd0)
     lte = _taylor_lte(mech, y0, y1, t, h, p, st[0], sc[:ny]) if with_lte else ca.MX(np.nan)
     return ca.Function(f"{name}_kernel{max_iter}{'_lte' if with_lte else ''}",

@@ -55,6 +55,20 @@ PREDICTOR_TRUST = 1e-3
 PREDICTOR_MARGIN = 1e-3
 
 
+def _choose(first, candidates: list, norms: list):
+    """The candidate whose residual norm is smallest, another than the first only where its
+    norm is below PREDICTOR_MARGIN times the first's ``first`` (module constants)."""
+    best, best_norm = candidates[0], PREDICTOR_MARGIN * first
+    for w, nrm in zip(candidates[1:], norms):
+        nrm = _finite(nrm)
+        best, best_norm = ca.if_else(nrm < best_norm, w, best), ca.fmin(nrm, best_norm)
+    return best
+
+
+def _finite(nrm):
+    return ca.if_else(nrm - nrm == 0, nrm, ca.inf)  # NaN or inf: never chosen
+
+
 def best_start(res: Callable, candidates: list):
     """Newton's start among ``candidates`` (CasADi expressions): the first when its
     ``res(candidate)`` (a scaled residual norm, CasADi scalar) is at most PREDICTOR_TRUST,
@@ -62,19 +76,35 @@ def best_start(res: Callable, candidates: list):
     residual is below PREDICTOR_MARGIN times the first's (the earlier on a tie; a residual
     that is not finite is never chosen). In CasADi's graph: the other residuals are evaluated only
     where the first is above the bound (a short-circuiting ``if_else``)."""
-    def finite(nrm):
-        return ca.if_else(nrm - nrm == 0, nrm, ca.inf)  # NaN or inf: never chosen
-
-    first = finite(res(candidates[0]))
-    best, best_norm = candidates[0], PREDICTOR_MARGIN * first
-    for w in candidates[1:]:
-        nrm = finite(res(w))
-        best, best_norm = ca.if_else(nrm < best_norm, w, best), ca.fmin(nrm, best_norm)
+    first = _finite(res(candidates[0]))
+    best = _choose(first, candidates, [res(w) for w in candidates[1:]])
     # a start, not a function of the step's inputs to differentiate: the solution does not
     # depend on it (an exact Newton's; the unrolled loop's derivative through its start
     # decays with its contraction), and its derivative would cost as many residual
     # derivatives as candidates
     return ca.if_else(first <= PREDICTOR_TRUST, candidates[0], best, True)
+
+
+def best_start_residual(residual: Callable, measure: Callable, candidates: list,
+                        symbols: list):
+    """``(start, residual(start), measure(residual(start)))``: :func:`best_start` with the
+    residual vector ``residual(w)`` and its norm ``measure(r)`` apart, so that Newton's
+    first iteration reuses the chosen start's residual and norm instead of evaluating them
+    again; ``candidates`` and the residual are MX expressions of the MX symbols ``symbols``
+    (the caller's inputs). The branch is a Function of the first residual computed once
+    (``Function.if_else``; CasADi's short-circuiting ``if_else`` of expressions would
+    compute it again inside)."""
+    n = candidates[0].numel()
+    r0 = residual(candidates[0])
+    r0_sym, m0_sym = ca.MX.sym("r0", n), ca.MX.sym("m0")
+    best = _choose(_finite(m0_sym), candidates, [measure(residual(w)) for w in candidates[1:]])
+    r_best = residual(best)
+    args = list(symbols) + [r0_sym, m0_sym]
+    pick = ca.Function.if_else(
+        "predictor", ca.Function("predictor_first", args, [candidates[0], r0_sym, m0_sym]),
+        ca.Function("predictor_best", args, [best, r_best, measure(r_best)]))
+    m0 = measure(r0)
+    return pick(_finite(m0) <= PREDICTOR_TRUST, *symbols, r0, m0)
 
 
 class _Singular(Exception):

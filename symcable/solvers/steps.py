@@ -130,11 +130,16 @@ def galpha_step(mech: Mechanism, opts: GeneralizedAlpha) -> ca.Function:
         r_f1, r_g1 = F.acc_residual(q1_, v1_, a1_, z1_, t + h, p)
         return w_, norm_inf(ca.vertcat(r_f1 / fs, r_g1 / g_scale))
 
-    w1, err = judged(search(w_guess, x0, t, h, p))
-    # plain Newton only where the line search's failed (a short-circuiting if_else: the
-    # branch not taken is not evaluated); NaN counts as failed
-    w1, err = (ca.if_else(err <= opts.tol, a, b, True)
-               for a, b in zip((w1, err), judged(plain(w_guess, x0, t, h, p))))
+    w_ls, err_ls = judged(search(w_guess, x0, t, h, p))
+    # plain Newton only where the line search's failed (NaN counts as failed): a switch
+    # between Functions of the values computed once (CasADi's short-circuiting if_else of
+    # expressions would solve the line search's Newton again inside its branches)
+    ws, es, gs = ca.MX.sym("w", nv + nz), ca.MX.sym("err"), ca.MX.sym("guess", nv + nz)
+    args = [ws, es, gs, x0, t, h, p]
+    retry = ca.Function.if_else(f"{mech.name}_ga_retry",
+                                ca.Function("kept", args, [ws, es]),
+                                ca.Function("plain", args, list(judged(plain(gs, x0, t, h, p)))))
+    w1, err = retry(err_ls <= opts.tol, w_ls, err_ls, w_guess, x0, t, h, p)
     q1, v1, a1, ab1, z1 = state(w1)
     # local error of the positions, Newmark's estimate (beta - 1/6) h^2 (a1 - a0) (the h^3
     # jerk term the update leaves out), relative to the coordinate scales

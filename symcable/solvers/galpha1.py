@@ -11,7 +11,8 @@ alpha_m dF/dy' + alpha_f gamma h dF/dy, in one of two ways (:class:`~.options.Ne
 
 * ``"unrolled"`` (the default): one CasADi Function per step with the Newton loop unrolled
   ``max_iter`` times, a converged iteration switching the rest off (CasADi evaluates only
-  the taken branch of an ``if_else``). The residual is SX (the Mechanism's expressions
+  the taken branch of a switch; each branch a Function of values computed once, so that
+  the residual, its norm and the factorisation are evaluated once per iteration). The residual is SX (the Mechanism's expressions
   inlined); the iteration matrix is factorised at the start of the step and reused by the
   next iterations (chord iterations) up to CHORD_ITERATIONS while they cut the residual by
   CHORD_CONTRACTION at least, then refactorised at every iteration; it starts from the best

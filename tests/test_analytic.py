@@ -435,3 +435,18 @@ def test_heavy_cantilever_small_matches_integrated_linear_beam():
     # 1e-12: quad integrates a cubic exactly up to round-off
     assert an.heavy_cantilever_small(length, EI, w) == pytest.approx(delta, rel=1e-12)
     assert an.heavy_cantilever_small(length, EI, w) == pytest.approx(w * length ** 4 / (8 * EI))
+
+
+def test_greenhill_moment_limits_and_scaling():
+    """Greenhill's clamped rod: as T -> 0, M_cr L / B -> 8.98682 (the tensionless value,
+    2.861 pi; at T L^2 / B = 0.01 the tension adds 1.6e-4 of it, so 3e-4); at high tension
+    M_cr -> 2 sqrt(B T) from above (the infinite rod's criterion, approached as the rod
+    grows long against sqrt(B / T): within 5 % at T L^2 / B = 1e4); M_cr scales as B / L at
+    fixed T L^2 / B. Bad input is refused."""
+    assert an.greenhill_moment(1.0, 1.0, 0.01) == pytest.approx(8.98682, rel=3e-4)
+    m = an.greenhill_moment(1.0, 1.0, 1e4)
+    assert 2.0 * math.sqrt(1e4) < m < 1.05 * 2.0 * math.sqrt(1e4)
+    assert an.greenhill_moment(3.0, 2.0, 10.0 * 3.0 / 4.0) == \
+        pytest.approx(an.greenhill_moment(1.0, 1.0, 10.0) * 3.0 / 2.0, rel=1e-9)
+    with pytest.raises(ValueError, match="B, L, T > 0"):
+        an.greenhill_moment(1.0, 1.0, 0.0)

@@ -15,8 +15,8 @@ import math
 
 import numpy as np
 import pytest
-from scipy.optimize import minimize_scalar
 
+from symcable.analytic import greenhill_moment
 from symcable.models.rod import build_rod
 from symcable.scene import load_scene
 from symcable.solvers.equilibrium import solve_equilibrium
@@ -31,24 +31,9 @@ EA = 1e6 * B / L**2
 
 
 def greenhill_with_tension(T: float) -> float:
-    """M_cr L / B of the clamped rod under tension T (N; T > 0): w = c1 + c2 s + c3 exp(l+ s)
-    + c4 exp(l- s), l+- = (i M +- sqrt(4 B T - M^2)) / (2 B), w = w' = 0 at s = 0, L; the
-    least M above 2 sqrt(B T) (where l+ = l- and this basis degenerates: a false minimum)
-    at which |det| vanishes (a minimum of |det| 1e-8 below its scale)."""
-    def det(M):
-        r = np.sqrt(complex(4.0 * B * T - M * M))
-        lp, lm = (1j * M + r) / (2 * B), (1j * M - r) / (2 * B)
-        ep, em = np.exp(lp * L), np.exp(lm * L)
-        return abs(np.linalg.det(np.array([[1, 0, 1, 1], [0, 1, lp, lm], [1, L, ep, em],
-                                           [0, 1, lp * ep, lm * em]], complex)))
-    Ms = np.linspace(2.0 * math.sqrt(B * T) + 0.05 * B / L, 40.0 * B / L, 4000)
-    a = np.array([det(m) for m in Ms])
-    for k in range(1, len(Ms) - 1):
-        if a[k] < a[k - 1] and a[k] < a[k + 1]:
-            r = minimize_scalar(det, bracket=(Ms[k - 1], Ms[k], Ms[k + 1]), tol=1e-12)
-            if r.fun < 1e-8 * a.max():
-                return r.x * L / B
-    raise AssertionError(f"no critical moment found at T = {T}")
+    """M_cr L / B of the clamped rod under tension T (N; T > 0): the closed form's
+    characteristic determinant (:func:`symcable.analytic.greenhill_moment`)."""
+    return greenhill_moment(B, L, T) * L / B
 
 
 def twisted_rod(segments: int, T: float = 0.0) -> dict:

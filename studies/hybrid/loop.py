@@ -39,7 +39,7 @@ import study_io  # noqa: E402
 
 from symcable import ConvergenceError, load_scene, self_contact, trace_branch  # noqa: E402
 from symcable.rod_contact import writhe  # noqa: E402
-from symcable.analytic import twisted_loop  # noqa: E402
+from symcable.analytic import greenhill_moment, twisted_loop  # noqa: E402
 from symcable.models.rod import build_rod  # noqa: E402
 
 L, B, C, EA, DIAM = 1.0, 1.0, 0.8, 1e6, 0.01
@@ -82,27 +82,6 @@ def theory_at(D: float, R: float = R0) -> dict | None:
     return {"m": m, **homoclinic(m, R)}
 
 
-def greenhill_clamped(T: float) -> float:
-    """M_cr (N m) of the straight rod clamped at both ends under tension T (N): the least M
-    above 2 sqrt(B T) where the clamped determinant of B w'''' - i M w''' - T w'' = 0
-    (w = c1 + c2 s + c3 exp(l+ s) + c4 exp(l- s)) vanishes (tests/test_rod_greenhill.py's
-    closed form, here for the study's B and L)."""
-    def det(M):
-        r = np.sqrt(complex(4.0 * B * T - M * M))
-        lp, lm = (1j * M + r) / (2 * B), (1j * M - r) / (2 * B)
-        ep, em = np.exp(lp * L), np.exp(lm * L)
-        return abs(np.linalg.det(np.array([[1, 0, 1, 1], [0, 1, lp, lm], [1, L, ep, em],
-                                           [0, 1, lp * ep, lm * em]], complex)))
-    Ms = 2.0 * math.sqrt(B * T) * np.linspace(1.0005, 1.3, 3000)
-    a = np.array([det(x) for x in Ms])
-    for k in range(1, len(Ms) - 1):
-        if a[k] < a[k - 1] and a[k] < a[k + 1]:
-            r = minimize_scalar(det, bracket=(Ms[k - 1], Ms[k], Ms[k + 1]), tol=1e-12)
-            if r.fun < 1e-8 * a.max():
-                return float(r.x)
-    return math.nan
-
-
 def run(n: int) -> dict:
     t0 = time.perf_counter()
     mech = build_rod(load_scene(scene(n)))
@@ -137,7 +116,7 @@ def run(n: int) -> dict:
                      "amplitude": float(np.max(np.linalg.norm(X[:, 1:], axis=1)))})
     for w in rows:  # Lk = R / 2 pi = Tw + Wr: what is left over is self-crossings (each 2)
         w["crossings"] = (w["loop_rotation"] - w["writhe_rotation"]) / (4.0 * math.pi)
-    return {"n": n, "rows": rows, "greenhill_at_D0": greenhill_clamped(rows[0]["T"]),
+    return {"n": n, "rows": rows, "greenhill_at_D0": greenhill_moment(B, L, rows[0]["T"]),
             "positions": [np.asarray(pt.outputs["positions"]) for pt in br.points],
             "stall_after": stall, "reanchored": br.stats["reanchored"],
             "snaps": [(L - float(np.ravel(v)[0]), float(SHORTEN[k]))

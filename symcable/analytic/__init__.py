@@ -15,6 +15,8 @@ Contents
   a taut string and of a shallow sagged elastic cable (Irvine & Caughey 1974).
 * :func:`twisted_loop` -- the localized loop of an infinite twisted rod under tension
   (Love's homoclinic solution): its shortening and end rotation.
+* :func:`greenhill_moment` -- the critical twisting moment of a rod clamped at both ends
+  under tension (Greenhill's problem).
 * :func:`carlson_rf`, :func:`carlson_rd`, :func:`elliptic_f`, :func:`elliptic_e` -- the
   special functions these need.
 
@@ -27,11 +29,12 @@ from .catenary import VERTICAL_SPAN_RATIO, CatenarySolution, elastic_catenary
 from .elastica import cantilever_tip_load, cantilever_tip_load_small, heavy_cantilever_small
 from .frequencies import SaggedCableFrequencies, sagged_cable_frequencies, taut_string_frequencies
 from .special import carlson_rd, carlson_rf, elliptic_e, elliptic_f
-from .twisted_rod import TwistedLoop, twisted_loop
+from .twisted_rod import TwistedLoop, greenhill_moment, twisted_loop
 
 __all__ = [
     "TwistedLoop",
     "twisted_loop",
+    "greenhill_moment",
     "CatenarySolution",
     "VERTICAL_SPAN_RATIO",
     "elastic_catenary",

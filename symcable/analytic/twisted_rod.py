@@ -65,3 +65,54 @@ def twisted_loop(B: float, T: float, M: float) -> TwistedLoop:
     k = math.sqrt(T / B * c)
     return TwistedLoop(m, k, 2.0 * c, 2.0 * math.sqrt(4.0 - m * m) * math.sqrt(B / T),
                        4.0 * math.acos(m / 2.0))
+
+
+def _golden_min(f, a: float, c: float, rtol: float = 1e-13) -> tuple[float, float]:
+    """(x, f(x)): the minimum of ``f`` on [a, c] by golden-section search (f unimodal there)."""
+    g = (math.sqrt(5.0) - 1.0) / 2.0
+    x1, x2 = c - g * (c - a), a + g * (c - a)
+    f1, f2 = f(x1), f(x2)
+    while c - a > rtol * (abs(x1) + abs(x2)):
+        if f1 < f2:
+            c, x2, f2 = x2, x1, f1
+            x1 = c - g * (c - a)
+            f1 = f(x1)
+        else:
+            a, x1, f1 = x1, x2, f2
+            x2 = a + g * (c - a)
+            f2 = f(x2)
+    return (x1, f1) if f1 < f2 else (x2, f2)
+
+
+def greenhill_moment(B: float, L: float, T: float) -> float:
+    """The critical twisting moment M_cr (N m) of a straight rod of length L (m) and bending
+    stiffness B (N m^2) clamped at both ends and carrying the tension T > 0 (N) (Greenhill's
+    problem with tension; T -> 0 gives M_cr L / B = 8.98682).
+
+    Small lateral deflections w = u + i v obey B w'''' - i M w''' - T w'' = 0, so
+    w = c1 + c2 s + c3 exp(l+ s) + c4 exp(l- s), l+- = (i M +- sqrt(4 B T - M^2)) / (2 B),
+    with w = w' = 0 at s = 0 and L: M_cr is the least M above 2 sqrt(B T) (where l+ = l-
+    and this basis degenerates) at which the 4 x 4 determinant vanishes, found as the first
+    minimum of its modulus on a grid that is refined by golden-section search and accepted
+    when it is below 1e-8 of the modulus's scale. NaN when none is found below
+    max(40 B / L, 2.6 sqrt(B T))."""
+    if not (B > 0 and L > 0 and T > 0):
+        raise ValueError(f"greenhill_moment needs B, L, T > 0 (got {B}, {L}, {T})")
+
+    def det(M):
+        r = np.sqrt(complex(4.0 * B * T - M * M))
+        lp, lm = (1j * M + r) / (2 * B), (1j * M - r) / (2 * B)
+        ep, em = np.exp(lp * L), np.exp(lm * L)
+        return abs(np.linalg.det(np.array([[1, 0, 1, 1], [0, 1, lp, lm], [1, L, ep, em],
+                                           [0, 1, lp * ep, lm * em]], complex)))
+    m0 = 2.0 * math.sqrt(B * T)
+    Ms = np.unique(np.concatenate([  # fine just above 2 sqrt(B T) (long rods, high tension)
+        m0 * np.linspace(1.0005, 1.3, 3000),
+        np.linspace(m0 + 0.05 * B / L, max(40.0 * B / L, 1.3 * m0), 4000)]))
+    a = np.array([det(m) for m in Ms])
+    for k in range(1, len(Ms) - 1):
+        if a[k] < a[k - 1] and a[k] < a[k + 1]:
+            x, fx = _golden_min(det, Ms[k - 1], Ms[k + 1])
+            if fx < 1e-8 * a.max():
+                return float(x)
+    return math.nan

@@ -48,7 +48,8 @@ class MechanismFunctions:
         m = mech
         self._args = [m.q, m.v, m.z, m.t, m.p]
         self._names = ["q", "v", "z", "t", "p"]
-        out_exprs = [ca.vec(o.expr) for o in m.outputs.values()]
+        # dense: packed outputs read by FastCall (nonzeros only) must keep every entry
+        out_exprs = [ca.densify(ca.vec(o.expr)) for o in m.outputs.values()]
         self._out_shapes = {k: tuple(o.expr.shape) for k, o in m.outputs.items()}
         self._out_sizes = [int(e.numel()) for e in out_exprs]
         self._out_exprs = out_exprs

@@ -139,8 +139,13 @@ def _vm(F) -> StaticSolver:
     J = ca.jacobian(r, x)
     jacobian = ca.Function("static_jacobian", [x, m.p], [r, J], ["x", "p"], ["r", "J"], opts)
     names = list(m.outputs)
-    exprs = ca.substitute([m.outputs[k].expr for k in names], [m.v, m.t],
-                          [ca.DM.zeros(m.n_v), ca.DM(0.0)]) if names else []
+    # dense: an output with structural zeros at rest (a friction force's components on a
+    # node the substitution makes exactly zero) would otherwise come packed without them,
+    # and the unpacking by shapes would misalign every later output (an IndexError on a
+    # MoorDyn deck with a harmonic vessel motion)
+    exprs = [ca.densify(e) for e in ca.substitute([m.outputs[k].expr for k in names], [m.v, m.t],
+                                                   [ca.DM.zeros(m.n_v), ca.DM(0.0)])] \
+        if names else []
     # the outputs keep their names (an output may be called "x" or "p" too)
     outputs = ca.Function("static_outputs", [x, m.p], exprs, ["x", "p"], names,
                           {**opts, "allow_duplicate_io_names": True})

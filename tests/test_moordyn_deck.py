@@ -213,3 +213,18 @@ def test_wd0050_statics():
     assert st.fairlead_tension == pytest.approx(991.6e3, rel=0.02)
     w = s.line_types["chain"].weight
     assert st.fairlead_tension - st.anchor_tension == pytest.approx(w * 50.0, rel=5e-3)
+
+
+def test_wd0050_statics_with_a_harmonic_vessel_motion():
+    """A harmonic motion added to the vessel point (held in statics) gives the same static
+    state, every output packed whole: the friction force's components are structurally zero
+    at rest on some nodes there, and its packed outputs came short of their shapes (an
+    IndexError from the unpacking; with a vector output last, misaligned values). Same
+    solve, so the tensions agree to round-off (1e-9)."""
+    plain = sc.solve_static(load_scene(REF / "WD0050_Chain.txt"))
+    d = load_scene(REF / "WD0050_Chain.txt").to_dict()
+    d["end_b"]["motion"] = {"kind": "harmonic", "amplitude": [0.0, 0.0, 1.0], "period": 10.0}
+    moved = sc.solve_static(d)
+    assert moved.status == "converged"
+    assert moved.fairlead_tension == pytest.approx(plain.fairlead_tension, rel=1e-9)
+    assert moved.anchor_tension == pytest.approx(plain.anchor_tension, rel=1e-9)

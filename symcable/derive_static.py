@@ -143,9 +143,9 @@ def _vm(F) -> StaticSolver:
     # node the substitution makes exactly zero) would otherwise come packed without them,
     # and the unpacking by shapes would misalign every later output (an IndexError on a
     # MoorDyn deck with a harmonic vessel motion)
-    exprs = [ca.densify(e) for e in ca.substitute([m.outputs[k].expr for k in names], [m.v, m.t],
-                                                   [ca.DM.zeros(m.n_v), ca.DM(0.0)])] \
-        if names else []
+    at_rest = ca.substitute([m.outputs[k].expr for k in names], [m.v, m.t],
+                            [ca.DM.zeros(m.n_v), ca.DM(0.0)]) if names else []
+    exprs = [ca.densify(e) for e in at_rest]
     # the outputs keep their names (an output may be called "x" or "p" too)
     outputs = ca.Function("static_outputs", [x, m.p], exprs, ["x", "p"], names,
                           {**opts, "allow_duplicate_io_names": True})

@@ -12,11 +12,12 @@ alpha_m dF/dy' + alpha_f gamma h dF/dy, in one of two ways (:class:`~.options.Ne
 * ``"unrolled"`` (the default): one CasADi Function per step with the Newton loop unrolled
   ``max_iter`` times, a converged iteration switching the rest off (CasADi evaluates only
   the taken branch of a switch; each branch a Function of values computed once, so that
-  the residual, its norm and the factorisation are evaluated once per iteration). The residual is SX (the Mechanism's expressions
-  inlined); the iteration matrix is factorised at the start of the step and reused by the
-  next iterations (chord iterations) up to CHORD_ITERATIONS while they cut the residual by
-  CHORD_CONTRACTION at least, then refactorised at every iteration; it starts from the best
-  of three predictors (:func:`_predictor`). The factorisation is the block LU of
+  the residual, its norm and the factorisation are evaluated once per iteration). The
+  residual is SX (the Mechanism's expressions inlined); the iteration matrix is factorised
+  at the start of the step and reused by the next iterations (chord iterations) up to
+  CHORD_ITERATIONS while they cut the residual by CHORD_CONTRACTION at least, then
+  refactorised at every iteration; it starts from the best of three predictors
+  (:func:`_predictor`). The factorisation is the block LU of
   :mod:`symcable.linalg.sxlu` written out in SX, on the matrix permuted to a fill-reducing
   order (approximate minimum degree of its pattern: it depends on the pattern alone), for at
   most SXLU_MAX_STATES unknowns (up to SXLU_MAX_STATES_C when generated C is asked for

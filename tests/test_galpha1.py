@@ -150,3 +150,27 @@ def test_rootfinder_run_reports_no_iteration_counts():
     assert tr.status == "converged" and tr.stats["newton_iterations"] is None
     unrolled = sc.integrate(mech, 2.0, 0.05, method=GeneralizedAlphaFirstOrder(), codegen=False)
     np.testing.assert_allclose(tr.q, unrolled.q, atol=1e-8)  # the same steps, solved alike
+
+
+@pytest.mark.parametrize("rho", [0.0, 0.5, 1.0])
+def test_taylor_start_lands_on_the_taylor_step(rho):
+    """Newton's Taylor start (galpha1._taylor_rate) is the rate whose update y1 = y0 + h y'0
+    + gamma h (y'1 - y'0) puts q1 at q0 + h v0 + h^2 a0 / 2 and v1 at v0 + h a0 (q' = v),
+    whatever the carried q'0 (the scheme carries q' at its alpha points, not v): to
+    round-off, at every rho_inf (gamma 1, 2/3, 1/2)."""
+    from symcable.models.toys import spring_chain
+    from symcable.solvers.galpha1 import _taylor_rate, coefficients
+
+    mech = spring_chain(4)
+    nq, nv = mech.n_q, mech.n_v
+    rng = np.random.default_rng(3)
+    q0, v0, qd0, a0 = (rng.normal(size=n) for n in (nq, nv, nq, nv))
+    h, gamma = 0.3, coefficients(rho)[2]
+    x, t, hs = ca.MX.sym("x", 2 * (nq + nv)), ca.MX.sym("t"), ca.MX.sym("h")
+    p = ca.MX.sym("p", mech.params.n)
+    z = ca.Function("z", [x, t, hs, p], [_taylor_rate(mech, x, t, hs, p, gamma)])
+    xv = np.concatenate([q0, v0, qd0, a0])
+    w = np.ravel(z(xv, 0.0, h, mech.params.values))
+    y1 = xv[:nq + nv] + h * xv[nq + nv:] + gamma * h * (w - xv[nq + nv:])
+    np.testing.assert_allclose(y1[:nq], q0 + h * v0 + 0.5 * h * h * a0, atol=1e-13)
+    np.testing.assert_allclose(y1[nq:], v0 + h * a0, atol=1e-13)

@@ -259,24 +259,47 @@ def _taylor_lte(mech, y0, y1, t, h, p, rho, y_scale):
     return norm_inf(C / (C + 1.0 / 6.0) * (y1 - y_pred) / y_scale)
 
 
-def _predictor(res, x, ny: int, nq: int, gamma, residual=None, symbols=None):
-    """Newton's start y'1 for the step from x = (y0, y'0): of the constant rate y'1 = y'0,
-    constant velocity (q1 = q0 + h q'0, v1 = v0) and rest (y1 = y0), the one whose scaled
-    residual ``res(w)`` (max-norm) is smallest (the first on a tie; a residual that is not
-    finite is never chosen). After a violent start (a line released from a kink, v' ~ 200
-    m/s^2) the constant rate puts v1 = h v'0 ~ 200 m/s into the drag at h = 1 s, and
-    Newton runs off (to 1e30 times the scales) from there. Rest is y'1 = (1 - 1 /
-    gamma) y'0 (the update y1 = y0 + h y'0 + gamma h (y'1 - y'0) = y0). The others are
-    tried only where the constant rate's residual exceeds PREDICTOR_TRUST
-    (:func:`~symcable.solvers.newton.best_start`). With ``residual`` (w -> the residual
-    vector, whose scaled norm is ``res``) and ``symbols`` (the MX inputs the expressions are
-    of), ``(start, residual(start), res(residual(start)))``."""
+def _taylor_rate(mech: Mechanism, x, t, h, p, gamma):
+    """The rate y'1 whose update puts q1 at the second-order Taylor step q0 + h G(q0, v0 + h
+    a0 / 2) (= q0 + h v0 + h^2 a0 / 2 where q' = v) with a0 = v'0, and v1 at v0 + h a0."""
+    nq, nv = mech.n_q, mech.n_v
+    ny = nq + nv
+    q0, v0 = x[:nq], x[nq:ny]
+    qd0, a0 = x[ny:ny + nq], x[ny + nq:]
+    v_mid = v0 + 0.5 * h * a0
+    if mech.kinematics is None:
+        rate = v_mid
+    else:
+        rate = functions(mech).qdot(q0, v_mid, ca.MX(0, 1), t + 0.5 * h, p)
+    return ca.vertcat(qd0 + (rate - qd0) / gamma, a0)
+
+
+def _predictor(res, x, ny: int, nq: int, gamma, residual=None, symbols=None, taylor=None):
+    """Newton's start y'1 for the step from x = (y0, y'0): of the Taylor step ``taylor``
+    (:func:`_taylor_rate`, when given), the constant rate y'1 = y'0, constant velocity (q1 =
+    q0 + h q'0, v1 = v0) and rest (y1 = y0), the one whose scaled residual ``res(w)``
+    (max-norm) is smallest (the first on a tie; a residual that is not finite is never
+    chosen). The Taylor step and the constant rate are both evaluated and the better stands
+    first. The constant rate moves q by h q'0 only: on the MoorDyn chains (WD0050, 0.2 s
+    steps) its missing h^2 a / 2 of a fairlead heaving at 2 m/s^2 (4 cm) leaves the top
+    segment (9 mm stretched) slack at Newton's start, and the first iterate overshoots to 15
+    times that stretch; from the Taylor step the A1 runs take 0.5 times the factorisations
+    (studies/performance/README.md). The constant rate is exact on a steady tow, where the
+    Taylor step carries the start's round-off accelerations (1e-8 m/s^2) into the positions.
+    After a violent start (a line released from a kink, v' ~ 200 m/s^2) both put v1 = h v'0
+    ~ 200 m/s into the drag at h = 1 s, and Newton runs off (to 1e30 times the scales) from
+    there. Rest is y'1 = (1 - 1 / gamma) y'0 (the update y1 = y0 + h y'0 + gamma h (y'1 -
+    y'0) = y0). The others are tried only where the first's residual exceeds
+    PREDICTOR_TRUST (:func:`~symcable.solvers.newton.best_start`). With ``residual`` (w ->
+    the residual vector, whose scaled norm is ``res``) and ``symbols`` (the MX inputs the
+    expressions are of), ``(start, residual(start), res(residual(start)))``."""
     yd0 = x[ny:]
     stay = (1 - 1 / gamma) * yd0
-    cands = [yd0, ca.vertcat(yd0[:nq], stay[nq:]), stay]
+    cands = ([] if taylor is None else [taylor]) + [yd0, ca.vertcat(yd0[:nq], stay[nq:]), stay]
+    lead = 1 if taylor is None else 2
     if residual is None:
-        return best_start(res, cands)
-    return best_start_residual(residual, res, cands, symbols)
+        return best_start(res, cands, lead)
+    return best_start_residual(residual, res, cands, symbols, lead)
 
 
 def _unrolled(mech: Mechanism, max_iter: int, with_lte: bool, lu: bool) -> ca.Function:
@@ -349,12 +372,14 @@ def _unrolled(mech: Mechanism, max_iter: int, with_lte: bool, lu: bool) -> ca.Fu
 
     x, t, h, p, st, sc = _symbols(mech, ca.MX)
     y0, yd0 = x[:ny], x[ny:]
+    gamma = coefficients(st[0])[2]
     start, r_start, res_start = _predictor(
-        lambda r_: norm_inf(h * r_ * sc[ny:]), x, ny, mech.n_q, coefficients(st[0])[2],
-        residual=lambda w_: R(w_, x, t, h, p, st), symbols=[x, t, h, p, st, sc])
+        lambda r_: norm_inf(h * r_ * sc[ny:]), x, ny, mech.n_q, gamma,
+        residual=lambda w_: R(w_, x, t, h, p, st), symbols=[x, t, h, p, st, sc],
+        taylor=_taylor_rate(mech, x, t, h, p, gamma))
     z, done, it, meas = loop(start, r_start, res_start, 0, 0, np.inf, ca.MX.zeros(n_f),
                              np.inf, x, t, h, p, st, sc)
-    y1 = y0 + h * yd0 + coefficients(st[0])[2] * h * (z - yd0)
+    y1 = y0 + h * yd0 + gamma * h * (z - yd0)
     lte = _taylor_lte(mech, y0, y1, t, h, p, st[0], sc[:ny]) if with_lte else ca.MX(np.nan)
     return ca.Function(f"{name}_kernel{max_iter}{'_lte' if with_lte else ''}",
                        [x, t, h, p, st, sc], [ca.vertcat(y1, z), meas, lte, it, 1 - done],
@@ -376,10 +401,11 @@ def _rootfinder(mech: Mechanism, tol: float, max_iter: int, with_lte: bool) -> c
                        {"abstol": tol, "abstolStep": 1e-14, "max_iter": max_iter,
                         "error_on_fail": False, "show_eval_warnings": False})
     y0, yd0 = x[:ny], x[ny:]
-    start = _predictor(lambda w_: norm_inf(scaled(w_)), x, ny, mech.n_q,
-                       coefficients(st[0])[2])
+    gamma = coefficients(st[0])[2]
+    start = _predictor(lambda w_: norm_inf(scaled(w_)), x, ny, mech.n_q, gamma,
+                       taylor=_taylor_rate(mech, x, t, h, p, gamma))
     w1 = rf(start, x, t, h, p, st, sc)
-    y1 = y0 + h * yd0 + coefficients(st[0])[2] * h * (w1 - yd0)
+    y1 = y0 + h * yd0 + gamma * h * (w1 - yd0)
     err = norm_inf(scaled(w1))
     lte = _taylor_lte(mech, y0, y1, t, h, p, st[0], sc[:ny]) if with_lte else ca.MX(np.nan)
     return ca.Function(f"{mech.name}_ga1_rootfinder", [x, t, h, p, st, sc],

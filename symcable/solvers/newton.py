@@ -39,13 +39,16 @@ StepFn = Callable[[np.ndarray, np.ndarray], tuple]
 
 #: a time step's first predictor whose scaled residual (max-norm) is at most this is taken
 #: as Newton's start without trying the others (:func:`best_start`): an accurate step pays
-#: one residual, a large one three. Not larger: near rest on seed 000's hybrid (80
+#: one residual, a large one three more. Not larger: near rest on seed 000's hybrid (80
 #: segments, t = 41 s) the constant-acceleration start of a 1 s step has a residual of 0.6
 #: force scales where rest has 5e-11, and Newton from the former runs off (1e7): the
 #: accelerations at rest are the round-off of the forces (7e-11 N on nodes of 2e-5 kg:
 #: 4e-6 m/s^2), and h^2 a of them along a segment of EA / ds = 1.6e5 N/m is 0.6 N; after
-#: a release the former is 1e7
-PREDICTOR_TRUST = 1e-3
+#: a release the former is 1e7. Not smaller: it was 1e-3, and the MoorDyn chains' first
+#: residuals (1e-3 to 1e-1 at 0.2 s steps) paid three residuals more in nearly every step
+#: for starts that were never chosen (a tenth of the step's time: WD0050 A1 at 0.2 s, 20.1
+#: against 16.7 ms)
+PREDICTOR_TRUST = 1e-1
 #: another predictor replaces the first only where its residual is below this fraction of
 #: the first's: a residual dominated by a stiff (axial) row is a poor distance, and on a
 #: smooth periodic rod (shooting at T/100) a start at rest with a 10 times smaller
@@ -69,42 +72,59 @@ def _finite(nrm):
     return ca.if_else(nrm - nrm == 0, nrm, ca.inf)  # NaN or inf: never chosen
 
 
-def best_start(res: Callable, candidates: list):
+def _lead(items: list) -> tuple:
+    """Of ``items`` (tuples of CasADi expressions whose last entry is a finite residual
+    norm), the one whose norm is smallest (the earlier on a tie), entry by entry."""
+    best = items[0]
+    for item in items[1:]:
+        better = item[-1] < best[-1]
+        best = tuple(ca.if_else(better, a, b) for a, b in zip(item[:-1], best[:-1])) \
+            + (ca.fmin(item[-1], best[-1]),)
+    return best
+
+
+def best_start(res: Callable, candidates: list, lead: int = 1):
     """Newton's start among ``candidates`` (CasADi expressions): the first when its
     ``res(candidate)`` (a scaled residual norm, CasADi scalar) is at most PREDICTOR_TRUST,
     else the one whose residual is smallest, another than the first only where its
     residual is below PREDICTOR_MARGIN times the first's (the earlier on a tie; a residual
-    that is not finite is never chosen). In CasADi's graph: the other residuals are evaluated only
-    where the first is above the bound (a short-circuiting ``if_else``)."""
-    first = _finite(res(candidates[0]))
+    that is not finite is never chosen). The first ``lead`` candidates are always evaluated
+    and the one with the smallest residual stands first. In CasADi's graph: the other
+    residuals are evaluated only where the first is above the bound (a short-circuiting
+    ``if_else``)."""
+    w0, first = _lead([(w, _finite(res(w))) for w in candidates[:lead]])
+    candidates = [w0] + list(candidates[lead:])
     best = _choose(first, candidates, [res(w) for w in candidates[1:]])
     # a start, not a function of the step's inputs to differentiate: the solution does not
     # depend on it (an exact Newton's; the unrolled loop's derivative through its start
     # decays with its contraction), and its derivative would cost as many residual
     # derivatives as candidates
-    return ca.if_else(first <= PREDICTOR_TRUST, candidates[0], best, True)
+    return ca.if_else(first <= PREDICTOR_TRUST, w0, best, True)
 
 
 def best_start_residual(residual: Callable, measure: Callable, candidates: list,
-                        symbols: list):
+                        symbols: list, lead: int = 1):
     """``(start, residual(start), measure(residual(start)))``: :func:`best_start` with the
     residual vector ``residual(w)`` and its norm ``measure(r)`` apart, so that Newton's
     first iteration reuses the chosen start's residual and norm instead of evaluating them
     again; ``candidates`` and the residual are MX expressions of the MX symbols ``symbols``
-    (the caller's inputs). The branch is a Function of the first residual computed once
-    (``Function.if_else``; CasADi's short-circuiting ``if_else`` of expressions would
-    compute it again inside)."""
+    (the caller's inputs). The first ``lead`` candidates are always evaluated and the one
+    with the smallest residual (the earlier on a tie) stands first. The branch is a
+    Function of the first residual computed once (``Function.if_else``; CasADi's
+    short-circuiting ``if_else`` of expressions would compute it again inside)."""
     n = candidates[0].numel()
-    r0 = residual(candidates[0])
+    firsts = [(w, residual(w)) for w in candidates[:lead]]
+    w0, r0, m0 = _lead([(w, r, _finite(measure(r))) for w, r in firsts])
+    rest = candidates[lead:]
     r0_sym, m0_sym = ca.MX.sym("r0", n), ca.MX.sym("m0")
-    best = _choose(_finite(m0_sym), candidates, [measure(residual(w)) for w in candidates[1:]])
+    w0_sym = ca.MX.sym("w0", n)
+    best = _choose(m0_sym, [w0_sym] + rest, [measure(residual(w)) for w in rest])
     r_best = residual(best)
-    args = list(symbols) + [r0_sym, m0_sym]
+    args = list(symbols) + [w0_sym, r0_sym, m0_sym]
     pick = ca.Function.if_else(
-        "predictor", ca.Function("predictor_first", args, [candidates[0], r0_sym, m0_sym]),
+        "predictor", ca.Function("predictor_first", args, [w0_sym, r0_sym, m0_sym]),
         ca.Function("predictor_best", args, [best, r_best, measure(r_best)]))
-    m0 = measure(r0)
-    return pick(_finite(m0) <= PREDICTOR_TRUST, *symbols, r0, m0)
+    return pick(m0 <= PREDICTOR_TRUST, *symbols, w0, r0, m0)
 
 
 class _Singular(Exception):

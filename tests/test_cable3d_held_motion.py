@@ -90,3 +90,38 @@ def test_the_first_order_scheme_starts_with_a_moving_end():
     # material damping of the top segment at t0, not checked here) to a finite run
     np.testing.assert_array_equal(tr.q[0], eq.q)
     assert np.all(np.isfinite(tr.q)) and tr.time[-1] == pytest.approx(-9.5)
+
+
+def test_table_is_held_outside_its_rows_and_costs_the_same_at_any_length(tmp_path):
+    """Before the first row and after the last the end holds the row's displacement at zero
+    velocity; in between, the linear interpolation. The table is a lookup in the graph (two
+    CasADi interpolants): its instructions do not grow with the rows (a sum of ramps over the
+    rows cost about ten per row: 3,444 for the 301-row heave table)."""
+    from symcable.models.cable3d import _held
+
+    def held(n):
+        tk = np.linspace(0.0, 10.0, n)
+        rows = np.column_stack([tk, np.sin(tk), 0.5 * tk, np.cos(tk)])
+        path = tmp_path / f"t{n}.txt"
+        np.savetxt(path, rows)
+        d = {"model": "cable3d", "line_types": {"c": {"EA": 1e7, "mass": 10.0,
+                                                      "diameter": 0.05}},
+             "sections": [{"type": "c", "length": 20.0, "segments": 4}],
+             "end_a": {"condition": "pinned", "position": [0.0, 0.0, -10.0]},
+             "end_b": {"condition": "pinned", "position": [15.0, 0.0, 0.0],
+                       "motion": {"kind": "table", "file": str(path)}}}
+        t = ca.SX.sym("t")
+        x, v = _held(load_scene(d).end_b, ca.DM.zeros(3), 1.0, t)
+        return rows, ca.Function("f", [t], [x, v])
+
+    rows, f = held(41)
+    for tt, r in ((-3.0, rows[0]), (25.0, rows[-1])):
+        x, v = (np.ravel(a) for a in f(tt))
+        np.testing.assert_allclose(x, r[1:], atol=1e-12)
+        np.testing.assert_allclose(v, 0.0, atol=1e-12)
+    for tt in (0.1, 3.33, 9.99):
+        x, v = (np.ravel(a) for a in f(tt))
+        want = [np.interp(tt, rows[:, 0], rows[:, c]) for c in (1, 2, 3)]
+        np.testing.assert_allclose(x, want, atol=1e-12)
+        assert v[1] == pytest.approx(0.5, abs=1e-9)  # the y column's slope
+    assert held(11)[1].n_instructions() == held(1001)[1].n_instructions()

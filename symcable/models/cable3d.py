@@ -46,6 +46,7 @@ horizontal positions of the nodes, m, node by node).
 from __future__ import annotations
 
 import dataclasses
+import hashlib
 import math
 
 import casadi as ca
@@ -120,6 +121,36 @@ def _element_kernel(law_shape: tuple[int, int] | None = None) -> ca.Function:
                        [fa, fb, T, e], names, ["fa", "fb", "T", "e"])
 
 
+def _table_lookup(samples):
+    """``(disp, vel)``: functions of t (SX) giving a table's displacement (3,) and velocity
+    (3,) as :func:`_held` describes them, each a CasADi linear interpolant (a binary search
+    per call in the graph and in its C, where the table written as a sum of ramps over its
+    rows cost some ten operations per row: 4,500 of the 16,300 of a WD0050 chain residual
+    with its 400 rows) of the clamped time. The velocity is an interpolant through the slopes
+    held over each interval and ramped over TABLE_VELOCITY_WIDTH of the smallest row
+    spacing about each row (from zero before the first row to zero after the last)."""
+    r = np.asarray(samples, float)
+    tk, X = r[:, 0], r[:, 1:4]
+    slopes = np.diff(X, axis=0) / np.diff(tk)[:, None]
+    # at least a few units in the last place of the times, so that the grid increases
+    # (rows far from t = 0: a table in seconds since some epoch)
+    half = max(0.5 * TABLE_VELOCITY_WIDTH * float(np.min(np.diff(tk))),
+               4.0 * float(np.spacing(np.max(np.abs(tk)))))
+    grid = np.column_stack([tk - half, tk + half]).ravel()
+    zero = np.zeros((1, 3))
+    held = np.repeat(np.vstack([zero, slopes, zero]), 2, axis=0)[1:-1]  # (2 n, 3)
+    tag = hashlib.sha1(r.tobytes()).hexdigest()[:12]  # the same in every process: one C
+    d = ca.interpolant(f"table_disp_{tag}", "linear", [tk.tolist()], X.ravel().tolist())
+    v = ca.interpolant(f"table_vel_{tag}", "linear", [grid.tolist()], held.ravel().tolist())
+
+    def disp(t):
+        return d(ca.fmin(ca.fmax(t, tk[0]), tk[-1]))
+
+    def vel(t):
+        return v(ca.fmin(ca.fmax(t, grid[0]), grid[-1]))
+    return disp, vel
+
+
 def _held(end, pos_p, motion_scale, t, ramp_on=1.0):
     """A pinned end's position (m) and velocity (m/s): its parameter position plus the scaled
     prescribed motion:
@@ -146,15 +177,8 @@ def _held(end, pos_p, motion_scale, t, ramp_on=1.0):
         x, v = tow_path(m, t)
         return pos_p + motion_scale * x, motion_scale * v
     if m.kind == "table":  # piecewise linear through the rows, held outside them
-        r = np.asarray(m.samples, float)
-        tk, X = r[:, 0], r[:, 1:4]
-        slopes = np.diff(X, axis=0) / np.diff(tk)[:, None]
-        kinks = ca.DM(np.vstack([slopes[:1], np.diff(slopes, axis=0), -slopes[-1:]])).T  # (3, n)
-        since = t - ca.DM(tk)
-        disp = ca.DM(X[0]) + ca.mtimes(kinks, ca.fmax(since, 0.0))
-        half = 0.5 * TABLE_VELOCITY_WIDTH * float(np.min(np.diff(tk)))
-        passed = ca.fmin(ca.fmax(0.5 + since / (2.0 * half), 0.0), 1.0)
-        return pos_p + motion_scale * disp, motion_scale * ca.mtimes(kinks, passed)
+        disp, vel = _table_lookup(m.samples)
+        return pos_p + motion_scale * disp(t), motion_scale * vel(t)
     A = ca.DM(m.amplitude)
     ph = ca.DM([math.radians(v) for v in m.phase_deg])
     ramp = ca.if_else(t <= 0.0, 0.0,

@@ -137,7 +137,8 @@ def test_point_contact_damper_and_friction():
         return np.ravel(own), float(np.ravel(normal)[0])
 
     own, normal = loads(-50.01)
-    assert normal == pytest.approx(K * 0.01, rel=1e-3)
+    # the smooth ramp (g + sqrt(g^2 + width^2)) / 2 of the penetration g = 1 cm
+    assert normal == pytest.approx(K * 0.5 * (0.01 + math.hypot(0.01, width)), rel=1e-9)
     on = 0.5 * (1.0 + 0.01 / math.hypot(0.01, width))   # the contact's smooth on-off factor
     damper = 2e4 * K / 1e6 * 0.05 * on
     assert own[2] == pytest.approx(-weight + normal + damper, rel=1e-6)
@@ -145,8 +146,9 @@ def test_point_contact_damper_and_friction():
     np.testing.assert_allclose(own[:2], -0.6 * normal * v[:2] / math.sqrt(slip ** 2 + 1e-4),
                                rtol=1e-9)
     # 10 m above the bed only the smooth ramp's tail K width^2 / (4 * 10 m) is left (the
-    # lines' contact has the same): 1.3e-7 of the weight
+    # lines' contact has the same ramp, 10 times wider): 1.3e-7 of the weight
     own, normal = loads(-40.0)
+    assert normal == pytest.approx(K * width ** 2 / 40.0, rel=1e-6)
     assert abs(normal) < 1e-6 * weight and abs(own[0]) < 1e-6 * weight
     # the stiffness lets what can press the clump down sink it by the chain's own penetration
     press = weight + (120.0 + 110.0) * (100.0 - RHO * math.pi * 0.01 / 4) * G

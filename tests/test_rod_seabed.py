@@ -71,7 +71,9 @@ def test_rod_on_the_seabed_is_cable3d():
     np.testing.assert_allclose(np.ravel(r["end_force_a"]), np.ravel(c["end_force_a"]),
                                rtol=1e-6)
     on = fr > 0.5 * fr.max()
-    assert 6 <= on.sum() <= 15 and fr[:5].max() < 1e-6 * fr.max()
+    # the suspended nodes carry only the smooth ramp's tail, k b delta^2 / 4 g at a height g:
+    # 7e-4 N (3e-6 of the largest) 10 m up with the 3D lines' 10 % smoothing
+    assert 6 <= on.sum() <= 15 and fr[:5].max() < 1e-5 * fr.max()
     assert np.hypot(*np.ravel(r["positions"])[-5:-3]) > 1.0  # swept across by the current
 
 

@@ -30,7 +30,22 @@ from .mechanism import Bound
 from .relax import _ramp_integral
 from .seabed_friction import Friction, friction
 
-__all__ = ["SeabedTerms", "bristle_scale", "friction_setup", "lumped", "profile_current",
+#: the 3D lines' contact ramp's smoothing width over the penetration under the line's own
+#: weight (:func:`~symcable.models.terms.contact_smoothing`). The planar line keeps 1 %: its
+#: linearised dynamics accept a grounded length up to 1 % of a segment, which the wider
+#: ramp's tail exceeds. So do free points
+#: (:data:`~symcable.models.cable3d_system.POINT_CONTACT_SMOOTHING`). At 1 % Newton cycled
+#: on the touchdown node of the MoorDyn chains, between 15 mm above the bed and 22 mm into
+#: it across the 1.3 mm smoothing (WD0200 A2 at 0.2 s steps: 6 of 150 steps, each then
+#: retried as substeps; 1-3 on WD0050 A2 and WD0600 A2); at 10 % none does and WD0200 A2
+#: runs in 0.6 times the time. The chains' max errors against OrcaFlex move by at most 0.6
+#: % of the range, their tension series by up to 2.1 % of it (studies/chains/README.md);
+#: OC3's static fairlead tension by 2.3e-5. Its cost: a node at a height g above the bed
+#: carries k b delta^2 / 4 g (the ramp's tail), 1e-4 of its weight on these chains at 3 m
+CONTACT_SMOOTHING = 0.1
+
+__all__ = ["CONTACT_SMOOTHING", "SeabedTerms", "bristle_scale", "friction_setup", "lumped",
+           "profile_current",
            "reaction_bound", "seabed_damper", "seabed_forces"]
 
 
@@ -100,7 +115,8 @@ def seabed_forces(scene: Scene, seg: dict, Xm, Vm, nodal, term_names: list, *, s
     trib = np.zeros(N + 1)
     trib[:-1] += 0.5 * seg["d"] * seg["ds"]
     trib[1:] += 0.5 * seg["d"] * seg["ds"]
-    dlt = terms.contact_smoothing(float(np.max(seg["w"])), sb.stiffness, float(np.min(seg["d"])))
+    dlt = terms.contact_smoothing(float(np.max(seg["w"])), sb.stiffness, float(np.min(seg["d"])),
+                                  CONTACT_SMOOTHING)
     sink = max(abs(float(np.max(seg["w"]))) / (sb.stiffness * float(np.min(seg["d"]))),
                1e-6 * scene.length)
     probe = list(range(N + 1))

@@ -81,10 +81,12 @@ def seabed_contact(stiffness, diameter, seabed_z, z, delta):
     return stiffness * diameter * smooth_ramp(seabed_z - z, delta)
 
 
-def contact_smoothing(weight, stiffness, diameter):
-    """Smoothing width of the contact ramp, m: 1% of the penetration under the line's own
-    weight (so the touchdown point moves by far less than a segment), with a floor."""
-    return max(0.01 * abs(weight) / (stiffness * diameter), 1e-6)
+def contact_smoothing(weight, stiffness, diameter, fraction=0.01):
+    """Smoothing width of the contact ramp, m: ``fraction`` of the penetration under the
+    line's own weight (so the touchdown point moves by far less than a segment; 1 % for the
+    planar line, :data:`~symcable.models.seabed3d.CONTACT_SMOOTHING` for the 3D lines), with
+    a floor."""
+    return max(fraction * abs(weight) / (stiffness * diameter), 1e-6)
 
 
 def tangent(phi):

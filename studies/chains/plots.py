@@ -172,7 +172,7 @@ def accuracy(res: dict, path: Path) -> None:
     scheme through its steps, CableDyn through its steps, MoorDyn a point; the dotted line is
     symcable's converged error (the model against OrcaFlex)."""
     fig, axes, decks, motions = _grid(res)
-    markers = {"GA2": ("o", "-"), "GA1": ("s", "--")}
+    markers = {"GA2": ("o", "-"), "GA1": ("s", "--"), "GA1-rho0.2": ("^", ":")}
     for i, deck in enumerate(decks):
         for j, motion in enumerate(motions):
             ax = axes[i][j]
@@ -187,7 +187,7 @@ def accuracy(res: dict, path: Path) -> None:
                              if r["code"] == "symcable" and r["scheme"] == scheme
                              and not r.get("reference") and r.get("wall_s"))
                 _clip(ax, pts, COLORS["symcable"], mk, ls,
-                      f"symcable {scheme} ({'C' if scheme == 'GA1' else 'VM'})", 3)
+                      f"symcable {scheme} ({'C' if scheme.startswith('GA1') else 'VM'})", 3)
             pts = sorted((r["wall_s"], r["fair_max"], r["dt_s"]) for r in rs
                          if r["code"] == "CableDyn" and r.get("wall_s"))
             _clip(ax, pts, COLORS["CableDyn"], "v", "-", "CableDyn", -9)

@@ -97,8 +97,8 @@ class Config(NamedTuple):
     cabledyn_dts: tuple
 
 
-FULL = Config(cases.DECKS, cases.MOTIONS, (0.2, 0.1, 0.05, 0.02), ("GA2", "GA1"), 0.0025,
-              "GA1", 20.0, 3, True, (0.2, 0.1, 0.05, 0.02))
+FULL = Config(cases.DECKS, cases.MOTIONS, (0.2, 0.1, 0.05, 0.02),
+              ("GA2", "GA1", "GA1-rho0.2"), 0.0025, "GA1", 20.0, 3, True, (0.2, 0.1, 0.05, 0.02))
 QUICK = Config(("WD0050",), ("A1",), (0.1,), ("GA2",), 0.01, "GA1", 5.0, 1, False, (0.1,))
 
 

@@ -91,11 +91,11 @@ def errors(t, F, t_ref, F_ref, rng: float) -> dict:
 #: max_iter iterations: WD0200 A2 at 0.2 s 0.102 s with 20 against 0.117 s with 30
 MAX_ITER_GA1 = GeneralizedAlphaFirstOrder().max_iter
 
-#: the second GA1 row's rho_inf: simulate's default (0) damps the chains' axial ringing from
-#: the table's kinks at once and is robust at any step, but its dissipation also shifts the
-#: slow response: on WD0600 A2 its max error at 0.1 s is 0.12 % of the range above the
-#: converged run's, at 0.2 some 0.01 (first measured by hand, 2026-12-01; the study's rows
-#: are the record). Larger rho_inf rings at 0.2 s steps (the README)
+#: the second GA1 row's rho_inf. simulate's default (0) damps the axial ringing from the
+#: table's kinks at once and is robust at any step, but its dissipation also shifts the slow
+#: response. Measured here (README): at 0.05 s rho_inf = 0.2 is the more accurate on five of
+#: six (its max time error on WD0600 A2 0.2 % of the range against 0.7), at 0.1 s the less
+#: accurate on five, and at 0.2 s it rings (10-72 %): a row beside the default, not a default
 RHO_INF_LIGHT = 0.2
 
 #: the symcable schemes of the study: name -> (method, what the name means)

@@ -45,8 +45,7 @@ from .seabed_friction import Friction, friction
 CONTACT_SMOOTHING = 0.1
 
 __all__ = ["CONTACT_SMOOTHING", "SeabedTerms", "bristle_scale", "friction_setup", "lumped",
-           "profile_current",
-           "reaction_bound", "seabed_damper", "seabed_forces"]
+           "profile_current", "reaction_bound", "seabed_damper", "seabed_forces"]
 
 
 @dataclass(frozen=True)

@@ -70,8 +70,7 @@ class Parts:
         self.mech = mech = cable3d_mechanism(cases.chain_scene(deck, cases.extended_table(
             motion, out)))
         self.ny = ny = mech.n_q + mech.n_v
-        lu = ny <= ga.SXLU_MAX_STATES or (codegen and ny <= ga.SXLU_MAX_STATES_C)
-        fns, self.kind = profile.parts(mech, lu)
+        fns, self.kind = profile.parts(mech, ga.solver_choice(mech, codegen)[0])
         fns = {k: fns[k] for k in ("residual", "factor", "solve")}
         if codegen:
             fns = {k: compile_functions([f], what=f"the step's {k}")[f.name()]

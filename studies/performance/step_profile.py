@@ -6,19 +6,23 @@ Cases: MoorDyn's chain decks WD0050 (41 segments, 240 states) and WD0600 (170 se
 1014 states) under the ZZP1_A1 heave (``studies/chains/cases.py`` builds the scenes), run by
 ``GeneralizedAlphaFirstOrder(rho_inf=0)`` (``simulate``'s scheme for cable3d) at dt = 0.1 s.
 
-The parts are built exactly as ``galpha1._unrolled`` builds them (its private helpers are
-called, so the graphs are the step's own):
+The parts are built exactly as ``galpha1._unrolled`` builds them (``galpha1.step_parts``,
+so the graphs are the step's own), two ways per deck:
 
-* ``residual``: F(w; x, t, h, p), the DAE residual at the step's alpha points (SX, written
-  out straight-line), evaluated at every iteration;
-* ``jacobian``: the nonzeros of dF/dw (SX), the iteration matrix;
-* ``factor``: what the step evaluates to refactorise (at the first iteration and from the
-  CHORD_ITERATIONS-th on): the Jacobian and its block LU written out in SX up to
-  SXLU_MAX_STATES_C states (WD0050), above it (WD0600) the Jacobian and its banded LU (loops,
-  :mod:`symcable.linalg.banded`), or the Jacobian alone where the solve is sparse QR (a
-  pattern with no narrow band);
-* ``solve``: J^-1 b from the factor's output: the two triangular solves of the LU, or the
-  sparse QR (CasADi's, with dense rows split off), which factorises at each call.
+* ``elements`` (the step's default for a cable3d line from ELEMENT_MIN_STATES states on):
+  the residual and the matrix from the Mechanism's element form
+  (``symcable.solvers.element_jacobian``): a loop over the elements of the element kernel
+  and of its own 6 x 12 Jacobian block, the per-node rest (kinematic rows, seabed) written
+  out in SX, summed by index gathers; factorised by the banded LU (loops,
+  :mod:`symcable.linalg.banded`);
+* ``written``: the residual F(w; x, t, h, p) and the nonzeros of dF/dw written out
+  straight-line in SX; factorised by the block LU written out in SX up to SXLU_MAX_STATES_C
+  states (WD0050), above it (WD0600) by the banded LU.
+
+The parts: ``residual``, F at the step's alpha points, evaluated at every iteration;
+``jacobian``, the nonzeros of the iteration matrix; ``factor``, what the step evaluates to
+refactorise (at the first iteration and from the CHORD_ITERATIONS-th on): the matrix and its
+LU; ``solve``, J^-1 b from the factor's output (the LU's two triangular solves).
 
 Per step with k linear solves (the step's ``iterations``): k + 1 residuals, k solves and
 1 + max(0, k - CHORD_ITERATIONS) factors; the sum is set beside the compiled step's own time
@@ -28,20 +32,18 @@ Timing: each Function compiled to C (``symcable.codegen``, the cache), called th
 ``FastCall`` at the state of a run 5 s after the start (t = -5 s: the fairlead at full heave
 speed, the chain on the bed), ``repeats`` interleaved rounds of blocks of calls, medians per
 call (us of CPU time). ``--quick``: WD0050 only, in the CasADi virtual machine (no
-compiling), 3 rounds. Also measured: the element forces and their Jacobian written out
-straight-line (as now) against the element kernel kept as a loop (:func:`kernel_loops`),
-and with ``--tol-dt DT`` the Newton iterations per step at tol 1e-10 (the default) and 1e-8
-over the 80 s run of WD0050 at the step DT (``cable3d_moordyn.py``'s equal-accuracy step:
-0.05 s).
+compiling), 3 rounds. With ``--tol-dt DT`` also the Newton iterations per step at tol 1e-10
+and 1e-8 over the 80 s run of WD0050 at the step DT (``cable3d_moordyn.py``'s
+equal-accuracy step: 0.05 s).
 
 Run: ``python studies/performance/step_profile.py [--quick] [--out DIR]`` (full: compiling
-WD0600's Jacobian takes minutes). Writes ``step_profile.json`` and ``step_profile.md``.
+WD0600's written-out Jacobian takes minutes, the element loops seconds). Writes
+``step_profile.json`` and ``step_profile.md``.
 """
 from __future__ import annotations
 
 import argparse
 import json
-import math
 import statistics
 import sys
 import time
@@ -50,7 +52,7 @@ from pathlib import Path
 import casadi as ca
 import numpy as np
 
-from symcable.cable3d_static import cable3d_mechanism
+from symcable.models.cable3d import build_cable3d
 from symcable.codegen import FastCall, compile_functions
 from symcable.solvers import galpha1 as ga
 from symcable.solvers.equilibrium import solve_equilibrium
@@ -76,19 +78,11 @@ RHO = 0.0  # simulate's rho_inf for cable3d
 def parts(mech, lu: bool) -> tuple[dict, str]:
     """({name: Function} of the step's parts (module docstring), with inputs
     (w, x, t, h, p, settings) for residual / jacobian / factor and (f, b) for solve; the
-    linear solver's kind: "block-lu", "banded" or "qr")."""
-    ny = mech.n_q + mech.n_v
-    x, t, h, p, st, _ = ga._symbols(mech, ca.SX)
-    w = ca.SX.sym("w", ny)
-    r = ga._step_residual(ga._sx_residual(mech), w, x, t, h, p, st[0], ny)
-    args = [w, x, t, h, p, st]
-    opts = {"cse": ny <= ga.CSE_MAX_STATES}
-    J = ga._jacobian(r, w)
-    factor, solve, _, kind = ga._linear_solver(J, args, {}, lu, mech.n_q)
-    # with sparse QR the factor is the Jacobian's nonzeros: the same graph, timed once
-    jac = factor if kind == "qr" else ca.Function("prof_jacobian", args, [J.nz[:]], opts)
-    return {"residual": ca.Function("prof_residual", args, [r], opts), "jacobian": jac,
-            "factor": factor, "solve": solve}, kind
+    linear solver's kind: "block-lu", "banded" or "qr"), as the step builds them
+    (``galpha1.step_parts``: from the element form where the Mechanism has one and ``lu``
+    is off)."""
+    R, factor, solve, _, kind, jac = ga.step_parts(mech, lu)
+    return {"residual": R, "jacobian": jac, "factor": factor, "solve": solve}, kind
 
 
 def state(mech, eq, t_run: float, codegen) -> tuple:
@@ -120,16 +114,26 @@ def _median_times(calls: dict, repeats: int, block_s: float = 0.02) -> dict:
     return {k: statistics.median(v) for k, v in out.items()}
 
 
-def profile(deck: str, out: Path, codegen: bool, repeats: int) -> dict:
-    """The breakdown of one deck (module docstring); times in us."""
+def profile(deck: str, out: Path, codegen: bool, repeats: int, way: str = "elements") -> dict:
+    """The breakdown of one deck (module docstring) with the step's residual and matrix
+    from the element form (``way`` "elements", the default) or written out in SX
+    ("written"); times in us."""
     scene = cases.chain_scene(deck, cases.extended_table("A1", out))
-    mech = cable3d_mechanism(scene)
-    ny = mech.n_q + mech.n_v
-    eq = solve_equilibrium(mech, codegen=codegen)
-    opts = GeneralizedAlphaFirstOrder(rho_inf=RHO)
-    lu = ny <= ga.SXLU_MAX_STATES or (codegen and ny <= ga.SXLU_MAX_STATES_C)
-    fns, kind = parts(mech, lu)
-    sizes = {k: int(f.n_instructions()) for k, f in fns.items()}
+    saved = ga.ELEMENT_MATRIX
+    ga.ELEMENT_MATRIX = way == "elements"
+    try:
+        mech = build_cable3d(scene)  # not the cached Mechanism: the steps of both ways
+        ny = mech.n_q + mech.n_v
+        eq = solve_equilibrium(mech, codegen=codegen)
+        opts = GeneralizedAlphaFirstOrder(rho_inf=RHO)
+        lu, _ = ga.solver_choice(mech, codegen)
+        fns, kind = parts(mech, lu)
+        kern = ga.galpha1_kernel(mech, opts, lte=False, codegen=codegen)
+    finally:
+        ga.ELEMENT_MATRIX = saved
+    # straight-line SX instructions; None for an MX graph (element loops, LU loops)
+    sizes = {k: int(f.n_instructions()) if f.is_a("SXFunction") else None
+             for k, f in fns.items()}
     compile_s = {}
     if codegen:
         done = {}
@@ -139,7 +143,6 @@ def profile(deck: str, out: Path, codegen: bool, repeats: int) -> dict:
                 done[f.name()] = compile_functions([f], what=f"the step's {k}")[f.name()]
                 compile_s[k] = time.perf_counter() - t0
             fns[k] = done[f.name()]
-    kern = ga.galpha1_kernel(mech, opts, lte=False, codegen=codegen)
     x, t = state(mech, eq, 5.0, codegen)
     p = np.asarray(mech.params.values, float)
     settings = np.array([opts.rho_inf, opts.tol])
@@ -164,8 +167,9 @@ def profile(deck: str, out: Path, codegen: bool, repeats: int) -> dict:
     seq = in_sequence(R, Ff, S, x, t, p, settings, scales, ny, 3 * repeats)
     spent = {key: n[key] * us[key] for key in ("residual", "factor", "solve")}
     parts_sum = sum(spent.values())
-    return {"deck": deck, "states": ny, "solver": {"block-lu": "block LU (SX)", "banded": "banded LU (loops)",
-                                                 "qr": "sparse QR"}[kind],
+    return {"deck": deck, "way": way, "states": ny,
+            "solver": {"block-lu": "block LU (SX)", "banded": "banded LU (loops)",
+                       "qr": "sparse QR"}[kind],
             "compiled": bool(codegen), "instructions": sizes, "compile_s": compile_s,
             "t": t, "iterations": int(round(float(its[0]))), "failed": float(failed[0]),
             "calls": n, "replica_vs_step": agree, "us": us, "parts_sum_us": parts_sum,
@@ -218,60 +222,6 @@ def in_sequence(R, F, S, x, t, p, settings, scales, ny, repeats: int) -> dict:
     return {k: 1e6 * statistics.median(r[k] for r in rounds) for k in rounds[0]}
 
 
-def kernel_loops(N: int, codegen: bool, repeats: int) -> dict:
-    """The element forces of N elements of WD0050's chain (cable3d's element kernel, Morison
-    drag, no contact) and their Jacobian with respect to the node positions and velocities,
-    two ways, each compiled and timed like the parts: ``straight`` as the model builds them
-    (the kernel mapped over the elements on SX symbols, so written out element by element,
-    and the Jacobian taken by CasADi on that expression) and ``loops`` (the kernel mapped
-    ``serial`` on MX: one loop over the elements in the generated C; the Jacobian as each
-    element's own 6 x 12 block, the kernel's Jacobian in a loop, left unassembled). Times
-    in us, compile times in s."""
-    from symcable.models.cable3d import _element_kernel
-    kern = _element_kernel()
-    ds, w, rho, d = 10.0, 390 * 9.80665 * (1 - 1025 / 7850), 1025.0, 0.252
-    const = [ds, 1.674e9, 8.1e6, 1e3, 1e-4, 1e6, w, d, 1.37, 0.64 * math.pi, rho, 1.0]
-    args = [ca.DM.ones(1, N) * c for c in const]
-    water = ca.DM.zeros(3, N)
-    rng = np.random.default_rng(1)
-    X0 = np.vstack([np.linspace(400.0, 0.0, N + 1), np.zeros(N + 1), np.linspace(-50.0, 0.0, N + 1)])
-    xv = np.concatenate([(X0 * (1 + 1e-3 * rng.standard_normal(X0.shape))).ravel("F"),
-                         0.1 * rng.standard_normal(3 * (N + 1))])
-    out = {"N": N}
-    fns = {}
-    for way, S in (("straight", ca.SX), ("loops", ca.MX)):
-        z = S.sym("xv", 6 * (N + 1))
-        X, V = ca.reshape(z[:3 * (N + 1)], 3, N + 1), ca.reshape(z[3 * (N + 1):], 3, N + 1)
-        mapped = kern.map(N) if way == "straight" else kern.map(N, "serial")
-        fa, fb, _, _ = mapped(X[:, :-1], X[:, 1:], V[:, :-1], V[:, 1:], water, *args)
-        nodal = ca.horzcat(fa, S.zeros(3, 1)) + ca.horzcat(S.zeros(3, 1), fb)
-        if way == "straight":
-            jac = ca.jacobian(ca.vec(nodal), z).nz[:]
-        else:
-            e = [ca.SX.sym(n, 3) for n in ("xa", "xb", "va", "vb")]
-            ins = kern.sx_in()  # one element written out in SX, its Jacobian too
-            fa1, fb1, _, _ = kern(*e, *ins[4:])
-            ej = ca.Function("elem_jac", [*e, *ins[4:]],
-                             [ca.jacobian(ca.vertcat(fa1, fb1), ca.vertcat(*e))])
-            jac = ej.map(N, "serial")(X[:, :-1], X[:, 1:], V[:, :-1], V[:, 1:], water, *args)
-        fns[f"{way}_forces"] = ca.Function(f"kl_{way}_f{N}", [z], [ca.vec(nodal)], {"cse": True})
-        fns[f"{way}_jacobian"] = ca.Function(f"kl_{way}_j{N}", [z], [ca.vec(jac)], {"cse": True})
-    out["instructions"] = {k: int(f.n_instructions()) for k, f in fns.items()}
-    out["compile_s"] = {}
-    if codegen:
-        for k, f in list(fns.items()):
-            t0 = time.perf_counter()
-            fns[k] = compile_functions([f], what=f"an element-kernel experiment ({k})")[f.name()]
-            out["compile_s"][k] = time.perf_counter() - t0
-    calls = {k: FastCall(f) for k, f in fns.items()}
-    a = calls["straight_forces"](xv)[0]
-    b = calls["loops_forces"](xv)[0]
-    out["forces_agree"] = float(np.max(np.abs(a - b)) / np.max(np.abs(a)))
-    med = _median_times({k: (lambda c=c: c(xv)) for k, c in calls.items()}, repeats)
-    out["us"] = {k: 1e6 * v for k, v in med.items()}
-    return out
-
-
 def newton_tolerance(out: Path, dt: float) -> dict:
     """Newton iterations per step and the top-segment tension's change over WD0050's 80 s
     run at ``dt`` s: tol 1e-10 (the default) against 1e-8."""
@@ -290,17 +240,27 @@ def newton_tolerance(out: Path, dt: float) -> dict:
             "cpu_1e-8": s8, "tension_change_of_range": float(np.max(np.abs(T8 - T10)) / np.ptp(T10))}
 
 
+#: how each row's step has its residual and matrix
+WAYS = {"elements": "element loops", "written": "written out (SX)"}
+
+
+def _count(n) -> str:
+    return "loops" if n is None else f"{n:,}"
+
+
 def table(rows: list) -> str:
-    lines = ["| case | states | solver | calls R / F / S | residual us (instr.) | "
-             "Jacobian us (instr.) | factor us | solve us | parts summed us | in the step's "
-             "order us: R / F / S | step us | residual / factor / solve / rest |",
-             "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    lines = ["| case | residual and matrix | states | solver | calls R / F / S | residual us "
+             "(instr.) | Jacobian us (instr.) | factor us | solve us | parts summed us | "
+             "in the step's order us: R / F / S | step us | residual / factor / solve / rest |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         u, n, s, c, q = r["us"], r["instructions"], r["shares"], r["calls"], r["in_sequence_us"]
         lines.append(
-            f"| {r['deck']}{'' if r['compiled'] else ' (VM)'} | {r['states']} | {r['solver']} | "
-            f"{c['residual']} / {c['factor']} / {c['solve']} | {u['residual']:.0f} ({n['residual']:,}) | {u['jacobian']:.0f} "
-            f"({n['jacobian']:,}) | {u['factor']:.0f} | {u['solve']:.0f} | {r['parts_sum_us']:.0f} | "
+            f"| {r['deck']}{'' if r['compiled'] else ' (VM)'} | {WAYS[r['way']]} | "
+            f"{r['states']} | {r['solver']} | "
+            f"{c['residual']} / {c['factor']} / {c['solve']} | {u['residual']:.0f} "
+            f"({_count(n['residual'])}) | {u['jacobian']:.0f} ({_count(n['jacobian'])}) | "
+            f"{u['factor']:.0f} | {u['solve']:.0f} | {r['parts_sum_us']:.0f} | "
             f"{q['residual']:.0f} / {q['factor']:.0f} / {q['solve']:.0f} | "
             f"{u['step']:.0f} | {100 * s['residual']:.0f} / {100 * s['factor']:.0f} / "
             f"{100 * s['solve']:.0f} / {100 * s['rest']:.0f} % |")
@@ -316,21 +276,10 @@ def main(argv=None) -> dict:
     args = ap.parse_args(argv)
     args.out.mkdir(parents=True, exist_ok=True)
     decks = ("WD0050",) if args.quick else ("WD0050", "WD0600")
-    rows = [profile(d, args.out, not args.quick, 3 if args.quick else 15) for d in decks]
+    rows = [profile(d, args.out, not args.quick, 3 if args.quick else 15, way)
+            for d in decks for way in ("elements", "written")]
     res = {"quick": args.quick, "rows": rows}
     text = table(rows)
-    res["kernel_loops"] = kl = [kernel_loops(n, not args.quick, 3 if args.quick else 15)
-                                for n in ((41,) if args.quick else (41, 170))]
-    text += ("\n| elements | forces: straight-line / loop us | Jacobian: straight-line / loop "
-             "(element blocks) us | instructions straight-line: forces / Jacobian | compile s: "
-             "straight-line / loop |\n|---|---|---|---|---|\n")
-    for k in kl:
-        u, n, c = k["us"], k["instructions"], k["compile_s"]
-        cs = (f"{c['straight_forces'] + c['straight_jacobian']:.1f} / "
-              f"{c['loops_forces'] + c['loops_jacobian']:.1f}") if c else "-"
-        text += (f"| {k['N']} | {u['straight_forces']:.1f} / {u['loops_forces']:.1f} | "
-                 f"{u['straight_jacobian']:.1f} / {u['loops_jacobian']:.1f} | "
-                 f"{n['straight_forces']:,} / {n['straight_jacobian']:,} | {cs} |\n")
     if args.tol_dt:
         res["newton_tol"] = nt = newton_tolerance(args.out, args.tol_dt)
         text += (f"\nWD0050, 80 s at dt = {nt['dt']} s: Newton iterations per step "

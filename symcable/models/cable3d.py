@@ -57,6 +57,7 @@ from ..scene import EndCondition, Scene
 from . import terms
 from .cable3d_bending import bending_terms, linear_axial_law
 from .cable3d_drag import law_table, loading_drag
+from .cable3d_elements import element_form
 from .cable3d_starts import force_scale, starts_of
 from .relax import _ramp_integral
 from .tow import tow_path
@@ -261,7 +262,8 @@ def build_cable3d(scene: Scene, part: str | None = None,
                           width * ca.DM(law["delta"]).T, F, row("w"), row("d"), row("cdn"),
                           row("cdt"), rho, load,
                           *([ca.DM(drag_law["law"]).T] if drag_law else []))
-    nodal = ca.horzcat(fa, ca.SX.zeros(3, 1)) + ca.horzcat(ca.SX.zeros(3, 1), fb)  # (3, N+1)
+    elements = ca.horzcat(fa, ca.SX.zeros(3, 1)) + ca.horzcat(ca.SX.zeros(3, 1), fb)  # (3, N+1)
+    nodal = ca.SX.zeros(3, N + 1)  # what the elements do not give (the element form's rest)
     contact = ca.SX.zeros(1, N + 1)
     term_names = ["elastic", "weight"] + (["material damping"] if np.any(BA) else [])
     bending = bending_terms(scene, seg, Xm)
@@ -280,8 +282,8 @@ def build_cable3d(scene: Scene, part: str | None = None,
     # what the line exerts on each end (N): its element's pull and the loads lumped on the
     # end node, which the support takes (as the planar line's end forces); on a free end the
     # applied force is not the line's, and balances this
-    end_force_a = nodal[:, 0] + (bending[1].get(0, 0.0) if bending else 0.0)
-    end_force_b = nodal[:, N] + (bending[1].get(N, 0.0) if bending else 0.0)
+    end_force_a = elements[:, 0] + nodal[:, 0] + (bending[1].get(0, 0.0) if bending else 0.0)
+    end_force_b = elements[:, N] + nodal[:, N] + (bending[1].get(N, 0.0) if bending else 0.0)
     applied = np.zeros((3, N + 1))
     for end, i in ((a, 0), (b, N)):
         if end.condition is EndCondition.FREE and end.force is not None:
@@ -289,6 +291,8 @@ def build_cable3d(scene: Scene, part: str | None = None,
     if np.any(applied):
         term_names.append("end force")
         nodal = nodal + load * ca.DM(applied)
+    force_rest = ca.vertcat(*[nodal[:, i] for i in moving])
+    nodal = elements + nodal
     force = ca.vertcat(*[nodal[:, i] for i in moving])
 
     # mass: structural and added (normal, tangential); lumped: 3 x 3 per moving node, or
@@ -307,16 +311,30 @@ def build_cable3d(scene: Scene, part: str | None = None,
         blocks[j] += blk
         blocks[j + 1] += blk
         halves.append(blk)
+    # a prescribed end's acceleration reaches its neighbour through the consistent mass's
+    # coupling; a table's (impulses at its rows) is left out
+    acc = {i: (ca.jacobian(V[i], t) if end.motion is not None and end.motion.kind != "table"
+               else ca.SX.zeros(3, 1)) for end, i in ((a, 0), (b, N))}
     if scene.mass_matrix == "lumped":
         mass = ca.diagcat(*[blocks[i] for i in moving])
     else:
-        # a prescribed end's acceleration reaches its neighbour through the coupling; a
-        # table's (impulses at its rows) is left out
-        acc = {i: (ca.jacobian(V[i], t) if end.motion is not None and end.motion.kind != "table"
-                   else ca.SX.zeros(3, 1)) for end, i in ((a, 0), (b, N))}
         mass, inertia = _consistent_mass(halves, acc, moving, N)
         force = force + inertia
 
+    form = None
+    if not env.current_profile:  # the elements' kernel as a loop (.cable3d_elements)
+        held = ca.SX.zeros(9, N + 1)
+        for i in (0, N):
+            if i not in moving:
+                held[:, i] = ca.vertcat(X[i], V[i], acc[i])
+        form = element_form(
+            _element_kernel(drag_law["shape"] if drag_law else None),
+            dict(L0=seg["ds"], EA=seg["EA"], BA=BA, EAs=law["EA_slack"], delta=law["delta"],
+                 wall=F, w=seg["w"], d=seg["d"], cdn=seg["cdn"], cdt=seg["cdt"], rho=rho,
+                 structural_half=0.5 * seg["mass"] * seg["ds"],
+                 added_half=0.5 * rho * A_w * seg["ds"], ca_normal=can, ca_tangential=cat),
+            drag_law["law"].T if drag_law else None, ca.vertcat(current, load, width),
+            _node_index(N, moving), held, force_rest, scene.mass_matrix != "lumped")
     outputs = {
         "positions": Output(Xm.T, "m", owner, "node positions (x, y, z)"),
         "velocities": Output(ca.densify(Vm.T), "m/s", owner, "node velocities (x, y, z)"),
@@ -395,7 +413,7 @@ def build_cable3d(scene: Scene, part: str | None = None,
         terms=tuple(term_names), static_params=static, bounds=bounds,
         stability_when=ca.SX(1.0) if np.all(cable) else None,
         kinematics=ca.vertcat(v, fr.rate) if bristle else None,
-        rest=fr.rest if bristle else None,
+        rest=fr.rest if bristle else None, elements=form,
         stability_coordinates=np.arange(n_q) if bristle else None)
 
 

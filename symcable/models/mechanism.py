@@ -343,6 +343,11 @@ class Mechanism:
     reanchor : Reanchor or None
         The optional re-anchoring hook a time march calls between steps (:class:`Reanchor`);
         None for every mechanism whose coordinates need none.
+    elements : ElementForm or None
+        Optionally, the momentum rows once more as element kernels plus a rest
+        (:class:`~symcable.models.element_form.ElementForm`), for solvers that evaluate the
+        iteration matrix as a loop over elements; the expressions above stay the definition.
+        A Mechanism rebuilt from another with a changed mass or force must drop it.
     rest : expression (n_q - n_v, 1) of (q, z, t, p) or None
         For a mechanism with first-order states (the last n_q - n_v entries of q, their
         rates in ``kinematics``): the rows that fix them at rest, in N like the force rows;
@@ -373,6 +378,7 @@ class Mechanism:
     stability_when: object = None
     rest: object = None
     reanchor: Reanchor | None = None
+    elements: object = None
 
     def __post_init__(self):
         n_q, n_v, n_z = self.n_q, self.n_v, self.n_z

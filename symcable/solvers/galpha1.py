@@ -25,7 +25,11 @@ alpha_m dF/dy' + alpha_f gamma h dF/dy, in one of two ways (:class:`~.options.Ne
   (loops whose C compiles in seconds at any size; on the Schur complement of the kinematic
   rows where their block is diagonal) where the matrix is banded in reverse Cuthill-McKee
   order (a line's nodes: BANDED_MAX_WIDTH), else CasADi's sparse QR
-  (:func:`symcable.linalg.sparse.sparse_solve`). Compiled to C through
+  (:func:`symcable.linalg.sparse.sparse_solve`). A Mechanism with an element form
+  (:class:`~symcable.models.element_form.ElementForm`: the cable3d line) of at least
+  ELEMENT_MIN_STATES unknowns has its residual and matrix from loops over its elements
+  instead (:mod:`symcable.solvers.element_jacobian`), factorised by the banded LU: on the
+  WD0600 chain the written-out matrix was 344k instructions of C. Compiled to C through
   :mod:`symcable.codegen` when asked (or, by default, when it pays). Its derivative with
   respect to the step's inputs is that of the iterations taken: near the exact one (the
   chord iterations contract fast) but not equal to it;
@@ -42,7 +46,9 @@ that correction).
 """
 from __future__ import annotations
 
+import dataclasses
 import math
+import warnings
 
 import casadi as ca
 import numpy as np
@@ -54,13 +60,16 @@ from ..linalg.banded import (BandedLU, SchurBandedLU, bandwidths, leading_diagon
                              reverse_cuthill)
 from ..linalg.sparse import jacobian as _jacobian, norm_inf, sparse_solve
 from ..linalg.sxlu import block_lu, block_plan
+from ..models.element_form import split_mismatch
 from ..models.mechanism import Mechanism
+from .element_jacobian import element_jacobian, element_residual
 from .newton import best_start, best_start_residual
 from .options import GeneralizedAlphaFirstOrder, NewtonScheme
 from .stepcache import STEP_CACHE, maybe_compiled
 
-__all__ = ["CHORD_ITERATIONS", "SXLU_MAX_STATES", "SXLU_MAX_STATES_C", "coefficients",
-           "galpha1_kernel", "galpha1_residual", "galpha1_step", "step_scales"]
+__all__ = ["CHORD_ITERATIONS", "ELEMENT_MIN_STATES", "SXLU_MAX_STATES", "SXLU_MAX_STATES_C",
+           "coefficients", "galpha1_kernel", "galpha1_residual", "galpha1_step", "solver_choice",
+           "step_parts", "step_scales"]
 
 #: iterations of a step that reuse the matrix factorised at its start (chord iterations)
 CHORD_ITERATIONS = 4
@@ -89,6 +98,19 @@ CSE_MAX_STATES = SXLU_MAX_STATES_C
 #: 11 on the Schur complement) a step costs 0.86 of the sparse QR's, which refactorises at
 #: every solve (studies/chains, dt 0.1 s: 1803 against 2093 us per step)
 BANDED_MAX_WIDTH = 40
+#: largest difference (relative to the force scale) between a Mechanism's residual and its
+#: element form's (:func:`~symcable.models.element_form.split_mismatch`) for the step to take
+#: its matrix from the form: round-off is 1e-14 on the chains
+SPLIT_TOLERANCE = 1e-9
+#: whether the step takes its matrix from a Mechanism's element form where it has one (the
+#: studies set it False to time the written-out matrix beside it)
+ELEMENT_MATRIX = True
+#: fewest states (entries of y) from which a Mechanism with an element form has its step's
+#: residual and matrix from the elements' loop, factorised by the banded LU, instead of
+#: written out with the block LU: on MoorDyn's WD0050 chain cut to 10 / 20 / 41 / 76
+#: segments (54 / 114 / 240 / 450 states) a compiled step took 1.6 / 1.05 / 0.92 / 0.73
+#: times as long that way (dt 0.2 s, A2 motion; studies/performance/step_profile.py)
+ELEMENT_MIN_STATES = 200
 #: the sparse linear solver above SXLU_MAX_STATES (CasADi's QR generates C; CSparse's LU does not)
 LINSOL = "qr"
 
@@ -176,16 +198,18 @@ def _fill_order(sp: ca.Sparsity) -> np.ndarray:
     return np.asarray((sp + sp.T).amd(), dtype=int)
 
 
-def _linear_solver(J: ca.SX, args: list, cache: dict, lu: bool, n_lead: int = 0):
+def _linear_solver(J: ca.SX | None, args: list, cache: dict, lu: bool, n_lead: int = 0,
+                   given: tuple | None = None):
     """``(factor, solve, n_factors, kind)`` for the iteration matrix ``J`` (SX in ``args``):
     ``factor(*args) -> f``, ``solve(f, b) -> J^-1 b`` (see the module docstring), ``kind``
     "block-lu", "banded" or "qr"; the block LU when ``lu`` and the pattern allows it, else
     the banded LU (Schur on the ``n_lead`` leading kinematic rows where they are diagonal)
-    when the band is narrow enough, else sparse QR."""
-    sp = J.sparsity()
+    when the band is narrow enough, else sparse QR. ``given``: instead of ``J``, its
+    pattern and a Function of ``args`` giving its nonzeros (:func:`_element_parts`)."""
+    sp = J.sparsity() if given is None else given[0]
     n = sp.size1()
     opts = {"cse": n <= CSE_MAX_STATES}
-    if lu:
+    if lu and given is None:
         perm = _fill_order(sp)
         Jp = J[perm.tolist(), perm.tolist()]
         spp = Jp.sparsity()
@@ -197,7 +221,7 @@ def _linear_solver(J: ca.SX, args: list, cache: dict, lu: bool, n_lead: int = 0)
             xp = lu.apply(f, b[perm.tolist()])
             solve = ca.Function("ga1_solve", [f, b], [xp[np.argsort(perm).tolist()]], opts)
             return factor, solve, lu.n_factors, "block-lu"
-    jac = ca.Function("ga1_jacobian", args, [J.nz[:]], opts)
+    jac = ca.Function("ga1_jacobian", args, [J.nz[:]], opts) if given is None else given[1]
     band = _banded(sp, n_lead, cache)
     if band is not None:
         margs = [ca.MX.sym(f"a{i}", a.sparsity()) for i, a in enumerate(args)]
@@ -208,6 +232,35 @@ def _linear_solver(J: ca.SX, args: list, cache: dict, lu: bool, n_lead: int = 0)
     f, b = ca.MX.sym("f", sp.nnz()), ca.MX.sym("b", n)
     solve = ca.Function("ga1_qr_solve", [f, b], [sparse_solve(ca.MX(sp, f), b, LINSOL)])
     return jac, solve, sp.nnz(), "qr"
+
+
+def _element_parts(mech: Mechanism, args: list, ny: int) -> tuple | None:
+    """``(residual, (pattern, jacobian))`` of the step from the Mechanism's element form
+    (:mod:`symcable.solvers.element_jacobian`): the residual Function of ``args`` and the
+    iteration matrix's pattern and nonzeros Function; or None where it has none, is not
+    SX, or its split does not reproduce its own residual (to SPLIT_TOLERANCE of its force
+    scale at two random states: a Mechanism rebuilt with another force that kept its
+    form)."""
+    form = getattr(mech, "elements", None)
+    if form is None or not ELEMENT_MATRIX or not isinstance(mech.q, ca.SX) or mech.n_z:
+        return None
+    if not split_mismatch(mech, form) <= SPLIT_TOLERANCE:
+        warnings.warn(f"mechanism {mech.name!r}: its element form does not reproduce its "
+                      "residual; the step's matrix is written out instead", stacklevel=3)
+        return None
+    rest = dataclasses.replace(mech, mass=ca.SX(mech.n_v, mech.n_v), force=form.force_rest,
+                               elements=None)
+    w, x, t, h, p, st = args
+    am, af, gamma = coefficients(st[0])
+    y0, yd0 = x[:ny], x[ny:]
+    y1 = y0 + h * yd0 + gamma * h * (w - yd0)
+    ya, yda = y0 + af * (y1 - y0), yd0 + am * (w - yd0)
+    nq = mech.n_q
+    point = ca.Function("ga1_alpha_point", args, [ya[:nq], ya[nq:], yda[nq:], t + af * h, p,
+                                                  af * gamma * h, am])
+    r = _step_residual(_sx_residual(rest), w, x, t, h, p, st[0], ny)
+    return (element_residual(mech, r, args, point),
+            element_jacobian(mech, _jacobian(r, w), args, point))
 
 
 def _banded(sp: ca.Sparsity, n_lead: int, cache: dict):
@@ -302,17 +355,49 @@ def _predictor(res, x, ny: int, nq: int, gamma, residual=None, symbols=None, tay
     return best_start_residual(residual, res, cands, symbols, lead)
 
 
+def solver_choice(mech: Mechanism, codegen: bool | None) -> tuple[bool, bool]:
+    """``(lu, by_elements)``: whether the step's matrix is factorised by the block LU
+    written out in SX, and whether its residual and matrix come from the Mechanism's
+    element form (then factorised by the banded LU): see the module docstring,
+    SXLU_MAX_STATES, SXLU_MAX_STATES_C and ELEMENT_MIN_STATES."""
+    ny = mech.n_q + mech.n_v
+    explicit_c = codegen is True and ny <= SXLU_MAX_STATES_C and use_codegen(True)
+    by_elements = (ELEMENT_MATRIX and getattr(mech, "elements", None) is not None
+                   and ny >= ELEMENT_MIN_STATES)
+    return (ny <= SXLU_MAX_STATES or explicit_c) and not by_elements, by_elements
+
+
+def step_parts(mech: Mechanism, lu: bool) -> tuple:
+    """``(residual, factor, solve, n_factors, kind, jacobian)``: the parts of one Newton
+    iteration of the unrolled step as :func:`_unrolled` builds them, Functions of (w, x, t,
+    h, p, settings) but ``solve(f, b)`` (:func:`_linear_solver`); from the element form
+    where the Mechanism has one (and ``lu`` is off), else written out in SX. ``kind``:
+    "block-lu", "banded" or "qr"; ``jacobian``: the matrix's nonzeros alone."""
+    ny = mech.n_q + mech.n_v
+    x, t, h, p, st, _ = _symbols(mech, ca.SX)
+    w = ca.SX.sym("w", ny)
+    args = [w, x, t, h, p, st]
+    cache = STEP_CACHE.get(mech, ("block_lu",), dict)
+    elements = None if lu else _element_parts(mech, args, ny)
+    if elements is None:
+        r = _step_residual(_sx_residual(mech), w, x, t, h, p, st[0], ny)
+        opts = {"cse": ny <= CSE_MAX_STATES}
+        R = ca.Function(f"{mech.name}_ga1_res", args, [r], opts)
+        J = _jacobian(r, w)
+        factor, solve, n_f, kind = _linear_solver(J, args, cache, lu, mech.n_q)
+        jac = factor if kind == "qr" else ca.Function("ga1_jacobian", args, [J.nz[:]], opts)
+    else:
+        R, given = elements
+        factor, solve, n_f, kind = _linear_solver(None, args, cache, lu, mech.n_q, given)
+        jac = given[1]
+    return R, factor, solve, n_f, kind, jac
+
+
 def _unrolled(mech: Mechanism, max_iter: int, with_lte: bool, lu: bool) -> ca.Function:
     """The kernel of the unrolled Newton loop (see :func:`galpha1_kernel`)."""
     ny = mech.n_q + mech.n_v
     name = f"{mech.name}_ga1"
-    x, t, h, p, st, _ = _symbols(mech, ca.SX)
-    w = ca.SX.sym("w", ny)
-    r = _step_residual(_sx_residual(mech), w, x, t, h, p, st[0], ny)
-    args = [w, x, t, h, p, st]
-    R = ca.Function(f"{name}_res", args, [r], {"cse": ny <= CSE_MAX_STATES})
-    cache = STEP_CACHE.get(mech, ("block_lu",), dict)
-    factor, solve, n_f, _ = _linear_solver(_jacobian(r, w), args, cache, lu, mech.n_q)
+    R, factor, solve, n_f, _, _ = step_parts(mech, lu)
 
     # the loop's state: z (y'1), rz = F(z) and res its scaled norm (evaluated where the loop
     # goes on, zero where it stops), done, it (linear solves), measure, f (the factors), the
@@ -431,12 +516,11 @@ def galpha1_kernel(mech: Mechanism, opts: GeneralizedAlphaFirstOrder, *, lte: bo
     if opts.newton is NewtonScheme.ROOTFINDER:
         return STEP_CACHE.get(mech, ("ga1_rootfinder", opts.tol, opts.max_iter, lte),
                               lambda: _rootfinder(mech, opts.tol, opts.max_iter, lte))
-    explicit_c = codegen is True and ny <= SXLU_MAX_STATES_C and use_codegen(True)
-    lu = ny <= SXLU_MAX_STATES or explicit_c
+    lu, by_elements = solver_choice(mech, codegen)
     key = ("ga1_unrolled", opts.max_iter, lte, lu)
     vm = STEP_CACHE.get(mech, key, lambda: _unrolled(mech, opts.max_iter, lte, lu))
     # sparse QR is C++ in the virtual machine already: C does not pay by default
-    size = (lambda: math.inf) if not lu else None
+    size = (lambda: math.inf) if not lu and not by_elements else None
     return maybe_compiled(mech, key, vm, codegen, "the generalized-α step", size)
 
 

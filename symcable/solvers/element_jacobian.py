@@ -1,0 +1,130 @@
+"""A step's iteration matrix from a Mechanism's element form
+(:class:`~symcable.models.element_form.ElementForm`): the elements' blocks computed by a
+loop (CasADi ``map``, serial: a loop in the generated C) over the element kernel's own
+Jacobian, added onto the matrix's nonzeros by a constant sparse matrix, plus the rest's
+Jacobian written out in SX (kinematic rows, contact, friction: per node, and small).
+
+For an implicit step whose unknown is w with y'(w) = y'_0 + c_m (w - y'_0) and y(w) = y_0 +
+c_y (w - y'_0) at the step's alpha point (generalized-alpha: c_m = alpha_m, c_y = alpha_f
+gamma h), the momentum rows' Jacobian is c_y dR/dq, c_y dR/dv + c_m dR/dv' on the q and v
+columns; the kernel returns that block per element, (dim k) x (2 dim k), with c_y and c_m
+as inputs.
+
+On MoorDyn's WD0600 chain (170 elements, 1014 states) the straight-line SX Jacobian of the
+first-order generalized-alpha step is 344k instructions (3.6 MB of C); this one is a loop
+of 170 calls of a 6 x 12 block (studies/performance/step_profile.py has both, timed).
+"""
+from __future__ import annotations
+
+import casadi as ca
+import numpy as np
+
+from ..models.element_form import ElementForm, gather, node_values
+
+__all__ = ["block_kernel", "element_jacobian", "element_residual", "summed"]
+
+
+def block_kernel(form: ElementForm) -> ca.Function:
+    """``(u, c, s, c_y, c_m) -> B`` (dim k, 2 dim k): the element's c_y dr/dx on the q
+    columns, c_y dr/dv + c_m dr/da on the v columns of its nodes (node order)."""
+    u = ca.SX.sym("u", form.kernel.size1_in(0))
+    c = ca.SX.sym("c", form.kernel.size1_in(1))
+    s = ca.SX.sym("s", form.kernel.size1_in(2))
+    cy, cm = ca.SX.sym("c_y"), ca.SX.sym("c_m")
+    r = form.kernel(u, c, s)
+    n = int(r.numel())  # dim k
+    J = ca.jacobian(r, u)
+    B = ca.horzcat(cy * J[:, :n], cy * J[:, n:2 * n] + cm * J[:, 2 * n:])
+    return ca.Function(f"{form.kernel.name()}_block", [u, c, s, cy, cm], [ca.densify(B)],
+                       ["u", "c", "s", "c_y", "c_m"], ["B"])
+
+
+def element_jacobian(mech, rest_jac: ca.SX, rest_args: list, point: ca.Function):
+    """``(sparsity, jac)``: the step's iteration matrix (n_y x n_y, y = (q, v)) as a pattern
+    and an MX Function ``jac(*rest_args) -> nonzeros`` in that pattern's order.
+
+    ``rest_jac``: the Jacobian (SX, in ``rest_args``) of the step residual of the Mechanism
+    with its mass removed and its force replaced by the form's rest (kinematic rows and
+    the rest's force rows); ``point``: ``(*rest_args) -> (q, v, a, t, p, c_y, c_m)``, the
+    alpha point of the step, its parameters and its two coefficients (module docstring)."""
+    form: ElementForm = mech.elements
+    n_q, ny = mech.n_q, mech.n_q + mech.n_v
+    dim, conn, idx = form.dim, form.connectivity, form.node_index
+    n_el, k = conn.shape
+    dk = dim * k
+    # (row, column, position in vec(B)) of every element entry onto moving nodes
+    node_rows = idx[conn]  # (n_el, k, dim)
+    coord = node_rows.reshape(n_el, dk)  # entry of q of each element row / column
+    rr = np.repeat(coord[:, :, None], 2 * dk, axis=2)  # (n_el, dk rows, 2 dk cols)
+    cc = np.repeat(np.concatenate([coord, coord], axis=1)[:, None, :], dk, axis=1)
+    ok = (rr >= 0) & (cc >= 0)
+    rows = (n_q + rr)[ok]
+    cols = np.where(np.arange(2 * dk)[None, None, :] < dk, cc, n_q + cc)[ok]
+    e, i, j = np.nonzero(ok)
+    pos = i + dk * (e * 2 * dk + j)  # column-major vec of B (dk, 2 dk n_el)
+    r_sp = rest_jac.sparsity()
+    r_rows, r_cols = r_sp.get_triplet()
+    sp = ca.Sparsity.triplet(ny, ny, list(r_rows) + rows.tolist(),
+                             list(r_cols) + cols.tolist())
+    lookup = {rc: n for n, rc in enumerate(zip(*sp.get_triplet()))}
+    nz_el = [lookup[rc] for rc in zip(rows.tolist(), cols.tolist())]
+    nz_rest = [lookup[rc] for rc in zip(r_rows, r_cols)]
+    # the step's inputs to every element's u and the rest's Jacobian (one SX call,
+    # straight-line: copies and the per-node terms), the loop over elements, and the sum
+    # of both onto the matrix's nonzeros
+    q, v, a, t, p, cy, cm = point(*rest_args)
+    U = gather(form, node_values(mech, form, q, v, a, t, p))
+    s = ca.Function("element_shared", [mech.t, mech.p], [form.shared])(t, p)
+    prepare = ca.Function(f"{mech.name}_element_inputs", rest_args,
+                          [U, s, cy, cm, rest_jac.nz[:]])
+    margs = [ca.MX.sym(f"a{n}", a.sparsity()) for n, a in enumerate(rest_args)]
+    U, s, cy, cm, jr = prepare(*margs)
+    B = block_kernel(form).map(n_el, "serial")(U, ca.DM(form.constants), s, cy, cm)
+    nz = summed(ca.vertcat(ca.vec(B), jr), sp.nnz(), nz_el + nz_rest,
+                pos.tolist() + [B.numel() + i for i in range(len(nz_rest))])
+    return sp, ca.Function(f"{mech.name}_element_jacobian", margs, [nz])
+
+
+def element_residual(mech, rest_res: ca.SX, rest_args: list, point: ca.Function) -> ca.Function:
+    """An MX Function ``res(*rest_args) -> r`` (n_y,): the step residual, the elements'
+    kernel evaluated by a loop over elements, scattered onto their nodes' momentum rows and
+    added to ``rest_res`` (SX in ``rest_args``: the step residual of the Mechanism with its
+    mass removed and its force replaced by the form's rest); ``point`` as for
+    :func:`element_jacobian`."""
+    form: ElementForm = mech.elements
+    n_q, ny = mech.n_q, mech.n_q + mech.n_v
+    dim, conn, idx = form.dim, form.connectivity, form.node_index
+    n_el, k = conn.shape
+    coord = idx[conn].reshape(n_el, dim * k)  # entry of q of each element row
+    e, i = np.nonzero(coord >= 0)
+    rows = (n_q + coord[e, i]).tolist()
+    pos = (i + dim * k * e).tolist()  # column-major vec of R (dim k, n_el)
+    q, v, a, t, p, _, _ = point(*rest_args)
+    U = gather(form, node_values(mech, form, q, v, a, t, p))
+    s = ca.Function("element_shared", [mech.t, mech.p], [form.shared])(t, p)
+    prepare = ca.Function(f"{mech.name}_element_res_inputs", rest_args, [U, s, rest_res])
+    margs = [ca.MX.sym(f"a{n}", a_.sparsity()) for n, a_ in enumerate(rest_args)]
+    U, s, rr = prepare(*margs)
+    R = form.kernel.map(n_el, "serial")(U, ca.DM(form.constants), s)
+    n_r = R.numel()
+    r = summed(ca.vertcat(ca.vec(R), rr), ny, rows + list(range(ny)),
+               pos + [n_r + j for j in range(ny)])
+    return ca.Function(f"{mech.name}_element_residual", margs, [r])
+
+
+def summed(ext, n: int, targets: list, sources: list):
+    """(n,): entry j the sum of ``ext``'s entries ``sources[m]`` over every m with
+    ``targets[m]`` = j (zero where none), as a few gathers with index arrays (loops in the
+    generated C), one per contribution an entry has at most (two or three here). Written out
+    in SX, WD0600's matrix sum was straight-line code of 16k operations, 10 % of its run."""
+    by = [[] for _ in range(n)]
+    for j, m in zip(targets, sources):
+        by[j].append(m)
+    ext = ca.vertcat(ext, ca.MX.zeros(1, 1))
+    zero = int(ext.numel()) - 1
+    depth = max((len(x) for x in by), default=0)
+    out = ca.MX.zeros(n, 1)
+    for d in range(depth):
+        pick = ext[[x[d] if d < len(x) else zero for x in by]]
+        out = pick if d == 0 else out + pick
+    return ca.densify(out)

@@ -76,7 +76,7 @@ def element_jacobian(mech, rest_jac: ca.SX, rest_args: list, point: ca.Function)
     U = gather(form, node_values(mech, form, q, v, a, t, p))
     s = ca.Function("element_shared", [mech.t, mech.p], [form.shared])(t, p)
     prepare = ca.Function(f"{mech.name}_element_inputs", rest_args,
-                          [U, s, cy, cm, rest_jac.nz[:]])
+                          [U, s, cy, cm, rest_jac.nz[:]], {"cse": True})
     margs = [ca.MX.sym(f"a{n}", a.sparsity()) for n, a in enumerate(rest_args)]
     U, s, cy, cm, jr = prepare(*margs)
     B = block_kernel(form).map(n_el, "serial")(U, ca.DM(form.constants), s, cy, cm)
@@ -102,7 +102,8 @@ def element_residual(mech, rest_res: ca.SX, rest_args: list, point: ca.Function)
     q, v, a, t, p, _, _ = point(*rest_args)
     U = gather(form, node_values(mech, form, q, v, a, t, p))
     s = ca.Function("element_shared", [mech.t, mech.p], [form.shared])(t, p)
-    prepare = ca.Function(f"{mech.name}_element_res_inputs", rest_args, [U, s, rest_res])
+    prepare = ca.Function(f"{mech.name}_element_res_inputs", rest_args, [U, s, rest_res],
+                          {"cse": True})
     margs = [ca.MX.sym(f"a{n}", a_.sparsity()) for n, a_ in enumerate(rest_args)]
     U, s, rr = prepare(*margs)
     R = form.kernel.map(n_el, "serial")(U, ca.DM(form.constants), s)

@@ -1,8 +1,9 @@
 """A step's iteration matrix from a Mechanism's element form
 (:class:`~symcable.models.element_form.ElementForm`): the elements' blocks computed by a
 loop (CasADi ``map``, serial: a loop in the generated C) over the element kernel's own
-Jacobian, added onto the matrix's nonzeros by a constant sparse matrix, plus the rest's
-Jacobian written out in SX (kinematic rows, contact, friction: per node, and small).
+Jacobian, summed onto the matrix's nonzeros by index gathers (:func:`summed`), plus the
+rest's Jacobian written out in SX (kinematic rows, seabed contact and friction, bending:
+per node, and small). The step's residual likewise (:func:`element_residual`).
 
 For an implicit step whose unknown is w with y'(w) = y'_0 + c_m (w - y'_0) and y(w) = y_0 +
 c_y (w - y'_0) at the step's alpha point (generalized-alpha: c_m = alpha_m, c_y = alpha_f
@@ -12,7 +13,10 @@ as inputs.
 
 On MoorDyn's WD0600 chain (170 elements, 1014 states) the straight-line SX Jacobian of the
 first-order generalized-alpha step is 344k instructions (3.6 MB of C); this one is a loop
-of 170 calls of a 6 x 12 block (studies/performance/step_profile.py has both, timed).
+of 170 calls of a 6 x 12 block and a rest of about 20k instructions
+(studies/performance/step_profile.py has both, timed). The seabed as a second loop of node
+kernels (each node reading its neighbours) was measured slower than its straight-line rest
+(398 against 377 us per step of WD0600 A1 at 0.1 s): not kept.
 """
 from __future__ import annotations
 

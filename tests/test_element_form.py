@@ -46,6 +46,17 @@ VARIANTS = {
     "bristle": {"seabed": {"stiffness": 1e5, "friction_axial": 0.5, "friction_lateral": 0.8,
                            "friction_law": "bristle"}},
     "in air": {"environment": {"depth": 60.0, "water_density": 0.0}},
+    # end B free under a force, drag by seed 003's loading functions (per-element constants)
+    "free end, loading functions": {
+        "line_types": {"c": {"mass": 80.0, "diameter": 0.1, "EA": 5e8, "ca_normal": 1.0,
+                             "drag_law": "loading-functions",
+                             "loading": {"cd": 1.2, "normal_cos": [0.5, 0.0, -0.5],
+                                         "tangential_sin": [0.02]}}},
+        "end_b": {"condition": "free", "force": [2e3, 0.0, 1e3]}},
+    # end B towed (its motion a path in t, its acceleration into the consistent mass)
+    "tow, consistent": {"mass_matrix": "consistent",
+                        "end_b": {"condition": "pinned", "position": [95.0, 20.0, 0.0],
+                                  "motion": {"kind": "tow", "speed": 1.5, "heading": 30.0}}},
 }
 
 
@@ -65,7 +76,8 @@ def test_no_form_with_a_current_profile():
     assert build_cable3d(load_scene(_scene(environment=env))).elements is None
 
 
-@pytest.mark.parametrize("variant", ["lumped", "consistent", "bristle"])
+@pytest.mark.parametrize("variant", ["lumped", "consistent", "bristle",
+                                     "free end, loading functions", "tow, consistent"])
 def test_step_residual_and_matrix_equal_the_written_out_ones(variant):
     """The step's residual and iteration matrix from the elements' loop against the SX
     ones at random steps (states moved off the start by 1 % of their scales, random rates):

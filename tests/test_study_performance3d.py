@@ -83,6 +83,21 @@ def test_step_profile_quick(tmp_path):
     assert "| WD0050 (VM) | element loops | 240 |" in text
 
 
+def test_scaling3d_quick(tmp_path):
+    """The 40-segment WD0600 line (234 states) both ways, each in a fresh process: the
+    element loops are taken there (above ELEMENT_MIN_STATES), the written-out step keeps
+    its block LU, and both take the same Newton iterations (the same exact Newton, another
+    linear solver)."""
+    study = _load("scaling3d")
+    res = study.main(["--quick", "--out", str(tmp_path)])
+    rows = {r["way"]: r for r in res["rows"]}
+    assert all(r["status"] == "ok" for r in rows.values()), rows
+    assert rows["elements"]["elements"] and rows["elements"]["solver"] == "banded LU"
+    assert not rows["written"]["elements"] and rows["written"]["solver"] == "block LU (SX)"
+    assert rows["elements"]["newton_per_step"] == rows["written"]["newton_per_step"]
+    assert (tmp_path / "scaling3d.md").exists()
+
+
 def test_carried_factor_quick(tmp_path):
     """WD0050 A1 at 0.2 s over 2 s in the virtual machine: the replay with fresh factors
     factorises at least once per step; kept from step to step, no more often than fresh

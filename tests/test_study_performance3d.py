@@ -95,7 +95,7 @@ def test_scaling3d_quick(tmp_path):
     assert rows["elements"]["elements"] and rows["elements"]["solver"] == "banded LU"
     assert not rows["written"]["elements"] and rows["written"]["solver"] == "block LU (SX)"
     assert rows["elements"]["newton_per_step"] == rows["written"]["newton_per_step"]
-    assert (tmp_path / "scaling3d.md").exists()
+    assert (tmp_path / "scaling3d.md").exists() and (tmp_path / "scaling3d.png").exists()
 
 
 def test_carried_factor_quick(tmp_path):

@@ -14,18 +14,17 @@ codegen cache (so compile times are first compiles): the Mechanism's build, the 
 Function's build (``galpha1_kernel``, virtual machine), its compile (``codegen=True``, at
 the optimisation level ``symcable.codegen.flags_for`` gives its graph size), and RUNS + 1
 runs of the 100 steps (the last RUNS timed: the median of ``us_per_step`` of the runs'
-stats; and the Newton iterations per step). The written-out way only up to ``--written-max`` segments (its
-compile takes minutes beyond).
+stats; and the Newton iterations per step). The written-out way only up to
+``--written-max`` segments (its compile takes minutes beyond).
 
 Run ``python studies/performance/scaling3d.py [--quick] [--out DIR] [--sizes 50,100,...]``;
 ``--quick`` (the test): N = 40 (234 states) in the virtual machine (no compiling), 20
 steps.
-Writes ``scaling3d.csv`` and ``scaling3d.md``.
+Writes ``scaling3d.csv``, ``scaling3d.md`` and ``scaling3d.png`` (the cost per Newton
+iteration, and the build and compile times, against N, log-log; ``--figure PATH`` a copy).
 """
 from __future__ import annotations
 
-import argparse
-import csv
 import json
 import os
 import statistics
@@ -36,6 +35,10 @@ import time
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
+if str(HERE.parent) not in sys.path:
+    sys.path.append(str(HERE.parent))
+from study_io import parse, write_tables  # noqa: E402  (studies/study_io.py)
+
 SIZES = (50, 100, 200, 400)
 QUICK = (40,)
 WAYS = ("elements", "written")
@@ -47,7 +50,6 @@ TIMEOUT = 1200
 
 def _one(n: int, way: str, codegen: bool, steps: int) -> dict:
     """One (N, way) measurement in this process (module docstring)."""
-    sys.path.append(str(HERE.parent))
     from study_io import load_module
 
     from symcable.codegen import flags_for, graph_size
@@ -125,15 +127,48 @@ def table(rows: list) -> str:
     return "\n".join(lines) + "\n"
 
 
+def plot(rows: list, path: Path) -> None:
+    """Two log-log panels against the segments, both ways: the step's cost per Newton
+    iteration (us) and its build and compile time (s), each with a slope-1 reference."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import numpy as np
+
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.5))
+    for way, style in (("elements", "o-"), ("written", "s--")):
+        rs = [r for r in rows if r["way"] == way and r["status"] == "ok"]
+        if not rs:
+            continue
+        name = "element loops" if way == "elements" else "written out (SX)"
+        N = np.array([r["segments"] for r in rs], float)
+        per_it = np.array([r["us_per_step"] / r["newton_per_step"] for r in rs])
+        axes[0].loglog(N, per_it, style, label=name)
+        for key, what in (("compile_s", "compile"), ("step_build_s", "step build")):
+            v = np.array([r[key] for r in rs], float)
+            if np.all(np.isfinite(v)):
+                axes[1].loglog(N, v, style, label=f"{what}, {name}")
+        if way == "elements":
+            axes[0].loglog(N, per_it[0] * N / N[0], ":", color="k", label="slope 1")
+    axes[0].set_ylabel("CPU us per Newton iteration (C)")
+    axes[0].set_title("the step's cost (WD0600 chain, A1 heave, dt 0.1 s)")
+    axes[1].set_ylabel("s (written out: block LU in SX to 1000 states, banded above)")
+    axes[1].set_title("building and compiling the step (fresh cache)")
+    for ax in axes:
+        ax.set_xlabel("segments N")
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=8, loc="upper left")
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
 def main(argv=None) -> dict:
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--quick", action="store_true", help="N = 40 in the VM, 20 steps")
-    ap.add_argument("--out", type=Path, default=HERE / "out")
-    ap.add_argument("--sizes", type=str, default=None, help="comma-separated segment counts")
-    ap.add_argument("--written-max", type=int, default=200,
-                    help="largest N run with the matrix written out (its compile grows fast)")
-    args = ap.parse_args(argv)
-    args.out.mkdir(parents=True, exist_ok=True)
+    def extra(ap):
+        ap.add_argument("--sizes", type=str, default=None, help="comma-separated segment counts")
+        ap.add_argument("--written-max", type=int, default=200,
+                        help="largest N run with the matrix written out (its compile grows fast)")
+    args = parse(__doc__, "N = 40 in the VM, 20 steps", HERE / "out", argv, extra)
     sizes = QUICK if args.quick else SIZES
     if args.sizes:
         sizes = tuple(int(s) for s in args.sizes.split(","))
@@ -144,14 +179,13 @@ def main(argv=None) -> dict:
                 continue
             rows.append(_in_fresh_process(n, way, not args.quick, 20 if args.quick else 100))
             print(table(rows[-1:]).splitlines()[-1], flush=True)
-    text = table(rows)
-    keys = sorted({k for r in rows for k in r})
-    with open(args.out / "scaling3d.csv", "w", newline="") as fh:
-        w = csv.DictWriter(fh, fieldnames=keys)
-        w.writeheader()
-        w.writerows(rows)
-    (args.out / "scaling3d.md").write_text(text)
-    print(text)
+    keys = sorted({k for r in rows for k in r})  # a stopped or failed row has fewer
+    rows = [{k: r.get(k) for k in keys} for r in rows]
+    plot(rows, args.out / "scaling3d.png")
+    if args.figure is not None:
+        plot(rows, args.figure)
+    # named after the study: studies/performance/out holds the other scripts' tables too
+    write_tables(args.out, rows, table(rows), ("scaling3d", "scaling3d"))
     return {"quick": args.quick, "rows": rows}
 
 

@@ -159,12 +159,17 @@ def _sx_residual(mech: Mechanism) -> ca.Function:
                             "use GeneralizedAlphaFirstOrder(newton='rootfinder')") from None
 
 
-def _step_residual(dae, w, x, t, h, p, rho, ny):
-    """F at the alpha points of the step from x = (y0, y'0) with y'1 = w."""
+def _alpha_point(w, x, t, h, rho, ny):
+    """``(y', y, t)`` at the alpha points of the step from x = (y0, y'0) with y'1 = w."""
     am, af, gamma = coefficients(rho)
     y0, yd0 = x[:ny], x[ny:]
     y1 = y0 + h * yd0 + gamma * h * (w - yd0)
-    return dae(yd0 + am * (w - yd0), y0 + af * (y1 - y0), t + af * h, p)
+    return yd0 + am * (w - yd0), y0 + af * (y1 - y0), t + af * h
+
+
+def _step_residual(dae, w, x, t, h, p, rho, ny):
+    """F at the alpha points of the step from x = (y0, y'0) with y'1 = w."""
+    return dae(*_alpha_point(w, x, t, h, rho, ny), p)
 
 
 def _symbols(mech, S):
@@ -252,11 +257,9 @@ def _element_parts(mech: Mechanism, args: list, ny: int) -> tuple | None:
                                elements=None)
     w, x, t, h, p, st = args
     am, af, gamma = coefficients(st[0])
-    y0, yd0 = x[:ny], x[ny:]
-    y1 = y0 + h * yd0 + gamma * h * (w - yd0)
-    ya, yda = y0 + af * (y1 - y0), yd0 + am * (w - yd0)
+    yda, ya, ta = _alpha_point(w, x, t, h, st[0], ny)
     nq = mech.n_q
-    point = ca.Function("ga1_alpha_point", args, [ya[:nq], ya[nq:], yda[nq:], t + af * h, p,
+    point = ca.Function("ga1_alpha_point", args, [ya[:nq], ya[nq:], yda[nq:], ta, p,
                                                   af * gamma * h, am])
     r = _step_residual(_sx_residual(rest), w, x, t, h, p, st[0], ny)
     return (element_residual(mech, r, args, point),

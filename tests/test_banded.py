@@ -89,3 +89,41 @@ def test_reverse_cuthill_is_a_permutation():
     A = _banded(20, 2, 2, rng)
     sp, _ = _nonzeros(A[np.ix_(rng.permutation(20), rng.permutation(20))] + np.eye(20))
     assert sorted(reverse_cuthill(sp).tolist()) == list(range(20))
+
+
+@pytest.mark.parametrize("schur", [False, True])
+def test_factor_of_sources_equals_factor_of_nonzeros(schur):
+    """``factor_sum`` (the nonzeros given as sums of a source vector, gathered straight into
+    the band) packs the same factors as ``factor`` of the summed nonzeros, with a kinematic
+    block whose B is not diagonal (two entries per row, so S_ij sums several products); the
+    factors are the same operations in another order of summation: 1e-13 relative."""
+    rng = np.random.default_rng(11)
+    k = 15
+    Bm = -0.05 * (np.eye(k) + np.eye(k, k=1))
+    A = np.block([[1.5 * np.eye(k), Bm], [_banded(k, 2, 2, rng) * 0.1, _banded(k, 2, 2, rng)]])
+    if not schur:
+        A = _banded(2 * k, 3, 2, rng)
+    sp, nz = _nonzeros(A)
+    lu = SchurBandedLU(sp, k) if schur else BandedLU(sp)
+    # every nonzero split into 1..3 parts scattered over a longer source vector
+    parts = [rng.integers(1, 4) for _ in range(sp.nnz())]
+    n_ext = int(sum(parts)) + 5
+    slots = rng.permutation(n_ext)
+    ext, by, at = np.zeros(n_ext), [], 0
+    for m, c in enumerate(parts):
+        w = rng.standard_normal(c)
+        w[-1] = nz[m] - w[:-1].sum()
+        idx = slots[at:at + c].tolist()
+        at += c
+        ext[idx] = w
+        by.append(idx)
+    e = ca.MX.sym("e", n_ext)
+    a = ca.MX.sym("a", sp.nnz())
+    f_sum = ca.Function("fs", [e], [lu.factor_sum(e, by)])(ext)
+    f_nz = ca.Function("fn", [a], [lu.factor(a)])(nz)
+    f_sum, f_nz = (np.asarray(f).ravel() for f in (f_sum, f_nz))
+    assert np.max(np.abs(f_sum - f_nz)) <= 1e-13 * np.max(np.abs(f_nz))
+    b = rng.standard_normal(2 * k)
+    fa, ba = ca.MX.sym("f", lu.n_factors), ca.MX.sym("b", 2 * k)
+    x = np.asarray(ca.Function("s", [fa, ba], [lu.solve(fa, ba)])(f_sum, b)).ravel()
+    assert np.linalg.norm(A @ x - b) <= REL * np.linalg.norm(b) * np.linalg.cond(A)

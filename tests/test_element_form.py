@@ -87,7 +87,7 @@ def test_step_residual_and_matrix_equal_the_written_out_ones(variant):
     x, t, h, p, st, _ = ga._symbols(mech, ca.SX)
     w = ca.SX.sym("w", ny)
     args = [w, x, t, h, p, st]
-    R, (sp, jac) = ga._element_parts(mech, args, ny)
+    R, (sp, jac, _) = ga._element_parts(mech, args, ny)
     r = ga._step_residual(ga._sx_residual(mech), w, x, t, h, p, st[0], ny)
     J = ga._jacobian(r, w)
     sx = ca.Function("sx", args, [r, J])

@@ -1,9 +1,12 @@
 """A step's iteration matrix from a Mechanism's element form
 (:class:`~symcable.models.element_form.ElementForm`): the elements' blocks computed by a
 loop (CasADi ``map``, serial: a loop in the generated C) over the element kernel's own
-Jacobian, summed onto the matrix's nonzeros by index gathers (:func:`summed`), plus the
-rest's Jacobian written out in SX (kinematic rows, seabed contact and friction, bending:
-per node, and small). The step's residual likewise (:func:`element_residual`).
+Jacobian, summed onto the matrix's nonzeros by index gathers
+(:mod:`symcable.linalg.gather`), plus the rest's Jacobian written out in SX (kinematic rows,
+seabed contact and friction, bending: per node, and small); or, for the banded LU, the
+blocks and the rest's nonzeros as the sources it gathers into its band itself
+(:meth:`~symcable.linalg.banded.BandedLU.factor_sum`). The step's residual likewise
+(:func:`element_residual`).
 
 For an implicit step whose unknown is w with y'(w) = y'_0 + c_m (w - y'_0) and y(w) = y_0 +
 c_y (w - y'_0) at the step's alpha point (generalized-alpha: c_m = alpha_m, c_y = alpha_f
@@ -13,8 +16,9 @@ as inputs.
 
 On MoorDyn's WD0600 chain (170 elements, 1014 states) the straight-line SX Jacobian of the
 first-order generalized-alpha step is 344k instructions (3.6 MB of C); this one is a loop
-of 170 calls of a 6 x 12 block and a rest of about 20k instructions
-(studies/performance/step_profile.py has both, timed). The seabed as a second loop of node
+of 170 calls of a 6 x 12 block (916 instructions with common subexpressions eliminated,
+1319 without) and a rest of about 20k instructions (studies/performance/step_profile.py has
+both, timed). The seabed as a second loop of node
 kernels (each node reading its neighbours) was measured slower than its straight-line rest
 (398 against 377 us per step of WD0600 A1 at 0.1 s): not kept.
 """
@@ -23,9 +27,10 @@ from __future__ import annotations
 import casadi as ca
 import numpy as np
 
+from ..linalg.gather import gather_sum, sum_map, summed
 from ..models.element_form import ElementForm, gather, node_values
 
-__all__ = ["block_kernel", "element_jacobian", "element_residual", "summed"]
+__all__ = ["block_kernel", "element_jacobian", "element_residual"]
 
 
 def block_kernel(form: ElementForm) -> ca.Function:
@@ -39,13 +44,19 @@ def block_kernel(form: ElementForm) -> ca.Function:
     n = int(r.numel())  # dim k
     J = ca.jacobian(r, u)
     B = ca.horzcat(cy * J[:, :n], cy * J[:, n:2 * n] + cm * J[:, 2 * n:])
+    # common subexpressions eliminated: the cable3d block from 1319 to 916 instructions
     return ca.Function(f"{form.kernel.name()}_block", [u, c, s, cy, cm], [ca.densify(B)],
-                       ["u", "c", "s", "c_y", "c_m"], ["B"])
+                       ["u", "c", "s", "c_y", "c_m"], ["B"], {"cse": True})
 
 
 def element_jacobian(mech, rest_jac: ca.SX, rest_args: list, point: ca.Function):
-    """``(sparsity, jac)``: the step's iteration matrix (n_y x n_y, y = (q, v)) as a pattern
-    and an MX Function ``jac(*rest_args) -> nonzeros`` in that pattern's order.
+    """``(sparsity, jac, (blocks, by))``: the step's iteration matrix (n_y x n_y, y = (q, v))
+    as a pattern and an MX Function ``jac(*rest_args) -> nonzeros`` in that pattern's order;
+    and the same as its sources ``(blocks, by, zero, one)``: ``blocks(*rest_args)``, the
+    elements' blocks, the rest's nonzeros, a 0 and a 1 in one vector (at ``zero`` and
+    ``one``), and the sum map ``by`` (:mod:`symcable.linalg.gather`) whose entry m lists
+    the positions in it that nonzero m sums (for a factorisation that gathers them itself,
+    :meth:`~symcable.linalg.banded.BandedLU.factor_sum`).
 
     ``rest_jac``: the Jacobian (SX, in ``rest_args``) of the step residual of the Mechanism
     with its mass removed and its force replaced by the form's rest (kinematic rows and
@@ -84,9 +95,17 @@ def element_jacobian(mech, rest_jac: ca.SX, rest_args: list, point: ca.Function)
     margs = [ca.MX.sym(f"a{n}", a.sparsity()) for n, a in enumerate(rest_args)]
     U, s, cy, cm, jr = prepare(*margs)
     B = block_kernel(form).map(n_el, "serial")(U, ca.DM(form.constants), s, cy, cm)
-    nz = summed(ca.vertcat(ca.vec(B), jr), sp.nnz(), nz_el + nz_rest,
-                pos.tolist() + [B.numel() + i for i in range(len(nz_rest))])
-    return sp, ca.Function(f"{mech.name}_element_jacobian", margs, [nz])
+    by = sum_map(sp.nnz(), nz_el + nz_rest,
+                 pos.tolist() + [B.numel() + i for i in range(len(nz_rest))])
+    # the sources end with a 0 and a 1, for the gathers' padding and the band's padding
+    # rows, so that no gather copies them to append its own
+    n_src = int(B.numel()) + len(nz_rest)
+    blocks = ca.Function(f"{mech.name}_element_blocks", margs,
+                         [ca.vertcat(ca.vec(B), jr, ca.DM([0.0, 1.0]))])
+    margs = [ca.MX.sym(f"a{n}", a.sparsity()) for n, a in enumerate(rest_args)]
+    jac = ca.Function(f"{mech.name}_element_jacobian", margs,
+                      [gather_sum(blocks(*margs), by, n_src)])
+    return sp, jac, (blocks, by, n_src, n_src + 1)
 
 
 def element_residual(mech, rest_res: ca.SX, rest_args: list, point: ca.Function) -> ca.Function:
@@ -115,21 +134,3 @@ def element_residual(mech, rest_res: ca.SX, rest_args: list, point: ca.Function)
     r = summed(ca.vertcat(ca.vec(R), rr), ny, rows + list(range(ny)),
                pos + [n_r + j for j in range(ny)])
     return ca.Function(f"{mech.name}_element_residual", margs, [r])
-
-
-def summed(ext, n: int, targets: list, sources: list):
-    """(n,): entry j the sum of ``ext``'s entries ``sources[m]`` over every m with
-    ``targets[m]`` = j (zero where none), as a few gathers with index arrays (loops in the
-    generated C), one per contribution an entry has at most (two or three here). Written out
-    in SX, WD0600's matrix sum was straight-line code of 16k operations, 10 % of its run."""
-    by = [[] for _ in range(n)]
-    for j, m in zip(targets, sources):
-        by[j].append(m)
-    ext = ca.vertcat(ext, ca.MX.zeros(1, 1))
-    zero = int(ext.numel()) - 1
-    depth = max((len(x) for x in by), default=0)
-    out = ca.MX.zeros(n, 1)
-    for d in range(depth):
-        pick = ext[[x[d] if d < len(x) else zero for x in by]]
-        out = pick if d == 0 else out + pick
-    return ca.densify(out)

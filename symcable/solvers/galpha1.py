@@ -210,7 +210,9 @@ def _linear_solver(J: ca.SX | None, args: list, cache: dict, lu: bool, n_lead: i
     "block-lu", "banded" or "qr"; the block LU when ``lu`` and the pattern allows it, else
     the banded LU (Schur on the ``n_lead`` leading kinematic rows where they are diagonal)
     when the band is narrow enough, else sparse QR. ``given``: instead of ``J``, its
-    pattern and a Function of ``args`` giving its nonzeros (:func:`_element_parts`)."""
+    pattern, a Function of ``args`` giving its nonzeros, and the same as sources and a sum
+    map (:func:`~symcable.solvers.element_jacobian.element_jacobian`), which the banded LU
+    gathers straight into its band (:meth:`~symcable.linalg.banded.BandedLU.factor_sum`)."""
     sp = J.sparsity() if given is None else given[0]
     n = sp.size1()
     opts = {"cse": n <= CSE_MAX_STATES}
@@ -230,7 +232,12 @@ def _linear_solver(J: ca.SX | None, args: list, cache: dict, lu: bool, n_lead: i
     band = _banded(sp, n_lead, cache)
     if band is not None:
         margs = [ca.MX.sym(f"a{i}", a.sparsity()) for i, a in enumerate(args)]
-        factor = ca.Function("ga1_band_factor", margs, [band.factor(jac(*margs))])
+        if given is None:
+            f_band = band.factor(jac(*margs))
+        else:
+            blocks, by, zero, one = given[2]
+            f_band = band.factor_sum(blocks(*margs), by, zero, one)
+        factor = ca.Function("ga1_band_factor", margs, [f_band])
         f, b = ca.MX.sym("f", band.n_factors), ca.MX.sym("b", n)
         return factor, ca.Function("ga1_band_solve", [f, b], [band.solve(f, b)]), \
             band.n_factors, "banded"

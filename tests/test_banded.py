@@ -8,8 +8,8 @@ import casadi as ca
 import numpy as np
 import pytest
 
-from symcable.linalg.banded import (BandedLU, SchurBandedLU, bandwidths, leading_diagonal,
-                                    reverse_cuthill)
+from symcable.linalg.banded import (BandedLU, SchurBandedLU, bandwidths, diagonal_lead,
+                                    leading_diagonal, reverse_cuthill)
 
 # Relative solve errors are bounded by (growth factor) x (condition) x eps; these matrices
 # have a dominant diagonal (growth ~1, condition < 1e3), so 1e-11 leaves a wide margin
@@ -127,3 +127,33 @@ def test_factor_of_sources_equals_factor_of_nonzeros(schur):
     fa, ba = ca.MX.sym("f", lu.n_factors), ca.MX.sym("b", 2 * k)
     x = np.asarray(ca.Function("s", [fa, ba], [lu.solve(fa, ba)])(f_sum, b)).ravel()
     assert np.linalg.norm(A @ x - b) <= REL * np.linalg.norm(b) * np.linalg.cond(A)
+
+
+def test_diagonal_lead_stops_where_first_order_states_couple():
+    """Positions' kinematic rows (diagonal) then a bristle's two coupled first-order states
+    per node, then the momentum rows: the diagonal lead is the positions and the first
+    bristle row (its coupling is to the next row, outside the leading block); a missing
+    diagonal entry ends it there; a fully diagonal matrix leaves one row for the complement.
+    The Schur form on that lead solves the matrix exactly."""
+    rng = np.random.default_rng(4)
+    k, nb, nv = 6, 4, 6
+    n = k + nb + nv
+    A = np.zeros((n, n))
+    A[:k, :k] = np.diag(1.5 + rng.random(k))
+    A[:k, k + nb:] = -0.05 * np.eye(k)
+    A[k:k + nb, k:k + nb] = np.kron(np.eye(nb // 2), [[2.0, 0.3], [0.2, 2.0]])
+    A[k:k + nb, k + nb:k + nb + nb] = 0.1 * rng.standard_normal((nb, nb))
+    A[k + nb:, :k] = 0.1 * _banded(nv, 1, 1, rng)
+    A[k + nb:, k + nb:] = _banded(nv, 2, 2, rng)
+    A[k + nb:, k:k + nb] = 0.05 * rng.standard_normal((nv, nb))
+    sp, nz = _nonzeros(A)
+    assert diagonal_lead(sp, k + nb) == k + 1
+    assert diagonal_lead(sp, 3) == 3
+    lu = SchurBandedLU(sp, diagonal_lead(sp, k + nb))
+    b = rng.standard_normal(n)
+    x = np.asarray(_solver_fn(lu, sp)(nz, b)).ravel()
+    assert np.linalg.norm(A @ x - b) <= REL * np.linalg.norm(b) * np.linalg.cond(A)
+    B = A.copy()
+    B[2, 2] = 0.0
+    assert diagonal_lead(_nonzeros(B)[0], k + nb) == 2
+    assert diagonal_lead(_nonzeros(np.diag(np.arange(1.0, 6.0)))[0], 10) == 4

@@ -39,7 +39,8 @@ from scipy.sparse.csgraph import reverse_cuthill_mckee
 
 from .gather import gather_sum
 
-__all__ = ["BandedLU", "SchurBandedLU", "bandwidths", "leading_diagonal", "reverse_cuthill"]
+__all__ = ["BandedLU", "SchurBandedLU", "bandwidths", "diagonal_lead", "leading_diagonal",
+           "reverse_cuthill"]
 
 #: rows eliminated per call of the loop body (the body written out for this many rows):
 #: fewer calls, less copying of the carried window
@@ -205,6 +206,21 @@ def leading_diagonal(sp: ca.Sparsity, k: int) -> bool:
     r, c = (np.asarray(v, dtype=int) for v in sp.get_triplet())
     inside = (r < k) & (c < k)
     return bool(np.all(r[inside] == c[inside]) and np.count_nonzero(inside) == k)
+
+
+def diagonal_lead(sp: ca.Sparsity, k_max: int) -> int:
+    """The largest k <= ``k_max`` (and < n) whose leading k x k block of ``sp`` is
+    structurally diagonal (0 when none): a mechanism's kinematic rows q' - v lead its
+    iteration matrix, and first-order states among q (a friction bristle's) end the
+    diagonal part where their rows couple."""
+    n = sp.size1()
+    r, c = (np.asarray(v, dtype=int) for v in sp.get_triplet())
+    off = r != c
+    k = min(k_max, n - 1, int(np.maximum(r[off], c[off]).min()) if off.any() else n)
+    present = np.zeros(n, dtype=bool)
+    present[r[~off]] = True
+    missing = np.flatnonzero(~present[:max(k, 0)])
+    return max(0, int(missing[0]) if missing.size else k)
 
 
 class SchurBandedLU:

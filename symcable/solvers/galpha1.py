@@ -56,8 +56,7 @@ import numpy as np
 from ..codegen import use_codegen
 from ..derive import functions
 from ..errors import SymcableError
-from ..linalg.banded import (BandedLU, SchurBandedLU, bandwidths, leading_diagonal,
-                             reverse_cuthill)
+from ..linalg.banded import BandedLU, SchurBandedLU, bandwidths, diagonal_lead, reverse_cuthill
 from ..linalg.sparse import jacobian as _jacobian, norm_inf, sparse_solve
 from ..linalg.sxlu import block_lu, block_plan
 from ..models.element_form import split_mismatch
@@ -274,12 +273,14 @@ def _element_parts(mech: Mechanism, args: list, ny: int) -> tuple | None:
 
 
 def _banded(sp: ca.Sparsity, n_lead: int, cache: dict):
-    """The banded LU of the pattern ``sp`` (on the Schur complement of its ``n_lead``
-    leading rows where their block is diagonal), or None when its band is wider than
-    BANDED_MAX_WIDTH; kept in ``cache``."""
+    """The banded LU of the pattern ``sp`` (on the Schur complement of as many of its
+    ``n_lead`` leading rows as have a diagonal block: :func:`~symcable.linalg.banded.
+    diagonal_lead`), or None when its band is wider than BANDED_MAX_WIDTH; kept in
+    ``cache``."""
     key = ("banded", n_lead, sp.size1(), sp.nnz())
     if key not in cache:
-        solver = SchurBandedLU(sp, n_lead, "ga1") if leading_diagonal(sp, n_lead) else None
+        k = diagonal_lead(sp, n_lead)
+        solver = SchurBandedLU(sp, k, "ga1") if k > 0 else None
         if solver is None or solver.l + solver.u + 1 > BANDED_MAX_WIDTH:
             solver = None
             l, u = bandwidths(sp, reverse_cuthill(sp))

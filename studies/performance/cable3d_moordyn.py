@@ -21,6 +21,15 @@ Cases
   over 0..300 s. MoorDyn's deck and driver: ``moordyn_line.py`` (its volume-equivalent
   diameter and coefficients).
 
+CableDyn (issue 12 asks for it beside symcable here too) runs on WD0050 when installed
+(``pip install cabledyn``): the deck as ``studies/chains/peers.py`` edits it, the fairlead
+driven by the same table, at a ladder of steps. Its model is not MoorDyn's (it holds the
+grounded chain differently: ``studies/chains/README.md``), so its accuracy is its error
+against its own converged run (``cd_ref``), set against the same bound as symcable's
+(MoorDyn's error at CFL 0.1): each code at its own equal-accuracy step, each against its
+own model. Not run on seed001 (its deck and elliptic motion would need a CableDyn driver of
+their own).
+
 Accuracy: every run's max (and rms) error against symcable's converged run (``ref_dt``;
 its own convergence is shown by the run at twice that step), % of that run's range. MoorDyn
 runs its default scheme (RK2) at CFL 0.1, 0.2 and 0.4 (its ``cfl`` option: dtM = CFL x its
@@ -82,10 +91,12 @@ class Config(NamedTuple):
     s1_ref: int  # steps per period of its converged run
     repeats: int
     codegen: bool
+    cd_dts: tuple = (0.2, 0.1, 0.05, 0.025)  # s: CableDyn's ladder on WD0050
+    cd_ref: float = 0.00625  # s: CableDyn's converged run
 
 
 FULL = Config(80.0, (0.2, 0.1, 0.05, 0.025), 0.00125, 30, (25, 50, 100, 200), 1600, 9, True)
-QUICK = Config(10.0, (0.2, 0.1), 0.01, 3, (50, 100), 400, 1, False)
+QUICK = Config(10.0, (0.2, 0.1), 0.01, 3, (50, 100), 400, 1, False, (0.2, 0.1), 0.025)
 
 
 def periodic_table(out: Path, t_end: float) -> Path:
@@ -155,6 +166,15 @@ class Case:
                                        "newton_per_step": s["newton_iterations"] / s["steps"],
                                        "compiled": s["compiled"], "cpu_s": cpu}
 
+    def cabledyn(self, dt: float):
+        """CableDyn on WD0050 at the step ``dt`` (s): its FairTen1 (N)."""
+        c0 = time.process_time()
+        r = peers.run_cabledyn(cases.deck_path("WD0050"), self.rows, dt, self.cfg.wd_end)
+        steps = max(1, r["time"].size - 1)
+        return r["time"], 1e3 * r["fairlead"], r["wall"], {
+            "init_s": r["init"], "newton_per_step": r["newton"] / steps,
+            "cpu_s": time.process_time() - c0}
+
     def moordyn(self, cfl: float):
         c0 = time.process_time()
         if self.name == "WD0050":
@@ -212,13 +232,39 @@ def run_case(name: str, cfg: Config, out: Path) -> dict:
     runs[("symcable", equal)] = lambda: case.symcable(equal)
     base = 0.1 if name == "WD0050" else case.period / 100
     runs[("symcable", base)] = lambda: case.symcable(base)
+    cd_equal = None
+    if name == "WD0050" and peers.available()["CableDyn"]:
+        cd_equal = _cabledyn_rows(case, cfg, md_err, rows)
+        runs[("CableDyn", cd_equal)] = lambda: case.cabledyn(cd_equal)
     walls = interleaved(runs, cfg.repeats)
     for r in rows:
         w = walls.get((r["code"], r["step"]))
         if w is not None:
             r["wall_s"], r["cpu_s"], r["repeats"] = w[0], w[1], cfg.repeats
     return {"case": name, "ref_dt": ref_dt, "moordyn_max_pct": md_err, "equal_dt": equal,
-            "equal_holds": bool(ok), "base_dt": base, "rows": rows}
+            "equal_holds": bool(ok), "base_dt": base, "cabledyn_equal_dt": cd_equal,
+            "rows": rows}
+
+
+def _cabledyn_rows(case: Case, cfg: Config, bound: float, rows: list) -> float:
+    """CableDyn's ladder against its own converged run (appended to ``rows``); its
+    equal-accuracy step: the largest whose max error, and every smaller rung's, is at most
+    ``bound`` (else its smallest)."""
+    t, s, _, _ = case.cabledyn(cfg.cd_ref)
+    ref = np.interp(case.grid, t, s)
+    errs = {}
+    for dt in sorted(cfg.cd_dts):
+        t_, s_, wall, det = case.cabledyn(dt)
+        mx, rms = error(case.grid, t_, s_, ref)
+        errs[dt] = mx
+        rows.append(dict(case=case.name, code="CableDyn", step=dt, status="ok", max_pct=mx,
+                         rms_pct=rms, first_wall_s=wall, reference_dt=cfg.cd_ref, **det))
+    ok = [dt for dt in sorted(errs) if all(errs[d] <= bound for d in errs if d <= dt)]
+    equal = ok[-1] if ok else min(errs)
+    for r in rows:
+        if r["code"] == "CableDyn" and r["step"] == equal:
+            r["role"] = "equal accuracy" if ok else "its smallest step (no rung holds)"
+    return equal
 
 
 def interleaved(runs: dict, repeats: int) -> dict:
@@ -237,11 +283,14 @@ def summary(results: list) -> str:
         rows = res["rows"]
         sym = {r["step"]: r for r in rows if r["code"] == "symcable" and "wall_s" in r}
         md = {r["step"]: r for r in rows if r["code"] == "MoorDyn" and "wall_s" in r}
+        cd = {r["step"]: r for r in rows if r["code"] == "CableDyn" and "wall_s" in r}
         eq, base = sym[res["equal_dt"]], sym[res["base_dt"]]
         out += [f"### {res['case']}", "",
                 "| run | step | max error % | rms error % | wall s (median) | static / init s | "
                 "Newton per step |", "|---|---|---|---|---|---|---|"]
         for r in rows:
+            if r["code"] == "CableDyn":
+                r = dict(r, code=f"CableDyn (error against its own run at {r['reference_dt']:g} s)")
             step = (f"CFL {r['step']:g} (dtM {r['dtM'] * 1e3:.2f} ms)" if r["code"] == "MoorDyn"
                     and r["status"] == "ok" else f"CFL {r['step']:g}" if r["code"] == "MoorDyn"
                     else f"dt {r['step']:.4g} s")
@@ -261,6 +310,10 @@ def summary(results: list) -> str:
                              (f"dt {res['base_dt']:.4g} s", base))[:1 if eq is base else 2]:
                 out.append(f"| symcable at {label} / MoorDyn CFL {cfl:g} | "
                            f"{r['wall_s'] / m['wall_s']:.2f} | {r['cpu_s'] / m['cpu_s']:.2f} |")
+        for step, c in cd.items():
+            out.append(f"| symcable at equal accuracy (dt {res['equal_dt']:.4g} s) / CableDyn at "
+                       f"{c.get('role', 'its step')} (dt {step:g} s) | "
+                       f"{eq['wall_s'] / c['wall_s']:.2f} | {eq['cpu_s'] / c['cpu_s']:.2f} |")
         out.append("")
     return "\n".join(out)
 

@@ -157,3 +157,28 @@ def test_diagonal_lead_stops_where_first_order_states_couple():
     B[2, 2] = 0.0
     assert diagonal_lead(_nonzeros(B)[0], k + nb) == 2
     assert diagonal_lead(_nonzeros(np.diag(np.arange(1.0, 6.0)))[0], 10) == 4
+
+
+@pytest.mark.parametrize("k, b_per_row", [(1, 3), (2, 1), (2, 2)])
+def test_schur_with_one_entry_blocks(k, b_per_row):
+    """A diagonal lead of one or two rows, B with one or several entries per row, C with
+    one or several per column (where a 1 x 1 vector indexed by a list turns into a row):
+    the Schur form still solves exactly."""
+    rng = np.random.default_rng(10 * k + b_per_row)
+    n = 7
+    A = _banded(n, 2, 2, rng)
+    A[:k, :k] = np.diag(2.0 + rng.random(k))
+    A[:k, k:] = 0.0
+    for r in range(k if b_per_row > 1 else 1):  # one B entry in all where b_per_row = 1
+        A[r, k + r:k + r + b_per_row] = 0.1 * rng.standard_normal(b_per_row)
+    A[k:, :k] = 0.0
+    A[k, 0] = 0.2
+    if k == 2:
+        A[k + 1, 1] = -0.3
+        A[k + 2, 0] = 0.15  # two entries in C's first column
+    sp, nz = _nonzeros(A)
+    assert diagonal_lead(sp, k) == k
+    lu = SchurBandedLU(sp, k)
+    b = rng.standard_normal(n)
+    x = np.asarray(_solver_fn(lu, sp)(nz, b)).ravel()
+    assert np.linalg.norm(A @ x - b) <= REL * np.linalg.norm(b) * np.linalg.cond(A)

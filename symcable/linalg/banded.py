@@ -298,8 +298,9 @@ class SchurBandedLU:
             prods: list[list[int]] = [[] for _ in range(self._n_S)]
             for t, s in enumerate(s_i):
                 prods[s].append(t)
-            B_d = B / d[self._B_rows]  # B_kj / d_k per entry of B
-            minus = ca.vertcat(-(C[c_i] * B_d[b_i]), 0.0)
+            # indexing a 1 x 1 vector with a list gives a row: vec keeps every factor a column
+            B_d = B / ca.vec(d[self._B_rows])  # B_kj / d_k per entry of B
+            minus = ca.vertcat(-(ca.vec(C[c_i]) * ca.vec(B_d[b_i])), 0.0)
             W1, rows1 = self.lu.band_gather(minus, prods, len(s_i))
             W0, rows = W0 + W1, rows + rows1
         return ca.vertcat(self.lu.factor_rows(W0, rows), d, B, C)

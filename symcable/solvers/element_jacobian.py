@@ -50,11 +50,11 @@ def block_kernel(form: ElementForm) -> ca.Function:
 
 
 def element_jacobian(mech, rest_jac: ca.SX, rest_args: list, point: ca.Function):
-    """``(sparsity, jac, (blocks, by))``: the step's iteration matrix (n_y x n_y, y = (q, v))
-    as a pattern and an MX Function ``jac(*rest_args) -> nonzeros`` in that pattern's order;
-    and the same as its sources ``(blocks, by, zero, one)``: ``blocks(*rest_args)``, the
-    elements' blocks, the rest's nonzeros, a 0 and a 1 in one vector (at ``zero`` and
-    ``one``), and the sum map ``by`` (:mod:`symcable.linalg.gather`) whose entry m lists
+    """``(sparsity, jac, (blocks, by, zero, one))``: the step's iteration matrix (n_y x n_y,
+    y = (q, v)) as a pattern and an MX Function ``jac(*rest_args) -> nonzeros`` in that
+    pattern's order; and the same as its sources: ``blocks(*rest_args)``, the elements'
+    blocks, the rest's nonzeros, a 0 and a 1 in one vector (at ``zero`` and ``one``), and
+    the sum map ``by`` (:mod:`symcable.linalg.gather`) whose entry m lists
     the positions in it that nonzero m sums (for a factorisation that gathers them itself,
     :meth:`~symcable.linalg.banded.BandedLU.factor_sum`).
 

@@ -45,3 +45,11 @@ def test_friction_quick(tmp_path):
     assert bristle["anch_rms"] < coulomb["anch_rms"]
     assert bristle["anch_vs_base"] > 10.0  # the laws differ there (measured 39 %)
     assert 1.0 < bristle["newton_per_step"] < 10.0
+    # CableDyn beside them where the bench extra installed it (CI's test extra does not)
+    study = _study()
+    cd = rows.get(study.CABLEDYN)
+    if study.peers.available()["CableDyn"]:
+        assert cd is not None and cd["status"] == "ok" and cd["seg_max"] < 25.0, cd
+        assert "wall_s" in cd
+    else:
+        assert cd is None

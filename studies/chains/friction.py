@@ -22,6 +22,10 @@ stiffness (kBot = 1e5 Pa/m, the default ``friction_stiffness``, OrcaFlex's defau
 stiffness: mobilisation length mu N / k = 6.6 cm) and at 1e6 Pa/m (6.6 mm, within the
 1-10 mm the research note suggests).
 
+Beside them, where it is installed (``pip install cabledyn``), CableDyn at the same step
+with its own model (row ``CABLEDYN``, timed in the same interleaved rounds): which friction
+reading reaches CableDyn's accuracy, and at what share of its wall time.
+
 Everything else as ``run.py`` (``cases.py``): the deck with the extended table on the
 fairlead, at rest in its static state at t = -10 s; errors over t = 0..20 s at the
 reference's samples; the wall time the median of ``repeats`` rounds after a first (warming)
@@ -67,6 +71,7 @@ def _load_helper(name: str):
 
 
 cases = _load_helper("cases")
+peers = _load_helper("peers")
 
 #: name -> (seabed keys over the deck's, what it is)
 VARIANTS = {
@@ -84,9 +89,11 @@ DT = 0.1
 RHO_INF = 0.0  # simulate's default for cable3d (symcable.cable3d_api.RHO_INF)
 MAX_ITER = 30  # the start from rest into the table's full speed (cases.MAX_ITER_GA1)
 FULL = dict(decks=cases.DECKS, motions=cases.MOTIONS, variants=tuple(VARIANTS), t_end=20.0,
-            repeats=3, codegen=True)
+            repeats=3, codegen=True, cabledyn=True)
 QUICK = dict(decks=("WD0050",), motions=("A1",), variants=(BASE, "bristle"), t_end=5.0,
-             repeats=1, codegen=False)
+             repeats=1, codegen=False, cabledyn=True)
+#: the row of CableDyn (the peer, run as in run.py at DT, with its own friction model)
+CABLEDYN = "CableDyn (peer)"
 
 
 def variant_scene(deck: str, table: Path, variant: str):
@@ -158,6 +165,8 @@ def run_case(deck, motion, cfg, out: Path) -> tuple[list, dict]:
         rows.append(row)
         series[v] = {k: np.asarray(ser[k]).tolist() for k in ("time", "fairlead", "anchor")}
         runs[v] = (runner.once, len(rows) - 1)
+    if cfg.get("cabledyn") and peers.available()["CableDyn"]:
+        _cabledyn_row(deck, motion, cfg, ref, rows, series, runs)
     if BASE in series:
         for r in rows:
             if r["status"] == "ok":
@@ -197,10 +206,14 @@ def summary(res: dict) -> str:
             f"| {case} | {r['variant']} | {f(r['fair_max'])} / {f(r['fair_rms'])} | "
             f"{f(r['seg_max'])} | {f(r['anch_max'])} / {f(r['anch_rms'])} / "
             f"{f(r['anch_mean'])} | {f(r.get('fair_vs_base'))} / {f(r.get('anch_vs_base'))} | "
-            f"{f(r['newton_per_step'], 2)} ({r.get('newton_max')}) | {r['states']} | "
+            f"{f(r['newton_per_step'], 2)} ({r.get('newton_max') or '-'}) | "
+            f"{r['states'] or '-'} | "
             f"{f(r.get('wall_s'), 3)} |")
     lines += ["", "Variants:", ""] + [f"- {k}: {v[1]}" for k, v in VARIANTS.items()
                                       if k in cfg["variants"]]
+    if any(r["variant"] == CABLEDYN for r in res["rows"]):
+        lines.append(f"- {CABLEDYN}: CableDyn at dt = {DT} s with its own model (as run.py "
+                     "runs it; its FairTen1 in both fairlead columns), timed in the same rounds")
     return "\n".join(lines) + "\n"
 
 
@@ -224,6 +237,32 @@ def plot_anchor(res: dict, path: Path) -> None:
     fig.tight_layout()
     fig.savefig(path, dpi=90)
     plt.close(fig)
+
+
+def _cabledyn_row(deck, motion, cfg, ref, rows, series, runs) -> None:
+    """CableDyn at DT beside the variants (as ``run.py`` runs it: its FairTen1 stands for
+    both fairlead columns), timed in the same interleaved rounds: appended to ``rows``,
+    ``series`` and ``runs``."""
+    row = {"deck": deck, "motion": motion, "variant": CABLEDYN, "law": "CableDyn's own model",
+           "dt_s": DT, "status": "ok"}
+
+    def call():
+        r = peers.run_cabledyn(cases.deck_path(deck), cases.motion_rows(motion), DT,
+                               cfg["t_end"])
+        return r, r["init"], r["wall"] - r["init"]
+
+    try:
+        r, s0, r0 = call()
+    except Exception as exc:  # noqa: BLE001  (its ConvergenceError or CableDynError, as run.py)
+        rows.append(dict(row, status="failed", note=(str(exc).splitlines() or [""])[0][:160]))
+        return
+    ser = {"time": r["time"], "fairlead": r["fairlead"], "fairlead_segment": r["fairlead"],
+           "anchor": r["anchor"]}
+    row.update(_errors(ser, ref, cfg["t_end"]), first_wall_s=s0 + r0, states=None,
+               newton_per_step=r["newton"] / max(1, r["time"].size - 1), newton_max=None)
+    rows.append(row)
+    series[CABLEDYN] = {k: np.asarray(ser[k]).tolist() for k in ("time", "fairlead", "anchor")}
+    runs[CABLEDYN] = (call, len(rows) - 1)
 
 
 def main(argv=None) -> dict:

@@ -161,9 +161,7 @@ class BandedLU:
         at the positions ``by[m]`` (:mod:`symcable.linalg.gather`), gathered straight into
         the band's rows without forming the nonzeros; ``zero`` and ``one``: positions where
         ``ext`` is 0 and 1 (else both are appended to a copy of ``ext``)."""
-        if zero is None or one is None:
-            zero, one = int(ext.numel()), int(ext.numel()) + 1
-            ext = ca.vertcat(ext, ca.DM([0.0, 1.0]))
+        ext, zero, one = _with_constants(ext, zero, one)
         return self.factor_rows(*self.band_gather(ext, by, zero, one))
 
     def band_gather(self, ext, by: list[list[int]], zero: int, one: int | None = None):
@@ -198,14 +196,19 @@ class BandedLU:
         return x[np.argsort(self.perm).tolist()]
 
 
+def _with_constants(ext, zero: int | None, one: int | None):
+    """``(ext, zero, one)``: ``ext`` with the positions of a 0 and a 1 in it, appended to a
+    copy where not given."""
+    if zero is not None and one is not None:
+        return ext, zero, one
+    n = int(ext.numel())
+    return ca.vertcat(ext, ca.DM([0.0, 1.0])), n, n + 1
+
+
 def leading_diagonal(sp: ca.Sparsity, k: int) -> bool:
-    """Whether the leading k x k block of ``sp`` is structurally diagonal (every diagonal
-    entry present, nothing else)."""
-    if k <= 0 or k >= sp.size1():
-        return False
-    r, c = (np.asarray(v, dtype=int) for v in sp.get_triplet())
-    inside = (r < k) & (c < k)
-    return bool(np.all(r[inside] == c[inside]) and np.count_nonzero(inside) == k)
+    """Whether the leading k x k block of ``sp`` (0 < k < n) is structurally diagonal (every
+    diagonal entry present, nothing else)."""
+    return 0 < k < sp.size1() and diagonal_lead(sp, k) == k
 
 
 def diagonal_lead(sp: ca.Sparsity, k_max: int) -> int:
@@ -244,7 +247,7 @@ class SchurBandedLU:
 
     def _index(self, sp: ca.Sparsity, sp_S: ca.Sparsity):
         """Where d, B, C and D sit among the nonzeros, and the products C_ik B_kj / d_k
-        that S_ij subtracts: ``_prods`` (S entry, C entry, B entry, k) per product."""
+        that S_ij subtracts: ``_prods`` (S entry, C entry, B entry) per product."""
         k = self.k
         M = ca.DM(sp, np.arange(1, sp.nnz() + 1, dtype=float))  # nonzero m + 1 at its place
 
@@ -261,7 +264,7 @@ class SchurBandedLU:
         in_row: list[list[int]] = [[] for _ in range(k)]
         for tb, r in enumerate(b_rows):
             in_row[r].append(tb)
-        self._prods = [(s_at[(i, b_cols[tb])], tc, tb, kk)
+        self._prods = [(s_at[(i, b_cols[tb])], tc, tb)
                        for tc, (i, kk) in enumerate(zip(*self.sp_C.get_triplet()))
                        for tb in in_row[kk]]
         self._n_S = sp_S.nnz()
@@ -283,9 +286,7 @@ class SchurBandedLU:
         positions ``by[m]`` (:meth:`BandedLU.factor_sum`, ``zero`` and ``one`` as there):
         S's band gathered from ``ext`` and from the products C_ik B_kj / d_k, without
         forming the nonzeros or S."""
-        if zero is None or one is None:
-            zero, one = int(ext.numel()), int(ext.numel()) + 1
-            ext = ca.vertcat(ext, ca.DM([0.0, 1.0]))
+        ext, zero, one = _with_constants(ext, zero, one)
         d = gather_sum(ext, [by[m] for m in self._d], zero)
         B = gather_sum(ext, [by[m] for m in self._B], zero)
         C = gather_sum(ext, [by[m] for m in self._C], zero)
@@ -294,7 +295,7 @@ class SchurBandedLU:
             S_by[s] = by[m]
         W0, rows = self.lu.band_gather(ext, S_by, zero, one)
         if self._prods:
-            s_i, c_i, b_i, _ = (list(c) for c in zip(*self._prods))
+            s_i, c_i, b_i = (list(c) for c in zip(*self._prods))
             prods: list[list[int]] = [[] for _ in range(self._n_S)]
             for t, s in enumerate(s_i):
                 prods[s].append(t)

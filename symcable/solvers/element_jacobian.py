@@ -18,9 +18,9 @@ On MoorDyn's WD0600 chain (170 elements, 1014 states) the straight-line SX Jacob
 first-order generalized-alpha step is 344k instructions (3.6 MB of C); this one is a loop
 of 170 calls of a 6 x 12 block (916 instructions with common subexpressions eliminated,
 1319 without) and a rest of about 20k instructions (studies/performance/step_profile.py has
-both, timed). The seabed as a second loop of node
-kernels (each node reading its neighbours) was measured slower than its straight-line rest
-(398 against 377 us per step of WD0600 A1 at 0.1 s): not kept.
+both, timed). The seabed as a second loop of node kernels (each node reading its
+neighbours) was measured slower than its straight-line rest (398 against 377 us per step of
+WD0600 A1 at 0.1 s): not kept.
 """
 from __future__ import annotations
 
@@ -54,8 +54,8 @@ def element_jacobian(mech, rest_jac: ca.SX, rest_args: list, point: ca.Function)
     y = (q, v)) as a pattern and an MX Function ``jac(*rest_args) -> nonzeros`` in that
     pattern's order; and the same as its sources: ``blocks(*rest_args)``, the elements'
     blocks, the rest's nonzeros, a 0 and a 1 in one vector (at ``zero`` and ``one``), and
-    the sum map ``by`` (:mod:`symcable.linalg.gather`) whose entry m lists
-    the positions in it that nonzero m sums (for a factorisation that gathers them itself,
+    the sum map ``by`` (:mod:`symcable.linalg.gather`) whose entry m lists the positions in
+    it that nonzero m sums (for a factorisation that gathers them itself,
     :meth:`~symcable.linalg.banded.BandedLU.factor_sum`).
 
     ``rest_jac``: the Jacobian (SX, in ``rest_args``) of the step residual of the Mechanism
@@ -102,7 +102,6 @@ def element_jacobian(mech, rest_jac: ca.SX, rest_args: list, point: ca.Function)
     n_src = int(B.numel()) + len(nz_rest)
     blocks = ca.Function(f"{mech.name}_element_blocks", margs,
                          [ca.vertcat(ca.vec(B), jr, ca.DM([0.0, 1.0]))])
-    margs = [ca.MX.sym(f"a{n}", a.sparsity()) for n, a in enumerate(rest_args)]
     jac = ca.Function(f"{mech.name}_element_jacobian", margs,
                       [gather_sum(blocks(*margs), by, n_src)])
     return sp, jac, (blocks, by, n_src, n_src + 1)

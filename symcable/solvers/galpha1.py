@@ -208,11 +208,11 @@ def _linear_solver(J: ca.SX | None, args: list, cache: dict, lu: bool, n_lead: i
     ``factor(*args) -> f``, ``solve(f, b) -> J^-1 b`` (see the module docstring), ``kind``
     "block-lu", "banded" or "qr"; the block LU when ``lu`` and the pattern allows it, else
     the banded LU (Schur on the diagonal part of the ``n_lead`` leading kinematic rows:
-    :func:`_banded`)
-    when the band is narrow enough, else sparse QR. ``given``: instead of ``J``, its
-    pattern, a Function of ``args`` giving its nonzeros, and the same as sources and a sum
-    map (:func:`~symcable.solvers.element_jacobian.element_jacobian`), which the banded LU
-    gathers straight into its band (:meth:`~symcable.linalg.banded.BandedLU.factor_sum`)."""
+    :func:`_banded`) when the band is narrow enough, else sparse QR. ``given``: instead of
+    ``J``, its pattern, a Function of ``args`` giving its nonzeros, and the same as sources
+    and a sum map (:func:`~symcable.solvers.element_jacobian.element_jacobian`), which the
+    banded LU gathers straight into its band
+    (:meth:`~symcable.linalg.banded.BandedLU.factor_sum`)."""
     sp = J.sparsity() if given is None else given[0]
     n = sp.size1()
     opts = {"cse": n <= CSE_MAX_STATES}

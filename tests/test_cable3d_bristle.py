@@ -246,3 +246,42 @@ def test_linearize_names_bristle_states():
     lin = sc.linearize(_small_moving())
     assert lin.q_kinds[-2:] == ("node5.bristle.x", "node5.bristle.y")
     assert len(lin.v_kinds) == lin.M.shape[0] == 12
+
+
+def test_isotropic_bristle_needs_no_frame():
+    """With mu_axial = mu_lateral the bristle is written in x and y, without the line's
+    frame: its force and rates equal the framed law's (anisotropic by 1e-12, so the frame
+    path) to 1e-9 relative (the frame's regularisation and the 1e-12 ratio, far below), and a
+    node's rates depend on its own node only (block per node: what lets the step eliminate
+    them)."""
+    import dataclasses
+
+    import casadi as ca
+
+    from symcable.models.seabed_friction import friction
+    sb = _across().seabed
+    framed = dataclasses.replace(sb, friction_lateral=MU * (1 + 1e-12))
+    n = 6
+    rng = np.random.default_rng(3)
+    X, V = ca.SX.sym("X", 3, n), ca.SX.sym("V", 3, n)
+    b, N = ca.SX.sym("b", 2 * n), ca.SX.sym("N", 1, n)
+    area, weight = np.full(n, 0.5), np.full(n, 450.0)
+    out = {}
+    for name, s in (("iso", sb), ("framed", framed)):
+        fr = friction(s, X, V, N, area, weight, state=b)
+        out[name] = ca.Function(name, [X, V, b, N], [ca.vec(fr.force), fr.rate])
+    Xv = np.vstack([np.linspace(0, 25, n), 0.3 * rng.standard_normal(n), np.full(n, -50.0)])
+    for _ in range(5):
+        args = (Xv, 0.2 * rng.standard_normal((3, n)), 0.05 * rng.standard_normal(2 * n),
+                rng.uniform(0, 400, (1, n)))
+        for a, c in zip(out["iso"](*args), out["framed"](*args)):
+            a, c = np.asarray(a).ravel(), np.asarray(c).ravel()
+            assert np.max(np.abs(a - c)) <= 1e-9 * np.max(np.abs(c))
+    rate = friction(sb, X, V, N, area, weight, state=b).rate
+    dep = np.asarray(ca.DM(ca.jacobian(rate, ca.vertcat(ca.vec(X), ca.vec(V), b)).sparsity(),
+                           1))
+    for i in range(n):
+        cols = np.flatnonzero(dep[2 * i:2 * i + 2].any(axis=0))
+        own = set(range(3 * i, 3 * i + 3)) | set(range(3 * n + 3 * i, 3 * n + 3 * i + 3)) \
+            | {6 * n + 2 * i, 6 * n + 2 * i + 1}
+        assert set(cols) <= own, (i, cols)

@@ -4,7 +4,11 @@ of ``seabed.friction_law`` and the static spring of ``seabed.static_friction``.
 Every law acts on a node's horizontal motion, split along the line's horizontal direction
 tau at the node (central difference of its neighbours) and across it (n = e_z x tau), with
 the coefficients mu_a (axial) and mu_l (lateral); N is the contact's normal force (the spring,
-not the damper) and k = ``friction_stiffness`` x the node's contact area (N/m).
+not the damper) and k = ``friction_stiffness`` x the node's contact area (N/m). Where
+mu_a = mu_l every law is the same in any horizontal frame and is written in x and y: a
+node's friction then depends on its own node alone (no derivatives by the neighbours'
+positions, which vanish only numerically; with the bristle law its rows form a 2 x 2 block
+per node).
 
 - ``"coulomb"`` (no state): f = -N (mu_a v_a tau + mu_l v_l n) / sqrt(|v_h|^2 + v_eps^2),
   v_eps the scene's ``friction_velocity``. Zero at rest: a node under a horizontal load F
@@ -113,7 +117,11 @@ def friction(sb, Xm, Vm, contact, area, weight, state=None, laid=None, gate=None
     horizontal positions (m) and ``gate`` (the static spring's on-off, 1 in statics) when
     ``sb.static_friction`` is ``"laid"``."""
     n = Xm.shape[1]
-    tau, nrm = _frame(Xm)
+    if sb.mu_axial == sb.mu_lateral:  # isotropic: any horizontal frame gives the same force
+        # (x and y: no derivatives by the neighbours' positions, and a block per node)
+        tau, nrm = ca.repmat(ca.DM([1.0, 0.0]), 1, n), ca.repmat(ca.DM([0.0, 1.0]), 1, n)
+    else:
+        tau, nrm = _frame(Xm)
     k = ca.DM(sb.tangential_stiffness * np.asarray(area, float)).T  # (1, n), N/m
     floor = BRISTLE_FLOOR * np.maximum(np.abs(np.asarray(weight, float)), 1e-12)
     Ne = ca.sqrt(contact * contact + ca.DM(floor * floor).T)

@@ -8,8 +8,8 @@ import casadi as ca
 import numpy as np
 import pytest
 
-from symcable.linalg.banded import (BandedLU, SchurBandedLU, bandwidths, diagonal_lead,
-                                    leading_diagonal, reverse_cuthill)
+from symcable.linalg.banded import BandedLU, bandwidths, reverse_cuthill
+from symcable.linalg.schur import SchurBandedLU, diagonal_lead, lead_blocks, leading_diagonal
 
 # Relative solve errors are bounded by (growth factor) x (condition) x eps; these matrices
 # have a dominant diagonal (growth ~1, condition < 1e3), so 1e-11 leaves a wide margin
@@ -182,3 +182,58 @@ def test_schur_with_one_entry_blocks(k, b_per_row):
     b = rng.standard_normal(n)
     x = np.asarray(_solver_fn(lu, sp)(nz, b)).ravel()
     assert np.linalg.norm(A @ x - b) <= REL * np.linalg.norm(b) * np.linalg.cond(A)
+
+
+def _bristle_like(rng, k, nb, nv, pair=True):
+    """Positions' kinematic rows (k, diagonal), then nb first-order states coupled in pairs
+    (a bristle's two deflections per node; with ``pair`` False the pairs' diagonals are
+    missing and their off-diagonals carry them) and to their node's positions (X), then nv
+    momentum rows, banded."""
+    n = k + nb + nv
+    A = np.zeros((n, n))
+    A[:k, :k] = np.diag(1.5 + rng.random(k))
+    A[:k, k + nb:] = -0.05 * np.eye(k, nv)
+    blk = [[2.0, 0.3], [0.2, 2.0]] if pair else [[0.0, 1.7], [-1.9, 0.0]]
+    A[k:k + nb, k:k + nb] = np.kron(np.eye(nb // 2), blk)
+    A[k:k + nb, :k] = 0.3 * rng.standard_normal((nb, k)) * (  # X: the node's position
+        np.abs(np.subtract.outer(np.arange(nb) // 2, np.arange(k) // 3)) == 0)
+    A[k:k + nb, k + nb:] = 0.1 * rng.standard_normal((nb, nv)) * (
+        np.abs(np.subtract.outer(np.arange(nb) // 2, np.arange(nv) // 3)) <= 1)
+    A[k + nb:, :k] = 0.1 * _banded(nv, 1, 1, rng)[:, :k]
+    A[k + nb:, k + nb:] = _banded(nv, 2, 2, rng)
+    A[k + nb:, k:k + nb] = 0.05 * rng.standard_normal((nv, nb)) * (
+        np.abs(np.subtract.outer(np.arange(nv) // 3, np.arange(nb) // 2)) <= 1)
+    return A
+
+
+@pytest.mark.parametrize("pair, nb", [(True, 6), (False, 6), (True, 2)])
+def test_schur_eliminates_two_by_two_blocks(pair, nb):
+    """A lead [[P, 0], [X, Q]]: 1 x 1 blocks (the kinematic rows) and 2 x 2 blocks (a
+    bristle's coupled pairs, with their diagonal or with their off-diagonal entries,
+    depending on their node's positions through X): lead_blocks finds every block, the complement is the momentum rows alone, and the Schur form (from the
+    nonzeros, and from sources split over a longer vector) solves exactly; a pair that
+    couples to a third row ends the lead before it."""
+    rng = np.random.default_rng(20 + nb + pair)
+    k, nv = 6, 6
+    A = _bristle_like(rng, k, nb, nv, pair)
+    sp, nz = _nonzeros(A)
+    blocks = lead_blocks(sp, k + nb)
+    assert blocks == [(i,) for i in range(k)] + [(k + i, k + i + 1) for i in range(0, nb, 2)]
+    lu = SchurBandedLU(sp, k + nb)
+    assert lu.lu.n == nv
+    b = rng.standard_normal(A.shape[0])
+    x = np.asarray(_solver_fn(lu, sp)(nz, b)).ravel()
+    assert np.linalg.norm(A @ x - b) <= REL * np.linalg.norm(b) * np.linalg.cond(A)
+    ext = np.concatenate([0.5 * nz, 0.5 * nz, [7.0]])
+    by = [[m, m + sp.nnz()] for m in range(sp.nnz())]
+    e, bb = ca.MX.sym("e", ext.size), ca.MX.sym("b", A.shape[0])
+    fs = ca.Function("fs", [e, bb], [lu.solve(lu.factor_sum(e, by), bb)])
+    x2 = np.asarray(fs(ext, b)).ravel()
+    assert np.linalg.norm(A @ x2 - b) <= REL * np.linalg.norm(b) * np.linalg.cond(A)
+    if nb < 4:
+        return
+    C = A.copy()
+    C[k + 1, k + 2] = 0.1  # the first pair's second row couples to the next pair
+    assert sum(len(bl) for bl in lead_blocks(_nonzeros(C)[0], k + nb)) == k
+    with pytest.raises(ValueError, match=r"is not \[\[P, 0\], \[X, Q\]\]"):
+        SchurBandedLU(_nonzeros(C)[0], k + nb)

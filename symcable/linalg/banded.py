@@ -20,10 +20,8 @@ caller's residual check catches.
 
 The matrix comes as its nonzeros (``factor``) or as sums of entries of a source vector
 (``factor_sum``: an element loop's blocks and the rest's nonzeros, :mod:`.gather`), gathered
-straight into the band's rows; with the Schur elimination of a diagonal leading block, S's
-band gathers the products C_ik B_kj / d_k too, without forming S. On the WD0600 chain's
-step (1014 unknowns) that factorisation took 81 us against 122 us forming the nonzeros, then
-S, then the band (compiled, medians of 25 interleaved rounds).
+straight into the band's rows; :mod:`.schur` eliminates a leading block first (the
+kinematic rows) and gathers its products into the band too, without forming S.
 
 Storage: row i of the band holds columns i - l .. i + u (``w = l + u + 1`` entries). The
 elimination carries a window of the rows k .. k + l, columns k .. k + l + u, and takes in
@@ -39,8 +37,7 @@ from scipy.sparse.csgraph import reverse_cuthill_mckee
 
 from .gather import gather_sum
 
-__all__ = ["BandedLU", "SchurBandedLU", "bandwidths", "diagonal_lead", "leading_diagonal",
-           "reverse_cuthill"]
+__all__ = ["BandedLU", "bandwidths", "reverse_cuthill", "with_constants"]
 
 #: rows eliminated per call of the loop body (the body written out for this many rows):
 #: fewer calls, less copying of the carried window
@@ -161,7 +158,7 @@ class BandedLU:
         at the positions ``by[m]`` (:mod:`symcable.linalg.gather`), gathered straight into
         the band's rows without forming the nonzeros; ``zero`` and ``one``: positions where
         ``ext`` is 0 and 1 (else both are appended to a copy of ``ext``)."""
-        ext, zero, one = _with_constants(ext, zero, one)
+        ext, zero, one = with_constants(ext, zero, one)
         return self.factor_rows(*self.band_gather(ext, by, zero, one))
 
     def band_gather(self, ext, by: list[list[int]], zero: int, one: int | None = None):
@@ -196,7 +193,7 @@ class BandedLU:
         return x[np.argsort(self.perm).tolist()]
 
 
-def _with_constants(ext, zero: int | None, one: int | None):
+def with_constants(ext, zero: int | None, one: int | None):
     """``(ext, zero, one)``: ``ext`` with the positions of a 0 and a 1 in it, appended to a
     copy where not given."""
     if zero is not None and one is not None:
@@ -204,114 +201,3 @@ def _with_constants(ext, zero: int | None, one: int | None):
     n = int(ext.numel())
     return ca.vertcat(ext, ca.DM([0.0, 1.0])), n, n + 1
 
-
-def leading_diagonal(sp: ca.Sparsity, k: int) -> bool:
-    """Whether the leading k x k block of ``sp`` (0 < k < n) is structurally diagonal (every
-    diagonal entry present, nothing else)."""
-    return 0 < k < sp.size1() and diagonal_lead(sp, k) == k
-
-
-def diagonal_lead(sp: ca.Sparsity, k_max: int) -> int:
-    """The largest k <= ``k_max`` (and < n) whose leading k x k block of ``sp`` is
-    structurally diagonal (0 when none): a mechanism's kinematic rows q' - v lead its
-    iteration matrix, and first-order states among q (a friction bristle's) end the
-    diagonal part where their rows couple."""
-    n = sp.size1()
-    r, c = (np.asarray(v, dtype=int) for v in sp.get_triplet())
-    off = r != c
-    k = min(k_max, n - 1, int(np.maximum(r[off], c[off]).min()) if off.any() else n)
-    present = np.zeros(n, dtype=bool)
-    present[r[~off]] = True
-    missing = np.flatnonzero(~present[:max(k, 0)])
-    return max(0, int(missing[0]) if missing.size else k)
-
-
-class SchurBandedLU:
-    """``A = [[diag(d), B], [C, D]]`` (the leading k x k block structurally diagonal, as in
-    the kinematic rows q' - v of a mechanical system's iteration matrix) solved by
-    eliminating the leading block, S = D - C diag(d)^-1 B, and :class:`BandedLU` on S: half
-    the unknowns, and for a cable's nodes half-bandwidth 5 instead of 13.
-
-    ``factor(a) -> f`` packs S's banded factors, d, and the nonzeros of B and C;
-    ``solve(f, b) -> x``."""
-
-    def __init__(self, sp: ca.Sparsity, k: int, name: str = "band"):
-        self.k, self.n = k, sp.size1()
-        a = ca.MX.sym("a", sp.nnz())
-        d, B, C, S = self._blocks(sp, a)
-        self.sp, self.sp_B, self.sp_C = sp, B.sparsity(), C.sparsity()
-        self.lu = BandedLU(S.sparsity(), name)
-        self.l, self.u = self.lu.l, self.lu.u
-        self.n_factors = self.lu.n_factors + k + B.nnz() + C.nnz()
-        self._index(sp, S.sparsity())
-
-    def _index(self, sp: ca.Sparsity, sp_S: ca.Sparsity):
-        """Where d, B, C and D sit among the nonzeros, and the products C_ik B_kj / d_k
-        that S_ij subtracts: ``_prods`` (S entry, C entry, B entry) per product."""
-        k = self.k
-        M = ca.DM(sp, np.arange(1, sp.nnz() + 1, dtype=float))  # nonzero m + 1 at its place
-
-        def where(X):
-            return np.asarray(X.nonzeros(), dtype=int) - 1
-
-        self._d, self._B, self._C = where(ca.diag(M[:k, :k])), where(M[:k, k:]), where(M[k:, :k])
-        Dm = M[k:, k:]
-        s_at = {rc: m for m, rc in enumerate(zip(*sp_S.get_triplet()))}
-        self._S_from_D = [(s_at[rc], m) for rc, m in zip(zip(*Dm.sparsity().get_triplet()),
-                                                         where(Dm))]
-        b_rows, b_cols = self.sp_B.get_triplet()
-        self._B_rows = list(b_rows)
-        in_row: list[list[int]] = [[] for _ in range(k)]
-        for tb, r in enumerate(b_rows):
-            in_row[r].append(tb)
-        self._prods = [(s_at[(i, b_cols[tb])], tc, tb)
-                       for tc, (i, kk) in enumerate(zip(*self.sp_C.get_triplet()))
-                       for tb in in_row[kk]]
-        self._n_S = sp_S.nnz()
-
-    def _blocks(self, sp, a):
-        k = self.k
-        M = ca.MX(sp, a)
-        d = ca.diag(M[:k, :k])
-        B, C = M[:k, k:], M[k:, :k]
-        S = M[k:, k:] - ca.mtimes(C, ca.mtimes(ca.diag(1.0 / d), B))
-        return d, B, C, S
-
-    def factor(self, a):
-        return self.factor_sum(a, [[m] for m in range(self.sp.nnz())])
-
-    def factor_sum(self, ext, by: list[list[int]], zero: int | None = None,
-                   one: int | None = None):
-        """:meth:`factor` of the matrix whose nonzero m is the sum of ``ext`` at the
-        positions ``by[m]`` (:meth:`BandedLU.factor_sum`, ``zero`` and ``one`` as there):
-        S's band gathered from ``ext`` and from the products C_ik B_kj / d_k, without
-        forming the nonzeros or S."""
-        ext, zero, one = _with_constants(ext, zero, one)
-        d = gather_sum(ext, [by[m] for m in self._d], zero)
-        B = gather_sum(ext, [by[m] for m in self._B], zero)
-        C = gather_sum(ext, [by[m] for m in self._C], zero)
-        S_by: list[list[int]] = [[] for _ in range(self._n_S)]
-        for s, m in self._S_from_D:
-            S_by[s] = by[m]
-        W0, rows = self.lu.band_gather(ext, S_by, zero, one)
-        if self._prods:
-            s_i, c_i, b_i = (list(c) for c in zip(*self._prods))
-            prods: list[list[int]] = [[] for _ in range(self._n_S)]
-            for t, s in enumerate(s_i):
-                prods[s].append(t)
-            # indexing a 1 x 1 vector with a list gives a row: vec keeps every factor a column
-            B_d = B / ca.vec(d[self._B_rows])  # B_kj / d_k per entry of B
-            minus = ca.vertcat(-(ca.vec(C[c_i]) * ca.vec(B_d[b_i])), 0.0)
-            W1, rows1 = self.lu.band_gather(minus, prods, len(s_i))
-            W0, rows = W0 + W1, rows + rows1
-        return ca.vertcat(self.lu.factor_rows(W0, rows), d, B, C)
-
-    def solve(self, f, b):
-        k, nf = self.k, self.lu.n_factors
-        nb = self.sp_B.nnz()
-        d = f[nf:nf + k]
-        B = ca.MX(self.sp_B, f[nf + k:nf + k + nb])
-        C = ca.MX(self.sp_C, f[nf + k + nb:])
-        bq, bv = b[:k], b[k:]
-        xv = self.lu.solve(f[:nf], bv - ca.mtimes(C, bq / d))
-        return ca.vertcat((bq - ca.mtimes(B, xv)) / d, xv)

@@ -56,7 +56,8 @@ import numpy as np
 from ..codegen import use_codegen
 from ..derive import functions
 from ..errors import SymcableError
-from ..linalg.banded import BandedLU, SchurBandedLU, bandwidths, diagonal_lead, reverse_cuthill
+from ..linalg.banded import BandedLU, bandwidths, reverse_cuthill
+from ..linalg.schur import SchurBandedLU, lead_blocks
 from ..linalg.sparse import jacobian as _jacobian, norm_inf, sparse_solve
 from ..linalg.sxlu import block_lu, block_plan
 from ..models.element_form import split_mismatch
@@ -276,14 +277,14 @@ def _element_parts(mech: Mechanism, args: list, ny: int) -> tuple | None:
 def _banded(sp: ca.Sparsity, n_lead: int, cache: dict):
     """The banded LU of the pattern ``sp``, or None when its band is wider than
     BANDED_MAX_WIDTH; kept in ``cache``. On the Schur complement of as many of its ``n_lead``
-    leading rows as have a diagonal block (:func:`~symcable.linalg.banded.diagonal_lead`:
-    the kinematic rows, up to a first-order state whose rows couple, as a friction
-    bristle's) where that elimination costs less than the whole matrix's (n (l + 1) (u + 1)
-    of each: on WD0600 507 unknowns of half-band 5 against 1014 of 13, with bristles 849 of
-    9 against 1356 of 14 / 15)."""
+    leading rows as form 1 x 1 or 2 x 2 diagonal blocks (:func:`~symcable.linalg.schur.
+    lead_blocks`: the kinematic rows, and a friction bristle's two coupled first-order
+    states per node) where that elimination costs less than the whole matrix's
+    (n (l + 1) (u + 1) of each: on WD0600 507 unknowns of half-band 5 against 1014 of 13,
+    with bristles the same 507 of 5 against 1356 of 14 / 15)."""
     key = ("banded", n_lead, sp.size1(), sp.nnz())
     if key not in cache:
-        k = diagonal_lead(sp, n_lead)
+        k = sum(len(b) for b in lead_blocks(sp, n_lead))
         l, u = bandwidths(sp, reverse_cuthill(sp))
         n = sp.size1()
         plain = l + u + 1 <= BANDED_MAX_WIDTH

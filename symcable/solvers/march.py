@@ -191,10 +191,14 @@ def run_fixed(stepper, x, t0, h, p, idx, scale, progress, label, tau, reanchor=N
                 m = min(count, 1 << (m.bit_length() - 1))  # a power of two: few distinct batches
                 stepper.batch(S, m)  # built outside the timed call
                 t_call = time.perf_counter()
+                known = None  # the failed step's own outputs, where a sample is one step
                 try:
                     X, E, L, IT, ITM, FL, Xs, Ls = stepper.run(S, m, x, t0 + k * h, h, p)
                     bad = (FL > 0) | _bad_state(X, inv_scale)
                     n_good = int(np.argmax(bad)) if np.any(bad) else m
+                    if S == 1 and n_good < m:
+                        j = slice(n_good, n_good + 1)
+                        known = (X[j], E[j], L[j], IT[j], ITM[j], FL[j], Xs[j], Ls[j])
                 except RuntimeError:  # e.g. a singular Newton matrix: located step by step
                     n_good = 0
                 cut = None if reanchor is None or not n_good else \
@@ -231,7 +235,7 @@ def run_fixed(stepper, x, t0, h, p, idx, scale, progress, label, tau, reanchor=N
                     k_bad, t_replay = k, time.perf_counter()
                     failure, x, k, extra, it_good = _replay(
                         stepper, x, k, t0, h, p, (m - n_good) * S, set(idx.tolist()), inv_scale,
-                        track, sub, S, accept)
+                        track, sub, S, accept, known)
                     step_time += time.perf_counter() - t_replay
                     for kk, xx in extra:
                         saved_k.append(np.array([kk]))
@@ -276,7 +280,7 @@ def run_fixed(stepper, x, t0, h, p, idx, scale, progress, label, tau, reanchor=N
 
 
 def _replay(stepper, x, k, t0, h, p, n_max, save_set, inv_scale, track, sub, S=None,
-            accept=None):
+            accept=None, known=None):
     """Step one at a time from a good state to find the first bad step: (failure or None,
     x, k of the last good step, the (k, x) of saved steps passed, Newton iterations); the
     good steps update ``track``. A step whose Newton iteration fails (or whose matrix is
@@ -284,7 +288,9 @@ def _replay(stepper, x, k, t0, h, p, n_max, save_set, inv_scale, track, sub, S=N
     counts as failed; ``sub`` counts such steps. With ``S``, it returns at the first
     multiple of S steps after such a step is through (the caller's batches of S-step
     samples take over again), else after ``n_max`` steps. ``accept``: as
-    :func:`_substeps`'."""
+    :func:`_substeps`'. ``known``: the first step's outputs as ``stepper.run(1, 1, ...)``
+    gives them, where the caller's batch already took it (a failed step is not taken
+    twice: it would fail the same way, after as many Newton iterations)."""
     saved, good_iters, k0, through = [], 0.0, k, False
     for _ in range(n_max):
         if through and S and (k - k0) % S == 0:
@@ -292,7 +298,8 @@ def _replay(stepper, x, k, t0, h, p, n_max, save_set, inv_scale, track, sub, S=N
         diag = {"time_last_good": t0 + k * h, "time": t0 + (k + 1) * h, "step": k + 1,
                 "method": method_name(stepper.method)}
         try:
-            X, E, _, IT, _, FL, _, L = stepper.run(1, 1, x, t0 + k * h, h, p)
+            X, E, _, IT, _, FL, _, L = known or stepper.run(1, 1, x, t0 + k * h, h, p)
+            known = None
             failed = FL[0] > 0
         except RuntimeError as exc:
             X, failed, message = None, True, str(exc).strip().splitlines()[-1]

@@ -1,7 +1,8 @@
 """The banded LU as CasADi loops (symcable.linalg.banded): exact on banded patterns in any
-order of their unknowns, with and without the Schur elimination of a diagonal leading
-block, in the virtual machine and the same in generated C; and the iteration matrix of a
-long cable3d line takes it in the first-order generalized-alpha step."""
+order of their unknowns, with and without the Schur elimination of a leading block of
+1 x 1 and 2 x 2 blocks (symcable.linalg.schur), in the virtual machine and the same in
+generated C; and the iteration matrix of a long cable3d line takes it in the first-order
+generalized-alpha step."""
 from __future__ import annotations
 
 import casadi as ca
@@ -210,9 +211,10 @@ def _bristle_like(rng, k, nb, nv, pair=True):
 def test_schur_eliminates_two_by_two_blocks(pair, nb):
     """A lead [[P, 0], [X, Q]]: 1 x 1 blocks (the kinematic rows) and 2 x 2 blocks (a
     bristle's coupled pairs, with their diagonal or with their off-diagonal entries,
-    depending on their node's positions through X): lead_blocks finds every block, the complement is the momentum rows alone, and the Schur form (from the
-    nonzeros, and from sources split over a longer vector) solves exactly; a pair that
-    couples to a third row ends the lead before it."""
+    depending on their node's positions through X): lead_blocks finds every block, the
+    complement is the momentum rows alone, and the Schur form (from the nonzeros, and from
+    sources split over a longer vector) solves exactly; a pair that couples to a third row
+    ends the lead before it."""
     rng = np.random.default_rng(20 + nb + pair)
     k, nv = 6, 6
     A = _bristle_like(rng, k, nb, nv, pair)

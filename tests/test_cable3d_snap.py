@@ -47,9 +47,10 @@ def test_batches_with_a_failed_step_equal_single_steps(monkeypatch):
     """A batch of steps in which one fails skips its later steps, is replayed from its last
     good sample, and batching resumes after the substeps: the run is the one that calls the
     step one sample at a time (the same steps in the same order), with the same substeps
-    and Newton iteration count, and no step taken twice. Not to the last bit: a batch forms the steps' times as
-    t0 + (S h) j + h i, a single call as t0 + k h (ulps apart; measured 1e-12 of the peak
-    tension after the snaps), so 1e-9 of the peak. The first-order step as it was before
+    and Newton iteration count, and where a sample is one step, no step taken twice. Not to
+    the last bit: a batch forms the steps' times as t0 + (S h) j + h i, a single call as
+    t0 + k h (ulps apart; measured 1e-12 of the peak tension after the snaps), so 1e-9 of
+    the peak. The first-order step as it was before
     its predictors and refactorising chord iterations (the first predictor always, chord
     iterations regardless of their progress), under which 3 steps of this run fail whole
     and converge as 2 substeps (the current step takes them whole)."""
@@ -68,10 +69,12 @@ def test_batches_with_a_failed_step_equal_single_steps(monkeypatch):
 
     monkeypatch.setattr(march._Stepper, "run", spy)
     single = sc.simulate(_rope(0.0), 30.0, dt=0.1, codegen=True)
-    # a failed step is taken once: its replay starts from the batch's outputs (it would
-    # fail again, after as many Newton iterations); only its substeps follow
+    # a failed step (samples of one step here) is taken once: its replay starts from the
+    # batch's outputs (it would fail again, after as many Newton iterations); only its
+    # substeps follow, at h / 2
     whole = [(t0, h) for S, m, t0, h in calls if h == 0.1]
-    assert len(whole) == len(set(whole)) and any(S > 1 for S, *_ in calls)
+    assert len(whole) == len(set(whole)) and all(S == 1 for S, _, _, h in calls if h == 0.1)
+    assert any(h < 0.1 for *_, h in calls)
     assert batched.stats["substepped_steps"] > 0
     for key in ("substepped_steps", "max_substeps", "newton_iterations", "steps"):
         assert batched.stats[key] == single.stats[key], key

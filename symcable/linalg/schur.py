@@ -52,11 +52,13 @@ def lead_blocks(sp: ca.Sparsity, k_max: int) -> list[tuple[int, ...]]:
     """The blocks of the longest lead L (at most ``k_max`` rows and fewer than n) of ``sp``
     that is, up to the order of its rows, [[P, 0], [X, Q]] with P diagonal and Q block
     diagonal in pairs of consecutive rows: a row whose only entry among L's columns is its
-    diagonal (a 1-block: a kinematic row q' - v), or a pair coupled to each other and to
-    1-blocks' columns alone, which no other row of L reaches, and structurally invertible
-    (both diagonal entries, or both off-diagonal ones): a friction bristle's two deflections,
-    whose rates depend on their node's position. The blocks' sizes sum to the lead's length
-    (0: none)."""
+    diagonal (a 1-block: a kinematic row q' - v), or a pair of rows whose entries among L's
+    columns are in the pair's own columns and in earlier 1-blocks' (X), whose columns no
+    other row of L reaches, and which is structurally invertible (both diagonal entries, or
+    both off-diagonal ones): a friction bristle's two deflections, whose rates depend on
+    their node's position. Anything else ends the lead (a 1 x 1 block with X, a
+    triangular pair whose diagonal row is a 1-block: shorter, not wrong). The blocks'
+    sizes sum to the lead's length (0: none)."""
     n = sp.size1()
     k_lim = min(k_max, n - 1)
     if k_lim <= 0:
@@ -103,6 +105,9 @@ class SchurBandedLU:
 
     def __init__(self, sp: ca.Sparsity, k: int, name: str = "band"):
         self.k, self.n, self.sp = k, sp.size1(), sp
+        if not 0 < k < self.n:
+            raise ValueError(f"SchurBandedLU: the lead k = {k} must be in 1 .. n - 1 = "
+                             f"{self.n - 1}")
         blocks = lead_blocks(sp, k)
         if sum(len(b) for b in blocks) != k:
             raise ValueError(f"SchurBandedLU: the leading {k} x {k} block is not [[P, 0], "

@@ -23,8 +23,9 @@ alpha_m dF/dy' + alpha_f gamma h dF/dy, in one of two ways (:class:`~.options.Ne
   order (approximate minimum degree of its pattern: it depends on the pattern alone), for at
   most SXLU_MAX_STATES unknowns (up to SXLU_MAX_STATES_C when generated C is asked for
   explicitly, ``codegen=True``); above, the banded LU of :mod:`symcable.linalg.banded`
-  (loops whose C compiles in seconds at any size; on the Schur complement of the kinematic
-  rows' diagonal part where that costs less: :func:`_banded`) where the matrix is banded in
+  (loops whose C compiles in seconds at any size; on the Schur complement of a leading
+  block of 1 x 1 and 2 x 2 blocks, the kinematic rows and a friction bristle's, where that
+  costs less: :func:`_banded`) where the matrix is banded in
   reverse Cuthill-McKee order (a line's nodes: BANDED_MAX_WIDTH), else CasADi's sparse QR
   (:func:`symcable.linalg.sparse.sparse_solve`). A Mechanism with an element form
   (:class:`~symcable.models.element_form.ElementForm`: the cable3d line) of at least
@@ -83,7 +84,10 @@ CHORD_CONTRACTION = 0.5
 #: max-norm) is larger than the last one's: a Newton iteration that cycles between two
 #: iterates (a friction bristle's slip switching on and off across its smoothing speed,
 #: WD0600 A1 at t = -1.1 s: residual 0.12 / 0.20 for 25 iterations) converges in 6 with 0.5
-#: (with 0.7 it cycles on)
+#: (with 0.7 it cycles on). It costs a few iterations where a growing residual would have
+#: converged anyway (the undamped snap rope of tests/test_cable3d_snap.py over 30 s: 561
+#: Newton iterations against 553, at most 10 per step against 7); the first iteration after
+#: the predictor needs it too (without it, the bristle test's step substeps again)
 NEWTON_DAMPING = 0.5
 #: largest state (entries of y) whose iteration matrix is factorised by the block LU written
 #: out in SX; above it, by sparse QR (fill-reducing column order, dense rows split off),
@@ -215,8 +219,8 @@ def _linear_solver(J: ca.SX | None, args: list, cache: dict, lu: bool, n_lead: i
     """``(factor, solve, n_factors, kind)`` for the iteration matrix ``J`` (SX in ``args``):
     ``factor(*args) -> f``, ``solve(f, b) -> J^-1 b`` (see the module docstring), ``kind``
     "block-lu", "banded" or "qr"; the block LU when ``lu`` and the pattern allows it, else
-    the banded LU (Schur on the diagonal part of the ``n_lead`` leading kinematic rows:
-    :func:`_banded`) when the band is narrow enough, else sparse QR. ``given``: instead of
+    the banded LU (Schur on the 1 x 1 and 2 x 2 blocks that lead the ``n_lead`` kinematic
+    rows: :func:`_banded`) when the band is narrow enough, else sparse QR. ``given``: instead of
     ``J``, its pattern, a Function of ``args`` giving its nonzeros, and the same as sources
     and a sum map (:func:`~symcable.solvers.element_jacobian.element_jacobian`), which the
     banded LU gathers straight into its band
@@ -474,8 +478,10 @@ def _unrolled(mech: Mechanism, max_iter: int, with_lte: bool, lu: bool) -> ca.Fu
         dz = -solve(f_new, rz)
         corr = norm_inf(gamma * h * dz / sc[:ny])
         done_new = corr <= tol
-        # a correction from an iterate whose residual grew is damped (breaks 2-cycles)
-        z_new = z + ca.if_else(res > prev, NEWTON_DAMPING, 1.0) * dz
+        # a correction from an iterate whose residual grew is damped (breaks 2-cycles),
+        # unless it is the last one (converged: taken whole)
+        damp = ca.logic_and(res > prev, ca.logic_not(done_new))
+        z_new = z + ca.if_else(damp, NEWTON_DAMPING, 1.0) * dz
         r_new, res_new = residual_unless(done_new, z_new, sc, *step_in)
         body = ca.Function(f"{name}_iterate{i}", fargs,
                            loop(z_new, r_new, res_new, done_new, it + 1, corr, f_new, res,

@@ -7,19 +7,9 @@ from t = -10 s through the step from -2.1 s that cycled (measured: 5 substepped 
 the 30 s run without the damping, none with it)."""
 from __future__ import annotations
 
-import importlib.util
-from pathlib import Path
-
 import pytest
 
-HERE = Path(__file__).resolve().parents[1] / "studies" / "chains"
-
-
-def _study():
-    spec = importlib.util.spec_from_file_location("chains_friction_damping", HERE / "friction.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+from conftest import load_study
 
 
 def _run(study, tmp_path):
@@ -36,7 +26,7 @@ def _run(study, tmp_path):
 
 
 def test_damped_correction_breaks_the_bristle_cycle(tmp_path, monkeypatch):
-    study = _study()
+    study = load_study("chains", "friction.py")
     if not (study.cases.REF_DIR / "WD0050_Chain.txt").is_file():
         pytest.fail("the MoorDyn chain decks are missing from ../shared/reference")
     from symcable.solvers import galpha1

@@ -285,3 +285,51 @@ def test_isotropic_bristle_needs_no_frame():
         own = set(range(3 * i, 3 * i + 3)) | set(range(3 * n + 3 * i, 3 * n + 3 * i + 3)) \
             | {6 * n + 2 * i, 6 * n + 2 * i + 1}
         assert set(cols) <= own, (i, cols)
+
+
+def _two_lines(law):
+    """The line of ``_across`` as two lines of 10 segments meeting at a free point of 1 kg on
+    the bed (scene version 2)."""
+    d = _across(law).to_dict()
+    for key in ("sections", "end_a", "end_b"):
+        d.pop(key, None)
+    d["points"] = {"p1": {"kind": "fixed", "position": [0.0, 0.0, -50.0]},
+                   "mid": {"kind": "free", "position": [L / 2, 0.0, -50.0], "mass": 1.0},
+                   "p2": {"kind": "fixed", "position": [L, 0.0, -50.0]}}
+    d["lines"] = [{"name": name, "end_a": a, "end_b": b,
+                   "sections": [{"type": "c", "length": L / 2, "segments": 10}]}
+                  for name, a, b in (("a", "p1", "mid"), ("b", "mid", "p2"))]
+    return load_scene(d)
+
+
+def test_bristle_on_several_lines():
+    """The bristle law on a scene of several lines: each line's nodes carry their bristles
+    (named after their line), the current switched on at t = 0 moves line a's middle node
+    sideways by drag / k (as the one line's, 1 %) and the bristles then hold it (1e-9 m over
+    300 s) where the Coulomb law creeps (more than 0.1 m); the system's periodic solve
+    refuses the bristle by its states' names; static friction stays one-line."""
+    from symcable.solvers.options import GeneralizedAlphaFirstOrder as GA1
+    out = {}
+    for law, dt in (("bristle", 1.0), ("coulomb", 0.1)):
+        mech = cable3d_mechanism(_two_lines(law))
+        p0 = mech.params.with_values(mech.static_p, **{k: np.zeros(3) for k in
+                                                       mech.params.names if k.endswith("current")})
+        tr = integrate(mech, 400.0, dt, start=solve_equilibrium(mech, p=p0),
+                       p=mech.params.values, method=GA1(rho_inf=0.0), progress=False)
+        assert tr.status == "converged"
+        n = len(tr.time)
+        out[law] = (np.asarray(tr.outputs["a.positions"]).reshape(n, -1, 3)[:, 5, 1],
+                    int(round(100.0 / dt)), mech)
+    y, k100, mech = out["bristle"]
+    assert mech.layout.states.names[:2] == ("a.node0.bristle.x", "a.node0.bristle.y")
+    assert mech.layout.states.names[-1] == "b.node10.bristle.y"
+    assert y[k100] == pytest.approx(_drag_per_node(1.0) / (K * L / 20), rel=0.02)
+    assert abs(y[-1] - y[k100]) < 1e-9
+    yc, kc, _ = out["coulomb"]
+    assert yc[-1] - yc[kc] > 0.1
+    with pytest.raises(sc.SymcableError, match=r'"bristle".*a\.node0\.bristle\.x'):
+        check_periodic_3d(_two_lines("bristle"))
+    d = _two_lines("bristle").to_dict()
+    d["seabed"]["static_friction"] = "laid"
+    with pytest.raises(SceneError, match="seabed.static_friction.*one-line scenes"):
+        load_scene(d)

@@ -403,7 +403,8 @@ def assemble(parts: Iterable[Mechanism], joints: Iterable = (), *, name: str = "
 
 def _states(parts) -> StateNames | None:
     """The names of the assembled first-order states (every part's entries past its n_v),
-    in part order: each part's own (``layout.states``) or ``"{part}.state{i}"``; the unit,
+    in part order: each part's own (``layout.states``), prefixed ``"{part}."`` where it is
+    not already (a line's ``"a.node3.bristle.x"``), or ``"{part}.state{i}"``; the unit,
     source and the setting without them of the first part that names its own."""
     named = [m.layout.states for m in parts if m.n_q > m.n_v and m.layout.states is not None]
     if not any(m.n_q > m.n_v for m in parts):
@@ -412,8 +413,8 @@ def _states(parts) -> StateNames | None:
     for m in parts:
         if m.n_q > m.n_v:
             own = m.layout.states
-            names += list(own.names) if own is not None else \
-                [f"{m.name}.state{i}" for i in range(m.n_q - m.n_v)]
+            names += [n if n.startswith(f"{m.name}.") else f"{m.name}.{n}" for n in own.names] \
+                if own is not None else [f"{m.name}.state{i}" for i in range(m.n_q - m.n_v)]
             rates += [f"{m.name}.{own.rate_block(i)}" if own is not None and own.rate_block(i)
                       else "" for i in range(m.n_q - m.n_v)]
     # the unit, source and setting of the first part whose states have no rate block (the

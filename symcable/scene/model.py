@@ -339,7 +339,8 @@ class Seabed:
     friction_law : str
         cable3d dynamics (:mod:`symcable.models.seabed_friction`): ``"coulomb"`` (default,
         the law above) or ``"bristle"`` (an elastic bristle per node that slips at mu N:
-        holds force at rest). One-line scenes.
+        holds force at rest; in a scene of several lines on every line's nodes, a free
+        point on the bed keeping the Coulomb law).
     friction_stiffness : float or None
         Pa/m (> 0): tangential stiffness per unit contact area, of the bristle and of the
         static spring (mobilisation length mu N / (stiffness x area)); None: ``stiffness``.

@@ -107,8 +107,8 @@ def _seabed(data: Mapping, env: Environment) -> Seabed | None:
 
 def _check_friction_options(seabed: Seabed | None, model: str, several: bool,
                             ends: Mapping | None) -> None:
-    """The seabed's friction law and static friction where they apply: the 3D lines, one line
-    (``several``: scene version 2), both ends held for static friction; the bristle law with
+    """The seabed's friction law and static friction where they apply: the 3D lines; static
+    friction on one line (``several``: scene version 2) with both ends held; the bristle law with
     both coefficients positive (its limit surface divides by each)."""
     if seabed is None:
         return
@@ -119,7 +119,7 @@ def _check_friction_options(seabed: Seabed | None, model: str, several: bool,
         if model not in ("cable3d", "rod", "hybrid"):
             raise _err(f"seabed.{key}", value, "", "a cable3d option (model = 'cable3d', "
                        "'rod' or 'hybrid'); the planar line's seabed is frictionless")
-        if several:
+        if several and key == "static_friction":
             raise _err(f"seabed.{key}", value, "", "runs on one-line scenes for now (scene "
                                                    "version 1: [[sections]], end_a, end_b)")
     mu_a, mu_l = seabed.mu_axial, seabed.mu_lateral

@@ -74,6 +74,29 @@ def test_planar_equals_3d_on_oc3(planar_oc3, angle, monkeypatch):
     assert np.max(np.abs(off_plane)) < 1e-8
 
 
+def test_planar_equals_3d_at_the_seed_001_stiffness(monkeypatch):
+    """The OC3 line's other EA, seed 001's 3.84243e7 N (ten times softer), in a plane turned
+    by 2 rad: with equal contact smoothing the same
+    discrete line as the planar one, to the solver's tolerance (1e-7 of the fairlead and
+    anchor tensions, 1e-4 m of grounded length, as above)."""
+    from collections import OrderedDict
+
+    import symcable.cable3d_static as c3s
+    from symcable.models import seabed3d
+    planar = sc.load_scene(sc.demo_scene_path("oc3")).to_dict()
+    planar["line_types"]["chain"]["EA"] = 3.84243e7
+    flat = sc.solve_static(planar)
+    d = _oc3_3d(2.0)
+    d["line_types"]["chain"]["EA"] = 3.84243e7
+    monkeypatch.setattr(seabed3d, "CONTACT_SMOOTHING", 0.01)
+    monkeypatch.setattr(c3s, "_CACHE", OrderedDict())
+    st = sc.solve_static(d)
+    assert st.status == flat.status == "converged"
+    assert st.fairlead_tension == pytest.approx(flat.fairlead_tension, rel=1e-7)
+    assert st.anchor_tension == pytest.approx(flat.anchor_tension, rel=1e-7)
+    assert st.grounded_length == pytest.approx(flat.grounded_length, abs=1e-4)
+
+
 def test_elastic_catenary_in_a_turned_plane():
     """A suspended line between (0, 0, 0) and a point 300 m away at 35° from x and 80 m
     up: the fairlead and anchor tensions of the elastic catenary within 4 / N^2 (second

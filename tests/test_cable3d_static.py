@@ -76,9 +76,9 @@ def test_planar_equals_3d_on_oc3(planar_oc3, angle, monkeypatch):
 
 def test_planar_equals_3d_at_the_seed_001_stiffness(monkeypatch):
     """The OC3 line's other EA, seed 001's 3.84243e7 N (ten times softer), in a plane turned
-    by 2 rad: with equal contact smoothing the same
-    discrete line as the planar one, to the solver's tolerance (1e-7 of the fairlead and
-    anchor tensions, 1e-4 m of grounded length, as above)."""
+    by 2 rad: with equal contact smoothing the same discrete line as the planar one, to the
+    solver's tolerance (1e-7 of the fairlead and anchor tensions, 1e-4 m of grounded length,
+    as above)."""
     from collections import OrderedDict
 
     import symcable.cable3d_static as c3s

@@ -55,10 +55,14 @@ def parse(doc: str, quick_help: str, default_out: Path, argv=None,
 
 
 def write_tables(out: Path, rows: list[dict], text: str, stem: tuple = ("results", "summary")):
-    """Write ``rows`` to ``out / <stem[0]>.csv`` (one row per measurement) and ``text`` to
-    ``out / <stem[1]>.md``, then print the text."""
+    """Write ``rows`` to ``out / <stem[0]>.csv`` (one row per measurement; the columns are
+    every key of any row, in order of appearance, empty where a row lacks one) and ``text``
+    to ``out / <stem[1]>.md``, then print the text."""
+    cols: list = []
+    for r in rows:
+        cols += [k for k in r if k not in cols]
     with open(out / f"{stem[0]}.csv", "w", newline="") as f:
-        writer = csv.DictWriter(f, fieldnames=list(rows[0]))
+        writer = csv.DictWriter(f, fieldnames=cols, restval="")
         writer.writeheader()
         writer.writerows(rows)
     (out / f"{stem[1]}.md").write_text(text)

@@ -279,11 +279,7 @@ def main(argv=None) -> dict:
     res = {"rows": rows, "series": series, "config": dict(cfg, dt=DT, rho_inf=RHO_INF),
            "quick": bool(args.quick)}
     (args.out / "results.json").write_text(json.dumps(res, default=float))
-    cols = []
-    for r in rows:
-        cols += [k for k in r if k not in cols]
-    study_io.write(args, [{k: r.get(k) for k in cols} for r in rows], summary(res),
-                   lambda p: plot_anchor(res, p), "friction_anchor.png")
+    study_io.write(args, rows, summary(res), lambda p: plot_anchor(res, p), "friction_anchor.png")
     return res
 
 

@@ -269,11 +269,7 @@ def main(argv=None) -> dict:
     res = {"rows": rows, "cheapest": cheapest(rows), "quick": bool(args.quick),
            "config": {k: (list(v) if isinstance(v, tuple) else v) for k, v in cfg.items()}}
     (args.out / "results.json").write_text(json.dumps(res, default=float))
-    cols = []
-    for r in rows:
-        cols += [k for k in r if k not in cols]
-    study_io.write(args, [{k: r.get(k) for k in cols} for r in rows], summary(res),
-                   lambda p: plot(res, p), "friction_steps.png")
+    study_io.write(args, rows, summary(res), lambda p: plot(res, p), "friction_steps.png")
     return res
 
 

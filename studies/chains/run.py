@@ -296,19 +296,11 @@ def main(argv=None) -> dict:
         res = run_study(cfg, args.out, args.moordyn_ic)
         res["quick"] = bool(args.quick)
         (args.out / "results.json").write_text(json.dumps(res, default=float))
-    flat = [{k: r.get(k) for k in _columns(res["rows"])} for r in res["rows"]]
     plots.anchor(res, args.out / "chains_anchor.png")
     plots.accuracy(res, args.out / "chains_accuracy.png")
-    study_io.write(args, flat, plots.summary(res), lambda p: plots.fairlead(res, p),
+    study_io.write(args, res["rows"], plots.summary(res), lambda p: plots.fairlead(res, p),
                    "chains_fairlead.png")
     return res
-
-
-def _columns(rows) -> list:
-    cols = []
-    for r in rows:
-        cols += [k for k in r if k not in cols]
-    return cols
 
 
 if __name__ == "__main__":

@@ -89,9 +89,8 @@ def lead_blocks(sp: ca.Sparsity, k_max: int) -> list[tuple[int, ...]]:
     return blocks
 
 
-def _vec(x):
-    """``x`` as a column (a 1 x 1 MX indexed by a list turns into a row)."""
-    return ca.vec(x)
+# Every gathered vector is taken through ca.vec: a 1 x 1 MX indexed by a list turns into a
+# row, and the products below need columns.
 
 
 class SchurBandedLU:
@@ -208,23 +207,23 @@ class SchurBandedLU:
         [[a, b], [c, e]] its inverse [e, -b, -c, a] / (a e - b c), row by row."""
         parts = []
         if self._ones:
-            parts.append(1.0 / _vec(pick(self._L1)))
+            parts.append(1.0 / ca.vec(pick(self._L1)))
         if self._twos:
-            a, b, c, e = (_vec(pick([blk[q] for blk in self._L2])) for q in range(4))
+            a, b, c, e = (ca.vec(pick([blk[q] for blk in self._L2])) for q in range(4))
             det = a * e - b * c
             parts.append(ca.vec(ca.horzcat(e / det, -b / det, -c / det, a / det).T))
         return ca.vertcat(*parts)
 
     def _G(self, inv, X, B):
         """G = L^-1 B's entries (MX column): G_P's, then G_Q's."""
-        G = _vec(inv[self._GP[0]]) * _vec(B[self._GP[1]]) if self._GP[0] else ca.MX(0, 1)
+        G = ca.vec(inv[self._GP[0]]) * ca.vec(B[self._GP[1]]) if self._GP[0] else ca.MX(0, 1)
         if not self._GQ:
             return G
-        src = ca.vertcat(B, -(_vec(X[self._XG[0]]) * _vec(G[self._XG[1]]))) \
+        src = ca.vertcat(B, -(ca.vec(X[self._XG[0]]) * ca.vec(G[self._XG[1]]))) \
             if self._XG[0] else B
         H = gather_sum(src, self._H)
         flat = [pair for pairs in self._GQ for pair in pairs]
-        terms = _vec(inv[[p[0] for p in flat]]) * _vec(H[[p[1] for p in flat]])
+        terms = ca.vec(inv[[p[0] for p in flat]]) * ca.vec(H[[p[1] for p in flat]])
         at, by = 0, []
         for pairs in self._GQ:
             by.append(list(range(at, at + len(pairs))))
@@ -234,7 +233,7 @@ class SchurBandedLU:
     def _lead_solve(self, inv, X, y):
         """L^-1 y for a k-vector ``y``: y_P / d, then Q^-1 (y_Q - X (y_P / d))."""
         n1, outs, order = len(self._ones), [], []
-        yp = _vec(inv[:n1]) * _vec(y[self._ones]) if self._ones else ca.MX(0, 1)
+        yp = ca.vec(inv[:n1]) * ca.vec(y[self._ones]) if self._ones else ca.MX(0, 1)
         outs.append(yp)
         order += self._ones
         if self._twos:
@@ -244,7 +243,7 @@ class SchurBandedLU:
                 t = t - ca.mtimes(X, yp)
             t0, t1 = t[0::2], t[1::2]
             base = n1 + 4 * np.arange(len(self._twos))
-            g = [_vec(inv[(base + q).tolist()]) for q in range(4)]
+            g = [ca.vec(inv[(base + q).tolist()]) for q in range(4)]
             outs += [g[0] * t0 + g[1] * t1, g[2] * t0 + g[3] * t1]
             order += first + second
         x = ca.vertcat(*outs)
@@ -278,7 +277,7 @@ class SchurBandedLU:
             prods: list[list[int]] = [[] for _ in range(self._n_S)]
             for t, s in enumerate(s_i):
                 prods[s].append(t)
-            minus = ca.vertcat(-(_vec(C[c_i]) * _vec(G[g_i])), 0.0)
+            minus = ca.vertcat(-(ca.vec(C[c_i]) * ca.vec(G[g_i])), 0.0)
             W1, rows1 = self.lu.band_gather(minus, prods, len(s_i))
             W0, rows = W0 + W1, rows + rows1
         return ca.vertcat(self.lu.factor_rows(W0, rows), inv, X, B, C)

@@ -89,14 +89,14 @@ class MechanismFunctions:
         m = self.mech
         x = ca.vertcat(m.q, m.z)
         r = self.static_expr()
-        return ca.Function(f"{m.name}_static_residual", [x, m.p], [r], ["x", "p"], ["r"])
+        return ca.Function(f"{m.fname}_static_residual", [x, m.p], [r], ["x", "p"], ["r"])
 
     @cached_property
     def static_parameter_jacobian(self) -> ca.Function:
         """``static_parameter_jacobian(x, p) -> R_p``, dr/dp of the static residual, sparse."""
         m = self.mech
         x = ca.vertcat(m.q, m.z)
-        return ca.Function(f"{m.name}_static_dp", [x, m.p],
+        return ca.Function(f"{m.fname}_static_dp", [x, m.p],
                            [ca.jacobian(self.static_expr(), m.p)], ["x", "p"], ["R_p"])
 
     @cached_property
@@ -106,7 +106,7 @@ class MechanismFunctions:
         x = _sym_like(m.q, "x", m.n_q + m.n_z)
         p = _sym_like(m.p, "p", m.params.n)
         r = self.static_residual(x, p)
-        return ca.Function(f"{m.name}_static_jacobian", [x, p], [r, ca.jacobian(r, x)],
+        return ca.Function(f"{m.fname}_static_jacobian", [x, p], [r, ca.jacobian(r, x)],
                            ["x", "p"], ["r", "J"])
 
     @cached_property
@@ -118,7 +118,7 @@ class MechanismFunctions:
         p = ca.MX.sym("p", m.params.n)
         r, J = self.static_jacobian(x, p)
         dx = -sparse_solve(J, r, "qr")
-        return ca.Function(f"{m.name}_static_step", [x, p], [r, dx], ["x", "p"], ["r", "dx"])
+        return ca.Function(f"{m.fname}_static_step", [x, p], [r, dx], ["x", "p"], ["r", "dx"])
 
     def static_solver(self, codegen: bool | None = False) -> StaticSolver:
         """The fused static Newton solve and its companions (residual, sparse-QR step,
@@ -137,7 +137,7 @@ class MechanismFunctions:
         x, p, c = ca.MX.sym("x", n), ca.MX.sym("p", m.params.n), ca.MX.sym("c", n)
         r, J = self.static_jacobian(x, p)
         dx = ca.solve(ca.diag(c) - J, r, "qr")
-        return ca.Function(f"{m.name}_static_ptc_step", [x, p, c], [r, dx], ["x", "p", "c"],
+        return ca.Function(f"{m.fname}_static_ptc_step", [x, p, c], [r, dx], ["x", "p", "c"],
                            ["r", "dx"])
 
     # -- dynamics -------------------------------------------------------------------------
@@ -147,7 +147,7 @@ class MechanismFunctions:
         m = self.mech
         a = _sym_like(m.v, "a", m.n_v)
         r_f = ca.mtimes(m.mass, a) - m.force
-        return ca.Function(f"{m.name}_acc_residual", [m.q, m.v, a, m.z, m.t, m.p],
+        return ca.Function(f"{m.fname}_acc_residual", [m.q, m.v, a, m.z, m.t, m.p],
                            [r_f, m.constraint], ["q", "v", "a", "z", "t", "p"], ["r_f", "r_g"])
 
     @cached_property
@@ -155,7 +155,7 @@ class MechanismFunctions:
         """``qdot(q, v, z, t, p) -> q'`` = G(q) v (the kinematics may depend on every
         argument: prescribed terms in t and p)."""
         m = self.mech
-        return ca.Function(f"{m.name}_qdot", self._args, [self._qdot()], self._names, ["qdot"])
+        return ca.Function(f"{m.fname}_qdot", self._args, [self._qdot()], self._names, ["qdot"])
 
     @cached_property
     def dae_residual(self) -> ca.Function:
@@ -168,7 +168,7 @@ class MechanismFunctions:
         zd = _sym_like(m.z, "zd", m.n_z)
         F = ca.vertcat(qd - self._qdot(), ca.mtimes(m.mass, vd) - m.force, m.constraint)
         y = ca.vertcat(m.q, m.v, m.z)
-        return ca.Function(f"{m.name}_dae_residual", [ca.vertcat(qd, vd, zd), y, m.t, m.p], [F],
+        return ca.Function(f"{m.fname}_dae_residual", [ca.vertcat(qd, vd, zd), y, m.t, m.p], [F],
                            ["yd", "y", "t", "p"], ["F"])
 
     @cached_property
@@ -197,13 +197,13 @@ class MechanismFunctions:
         w = _sym_like(m.v, "w", m.n_v + m.n_z)
         r = ca.substitute([r], [ca.vertcat(a, m.z)], [w])[0]
         G = ca.Function("acc_res", [w, m.q, m.v, m.t, m.p], [r])
-        rf = ca.rootfinder(f"{m.name}_consistent", "newton", G,
+        rf = ca.rootfinder(f"{m.fname}_consistent", "newton", G,
                            {"abstol": 1e-12, "max_iter": 20, "error_on_fail": False,
                             "show_eval_warnings": False})
         q, v, z0 = ca.MX.sym("q", m.n_q), ca.MX.sym("v", m.n_v), ca.MX.sym("z0", m.n_z)
         t, p = ca.MX.sym("t"), ca.MX.sym("p", m.params.n)
         w_sol = rf(ca.vertcat(ca.MX.zeros(m.n_v), z0), q, v, t, p)
-        return ca.Function(f"{m.name}_consistent_acceleration", [q, v, z0, t, p],
+        return ca.Function(f"{m.fname}_consistent_acceleration", [q, v, z0, t, p],
                            [w_sol[:m.n_v], w_sol[m.n_v:]], ["q", "v", "z0", "t", "p"], ["a", "z"])
 
     # -- tangents -------------------------------------------------------------------------
@@ -215,7 +215,7 @@ class MechanismFunctions:
         f, g = m.force, m.constraint
         outs = [-ca.jacobian(f, m.q), -ca.jacobian(f, m.v), m.mass, ca.jacobian(g, m.q),
                 -ca.jacobian(f, m.z), ca.jacobian(g, m.v), ca.jacobian(g, m.z)]
-        return ca.Function(f"{m.name}_tangents", self._args, outs, self._names,
+        return ca.Function(f"{m.fname}_tangents", self._args, outs, self._names,
                            ["K", "C", "M", "B", "Kz", "Gv", "Gz"])
 
     @cached_property
@@ -224,14 +224,14 @@ class MechanismFunctions:
         q' = G(q) v + w (identity G and zero H without kinematics), sparse."""
         m = self.mech
         qd = self._qdot()
-        return ca.Function(f"{m.name}_kinematics_jacobian", self._args,
+        return ca.Function(f"{m.fname}_kinematics_jacobian", self._args,
                            [ca.jacobian(qd, m.q), ca.jacobian(qd, m.v)], self._names, ["H", "G"])
 
     @cached_property
     def force_parameter_jacobian(self) -> ca.Function:
         """``(q, v, z, t, p) -> (df/dp, dg/dp)``, sparse."""
         m = self.mech
-        return ca.Function(f"{m.name}_force_dp", self._args,
+        return ca.Function(f"{m.fname}_force_dp", self._args,
                            [ca.jacobian(m.force, m.p), ca.jacobian(m.constraint, m.p)],
                            self._names, ["f_p", "g_p"])
 
@@ -241,7 +241,7 @@ class MechanismFunctions:
         is judged where s < 0."""
         m = self.mech
         e = ca.substitute([m.stability_when], [m.v, m.t], [ca.DM.zeros(m.n_v), ca.DM(0.0)])[0]
-        return ca.Function(f"{m.name}_stability_when", [m.q, m.z, m.p], [e], ["q", "z", "p"],
+        return ca.Function(f"{m.fname}_stability_when", [m.q, m.z, m.p], [e], ["q", "z", "p"],
                            ["s"])
 
     # -- admissibility bounds -------------------------------------------------------------
@@ -262,7 +262,7 @@ class MechanismFunctions:
         y = ca.vertcat(*parts) if parts else ca.DM.zeros(0)
         values = [ca.vec(b.expr) for b in m.bounds.values()]
         v = ca.vertcat(*values) if values else ca.DM.zeros(0)
-        return ca.Function(f"{m.name}_bound_margins", self._args, [y, v], self._names,
+        return ca.Function(f"{m.fname}_bound_margins", self._args, [y, v], self._names,
                            ["m", "values"])
 
     def bound_violations(self, q, v, z, t, p, slack: float = 0.0) -> list:
@@ -295,14 +295,14 @@ class MechanismFunctions:
         stacked in the order of ``mech.outputs``; :meth:`unpack` splits it."""
         m = self.mech
         y = ca.vertcat(*self._out_exprs) if self._out_exprs else ca.DM.zeros(0)
-        return ca.Function(f"{m.name}_outputs", self._args, [y], self._names, ["y"])
+        return ca.Function(f"{m.fname}_outputs", self._args, [y], self._names, ["y"])
 
     @cached_property
     def output_parameter_jacobian(self) -> ca.Function:
         """``(q, v, z, t, p) -> (dy/dq, dy/dz, dy/dp)`` of the stacked outputs."""
         m = self.mech
         y = ca.vertcat(*self._out_exprs) if self._out_exprs else ca.DM.zeros(0)
-        return ca.Function(f"{m.name}_outputs_dp", self._args,
+        return ca.Function(f"{m.fname}_outputs_dp", self._args,
                            [ca.jacobian(y, m.q), ca.jacobian(y, m.z), ca.jacobian(y, m.p)],
                            self._names, ["y_q", "y_z", "y_p"])
 

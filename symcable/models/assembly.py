@@ -250,7 +250,7 @@ def assemble(parts: Iterable[Mechanism], joints: Iterable = (), *, name: str = "
     rest_rows = []
     for m in kinematic:
         qb, vb = free_of(m)
-        fn = ca.Function(f"part_{m.name}_kin", [m.q, m.v, m.z, m.t, m.p],
+        fn = ca.Function(f"part_{m.fname}_kin", [m.q, m.v, m.z, m.t, m.p],
                          [m.kinematics] + ([] if m.rest is None else [m.rest]))
         out = fn(qb, vb, z_at[m.name], t, p_at[m.name])
         out = list(out) if isinstance(out, (list, tuple)) else [out]
@@ -297,7 +297,7 @@ def assemble(parts: Iterable[Mechanism], joints: Iterable = (), *, name: str = "
         q_loc, v_loc, a_pres = ca.vertcat(*qp), ca.vertcat(*vp), ca.vertcat(*ap)
         z_loc, p_loc = z_at[m.name], p_at[m.name]
         args = [m.q, m.v, m.z, m.t, m.p]
-        fn = ca.Function(f"part_{m.name}", args, [m.mass, m.force, m.constraint])
+        fn = ca.Function(f"part_{m.fname}", args, [m.mass, m.force, m.constraint])
         Mp, fp, gp = fn(q_loc, v_loc, z_loc, t, p_loc)
         fp_eff = fp - ca.mtimes(Mp, a_pres)  # prescribed and attached accelerations' inertia
         T = ca.DM(ca.Sparsity.triplet(m.n_v, n_v, rows_free, cols_free), 1.0)
@@ -319,7 +319,7 @@ def assemble(parts: Iterable[Mechanism], joints: Iterable = (), *, name: str = "
         # outputs, namespaced
         if m.outputs:
             names_o = list(m.outputs)
-            fo = ca.Function(f"part_{m.name}_out", args, [m.outputs[k].expr for k in names_o])
+            fo = ca.Function(f"part_{m.fname}_out", args, [m.outputs[k].expr for k in names_o])
             vals = fo(q_loc, v_loc, z_loc, t, p_loc)
             vals = vals if isinstance(vals, (list, tuple)) else [vals]
             for k, val in zip(names_o, vals):
@@ -331,7 +331,7 @@ def assemble(parts: Iterable[Mechanism], joints: Iterable = (), *, name: str = "
             exprs = [m.bounds[k].expr for k in names_b]
             if m.stability_when is not None:
                 exprs.append(m.stability_when)
-            vals = ca.Function(f"part_{m.name}_bounds", args, exprs)(q_loc, v_loc, z_loc, t, p_loc)
+            vals = ca.Function(f"part_{m.fname}_bounds", args, exprs)(q_loc, v_loc, z_loc, t, p_loc)
             vals = list(vals) if isinstance(vals, (list, tuple)) else [vals]
             for k, val in zip(names_b, vals):
                 bounds[f"{m.name}.{k}"] = dataclasses.replace(m.bounds[k], expr=val)

@@ -33,6 +33,8 @@ message of the periodic solvers, which refuse them.
 """
 from __future__ import annotations
 
+import hashlib
+import re
 from dataclasses import dataclass, field
 from functools import cached_property
 from typing import Callable, Iterable, Mapping
@@ -40,6 +42,23 @@ from typing import Callable, Iterable, Mapping
 import numpy as np
 
 from ..errors import SymcableError
+
+_CASADI_NAME = re.compile(r"[A-Za-z](?:[A-Za-z0-9]|_(?=[A-Za-z0-9]))*")
+
+
+def casadi_name(name: str) -> str:
+    """A valid CasADi Function name (and C identifier) for ``name``: ``name`` itself when it
+    is one (a letter, then letters, digits and single underscores, not ending in one),
+    else its letters and digits joined by single underscores, led by a letter and followed
+    by 8 hex digits of its SHA-256, so that two names never map to one (``"my-line"`` ->
+    ``"my_line_4f1c0a2e"``, ``"1"`` -> ``"n1_6b86b273"``)."""
+    if _CASADI_NAME.fullmatch(name) and name not in ("null", "jac", "hess"):
+        return name
+    words = re.findall(r"[A-Za-z0-9]+", name)
+    stem = "_".join(words)[:48].strip("_") or "n"
+    if not stem[0].isalpha():
+        stem = "n" + stem
+    return f"{stem}_{hashlib.sha256(name.encode('utf-8', 'surrogatepass')).hexdigest()[:8]}"
 
 
 
@@ -419,6 +438,12 @@ class Mechanism:
         if self.scales.merit is not None and np.shape(self.scales.merit) != (n_q + n_z,):
             raise SymcableError(f"mechanism {self.name!r}: scales.merit has shape "
                                 f"{np.shape(self.scales.merit)}, expected ({n_q + n_z},)")
+
+    @cached_property
+    def fname(self) -> str:
+        """The prefix of the names of the CasADi Functions derived from it: ``name`` made a
+        valid Function name (:func:`casadi_name`)."""
+        return casadi_name(self.name)
 
     @cached_property
     def n_q(self) -> int:

@@ -175,7 +175,7 @@ class CollocationSystem:
         cont = Xs @ Start_next - Xs @ Dbig                  # (nx, K), scaled
         r = ca.vertcat(ca.vec(R), ca.vec(cont))
         self.square = SquareSystem(
-            f"{mech.name}_colloc", ca.Function(f"{mech.name}_colloc_residual", [w, P], [r],
+            f"{mech.fname}_colloc", ca.Function(f"{mech.fname}_colloc_residual", [w, P], [r],
                                                ["w", "P"], ["r"]), compiled, order=self.lu_order)
         self.n_colloc_rows = (nx + nz) * n_pts
         # where the rows of g sit in r: rows nx .. nx+nz of each column of R

@@ -90,7 +90,7 @@ def element_jacobian(mech, rest_jac: ca.SX, rest_args: list, point: ca.Function)
     q, v, a, t, p, cy, cm = point(*rest_args)
     U = gather(form, node_values(mech, form, q, v, a, t, p))
     s = ca.Function("element_shared", [mech.t, mech.p], [form.shared])(t, p)
-    prepare = ca.Function(f"{mech.name}_element_inputs", rest_args,
+    prepare = ca.Function(f"{mech.fname}_element_inputs", rest_args,
                           [U, s, cy, cm, rest_jac.nz[:]], {"cse": True})
     margs = [ca.MX.sym(f"a{n}", a.sparsity()) for n, a in enumerate(rest_args)]
     U, s, cy, cm, jr = prepare(*margs)
@@ -100,9 +100,9 @@ def element_jacobian(mech, rest_jac: ca.SX, rest_args: list, point: ca.Function)
     # the sources end with a 0 and a 1, for the gathers' padding and the band's padding
     # rows, so that no gather copies them to append its own
     n_src = int(B.numel()) + len(nz_rest)
-    blocks = ca.Function(f"{mech.name}_element_blocks", margs,
+    blocks = ca.Function(f"{mech.fname}_element_blocks", margs,
                          [ca.vertcat(ca.vec(B), jr, ca.DM([0.0, 1.0]))])
-    jac = ca.Function(f"{mech.name}_element_jacobian", margs,
+    jac = ca.Function(f"{mech.fname}_element_jacobian", margs,
                       [gather_sum(blocks(*margs), by, n_src)])
     return sp, jac, (blocks, by, n_src, n_src + 1)
 
@@ -124,7 +124,7 @@ def element_residual(mech, rest_res: ca.SX, rest_args: list, point: ca.Function)
     q, v, a, t, p, _, _ = point(*rest_args)
     U = gather(form, node_values(mech, form, q, v, a, t, p))
     s = ca.Function("element_shared", [mech.t, mech.p], [form.shared])(t, p)
-    prepare = ca.Function(f"{mech.name}_element_res_inputs", rest_args, [U, s, rest_res],
+    prepare = ca.Function(f"{mech.fname}_element_res_inputs", rest_args, [U, s, rest_res],
                           {"cse": True})
     margs = [ca.MX.sym(f"a{n}", a_.sparsity()) for n, a_ in enumerate(rest_args)]
     U, s, rr = prepare(*margs)
@@ -132,4 +132,4 @@ def element_residual(mech, rest_res: ca.SX, rest_args: list, point: ca.Function)
     n_r = R.numel()
     r = summed(ca.vertcat(ca.vec(R), rr), ny, rows + list(range(ny)),
                pos + [n_r + j for j in range(ny)])
-    return ca.Function(f"{mech.name}_element_residual", margs, [r])
+    return ca.Function(f"{mech.fname}_element_residual", margs, [r])

@@ -203,7 +203,7 @@ def galpha1_residual(mech: Mechanism) -> ca.Function:
         x, t, h, p, st, _ = _symbols(mech, ca.SX)
         w = ca.SX.sym("w", ny)
         r = _step_residual(_sx_residual(mech), w, x, t, h, p, st[0], ny)
-        return ca.Function(f"{mech.name}_ga1_residual", [w, x, t, h, p, st], [r, _jacobian(r, w)],
+        return ca.Function(f"{mech.fname}_ga1_residual", [w, x, t, h, p, st], [r, _jacobian(r, w)],
                            ["w", "x", "t", "h", "p", "settings"], ["F", "dF_dw"])
     return STEP_CACHE.get(mech, ("ga1_residual",), build)
 
@@ -325,7 +325,7 @@ def _taylor_jet(mech: Mechanism) -> ca.Function:
 
     Ma = ca.mtimes(m.mass, a)
     b = ddt(m.force) - ca.jtimes(Ma, m.q, kin) - ca.jacobian(Ma, m.t)
-    return ca.Function(f"{m.name}_jet", [m.q, m.v, a, m.z, m.t, m.p], [ddt(kin), b])
+    return ca.Function(f"{m.fname}_jet", [m.q, m.v, a, m.z, m.t, m.p], [ddt(kin), b])
 
 
 def _taylor_lte(mech, y0, y1, t, h, p, rho, y_scale):
@@ -415,7 +415,7 @@ def step_parts(mech: Mechanism, lu: bool) -> tuple:
     if elements is None:
         r = _step_residual(_sx_residual(mech), w, x, t, h, p, st[0], ny)
         opts = {"cse": ny <= CSE_MAX_STATES}
-        R = ca.Function(f"{mech.name}_ga1_res", args, [r], opts)
+        R = ca.Function(f"{mech.fname}_ga1_res", args, [r], opts)
         J = _jacobian(r, w)
         factor, solve, n_f, kind = _linear_solver(J, args, cache, lu, mech.n_q)
         jac = factor if kind == "qr" else ca.Function("ga1_jacobian", args, [J.nz[:]], opts)
@@ -429,7 +429,7 @@ def step_parts(mech: Mechanism, lu: bool) -> tuple:
 def _unrolled(mech: Mechanism, max_iter: int, with_lte: bool, lu: bool) -> ca.Function:
     """The kernel of the unrolled Newton loop (see :func:`galpha1_kernel`)."""
     ny = mech.n_q + mech.n_v
-    name = f"{mech.name}_ga1"
+    name = f"{mech.fname}_ga1"
     R, factor, solve, n_f, _, _ = step_parts(mech, lu)
 
     # the loop's state: z (y'1), rz = F(z) and res its scaled norm (evaluated where the loop
@@ -518,7 +518,7 @@ def _rootfinder(mech: Mechanism, tol: float, max_iter: int, with_lte: bool) -> c
         return h * R(w_, x, t, h, p, st)[0] * sc[ny:]
 
     G = ca.Function("ga1_res", [w, x, t, h, p, st, sc], [scaled(w)])
-    rf = ca.rootfinder(f"{mech.name}_ga1_newton", "newton", G,
+    rf = ca.rootfinder(f"{mech.fname}_ga1_newton", "newton", G,
                        {"abstol": tol, "abstolStep": 1e-14, "max_iter": max_iter,
                         "error_on_fail": False, "show_eval_warnings": False})
     y0, yd0 = x[:ny], x[ny:]
@@ -529,7 +529,7 @@ def _rootfinder(mech: Mechanism, tol: float, max_iter: int, with_lte: bool) -> c
     y1 = y0 + h * yd0 + gamma * h * (w1 - yd0)
     err = norm_inf(scaled(w1))
     lte = _taylor_lte(mech, y0, y1, t, h, p, st[0], sc[:ny]) if with_lte else ca.MX(np.nan)
-    return ca.Function(f"{mech.name}_ga1_rootfinder", [x, t, h, p, st, sc],
+    return ca.Function(f"{mech.fname}_ga1_rootfinder", [x, t, h, p, st, sc],
                        [ca.vertcat(y1, w1), err, lte, ca.MX(np.nan), 1 - (err <= tol)], _IN, _OUT)
 
 
@@ -588,6 +588,6 @@ def galpha1_step(mech: Mechanism, opts: GeneralizedAlphaFirstOrder,
         x, t, h, p, _, _ = _symbols(mech, ca.MX)
         consts = (ca.DM([opts.rho_inf, opts.tol]), ca.DM(step_scales(mech)))
         x1, err, lte, _, _ = kern(x, t, h, p, *consts)
-        return ca.Function(f"{mech.name}_ga1_step", [x, t, h, p], [x1, err, lte],
+        return ca.Function(f"{mech.fname}_ga1_step", [x, t, h, p], [x1, err, lte],
                            ["x", "t", "h", "p"], ["x1", "err", "lte"])
     return STEP_CACHE.get(mech, ("ga1_step", kern.name(), id(kern), opts.rho_inf, opts.tol), build)

@@ -141,8 +141,8 @@ class HBSystem:
             r_f, r_g = point_function(mech, "acc_residual", compiled).map(M)(q, v, a, z, t, p)
             R = ca.vertcat(ca.vec((r_f / sc.force) @ ca.DM(self.proj)),
                            ca.vec((ca.diag(ca.DM(1.0 / sc.g)) @ r_g) @ ca.DM(self.proj)))
-        self.square = SquareSystem(f"{mech.name}_hb{H}",
-                                   ca.Function(f"{mech.name}_hb_residual", [w, P], [R],
+        self.square = SquareSystem(f"{mech.fname}_hb{H}",
+                                   ca.Function(f"{mech.fname}_hb_residual", [w, P], [R],
                                                ["w", "P"], ["r"]), compiled)
 
     def pack(self, Qc: np.ndarray, Vc: np.ndarray, Zc: np.ndarray) -> np.ndarray:

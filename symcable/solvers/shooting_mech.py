@@ -204,7 +204,7 @@ class PeriodMap:
             n_x = self.n_u + nz
         self._exact, self._n_x, self._jac = exact, n_x, None
         X, E = self._period(fast, "period")
-        self.march = ca.Function(f"{mech.name}_period_march", [self._x0, self._T, self._p],
+        self.march = ca.Function(f"{mech.fname}_period_march", [self._x0, self._T, self._p],
                                  [X, E], ["x0", "T", "p"], ["X", "err"])
 
     def _period(self, step: ca.Function, tag: str) -> tuple:
@@ -215,7 +215,7 @@ class PeriodMap:
         consts = ()
         if isinstance(step, tuple):
             step, consts = step
-        acc = step.mapaccum(f"{self.mech.name}_{tag}", self.steps, [0], [0])
+        acc = step.mapaccum(f"{self.mech.fname}_{tag}", self.steps, [0], [0])
         X, E = acc(self._x0, times, h, self._p, *consts)[:2]
         return X, E
 
@@ -226,7 +226,7 @@ class PeriodMap:
         if self._jac is None:
             X, E = self._period(self._exact, "period_exact")
             J = ca.jacobian(X[:self.n_u, -1], self._x0)[:, :self.n_u]
-            self._jac = ca.Function(f"{self.mech.name}_period_map", [self._x0, self._T, self._p],
+            self._jac = ca.Function(f"{self.mech.fname}_period_map", [self._x0, self._T, self._p],
                                     [X, E, J], ["x0", "T", "p"], ["X", "err", "J"])
         return self._jac
 

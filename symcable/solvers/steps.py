@@ -117,8 +117,8 @@ def galpha_step(mech: Mechanism, opts: GeneralizedAlpha) -> ca.Function:
     G = ca.Function("ga_res", [w, x0, t, h, p], [residual(w)])
     newton = {"abstol": opts.tol, "abstolStep": 1e-14, "max_iter": opts.max_iter,
               "error_on_fail": False, "show_eval_warnings": False}
-    plain = ca.rootfinder(f"{mech.name}_ga_newton", "newton", G, dict(newton, line_search=False))
-    search = ca.rootfinder(f"{mech.name}_ga_newton_ls", "newton", G, newton)
+    plain = ca.rootfinder(f"{mech.fname}_ga_newton", "newton", G, dict(newton, line_search=False))
+    search = ca.rootfinder(f"{mech.fname}_ga_newton_ls", "newton", G, newton)
     z0 = _seg(x0, nq + 3 * nv, nq + 3 * nv + nz)
     w_guess = _predictor(G, x0, t, h, p, z0, nv, am, beta)
     g_scale = ca.DM(mech.scales.g_scale())
@@ -136,7 +136,7 @@ def galpha_step(mech: Mechanism, opts: GeneralizedAlpha) -> ca.Function:
     # expressions would solve the line search's Newton again inside its branches)
     ws, es, gs = ca.MX.sym("w", nv + nz), ca.MX.sym("err"), ca.MX.sym("guess", nv + nz)
     args = [ws, es, gs, x0, t, h, p]
-    retry = ca.Function.if_else(f"{mech.name}_ga_retry",
+    retry = ca.Function.if_else(f"{mech.fname}_ga_retry",
                                 ca.Function("kept", args, [ws, es]),
                                 ca.Function("plain", args, list(judged(plain(gs, x0, t, h, p)))))
     w1, err = retry(err_ls <= opts.tol, w_ls, err_ls, w_guess, x0, t, h, p)
@@ -144,7 +144,7 @@ def galpha_step(mech: Mechanism, opts: GeneralizedAlpha) -> ca.Function:
     # local error of the positions, Newmark's estimate (beta - 1/6) h^2 (a1 - a0) (the h^3
     # jerk term the update leaves out), relative to the coordinate scales
     lte = norm_inf(abs(beta - 1.0 / 6.0) * h ** 2 * (a1 - a0) / ca.DM(mech.scales.q))
-    return ca.Function(f"{mech.name}_ga_step", [x0, t, h, p],
+    return ca.Function(f"{mech.fname}_ga_step", [x0, t, h, p],
                        [ca.vertcat(q1, v1, a1, ab1, z1), err, lte], ["x", "t", "h", "p"],
                        ["x1", "err", "lte"])
 
@@ -197,7 +197,7 @@ def _rk4_step(mech):
     k4 = rhs(x0 + h * k3, t + h)
     x1 = x0 + h / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
     opts = {"cse": nq + nv <= CSE_MAX_STATES} if S is ca.SX else {}
-    return ca.Function(f"{mech.name}_rk4_step", [x0, t, h, p], [x1, S(0), S(np.nan)],
+    return ca.Function(f"{mech.fname}_rk4_step", [x0, t, h, p], [x1, S(0), S(np.nan)],
                        ["x", "t", "h", "p"], ["x1", "err", "lte"], opts)
 
 

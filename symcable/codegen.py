@@ -8,7 +8,8 @@ names and signatures, which the solvers call exactly as they call the virtual ma
 The cache
 ---------
 * Folder: ``$SYMCABLE_CACHE_DIR`` if set, else ``$XDG_CACHE_HOME/symcable`` (default
-  ``~/.cache/symcable``). ``symcable cache clear`` empties it.
+  ``~/.cache/symcable``), created with mode 0700. ``symcable cache clear`` removes its
+  entries (see *Trust* below) and nothing else.
 * Key: SHA-256 of the serialised Functions (``Function.serialize``: the whole expression
   graph), the CasADi version, the compiler and its flags. Parameters (end positions,
   current, excitation, the static state of a linearisation) are *inputs* of the Functions,
@@ -18,6 +19,23 @@ The cache
   processes may build the same entry at once; whichever rename lands last wins, and both
   libraries are valid. A library whose digest does not match (truncated, damaged), or an
   entry that cannot be read, is rebuilt, never loaded.
+
+Trust
+-----
+Loading a library runs its code, so the cache loads only what it built itself:
+
+* The folder must be a directory owned by the current user and writable by nobody else
+  (no group or other write bit); a symbolic link is judged by the folder it points to.
+  Any other folder is not used: :func:`use_codegen` and :func:`compile_functions` fall back
+  to the CasADi virtual machine (same results, slower) with one :class:`CodegenWarning` per
+  folder and process, naming the folder and the reason.
+* A record's library must be named ``<key>-<digest16>.so`` after the record's own key and
+  the first 16 hexadecimal digits of its SHA-256, inside the folder (no other path), and be
+  a regular file (not a symbolic link) owned by the current user whose SHA-256 matches the
+  record's. Anything else is rebuilt, never loaded.
+* The cache's own files are ``<key>.json`` (32 hexadecimal digits), ``<key>-<digest16>.so``
+  and the temporary ``.tmp-*.json``, ``.tmp-*.so`` and ``.build-*`` of builds under way;
+  :func:`clear_cache` and :func:`cache_info` remove and count those only.
 
 Compiler: ``$CC`` if set, else the first of ``cc``, ``gcc``, ``clang`` on the PATH. When
 none is found, :func:`use_codegen` warns once and every analysis falls back to the CasADi
@@ -29,7 +47,9 @@ import hashlib
 import json
 import math
 import os
+import re
 import shutil
+import stat
 import subprocess
 import tempfile
 import threading
@@ -106,7 +126,8 @@ def _find_compiler() -> str | None:
 
 
 def cache_dir() -> Path:
-    """The build cache folder (created on first use)."""
+    """The build cache folder as configured (``$SYMCABLE_CACHE_DIR``, else
+    ``$XDG_CACHE_HOME/symcable`` or ``~/.cache/symcable``); created, mode 0700, on first use."""
     env = os.environ.get(_ENV_CACHE)
     if env:
         return Path(env).expanduser()
@@ -115,6 +136,56 @@ def cache_dir() -> Path:
 
 
 _warned: set = set()
+
+#: names of the cache's own files: records, libraries, temporary files and build folders
+_RECORD = re.compile(r"[0-9a-f]{32}\.json")
+_LIBRARY = re.compile(r"[0-9a-f]{32}-[0-9a-f]{16}\.so")
+_TEMP = re.compile(r"\.tmp-[a-z0-9_]+\.(?:json|so)")
+_BUILD = re.compile(r"\.build-[a-z0-9_]+")
+
+
+def _uid() -> int | None:
+    """The current user's id (None where the platform has none)."""
+    return os.getuid() if hasattr(os, "getuid") else None
+
+
+def _folder_problem(folder: Path) -> tuple[Path | None, str]:
+    """(the folder with symbolic links resolved, "") when ``folder`` is fit to hold the cache,
+    creating it with mode 0700 if it is missing; else (None, why not)."""
+    try:
+        folder.parent.mkdir(parents=True, exist_ok=True)
+        try:
+            os.mkdir(folder, 0o700)
+            os.chmod(folder, 0o700)  # the umask may have cleared bits of the mode; none added
+        except FileExistsError:
+            pass
+        real = Path(os.path.realpath(folder))
+        st = os.stat(real)
+    except OSError as exc:
+        return None, f"cannot be created or read ({exc.strerror or exc})"
+    if not stat.S_ISDIR(st.st_mode):
+        return None, "is not a directory"
+    uid = _uid()
+    if uid is not None and st.st_uid != uid:
+        return None, f"is owned by uid {st.st_uid}, not by the current user (uid {uid})"
+    if st.st_mode & 0o022:
+        return None, (f"is writable by its group or by others (mode {stat.S_IMODE(st.st_mode):#o}; "
+                      "the cache needs a folder only its owner can write, e.g. mode 0700)")
+    return real, ""
+
+
+def _trusted_folder(stacklevel: int = 3) -> Path | None:
+    """The build cache folder (symbolic links resolved) when it is fit to use, else None
+    after one :class:`CodegenWarning` per folder and process naming the folder and why."""
+    folder = cache_dir()
+    real, why = _folder_problem(folder)
+    if real is None:
+        tag = f"cache folder {folder}"
+        if tag not in _warned:
+            _warned.add(tag)
+            warnings.warn(f"build cache {folder} {why}: not used; using the CasADi virtual machine "
+                          "instead (same results, slower)", CodegenWarning, stacklevel=stacklevel)
+    return real
 
 
 def graph_size(functions: Sequence[ca.Function]) -> int:
@@ -133,7 +204,9 @@ def use_codegen(codegen: bool | None, functions=None) -> bool:
     ``SYMCABLE_CODEGEN=0`` in the environment makes the default the virtual machine (for
     one-off solves, where compiling a new model structure, 2-10 s once, costs more than it
     saves). ``True``: generated C, or one :class:`CodegenWarning` and the virtual machine
-    when there is no compiler. ``False``: the virtual machine.
+    when there is no compiler. ``False``: the virtual machine. Where generated C would be
+    used but the build cache folder is not fit (not the user's own, or writable by others:
+    see the module's *Trust*), one :class:`CodegenWarning` per folder and the virtual machine.
     """
     if codegen is None:
         env = os.environ.get(_ENV_DEFAULT, "").strip().lower()
@@ -141,10 +214,11 @@ def use_codegen(codegen: bool | None, functions=None) -> bool:
             return False
         if compiler() is None:
             return False
-        if functions is None:
-            return True
-        size = functions() if callable(functions) else graph_size(functions)
-        return size <= DEFAULT_MAX_SIZE
+        if functions is not None:
+            size = functions() if callable(functions) else graph_size(functions)
+            if size > DEFAULT_MAX_SIZE:
+                return False
+        return _trusted_folder(stacklevel=4) is not None
     if not isinstance(codegen, bool):
         raise SymcableError(f"codegen = {codegen!r}: must be True, False or None (automatic)")
     if codegen and compiler() is None:
@@ -155,7 +229,7 @@ def use_codegen(codegen: bool | None, functions=None) -> bool:
             warnings.warn(f"codegen=True: no C compiler ({where}); using the CasADi virtual "
                           "machine instead (same results, slower)", CodegenWarning, stacklevel=3)
         return False
-    return codegen
+    return codegen and _trusted_folder(stacklevel=4) is not None
 
 
 # --------------------------------------------------------------------------- calling
@@ -257,14 +331,38 @@ def _generate(functions: Sequence[ca.Function], folder: Path, stem: str, header:
     return folder / f"{stem}.c"
 
 
-def _valid_entry(folder: Path, key: str) -> Path | None:
-    """The library of a cache entry if its record is readable and its digest matches."""
+def _own_library(lib: Path, digest: str) -> bool:
+    """Whether ``lib`` is a regular file (not a symbolic link) owned by the current user
+    whose SHA-256 is ``digest``."""
     try:
-        meta = json.loads((folder / f"{key}.json").read_text())
-        lib = folder / meta["library"]
-        if meta.get("key") != key or _digest(lib) != meta["sha256"]:
+        fd = os.open(lib, os.O_RDONLY | getattr(os, "O_NOFOLLOW", 0))
+    except OSError:
+        return False
+    with os.fdopen(fd, "rb") as fh:
+        st = os.fstat(fh.fileno())
+        uid = _uid()
+        if not stat.S_ISREG(st.st_mode) or (uid is not None and st.st_uid != uid):
+            return False
+        h = hashlib.sha256()
+        for chunk in iter(lambda: fh.read(1 << 20), b""):
+            h.update(chunk)
+    return h.hexdigest() == digest
+
+
+def _valid_entry(folder: Path, key: str) -> Path | None:
+    """The library of a cache entry if its record is readable and names the library the
+    key allows (``<key>-<digest16>.so`` in ``folder``, the record's digest's prefix), a
+    regular file of the current user's whose digest matches; else None."""
+    try:
+        if not re.fullmatch(r"[0-9a-f]{32}", key):
             return None
-        return lib
+        meta = json.loads((folder / f"{key}.json").read_text())
+        digest, name = meta["sha256"], meta["library"]
+        if (meta.get("key") != key or not isinstance(digest, str) or not isinstance(name, str)
+                or not re.fullmatch(r"[0-9a-f]{64}", digest) or name != f"{key}-{digest[:16]}.so"):
+            return None
+        lib = folder / name
+        return lib if _own_library(lib, digest) else None
     except (OSError, ValueError, KeyError, TypeError):
         return None
 
@@ -319,8 +417,9 @@ def compile_functions(functions: Sequence[ca.Function], *, jacobians: bool = Fal
     -------
     dict
         ``{name: casadi.Function}`` loaded from the library with ``casadi.external``
-        (within :func:`cached_only`, when the cache does not have them: ``functions`` as
-        given).
+        (within :func:`cached_only`, when the cache does not have them, and when the cache
+        folder is not fit to use (one :class:`CodegenWarning`, see the module's *Trust*):
+        ``functions`` as given).
 
     Raises
     ------
@@ -340,8 +439,11 @@ def compile_functions(functions: Sequence[ca.Function], *, jacobians: bool = Fal
             last_build.update(key=key, action="memory", seconds=0.0)
             build_counts["memory"] += 1
             return _loaded[key]
-        folder = cache_dir()
-        folder.mkdir(parents=True, exist_ok=True)
+        folder = _trusted_folder(stacklevel=4)
+        if folder is None:
+            last_build.update(key=key, action="vm", seconds=0.0)
+            build_counts["vm"] += 1
+            return {f.name(): f for f in functions}
         t0 = time.perf_counter()
         lib = _valid_entry(folder, key)
         action = "cache"
@@ -373,8 +475,8 @@ def _build(funcs, folder: Path, key: str, cc: str, flags: tuple = FLAGS) -> Path
             raise SymcableError(f"the C compiler failed on generated code ({' '.join(cmd[:2])} ...): {tail}")
         digest = _digest(out)
         lib = folder / f"{key}-{digest[:16]}.so"
-        if not lib.exists() or _digest(lib) != digest:
-            os.replace(out, lib)
+        if not _own_library(lib, digest):
+            os.replace(out, lib)  # replaces a symbolic link itself, never its target
         meta = {"key": key, "library": lib.name, "sha256": digest, "casadi": ca.__version__,
                 "compiler": cc, "flags": list(flags), "functions": [f.name() for f in funcs],
                 "created": time.strftime("%Y-%m-%dT%H:%M:%S%z")}
@@ -384,28 +486,53 @@ def _build(funcs, folder: Path, key: str, cc: str, flags: tuple = FLAGS) -> Path
 
 # --------------------------------------------------------------------------- the cache
 
+def _own_entries(folder: Path) -> list:
+    """The cache's own files and build folders in ``folder`` (see the module's *Trust*):
+    [(path, kind)], kind "record", "library", "temp" or "build"."""
+    if not folder.is_dir():
+        return []
+    found = []
+    for p in folder.iterdir():
+        name = p.name
+        kind = ("record" if _RECORD.fullmatch(name) else "library" if _LIBRARY.fullmatch(name)
+                else "temp" if _TEMP.fullmatch(name) else "build" if _BUILD.fullmatch(name) else None)
+        if kind is not None:
+            found.append((p, kind))
+    return found
+
+
 def cache_info() -> dict:
-    """``{"folder": str, "entries": int, "bytes": int}`` of the build cache."""
+    """``{"folder": str, "entries": int, "bytes": int}`` of the build cache: its records
+    and the bytes of its own files (records, libraries, temporary files)."""
     folder = cache_dir()
-    entries = list(folder.glob("*.json")) if folder.is_dir() else []
-    size = sum(p.stat().st_size for p in folder.iterdir() if p.is_file()) if folder.is_dir() else 0
-    return {"folder": str(folder), "entries": len(entries), "bytes": size}
+    entries, size = 0, 0
+    for p, kind in _own_entries(folder):
+        entries += kind == "record"
+        try:
+            st = p.lstat()
+        except OSError:
+            continue
+        if stat.S_ISREG(st.st_mode) and kind != "build":
+            size += st.st_size
+    return {"folder": str(folder), "entries": entries, "bytes": size}
 
 
 def clear_cache() -> int:
-    """Delete every entry of the build cache; returns the number of entries removed.
-    Libraries already loaded in running processes stay usable (POSIX unlink)."""
-    folder = cache_dir()
-    if not folder.is_dir():
-        return 0
+    """Delete the build cache's own entries (records, libraries, temporary files and build
+    folders, see the module's *Trust*; nothing else in the folder); returns the number of
+    records removed. Libraries already loaded in running processes stay usable (POSIX
+    unlink)."""
     n = 0
-    for p in folder.iterdir():
-        if p.name.endswith(".json"):
-            n += 1
-        if p.is_dir() and p.name.startswith(".build-"):
-            shutil.rmtree(p, ignore_errors=True)
-        elif p.is_file() and (p.suffix in (".so", ".json") or p.name.startswith(".tmp-")):
-            p.unlink(missing_ok=True)
+    for p, kind in _own_entries(cache_dir()):
+        try:
+            st = p.lstat()
+            if kind == "build" and stat.S_ISDIR(st.st_mode):
+                shutil.rmtree(p, ignore_errors=True)
+            elif kind != "build" and not stat.S_ISDIR(st.st_mode):
+                p.unlink()
+                n += kind == "record"
+        except OSError:
+            continue
     with _lock:
         _loaded.clear()
     return n

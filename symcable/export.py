@@ -6,6 +6,8 @@ package beside :mod:`symcable.api`; writing the C itself is :func:`symcable.code
 """
 from __future__ import annotations
 
+import json
+import re
 from pathlib import Path
 
 import casadi as ca
@@ -64,6 +66,7 @@ int main(void) {{
   const casadi_real *arg[] = {{W_START, P_STATIC, &tol}};
   casadi_real *res[] = {{w, &iterations, &residual, outputs}};
   CALL(static_solve, arg, res);
+  printf("scene: %s\n", SCENE_NAME);
   printf("static: %g Newton iterations, residual %.3g N (tolerance %.3g N)\n",
          iterations, residual, tol);
 {dynamic}  return 0;
@@ -110,6 +113,28 @@ def _dynamic_functions(dyn) -> tuple[list, list]:
     return [step, outputs], data
 
 
+def _c_string(text: str) -> str:
+    """``text`` as a C string literal of its UTF-8 bytes: printable ASCII other than ``"``,
+    ``\\`` and ``?`` (trigraphs) as itself, every other byte as a three-digit octal escape
+    (an octal escape ends after three digits, so no following character extends it)."""
+    out = []
+    for b in text.encode("utf-8", "surrogatepass"):
+        out.append(chr(b) if 0x20 <= b < 0x7F and chr(b) not in '"\\?' else f"\\{b:03o}")
+    return '"' + "".join(out) + '"'
+
+
+def _md_literal(text: str) -> str:
+    """``text`` for Markdown: a JSON string (non-ASCII and control characters escaped, and
+    the backtick, ``<``, ``>`` and ``&`` as ``\\u00XX``) in a code span."""
+    lit = json.dumps(text, ensure_ascii=True)
+    for ch in "`<>&":
+        lit = lit.replace(ch, f"\\u{ord(ch):04x}")
+    return f"`{lit}`"
+
+
+_STEM = re.compile(r"[A-Za-z][A-Za-z0-9_]*")
+
+
 def _c_array(name: str, values) -> str:
     vals = ", ".join(repr(float(v)) for v in values) or "0.0"
     return f"static const casadi_real {name}[] = {{{vals}}};\n"
@@ -119,7 +144,16 @@ def export_scene(scene, folder, stem: str = "symcable_scene") -> list:
     """Standalone C for ``scene`` (``symcable codegen``): ``<stem>.c``/``.h`` with the static
     residual, Jacobian and solve, and (when the scene moves and hangs free of the seabed) the
     generalized-α step and dynamic outputs; ``<stem>_data.h`` with the scene's parameter
-    values, start and scales; ``main.c`` calling them; ``README.md``. Returns the paths."""
+    values, start and scales; ``main.c`` calling them; ``README.md``. Returns the paths.
+
+    ``stem`` names the files and the C functions' prefix: a letter, then letters, digits or
+    underscores. The scene's name reaches the files only as an escaped string literal
+    (``SCENE_NAME`` in ``<stem>_data.h``, which ``main.c`` prints; a JSON string in the
+    README).
+    """
+    if not isinstance(stem, str) or not _STEM.fullmatch(stem):
+        raise SymcableError(f"stem = {stem!r}: must be a letter followed by letters, digits or "
+                            "underscores ([A-Za-z][A-Za-z0-9_]*)")
     folder = Path(folder)
     model = build_model(scene)
     sol = solve_static(scene, model=model, codegen=False)
@@ -132,11 +166,12 @@ def export_scene(scene, folder, stem: str = "symcable_scene") -> list:
         try:
             dyn = build_dynamic_model(scene, static=sol)
         except SymcableError as exc:
-            why_not = str(exc)
+            why_not = f"the dynamic model was not built; symcable said {_md_literal(str(exc))}"
     else:
         why_not = "the scene prescribes no end motion"
-    data = [f"/* {scene.name}: parameter values for {stem}.c (SI units) */\n",
+    data = [f"/* Parameter values for {stem}.c (SI units); SCENE_NAME is the scene's name. */\n",
             "#ifndef casadi_real\n#define casadi_real double\n#endif\n",
+            f"static const char SCENE_NAME[] = {_c_string(str(scene.name))};\n",
             f"#define N_W {model.n_w}\n#define N_OUT {st.solve.nnz_out(3)}\n",
             f"#define STATIC_TOL {sol.stats['tolerance']!r}\n",
             _c_array("W_START", start), _c_array("P_STATIC", model.p_target)]
@@ -152,7 +187,9 @@ def export_scene(scene, folder, stem: str = "symcable_scene") -> list:
     p = folder / "main.c"
     p.write_text(_MAIN_C.format(stem=stem, dynamic=_MAIN_DYN.format() if dyn is not None else ""))
     paths.append(p)
-    lines = [f"# Generated C for scene '{scene.name}'", "",
+    lines = ["# Generated C for a symcable scene", "",
+             f"Scene name (a JSON string; `SCENE_NAME` in `{stem}_data.h`): "
+             f"{_md_literal(str(scene.name))}", "",
              f"Written by symcable (CasADi {ca.__version__}). Build and run the example:", "",
              "```sh", f"cc -O2 -Wall main.c {stem}.c -lm -o example && ./example", "```", "",
              "Functions (CasADi's calling convention: see the header; sizes in SI units):", ""]

@@ -12,7 +12,8 @@ from __future__ import annotations
 
 from .api import (build_dynamic_model, end_stiffness, linearize, modal_analysis, simulate,
                   solve_periodic, sweep_periodic)
-from .errors import ConvergenceError, SceneError, SymcableError
+from .errors import ConvergenceError, LimitError, SceneError, SymcableError
+from .limits import Limits, limits
 from .models import build_model
 from .results import BodyState, ModalSolution, PointState, StaticSolution, SystemStaticSolution
 from .results_periodic import PeriodicSolution, PeriodicSweep
@@ -46,8 +47,12 @@ __version__ = "0.1.0"
 
 __all__ = [
     "ConvergenceError",
+    "LimitError",
     "SceneError",
     "SymcableError",
+    # resource limits on what an input may make symcable read, allocate or run
+    "Limits",
+    "limits",
     "Scene",
     "ModalSolution",
     "PeriodicSolution",

@@ -1,6 +1,8 @@
 """The ``symcable`` command: check a scene, solve it, run the demo.
 
-Every symcable error becomes one line on stderr and exit status 2; no traceback. A dynamic
+Every error becomes one line on stderr and exit status 2 (the traceback only with
+``--debug``); an interrupt (Ctrl-C) exits 130. Every subcommand takes the resource limits
+of :mod:`symcable.limits` (``--max-segments``, ``--max-steps``, ...). A dynamic
 result outside the range where the linearised dynamics hold (status "invalid") is printed,
 with its reason on one line of stderr and exit status 3; ``check`` exits 1 when the scene's
 motion would be refused.
@@ -10,9 +12,12 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+import traceback
+import warnings
 from pathlib import Path
 
 from .errors import SymcableError
+from .limits import OPTIONS, Limits, limits
 
 #: the models whose scenes take the 3D line's analyses and plots (cable3d_api)
 _MODELS_3D = ("cable3d", "rod", "hybrid")
@@ -199,7 +204,7 @@ def _simulate(args) -> int:
     # motion ten periods
     table = next((m for m in motions if m.kind == "table"), None)
     tow = next((m for m in motions if m.kind == "tow"), None)
-    duration = args.duration or (table.period if table else tow.period + 60.0 if tow
+    duration = args.duration if args.duration is not None else (table.period if table else tow.period + 60.0 if tow
                                  else 10.0 * period if period else 60.0)
     traj = simulate(scene, duration, dt=args.dt, method=args.method)
     if tow is not None:  # a tow: tracks in plan, towed depth, towpoint tension / T0
@@ -351,48 +356,122 @@ def build_parser() -> argparse.ArgumentParser:
     add_sweep(sub)
     from .offsets_cli import add_parser as add_offsets
     add_offsets(sub)
+    for p in sub.choices.values():
+        _common_options(p)
     return ap
+
+
+def _common_options(p: argparse.ArgumentParser) -> None:
+    """``--debug`` and the resource limits (:mod:`symcable.limits`), on every subcommand."""
+    p.add_argument("--debug", action="store_true", help="on an error, print its traceback too")
+    g = p.add_argument_group("resource limits (a guard against inputs that exhaust the "
+                             "machine; defaults in parentheses)")
+    base = Limits()
+    for name, (option, factor, what) in OPTIONS.items():
+        unit = "MB" if factor != 1 else "N"
+        g.add_argument(option, type=_positive(float if factor != 1 else int), metavar=unit,
+                       dest=f"limit_{name}", help=f"{what} ({getattr(base, name) // factor:,}"
+                       + (" MB)" if factor != 1 else ")"))
+
+
+def _positive(kind):
+    def parse(text: str):
+        try:
+            value = kind(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{text!r}: must be a number > 0") from None
+        if not value > 0 or value == float("inf"):
+            raise argparse.ArgumentTypeError(f"{text!r}: must be a finite number > 0")
+        return value
+    return parse
+
+
+def _limits(args) -> dict:
+    """The limits the options change: {name: value in the limit's unit}."""
+    out = {}
+    for name, (_, factor, _) in OPTIONS.items():
+        value = getattr(args, f"limit_{name}", None)
+        if value is not None:
+            out[name] = max(1, int(value * factor))
+    return out
+
+
+def _show_warning(message, category, filename, lineno, file=None, line=None) -> None:
+    """A Python warning as one line on stderr (no source file and line)."""
+    print(f"symcable: warning: {_one_line(message)}", file=sys.stderr)
+
+
+def _one_line(exc: BaseException) -> str:
+    return " ".join(str(exc).split()) or repr(exc)
 
 
 def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
-    if getattr(args, "scene", None) is not None:  # a built-in scene by name: "sphere"
-        from .data import resolve
-        args.scene = resolve(args.scene)
     from . import progress
-    progress.show_notices(True)  # the one line while compiling generated C, on stderr
     try:
-        if args.command == "check":
-            return _check(args)
-        if args.command == "static":
-            return _static(args.scene, args)
-        if args.command == "demo":
-            return _demo(args)
-        if args.command == "simulate":
-            return _simulate(args)
-        if args.command == "periodic":
-            return _periodic(args)
-        if args.command == "modes":
-            return _modes(args)
-        if args.command == "codegen":
-            return _codegen(args)
-        if args.command == "cache":
-            return _cache(args)
-        if args.command == "sweep":
-            from .sweep.command import main as sweep
-            return sweep(args)
-        if args.command == "offsets":
-            from .offsets_cli import main as offsets
-            return offsets(args)
-    except SymcableError as exc:
-        print(f"symcable: {type(exc).__name__}: {exc}", file=sys.stderr)
-        return 2
-    except OSError as exc:
-        print(f"symcable: {exc}", file=sys.stderr)
+        with limits(**_limits(args)), warnings.catch_warnings():
+            warnings.showwarning = _show_warning
+            progress.show_notices(True)  # the one line while compiling generated C, on stderr
+            return _run(args)
+    except KeyboardInterrupt:
+        print("symcable: interrupted", file=sys.stderr)
+        return 130
+    except Exception as exc:  # one line; the traceback with --debug
+        if getattr(args, "debug", False):
+            traceback.print_exc()
+        if isinstance(exc, SymcableError):
+            print(f"symcable: {type(exc).__name__}: {_one_line(exc)}", file=sys.stderr)
+        elif isinstance(exc, OSError):
+            print(f"symcable: {_one_line(exc)}", file=sys.stderr)
+        else:
+            what = {MemoryError: "out of memory", RecursionError: "input nested too deeply"}
+            print(f"symcable: internal error ({what.get(type(exc), type(exc).__name__)}: "
+                  f"{_one_line(exc)}); run again with --debug for the traceback and report it",
+                  file=sys.stderr)
         return 2
     finally:
         progress.show_notices(None)
-    return 1
+
+
+#: figure formats ``--plot`` writes (by the file's suffix)
+PLOT_FORMATS = (".png", ".pdf", ".svg", ".svgz", ".eps", ".ps", ".jpg", ".jpeg", ".tif",
+                ".tiff", ".webp")
+#: result formats ``--save`` writes
+SAVE_FORMATS = (".npz", ".json")
+
+
+def _check_outputs(args) -> None:
+    """``--plot`` and ``--save`` name a file of a known format in an existing folder (checked
+    before the analysis runs)."""
+    for option, formats in (("plot", PLOT_FORMATS), ("save", SAVE_FORMATS)):
+        path = getattr(args, option, None)
+        if path is None:
+            continue
+        p = Path(path)
+        if p.suffix.lower() not in formats:
+            raise SymcableError(f"--{option} {path!r}: the file name must end in one of "
+                                f"{', '.join(formats)}")
+        if not p.parent.is_dir():
+            raise SymcableError(f"--{option} {path!r}: the folder {str(p.parent)!r} does not "
+                                "exist")
+
+
+def _run(args) -> int:
+    """The subcommand ``args`` names."""
+    _check_outputs(args)
+    if getattr(args, "scene", None) is not None:  # a built-in scene by name: "sphere"
+        from .data import resolve
+        args.scene = resolve(args.scene)
+    commands = {"check": _check, "static": lambda a: _static(a.scene, a), "demo": _demo,
+                "simulate": _simulate, "periodic": _periodic, "modes": _modes,
+                "codegen": _codegen, "cache": _cache}
+    if args.command in commands:
+        return commands[args.command](args)
+    if args.command == "sweep":
+        from .sweep.command import main as sweep
+        return sweep(args)
+    from .offsets_cli import main as offsets
+    return offsets(args)
 
 
 if __name__ == "__main__":

@@ -20,6 +20,17 @@ class SceneError(SymcableError, ValueError):
     """
 
 
+class LimitError(SymcableError, ValueError):
+    """An input is over one of symcable's resource limits (:mod:`symcable.limits`): a scene
+    of too many segments, a run of too many steps, a sweep of too many cases, a file too
+    large or not a regular file, input nested too deeply.
+
+    The message names the value, the limit and the option that raises it, e.g.
+    ``the scene's segments = 10,000,000: more than the limit of 20,000 (...); raise it with
+    sc.limits(segments=...) in Python or --max-segments on the command line``.
+    """
+
+
 class ConvergenceError(SymcableError, RuntimeError):
     """A solver did not converge.
 

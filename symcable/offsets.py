@@ -33,6 +33,7 @@ from .cable3d_static import cable3d_mechanism, static_equilibrium
 from .derive import functions
 from .derive_static import SOLVE_MAX_ITER
 from .errors import ConvergenceError, SceneError, SymcableError
+from .limits import check as check_limit
 from .models.body import body_part, quaternion_rpy
 from .models.cable3d_system import line_scene
 from .models.mechanism import Start
@@ -62,8 +63,11 @@ def offsets_along(dof, start: float, stop: float, n: int = 41) -> np.ndarray:
         if direction.size != 6 or not np.all(np.isfinite(direction)):
             raise SymcableError(f"dof = {dof!r}: a direction has 6 finite numbers (m, m, m, "
                                 "deg, deg, deg)")
-    if int(n) < 1:
-        raise SymcableError(f"n = {n!r}: the number of offsets must be at least 1")
+    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:
+        raise SymcableError(f"n = {n!r}: the number of offsets must be an integer >= 1")
+    check_limit("steps", n, "n, the number of offsets", "each is a static solve")
+    if not (math.isfinite(float(start)) and math.isfinite(float(stop))):
+        raise SymcableError(f"start, stop = {start!r}, {stop!r}: must be finite (m or deg)")
     return np.outer(np.linspace(float(start), float(stop), int(n)), direction)
 
 

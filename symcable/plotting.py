@@ -10,6 +10,7 @@ import re
 from pathlib import Path
 
 import matplotlib.pyplot as plt
+from matplotlib.text import Text
 import numpy as np
 
 DPI = 150
@@ -28,10 +29,25 @@ def close(fig) -> None:
     plt.close(fig)
 
 
-def _save(fig, path: str | Path | None):
+def finish(fig, path: str | Path | None = None, *, tight: bool = False):
+    """Make the figure's titles, labels, legends and notes plain text (their ``$`` a dollar
+    sign, not mathtext: scene and line names are shown as written; tick labels keep theirs)
+    and save it to ``path`` (PNG, PDF, SVG, ...) when given; returns ``fig``."""
+    ticks = set()
+    for ax in fig.axes:
+        for axis in (ax.xaxis, ax.yaxis, getattr(ax, "zaxis", None)):
+            if axis is not None:
+                ticks.update(map(id, axis.get_ticklabels(which="both")))
+                ticks.add(id(axis.get_offset_text()))
+    for text in fig.findobj(Text):
+        if id(text) not in ticks and "$" in text.get_text():
+            text.set_parse_math(False)
     if path is not None:
-        fig.savefig(path, dpi=DPI)
+        fig.savefig(path, dpi=DPI, **({"bbox_inches": "tight"} if tight else {}))
     return fig
+
+
+_save = finish
 
 
 def _legend_outside(ax, **kw):

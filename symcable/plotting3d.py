@@ -23,7 +23,6 @@ from .errors import SymcableError
 
 __all__ = ["node_positions", "plot_mechanism"]
 
-DPI = 150
 SURFACE_COLOR = "tab:cyan"
 SEABED_COLOR = "saddlebrown"
 PRESCRIBED_STYLE = dict(marker="s", s=46, facecolors="white", edgecolors="black",
@@ -318,6 +317,5 @@ def plot_mechanism(result, layout, path: str | Path | None = None, *, times=None
                                                   if len(picks) > 1 else "")
         title = f"{result.mechanism}: {when}; {result.status}; true scale, m"
     fig.suptitle(title, fontsize=11)
-    if path is not None:
-        fig.savefig(path, dpi=DPI)
-    return fig
+    from .plotting import finish
+    return finish(fig, path)

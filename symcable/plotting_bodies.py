@@ -25,7 +25,6 @@ AXIS_COLORS = ("tab:red", "tab:green", "tab:blue")
 #: the box's half-size beyond its attachment points, and a body's least half-size, as a
 #: fraction of the drawing's extent
 PAD, LEAST = 0.01, 0.015
-DPI = 150
 
 
 def body_attachments(scene) -> dict:
@@ -231,6 +230,5 @@ def plot_system(result, path: str | Path | None = None, *, scene=None, snapshots
     when = "static solution" if t is None else f"t = {t[picks[-1]]:.4g} s"
     fig.suptitle(title or f"{result.scene_name}: {when}; {result.status}; true scale, m",
                  fontsize=11)
-    if path is not None:
-        fig.savefig(path, dpi=DPI)
-    return fig
+    from .plotting import finish
+    return finish(fig, path)

@@ -17,7 +17,6 @@ from .errors import SymcableError
 
 __all__ = ["animate", "plot_modes_3d", "plot_profiles", "plot_tensions", "write_vtk"]
 
-DPI = 150
 
 
 def _plt():
@@ -26,9 +25,8 @@ def _plt():
 
 
 def _finish(fig, path):
-    if path is not None:
-        fig.savefig(path, dpi=DPI, bbox_inches="tight")
-    return fig
+    from .plotting import finish
+    return finish(fig, path, tight=True)
 
 
 def plot_tensions(tr, path=None, *, title: str | None = None, t_from: float | None = None):

@@ -13,7 +13,6 @@ import numpy as np
 
 __all__ = ["plot_system_tensions"]
 
-DPI = 150
 #: a segment whose strain is at most this is counted slack (the line results' own test)
 SLACK_STRAIN = 1e-7
 
@@ -63,6 +62,5 @@ def plot_system_tensions(tr, path: str | Path | None = None, *, t0: dict | None 
     ax.set_title(f"{tr.method}, dt = {tr.dt:.3g} s", fontsize=10)
     fig.suptitle(title or f"{tr.scene_name}: end tensions", fontsize=11)
     fig.tight_layout()
-    if path is not None:
-        fig.savefig(path, dpi=DPI, bbox_inches="tight")
-    return fig
+    from .plotting import finish
+    return finish(fig, path, tight=True)

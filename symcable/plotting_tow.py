@@ -16,7 +16,6 @@ import numpy as np
 
 __all__ = ["tow_tracks", "turn_spans", "plot_tow"]
 
-DPI = 150
 
 
 def _is_tow(motion) -> bool:
@@ -123,6 +122,5 @@ def plot_tow(tr, scene, path: str | Path | None = None, *, title: str | None = N
     bx.legend(loc="best", fontsize=8)
     fig.suptitle(title or f"{scene.name}: tow (dt = {tr.dt:.3g} s)", fontsize=11)
     fig.tight_layout()
-    if path is not None:
-        fig.savefig(path, dpi=DPI, bbox_inches="tight")
-    return fig
+    from .plotting import finish
+    return finish(fig, path, tight=True)

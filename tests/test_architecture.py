@@ -8,7 +8,7 @@ the package ``a.b`` (its ``__init__`` runs first) unless the importer lives insi
 
 Layers, lowest first; a module may import modules of its own layer or of a lower one:
 
-0. ``errors``, ``progress``, ``analytic``, ``linalg``, ``codegen``, ``data``: leaves that
+0. ``errors``, ``limits``, ``progress``, ``analytic``, ``linalg``, ``codegen``, ``data``: leaves that
    know no scene, model or solver
 1. ``scene``: what is modelled
 2. ``models``: the formulations (never a solver)
@@ -43,6 +43,7 @@ PACKAGE = "symcable"
 #: package's ``__init__``
 LAYERS = {
     "symcable.errors": 0,
+    "symcable.limits": 0,
     "symcable.progress": 0,
     "symcable.analytic": 0,
     "symcable.linalg": 0,

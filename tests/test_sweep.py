@@ -73,7 +73,7 @@ def cluster(compiled_env):
     distributed = pytest.importorskip("distributed")
     import logging
     lc = distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                                  dashboard_address=":0", silence_logs=logging.ERROR)
+                                  dashboard_address="127.0.0.1:0", silence_logs=logging.ERROR)
     yield lc.scheduler_address
     lc.close()
 

@@ -8,7 +8,7 @@ import math
 from typing import Any, Mapping
 
 from .bodies import Body, BodyEnd, BodyKind
-from .checks import (_BARE_KEY, _choice, _err, _for, _get, _key, _num_reader, _number,
+from .checks import (_check_name, _choice, _err, _for, _get, _key, _num_reader, _number,
                      _required, _table, _vector)
 from .model import End, EndCondition, Environment
 from .points import Point
@@ -41,9 +41,6 @@ def _offset(path: str, raw: str, text: str) -> tuple[float, ...]:
 
 def _body(name: str, raw: Any, dim: int, points: Mapping[str, Point]) -> Body:
     path = _key("bodies", name)
-    if not _BARE_KEY.fullmatch(name):
-        raise _err("bodies", name, "", "body names must be names of letters, digits, _ and - "
-                                       "(they prefix the body's outputs)")
     if name in points:
         raise _err(path, name, "", f"already a point's name ({_key('points', name)}): a point "
                                    "and a body cannot share a name")
@@ -85,8 +82,7 @@ def _bodies(data: Mapping, dim: int, points: Mapping[str, Point]) -> dict[str, B
                                       "inertia, position, ...)")
     out = {}
     for name, table in raw.items():
-        if not isinstance(name, str):
-            raise _err("bodies", name, "", "body names must be strings")
+        _check_name("bodies", name, "body")
         out[name] = _body(name, table, dim, points)
     return out
 

@@ -18,6 +18,29 @@ _AXES = {2: ("x", "z"), 3: ("x", "y", "z")}  # vectors per dimension, z up in bo
 _DIM_MODEL = {d: m for m, d in reversed(_DIMS.items())}  # the first model of each dimension
 _MISSING = object()
 _BARE_KEY = re.compile(r"[A-Za-z0-9_-]+")
+#: largest magnitude of a number in a scene (SI units)
+MAX_MAGNITUDE = 1e30
+#: longest name of a line, point or body
+MAX_NAME = 64
+_NAME = re.compile(rf"[A-Za-z0-9_-]{{1,{MAX_NAME}}}")
+
+
+def _check_text(path: str, text: Any, what: str, longest: int) -> None:
+    """Free text a scene names things by (its title, a line type's name): a string of 1 to
+    ``longest`` printable characters, no control characters (it is shown on one line)."""
+    if not isinstance(text, str) or not 0 < len(text) <= longest or not text.isprintable():
+        raise _err(path, text, "", f"{what} must be a string of 1 to {longest} printable "
+                   "characters (no newlines or control characters)")
+
+
+def _check_name(path: str, name: Any, what: str) -> None:
+    """The one rule for the names of lines, points and bodies: 1 to MAX_NAME letters,
+    digits, ``_`` and ``-`` (ASCII). Every later stage takes them: the names of CasADi
+    Functions and generated C are made from them by
+    :func:`~symcable.models.mechanism.casadi_name`."""
+    if not isinstance(name, str) or not _NAME.fullmatch(name):
+        raise _err(path, name, "", f"{what} names must be 1 to {MAX_NAME} ASCII letters, "
+                   "digits, _ and - (they prefix the outputs)")
 
 # ----------------------------------------------------------------------------- messages
 
@@ -112,6 +135,10 @@ def _number(path: str, value: Any, unit: str = "", *, gt: float | None = None,
         x = math.nan
     if not math.isfinite(x):
         raise _err(path, value, unit, f"must be a finite number{bound}")
+    if abs(x) > MAX_MAGNITUDE:
+        raise _err(path, value, unit, f"must be a number{bound} of magnitude at most "
+                   f"{MAX_MAGNITUDE:g} (SI units: beyond any physical value, and its powers "
+                   "would overflow)")
     if (gt is not None and not x > gt) or (ge is not None and not x >= ge):
         raise _err(path, value, unit, f"must be{bound}")
     return x

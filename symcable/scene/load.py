@@ -22,8 +22,9 @@ if sys.version_info >= (3, 11):
 else:  # pragma: no cover - exercised on Python 3.10 only
     import tomli as tomllib
 
-from ..errors import SceneError
-from .checks import _check_keys, _choice, _err, _get
+from ..errors import LimitError, SceneError
+from ..limits import check, check_nesting, check_toml_nesting, read_bounded
+from .checks import _check_keys, _check_text, _choice, _err, _get
 from .model import _DIMS, Model, Scene, scene_to_dict
 from .moordyn import MoorDynDeck, is_moordyn_deck, parse_moordyn
 from .system import read_system
@@ -41,26 +42,50 @@ _MODELS = tuple(m.value for m in Model)
 
 # ----------------------------------------------------------------------------- public API
 
-def _read_toml(path: str) -> dict:
+def _read_text(path: str) -> tuple[str | None, str]:
+    """``(text, error)`` of a scene file: its UTF-8 text (None when it is not UTF-8, then
+    ``error`` says why), read as a regular file under the ``file_bytes`` limit."""
     try:
-        with open(path, "rb") as f:
-            return tomllib.load(f)
+        raw = read_bounded(path, "file_bytes", "scene file")
     except FileNotFoundError:
         raise SceneError(f"{path}: scene file not found") from None
     except OSError as exc:
         raise SceneError(f"{path}: cannot read scene file ({exc.strerror or exc})") from None
-    except ValueError as exc:  # TOMLDecodeError, or bytes that are not UTF-8
+    try:
+        return raw.decode("utf-8"), ""
+    except UnicodeDecodeError as exc:
+        return None, f"not UTF-8 text ({exc.reason} at byte {exc.start})"
+
+
+def _parse_toml(text: str, path: str) -> dict:
+    """TOML text as a dict; its nesting checked first (the parser recurses per level)."""
+    check_toml_nesting(text, f"scene file {path!r}")
+    try:
+        data = tomllib.loads(text)
+    except ValueError as exc:  # TOMLDecodeError
         raise SceneError(f"{path}: invalid TOML: {exc}".replace("\n", " ")) from None
+    except RecursionError:
+        raise SceneError(f"{path}: invalid TOML: nested too deeply to parse") from None
+    check_nesting(data, f"scene file {path!r}")  # dotted keys nest without brackets
+    return data
 
 
 def _read_file(path: str) -> tuple[Any, MoorDynDeck | None]:
     """A scene file's dict: TOML, or else a MoorDyn deck (then also the deck)."""
-    try:
-        return _read_toml(path), None
-    except SceneError:
-        deck = moordyn_deck(path)
-        if deck is None:
-            raise
+    text, why = _read_text(path)
+    if text is not None and is_moordyn_deck(text):
+        try:
+            tomllib.loads(text)
+        except (ValueError, RecursionError):  # not TOML: a deck
+            return _deck(text, path)
+    if text is None:
+        raise SceneError(f"{path}: invalid TOML: {why}")
+    return _parse_toml(text, path), None
+
+
+def _deck(text: str, path: str) -> tuple[dict, MoorDynDeck]:
+    deck = parse_moordyn(text, path)
+    check_nesting(deck.scene, f"MoorDyn deck {path!r}")
     return deck.scene, deck
 
 
@@ -72,18 +97,21 @@ def moordyn_deck(path: str | os.PathLike) -> MoorDynDeck | None:
     ------
     SceneError
         When the file is a deck that cannot be represented (:func:`.moordyn.parse_moordyn`).
+    LimitError
+        When the file is not a regular file or is larger than the ``file_bytes`` limit.
     """
     name = os.fspath(path)
     try:
-        with open(name, "rb") as f:
-            raw = f.read()
-        tomllib.loads(raw.decode("utf-8"))
+        text, _ = _read_text(name)
+    except SceneError:
         return None
-    except OSError:
+    if text is None or not is_moordyn_deck(text):
         return None
-    except ValueError:  # not UTF-8, or not TOML
-        text = raw.decode("utf-8", errors="replace")
-    return parse_moordyn(text, name) if is_moordyn_deck(text) else None
+    try:
+        tomllib.loads(text)
+        return None
+    except (ValueError, RecursionError):
+        return _deck(text, name)[1]
 
 
 def load_scene(source: str | os.PathLike | Mapping | Scene, *,
@@ -118,6 +146,7 @@ def load_scene(source: str | os.PathLike | Mapping | Scene, *,
         data, deck = _read_file(name)
     elif isinstance(source, Mapping):
         name, data = "<dict>", source
+        check_nesting(data, "scene")
     else:
         raise _err("scene", source, "", "must be a path to a TOML file, a dict or a Scene")
     try:
@@ -125,10 +154,10 @@ def load_scene(source: str | os.PathLike | Mapping | Scene, *,
             base = os.path.dirname(os.path.abspath(name))
         base = os.getcwd() if base is None else os.fspath(base)
         return _build(data, str(name), base)
-    except SceneError as exc:
+    except (SceneError, LimitError) as exc:
         if deck is None:
             raise
-        raise SceneError(deck.locate(str(exc))) from None  # the deck line the key came from
+        raise type(exc)(deck.locate(str(exc))) from None  # the deck line the key came from
     except Exception as exc:  # a gap in the checks above: still report it as a scene error
         raise SceneError(f"{name}: invalid scene ({type(exc).__name__}: {exc})"
                          .replace("\n", " ")) from exc
@@ -137,8 +166,7 @@ def load_scene(source: str | os.PathLike | Mapping | Scene, *,
 def _build(data: Mapping, source: str, base: str = ".") -> Scene:
     _check_keys("", data, _TOP_KEYS)
     name = _get(data, "name", "unnamed")
-    if not isinstance(name, str):
-        raise _err("name", name, "", "must be a string")
+    _check_text("name", name, "a scene's name", 200)
     model = Model(_choice("model", _get(data, "model", Model.PLANAR.value), _MODELS, "model"))
     dim = _DIMS[model]
     mass_matrix = _choice("mass_matrix", _get(data, "mass_matrix", "lumped"), _MASS_MATRICES,
@@ -159,6 +187,7 @@ def _build(data: Mapping, source: str, base: str = ".") -> Scene:
     if _get(data, "lines") is not None:  # version 2: several lines and points
         _check_friction_options(seabed, model.value, True, None)
         points, lines, bodies = read_system(data, env, types, dim, model.value, base)
+        _check_segments({f"lines[{k}].sections": ln.sections for k, ln in enumerate(lines)})
         for k, ln in enumerate(lines):
             _check_section_models(model, zones, ln.sections, f"lines[{k}].sections")
         return Scene(name=name, model=model, environment=env, seabed=seabed,
@@ -170,6 +199,7 @@ def _build(data: Mapping, source: str, base: str = ".") -> Scene:
             raise _err(key, "{...}", "", f"{key} are attached to [[lines]] (scene version 2): "
                        f"give [[lines]] with end_a / end_b naming them, or remove [{key}]")
     sections = _sections(data, types)
+    _check_segments({"sections": sections})
     _check_section_models(model, zones, sections, "sections")
     ends = {"end_a": _end("end_a", data, dim, base), "end_b": _end("end_b", data, dim, base)}
     for key, end in ends.items():
@@ -195,6 +225,18 @@ def _build(data: Mapping, source: str, base: str = ".") -> Scene:
                  line_types=MappingProxyType(types), sections=sections,
                  end_a=ends["end_a"], end_b=ends["end_b"], source=source,
                  mass_matrix=mass_matrix, zones=zones)
+
+
+def _check_segments(by_key: Mapping[str, tuple]) -> None:
+    """The scene's segments, all lines together, within the ``segments`` limit (a section
+    over it alone is named by its key)."""
+    why = "a guard against scenes that exhaust memory: each segment costs kilobytes of " \
+          "symbolic graph"
+    for key, sections in by_key.items():
+        for i, sec in enumerate(sections):
+            check("segments", sec.segments, f"{key}[{i}].segments", why)
+    check("segments", sum(sec.segments for secs in by_key.values() for sec in secs),
+          "the scene's segments, all lines together", why)
 
 
 def _check_section_models(model: Model, zones: str, sections, key: str) -> None:

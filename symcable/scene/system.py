@@ -26,7 +26,7 @@ from types import MappingProxyType
 from typing import Any, Mapping
 
 from ..errors import SceneError
-from .checks import (_BARE_KEY, _choice, _err, _fmt, _for, _get, _key, _num_reader,
+from .checks import (_check_name, _choice, _err, _fmt, _for, _get, _key, _num_reader,
                      _required, _suggest, _table, _vector)
 from .bodies import Body, BodyEnd
 from .body_table import _bodies, _nonnegative, _offset, body_end, body_held
@@ -98,9 +98,7 @@ def _points(data: Mapping, dim: int, base: str) -> dict[str, Point]:
                                       "position, ...)")
     out = {}
     for name, table in raw.items():
-        if not isinstance(name, str) or not _BARE_KEY.fullmatch(name):
-            raise _err("points", name, "", "point names must be names of letters, digits, _ "
-                                           "and - (they prefix the point's outputs)")
+        _check_name("points", name, "point")
         out[name] = _point(name, table, dim, base)
     return out
 
@@ -141,9 +139,7 @@ def _lines(data: Mapping, types: Mapping[str, LineType], points: Mapping[str, Po
         path = f"lines[{i}]"
         t = _table(path, table, _LINE_KEYS)
         name = _get(t, "name", f"line{i + 1}")
-        if not isinstance(name, str) or not _BARE_KEY.fullmatch(name):
-            raise _err(f"{path}.name", name, "", "must be a name of letters, digits, _ and - "
-                                                 "(it prefixes the line's outputs)")
+        _check_name(f"{path}.name", name, "line")
         if name in names:
             raise _err(f"{path}.name", name, "", f"already the name of lines[{names[name]}]: "
                                                  "line names must be unique")

@@ -4,14 +4,16 @@ speed), shared by the one-line layout (:mod:`.load`) and the layout of several l
 points (:mod:`.system`)."""
 from __future__ import annotations
 
+import io
 import math
 import os
 from typing import Any, Mapping
 
 import numpy as np
 
-from ..errors import SceneError
-from .checks import (_choice, _err, _fmt, _for, _get, _integer, _key, _layout,
+from ..errors import LimitError, SceneError
+from ..limits import read_bounded
+from .checks import (MAX_NAME, _check_text, _choice, _err, _fmt, _for, _get, _integer, _key, _layout,
                      _number, _num_reader, _required, _suggest, _table, _vector)
 from .drag import read_drag_law
 from .tow import TOW_KEYS, read_tow
@@ -197,8 +199,7 @@ def _line_types(data: Mapping, env: Environment, dim: int) -> dict[str, LineType
                                           "([line_types.NAME] with EA, mass, diameter, ...)")
     out = {}
     for name, table in raw.items():
-        if not isinstance(name, str) or not name:
-            raise _err("line_types", name, "", "line type names must be non-empty strings")
+        _check_text("line_types", name, "a line type's name", MAX_NAME)
         out[name] = _line_type(_key("line_types", name), name, table, env, dim)
     return out
 
@@ -266,7 +267,10 @@ def _table_motion(path: str, t: Mapping, dim: int, base: str) -> Motion:
         raise _err(f"{path}.file", name, "", "must be a path string")
     full = os.path.abspath(os.path.join(base, os.path.expanduser(name)))
     try:
-        rows = np.loadtxt(full, ndmin=2)
+        rows = np.loadtxt(io.BytesIO(read_bounded(full, "table_bytes", f"{path}.file")),
+                          ndmin=2)
+    except LimitError:
+        raise
     except (OSError, ValueError) as exc:
         raise _err(f"{path}.file", name, "", f"cannot be read as rows of numbers "
                    f"({type(exc).__name__}: {str(exc).splitlines()[0] if str(exc) else ''})") from None

@@ -24,6 +24,7 @@ import numpy as np
 from ..derive import functions
 from ..errors import ConvergenceError, SymcableError
 from ..codegen import FastCall
+from ..limits import check as check_limit
 from ..models.mechanism import Mechanism
 from ..results_mechanism import Equilibrium, MechanismTrajectory
 from .galpha1 import galpha1_kernel, galpha1_step
@@ -237,6 +238,10 @@ def integrate(mech: Mechanism, duration: float, dt: float | None = None, *, meth
         stats["dt_stable"] = rk4_stability_limit(mech, p, t0, q0, v0)
         default = min(default, 0.8 * stats["dt_stable"])
     dt_req = check_positive("dt", default if dt is None else dt, "s")
+    if tol is None:
+        check_limit("steps", duration / dt_req, f"the run's time steps (duration "
+                    f"{duration:.6g} s / dt {dt_req:.6g} s)", "a guard against runs that "
+                    "exhaust memory and time")
     period = None if period is None else check_positive("period", period, "s")
     tau = (duration if period is None else period) / (2.0 * math.pi)
     hook = reanchor if reanchor is not None else getattr(mech, "reanchor", None)

@@ -19,6 +19,7 @@ import casadi as ca
 import numpy as np
 
 from ..codegen import FastCall
+from ..limits import check as check_limit
 from ..models.mechanism import Mechanism
 from ..progress import ProgressBar
 from .galpha1 import galpha1_kernel, galpha1_residual, step_scales
@@ -434,6 +435,9 @@ def run_adaptive(stepper, x, t0, h, duration, p, method, tol, batch, tau, reanch
             times.append(t + (i + 1) * h)
             Xs.append(X[i, :n_x])
         steps += k
+        check_limit("steps", steps, f"the adaptive run's time steps by t = {t + k * h:.6g} s "
+                    f"(of {duration:.6g} s)", "a guard against runs that exhaust memory and "
+                    "time; a larger tol takes fewer steps")
         h_min, h_max = min(h_min, h), max(h_max, h)
         worst_lte = max(worst_lte, est)
         x = X[-1].copy()  # not the saved sample's row: re-anchoring changes x in place

@@ -39,6 +39,7 @@ from typing import Any, Mapping
 import numpy as np
 
 from ..errors import SymcableError
+from ..limits import limits
 
 __all__ = ["ANALYSES", "OUTPUTS", "available_outputs", "run_case"]
 
@@ -143,7 +144,9 @@ def run_case(task: Mapping) -> dict:
     ``task``: ``name``, ``hash``, ``scene`` (a loaded :class:`~symcable.scene.Scene`),
     ``analysis``, ``options`` (of the analysis), ``codegen`` (None, True or False; the
     analysis' argument), ``cached_only`` (compile nothing: generated C only from the build
-    cache, else the virtual machine, :func:`symcable.codegen.cached_only`).
+    cache, else the virtual machine, :func:`symcable.codegen.cached_only`), ``limits`` (the
+    client's :class:`~symcable.limits.Limits`, in force on the worker too; absent: the
+    worker's own).
 
     The record: ``name``, ``hash``, ``status`` (the result's own, e.g. "converged", "slack",
     "invalid"; or "failed"), ``message`` (one line: the error of a failed case, else ""),
@@ -157,7 +160,8 @@ def run_case(task: Mapping) -> dict:
     before = dict(_cg.build_counts)
     record: dict[str, Any] = {"name": task["name"], "hash": task["hash"]}
     try:
-        with _cg.cached_only() if task.get("cached_only") else contextlib.nullcontext():
+        with _cg.cached_only() if task.get("cached_only") else contextlib.nullcontext(), \
+                limits(task.get("limits")):
             values, status = _analyse(task["scene"], task["analysis"], task["options"],
                                       task.get("codegen"))
         values = {k: float(v) for k, v in values.items()}

@@ -19,9 +19,11 @@ def add_parser(sub) -> argparse.ArgumentParser:
     p.add_argument("--out", metavar="DIR", help="results folder (default: CASES-results beside "
                    "the file): one JSON per case, results.csv, results.json")
     p.add_argument("--workers", type=int, metavar="N", help="local worker processes (default: "
-                   "one per core); 0: one by one in this process, without Dask")
+                   "one per core; at most 4 per core), listening on 127.0.0.1 only; 0: one by "
+                   "one in this process, without Dask")
     p.add_argument("--scheduler", metavar="ADDRESS", help="a Dask scheduler's address "
-                   "(tcp://host:8786) instead of a local cluster")
+                   "(tcp://host:8786) instead of a local cluster; it receives the cases "
+                   "pickled and runs what it is sent: give only one you trust")
     p.add_argument("--limit", type=int, metavar="N", help="run at most N of the cases not yet "
                    "done, then stop (run again to resume)")
     p.add_argument("--retry-failed", action="store_true", help="run again the cases saved as "

@@ -2,8 +2,13 @@
 result saved as it arrives, so that an interrupted sweep resumes where it stopped.
 
 * Where: a local cluster of ``workers`` processes with one thread each (default: one per
-  core, at most one per case), or any Dask scheduler by ``scheduler`` address; ``workers=0``
-  runs the cases one by one in this process, without Dask.
+  core, at most one per case; at most :func:`max_workers`, four per core), or any Dask
+  scheduler by ``scheduler`` address; ``workers=0`` runs the cases one by one in this
+  process, without Dask. The local cluster listens on 127.0.0.1 only (its scheduler,
+  dashboard and workers).
+* Trust: Dask sends tasks and results pickled, and unpickling runs code. A scheduler given
+  by address (and its workers) receives every case pickled and returns records the client
+  unpickles: use only schedulers and workers you trust.
 * Compiled functions: the cases of a sweep usually share one model structure (their
   differences are parameters, inputs of the compiled functions: end and point positions,
   the current). The first case to run is run here, in the client (while the cluster starts
@@ -27,7 +32,10 @@ result saved as it arrives, so that an interrupted sweep resumes where it stoppe
 * Files: ``<out>/<case name>-<hash>.json``, one per case, written (atomically) by the client
   as each case finishes; then ``<out>/results.csv`` and ``results.json``, the table. A case
   whose file exists with the same hash is not run again (a failed one neither, unless
-  ``retry_failed``).
+  ``retry_failed``). A saved file is used only when it is a regular file within the
+  ``file_bytes`` limit holding a JSON object of the case's fields, each of the right type
+  and value (:meth:`~symcable.results_sweep.CaseResult.from_dict`, every output of the
+  sweep a finite number); any other (edited, truncated, corrupt) runs the case again.
 * A case that fails (ConvergenceError, SceneError, any error in its analysis) is recorded
   as failed with its one-line message and no values; the sweep goes on. A worker lost while
   running a case marks it failed without saving it, so a resume runs it again.
@@ -45,15 +53,27 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import SymcableError
+from ..limits import check_nesting, current, read_bounded
 from ..progress import ProgressBar
 from ..results_sweep import FAILED, NOT_RUN, CaseResult, SweepResult
 from .case import run_case
 from .spec import Sweep, read_sweep
 
-__all__ = ["run_sweep"]
+__all__ = ["run_sweep", "max_workers"]
 
 #: file name of the saved table in the results folder (.csv and .json)
 TABLE = "results"
+#: local worker processes allowed per core (:func:`max_workers`)
+WORKERS_PER_CORE = 4
+#: the interface the local cluster listens on: this machine only
+LOCALHOST = "127.0.0.1"
+
+
+def max_workers() -> int:
+    """The most local worker processes a sweep starts: WORKERS_PER_CORE per core of this
+    machine (:func:`os.cpu_count`). More workers than cores only wait on each other; a
+    cluster of more machines is a Dask scheduler's (``scheduler``)."""
+    return WORKERS_PER_CORE * (os.cpu_count() or 1)
 
 
 def _distributed():
@@ -78,20 +98,31 @@ def _write(path: Path, record: dict) -> None:
         raise
 
 
-def _saved(folder: Path | None, case, retry_failed: bool) -> CaseResult | None:
-    """The case's result from an earlier run, when its file is there, readable, of the
-    same content (hash) and not a failure to retry."""
+def _saved(folder: Path | None, case, retry_failed: bool, outputs: tuple) -> CaseResult | None:
+    """The case's result from an earlier run, when its file is there and valid: a regular
+    file within the ``file_bytes`` limit, a JSON object of the case's fields of the right
+    types and values (:meth:`CaseResult.from_dict`), of the same name and content (hash),
+    with every one of ``outputs`` unless it failed, and not a failure to retry. None
+    otherwise (the case runs again), never an error."""
     if folder is None:
         return None
+    path = folder / f"{case.stem}.json"
     try:
-        rec = json.loads((folder / f"{case.stem}.json").read_text())
-    except (OSError, ValueError):
+        rec = json.loads(read_bounded(path, "file_bytes", "a saved sweep case").decode("utf-8"))
+        check_nesting(rec, f"the saved sweep case {str(path)!r}")
+        if not isinstance(rec, dict) or rec.get("hash") != case.hash or \
+                rec.get("name") != case.name:
+            return None
+        result = CaseResult.from_dict(rec, overrides=dict(case.overrides), skipped=True)
+    except (OSError, ValueError, RecursionError, SymcableError):
+        # missing, unreadable, not a regular file or too large (LimitError), not UTF-8 or
+        # JSON, nested too deeply (json recurses: RecursionError; LimitError), a wrong field
         return None
-    if not isinstance(rec, dict) or rec.get("hash") != case.hash or rec.get("name") != case.name:
+    if result.status == NOT_RUN or (retry_failed and result.status == FAILED):
         return None
-    if retry_failed and rec.get("status") == FAILED:
+    if result.status != FAILED and any(k not in result.values for k in outputs):
         return None
-    return CaseResult.from_dict(rec, overrides=dict(case.overrides), skipped=True)
+    return result
 
 
 def _task(sweep: Sweep, case, first: bool = False) -> dict:
@@ -100,7 +131,8 @@ def _task(sweep: Sweep, case, first: bool = False) -> dict:
     virtual machine (see the module's docstring)."""
     return {"name": case.name, "hash": case.hash, "scene": case.scene,
             "analysis": sweep.analysis, "options": dict(case.options),
-            "codegen": sweep.codegen, "cached_only": sweep.codegen is None and not first}
+            "codegen": sweep.codegen, "cached_only": sweep.codegen is None and not first,
+            "limits": current()}
 
 
 class _Recorder:
@@ -142,8 +174,10 @@ def _dask(workers: int | None, scheduler: Any, n_tasks: int):
         label = str(getattr(client.scheduler, "address", scheduler))
     else:
         n = workers if workers is not None else max(1, min(os.cpu_count() or 1, n_tasks))
+        # this machine only: the scheduler, its dashboard, the nannies and the workers
         cluster = distributed.LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
-                                           dashboard_address=":0", silence_logs=logging.CRITICAL)
+                                           host=LOCALHOST, dashboard_address=f"{LOCALHOST}:0",
+                                           silence_logs=logging.CRITICAL)
         client, own, label = distributed.Client(cluster), True, "local"
     try:
         # not waited for, but held: a future let go is a task cancelled
@@ -198,10 +232,12 @@ def run_sweep(cases, out=None, *, workers: int | None = None, scheduler: Any = N
         files for a dict (nothing to resume from).
     workers : int, optional
         Local worker processes, one thread each (default: one per core, at most one per case
-        to run); 0 runs the cases one by one in this process, without Dask.
+        to run; at most :func:`max_workers`); 0 runs the cases one by one in this process,
+        without Dask. The local cluster listens on 127.0.0.1 only.
     scheduler : str or distributed.Client, optional
         A Dask scheduler's address (``"tcp://host:8786"``) or a Client, instead of a local
-        cluster; not with ``workers``.
+        cluster; not with ``workers``. It receives the cases pickled and the client unpickles
+        what it returns: give only a scheduler (and workers) you trust.
     progress : bool, optional
         The progress bar (tqdm, on stderr): True, False, or None on a terminal only.
     limit : int, optional
@@ -220,17 +256,27 @@ def run_sweep(cases, out=None, *, workers: int | None = None, scheduler: Any = N
     SceneError
         The sweep file is invalid (one line naming the key, the value and what is allowed).
     SymcableError
-        Dask is not installed (``pip install "symcable[sweep]"``), or bad arguments.
+        Dask is not installed (``pip install "symcable[sweep]"``), or bad arguments (one
+        line: the argument, its value and what is allowed).
+    LimitError
+        The sweep is over a limit of :mod:`symcable.limits` (cases, file size, nesting).
     """
     started = time.perf_counter()
-    sweep = read_sweep(cases)
     for key, v in (("workers", workers), ("limit", limit)):
         if v is not None and (isinstance(v, bool) or not isinstance(v, int) or v < 0):
             raise SymcableError(f"{key} = {v!r}: must be an integer >= 0")
+    top = max_workers()
+    if workers is not None and workers > top:
+        raise SymcableError(f"workers = {workers:,}: more than {WORKERS_PER_CORE} per core of "
+                            f"this machine ({os.cpu_count() or 1} cores): at most {top} local "
+                            "worker processes (for more, start a Dask cluster and give its "
+                            "scheduler's address)")
+    sweep = read_sweep(cases)
     folder = Path(out) if out is not None else sweep.out
     if folder is not None:
         folder.mkdir(parents=True, exist_ok=True)
-    done = {c.name: r for c in sweep.cases if (r := _saved(folder, c, retry_failed)) is not None}
+    done = {c.name: r for c in sweep.cases
+            if (r := _saved(folder, c, retry_failed, sweep.outputs)) is not None}
     pending = [c for c in sweep.cases if c.name not in done]
     todo = pending if limit is None else pending[:limit]
     n_workers, label = 0, "in-process"

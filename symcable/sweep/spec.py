@@ -37,14 +37,22 @@ Every case's scene is loaded before anything runs. A path that cannot be followe
 the scene does not know, is an error of the file (one SceneError naming the case, the key
 and what is allowed); a valid file whose case makes an invalid scene (a fairlead the line
 cannot reach) makes that case fail, recorded with the message, and the others run.
+
+Limits (:mod:`symcable.limits`): the number of cases, the ``[[cases]]`` and the product of
+the grid's list lengths, is checked against ``sweep_cases`` before the grid is expanded;
+the file is read as a regular file of at most ``file_bytes`` and nested no deeper than
+``nesting``. Case names (and the sweep's ``name``) are 1 to 200 printable characters: one
+line of the summary; result files are named by a file-safe form of them (:attr:`Case.stem`).
 """
 from __future__ import annotations
 
 import hashlib
 import itertools
 import json
+import math
 import os
 import re
+import reprlib
 import sys
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -56,6 +64,7 @@ else:  # pragma: no cover - exercised on Python 3.10 only
     import tomli as tomllib
 
 from ..errors import SceneError
+from ..limits import check, check_nesting, check_toml_nesting, read_bounded
 from ..scene import Scene, load_scene, moordyn_deck
 from .case import ANALYSES, available_outputs
 from .overrides import apply_overrides, parse_path, plain
@@ -80,8 +89,17 @@ _DEFAULT_OUTPUTS = {"static": ("fairlead_tension", "anchor_tension"),
                     "periodic": ("fairlead_tension_max", "fairlead_tension_min",
                                  "fairlead_tension_mean")}
 _UNSAFE = re.compile(r"[^A-Za-z0-9._=,+-]+")
-#: longest grid case name made of its values; longer ones are named grid0001, ...
+#: longest grid case name made of its values (and longest file-safe name in a result
+#: file's name); longer ones, or with characters that are not printable, are named
+#: grid0001, ...
 MAX_NAME = 80
+#: longest name of a case or of the sweep
+MAX_CASE_NAME = 200
+_NAME_RULE = (f"1 to {MAX_CASE_NAME} printable characters, not all spaces (no newlines or "
+              "control characters: a name is one line of the summary)")
+_REPR = reprlib.Repr()
+_REPR.maxlevel, _REPR.maxlist, _REPR.maxtuple, _REPR.maxdict = 4, 8, 8, 8
+_REPR.maxstring = _REPR.maxother = 100
 
 
 @dataclass(frozen=True)
@@ -124,34 +142,63 @@ class Sweep:
     lines: tuple = field(default=())
 
 
+def _show(value: Any) -> str:
+    """``repr(value)`` shortened (long lists, deep nesting, long strings) to 100 characters."""
+    if isinstance(value, int) and value.bit_length() > 300:  # repr of a huge int may raise
+        return f"<an integer of {value.bit_length()} bits>"
+    text = _REPR.repr(value)
+    return text if len(text) <= 100 else text[:97] + "..."
+
+
 def _err(key: str, value: Any, allowed: str, where: str = "") -> SceneError:
-    text = repr(value)
-    text = text if len(text) <= 100 else text[:97] + "..."
-    return SceneError(f"{where}{key} = {text}: {allowed}".replace("\n", " "))
+    return SceneError(f"{where}{key} = {_show(value)}: {allowed}".replace("\n", " "))
 
 
-def _flatten(table: Mapping, prefix: str = "") -> dict:
-    """``{"a": {"b": 1}}`` -> ``{"a.b": 1}`` (TOML's dotted keys are nested tables)."""
+def _name(key: str, value: Any, where: str, allowed: str = _NAME_RULE) -> str:
+    """``value``, a name of a case or of the sweep: checked (SceneError otherwise)."""
+    if (not isinstance(value, str) or not 0 < len(value) <= MAX_CASE_NAME
+            or not value.isprintable() or not value.strip()):
+        raise _err(key, value, allowed, where)
+    return value
+
+
+def _flatten(table: Mapping) -> dict:
+    """``{"a": {"b": 1}}`` -> ``{"a.b": 1}`` (TOML's dotted keys are nested tables), in the
+    table's order; walked without recursion."""
     out = {}
-    for k, v in table.items():
-        key = f"{prefix}.{k}" if prefix else str(k)
-        if isinstance(v, Mapping):
-            out.update(_flatten(v, key))
-        else:
+    stack = [("", iter(table.items()))]
+    while stack:
+        prefix, items = stack[-1]
+        for k, v in items:
+            key = f"{prefix}.{k}" if prefix else str(k)
+            if isinstance(v, Mapping):
+                stack.append((key, iter(v.items())))
+                break
             out[key] = v
+        else:
+            stack.pop()
     return out
 
 
-def _read_file(path: Path) -> dict:
+def _read_file(path: Path, what: str = "sweep file") -> dict:
+    """The TOML file ``path`` (a sweep or scene file), read within the limits: a regular file
+    of at most ``file_bytes``, nested no deeper than ``nesting``."""
     try:
-        with open(path, "rb") as fh:
-            return tomllib.load(fh)
+        text = read_bounded(path, "file_bytes", what).decode("utf-8")
     except FileNotFoundError:
-        raise SceneError(f"{path}: sweep file not found") from None
+        raise SceneError(f"{path}: {what} not found") from None
     except OSError as exc:
-        raise SceneError(f"{path}: cannot read sweep file ({exc.strerror or exc})") from None
-    except ValueError as exc:
+        raise SceneError(f"{path}: cannot read {what} ({exc.strerror or exc})") from None
+    except UnicodeDecodeError as exc:
+        raise SceneError(f"{path}: invalid TOML: not UTF-8 text ({exc.reason} at byte "
+                         f"{exc.start})") from None
+    check_toml_nesting(text, f"{what} {str(path)!r}")
+    try:
+        data = tomllib.loads(text)
+    except (ValueError, RecursionError) as exc:
         raise SceneError(f"{path}: invalid TOML: {exc}".replace("\n", " ")) from None
+    check_nesting(data, f"{what} {str(path)!r}")
+    return data
 
 
 def _base_scene(raw: Any, base: Path, where: str) -> tuple:
@@ -164,14 +211,14 @@ def _base_scene(raw: Any, base: Path, where: str) -> tuple:
         raise _err("scene", raw, "must be the path of a scene file (TOML or a MoorDyn deck), "
                    "relative to the sweep file", where)
     path = base / Path(raw)
-    if not path.is_file():
+    if not path.exists():
         raise _err("scene", str(raw), f"no such file ({path})", where)
     try:
         scene = load_scene(path)
     except SceneError as exc:
         raise SceneError(f"{where}scene = {str(raw)!r}: {exc}") from None
     deck = moordyn_deck(path)
-    data = deck.scene if deck is not None else _read_file(path)
+    data = deck.scene if deck is not None else _read_file(path, "scene file")
     return plain(data), path.parent, scene, str(path)
 
 
@@ -232,8 +279,8 @@ def _fmt(v: Any) -> str:
     return str(v)
 
 
-def _grid(raw: Any, where: str) -> list:
-    """The grid's cases: ``[(name, overrides, label)]``."""
+def _grid_table(raw: Any, where: str) -> dict:
+    """The grid, flattened (dotted key -> its list of values) and checked, not expanded."""
     if not isinstance(raw, Mapping) or not raw:
         raise _err("[grid]", raw, "must be a table of scene keys, each with a list of values",
                    where)
@@ -244,16 +291,40 @@ def _grid(raw: Any, where: str) -> list:
             raise _err(f"grid.{key!r}", values, "must be a non-empty list of values (one case "
                        "per value; a vector's values are lists: [[0.5, 0, 0], [1.0, 0, 0]])",
                        where)
+    return grid
+
+
+def _count(data: Mapping, grid: Mapping | None, where: str) -> None:
+    """Refuse a sweep of more cases than the ``sweep_cases`` limit: its ``[[cases]]`` and the
+    product of its grid's list lengths, counted without expanding the grid."""
+    listed = data.get("cases")
+    n_listed = len(listed) if isinstance(listed, list) else 0
+    sizes = [len(v) for v in grid.values()] if grid else []
+    n = n_listed + (math.prod(sizes) if sizes else 0)
+    parts = [f"[[cases]] {n_listed:,}"] if n_listed else []
+    if sizes:
+        shown = sizes if len(sizes) <= 6 else [*sizes[:3], "...", sizes[-1]]
+        parts.append(f"[grid] {' x '.join(map(str, shown))}"
+                     + (f" ({len(sizes):,} keys)" if len(sizes) > 6 else ""))
+    check("sweep_cases", n if n.bit_length() < 1000 else math.inf,
+          f"{where}cases ({' + '.join(parts)})", "every case's scene is built and checked "
+          "before the first runs")
+
+
+def _grid(grid: Mapping) -> list:
+    """The grid's cases: ``[(name, overrides, label)]`` (its first key varying slowest); a
+    case is named by its values, or ``grid0001``, ... when that name would be longer than
+    MAX_NAME or not printable."""
     keys = list(grid)
     short = [k.split(".")[-1] for k in keys]
     short = [s if short.count(s) == 1 else k for s, k in zip(short, keys)]
-    combos = list(itertools.product(*grid.values()))
-    width = len(str(len(combos)))
+    width = len(str(math.prod(len(v) for v in grid.values())))
     out = []
-    for i, values in enumerate(combos):
+    for i, values in enumerate(itertools.product(*grid.values())):
         name = ",".join(f"{s}={_fmt(v)}" for s, v in zip(short, values))
-        out.append((name if len(name) <= MAX_NAME else f"grid{i + 1:0{width}d}",
-                    dict(zip(keys, values)), f"grid case {i}"))
+        ok = len(name) <= MAX_NAME and name.isprintable()
+        out.append((name if ok else f"grid{i + 1:0{width}d}", dict(zip(keys, values)),
+                    f"grid case {i}"))
     return out
 
 
@@ -263,10 +334,8 @@ def _listed(raw: Any, where: str) -> list:
                    "keys", where)
     out = []
     for i, case in enumerate(raw):
-        name = case.get("name")
-        if not isinstance(name, str) or not name.strip():
-            raise _err(f"cases[{i}].name", name, "required: a non-empty string naming the case",
-                       where)
+        name = _name(f"cases[{i}].name", case.get("name"), where,
+                     f"required: a string naming the case, {_NAME_RULE}")
         overrides = _flatten({k: v for k, v in case.items() if k != "name"})
         for key in overrides:
             parse_path(key, f"{where}cases[{i}] ({name!r}) key")
@@ -325,6 +394,7 @@ def read_sweep(source: Any) -> Sweep:
         data, base, label = _read_file(path), path.resolve().parent, str(path)
         out = path.resolve().parent / f"{path.stem}-results"
     elif isinstance(source, Mapping):
+        check_nesting(source, "<dict>")
         data, base, label, out = dict(source), Path.cwd(), "<dict>", None
     else:
         raise _err("sweep", source, "must be the path of a sweep file (TOML), a dict in its "
@@ -334,9 +404,12 @@ def read_sweep(source: Any) -> Sweep:
         if key not in _TOP_KEYS:
             raise _err(str(key), data[key], f"unknown key (allowed: {', '.join(_TOP_KEYS)})",
                        where)
-    name = data.get("name", Path(label).stem if label != "<dict>" else "sweep")
-    if not isinstance(name, str):
-        raise _err("name", name, "must be a string", where)
+    if "name" in data:
+        name = _name("name", data["name"], where, f"must be a string, {_NAME_RULE}")
+    else:
+        name = Path(label).stem if label != "<dict>" else "sweep"
+    grid = _grid_table(data["grid"], where) if data.get("grid") is not None else None
+    _count(data, grid, where)
     if "scene" not in data:
         raise SceneError(f"{where}scene: required key missing (the scene file the cases change)")
     raw, folder, scene, scene_source = _base_scene(data["scene"], base, where)
@@ -358,8 +431,8 @@ def read_sweep(source: Any) -> Sweep:
     for key in data:  # in the file's order
         if key == "cases" and data["cases"] is not None:
             listed += _listed(data["cases"], where)
-        elif key == "grid" and data["grid"] is not None:
-            listed += _grid(data["grid"], where)
+        elif key == "grid" and grid is not None:
+            listed += _grid(grid)
     if not listed:
         raise SceneError(f"{where}no cases: give [[cases]] (each a name and scene keys) or "
                          "[grid] (scene keys with lists of values)")

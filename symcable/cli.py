@@ -425,7 +425,9 @@ def main(argv: list[str] | None = None) -> int:
             print(f"symcable: {_one_line(exc)}", file=sys.stderr)
         else:
             what = {MemoryError: "out of memory", RecursionError: "input nested too deeply"}
-            print(f"symcable: internal error ({what.get(type(exc), type(exc).__name__)}: "
+            what = "out of memory" if "bad_alloc" in str(exc) else \
+                what.get(type(exc), type(exc).__name__)  # CasADi's C++ std::bad_alloc
+            print(f"symcable: internal error ({what}: "
                   f"{_one_line(exc)}); run again with --debug for the traceback and report it",
                   file=sys.stderr)
         return 2

@@ -41,8 +41,12 @@ class Limits:
     Attributes
     ----------
     segments : int
-        Segments of one scene, all lines and sections together. A segment costs a few kB
-        of symbolic graph and Functions.
+        Segments of one scene, all lines and sections together. A cable segment costs tens
+        of kB of symbolic graph and Functions.
+    rod_segments : int
+        Segments of one scene's rod sections (``model = "rod"``, a hybrid's rod sections, or
+        every section of a hybrid whose zones are chosen automatically): a rod segment, with
+        its bending, torsion and frames, costs about 0.7 MB in a static solve.
     steps : int
         Time steps of one run (``duration / dt``: a three-hour record at 0.011 s), or
         offsets of one offset sweep.
@@ -57,6 +61,7 @@ class Limits:
     """
 
     segments: int = 20_000
+    rod_segments: int = 2_000
     steps: int = 1_000_000
     sweep_cases: int = 10_000
     file_bytes: int = 16 * _MB
@@ -73,6 +78,7 @@ class Limits:
 #: each limit's command-line option, the factor from the option's value to the limit's
 #: unit, and what it bounds
 OPTIONS = {"segments": ("--max-segments", 1, "segments of a scene, all lines together"),
+           "rod_segments": ("--max-rod-segments", 1, "segments of a scene's rod sections"),
            "steps": ("--max-steps", 1, "time steps of a run (duration / dt), offsets of a sweep"),
            "sweep_cases": ("--max-cases", 1, "cases of a sweep"),
            "file_bytes": ("--max-file-mb", _MB, "size of a scene file, deck or sweep file"),

@@ -178,6 +178,12 @@ def build(folder: Path) -> list:
                                           "[[lines]]", 1)
     f = write("two_lines_over.toml", two)
     case("two lines of 15,000 segments each", "refused", "check", f)
+    rod = (Path(__file__).resolve().parents[1] / "symcable" / "data" / "seed000_rod.toml")
+    f = write("rod_segments.toml", rod.read_text().replace("segments = 400 ", "segments = 4000 "))
+    case("a rod of 4,000 segments", "refused", "check", f)
+    f = write("rod_ok_with_option.toml", rod.read_text())
+    case("a rod of 400 segments over a lowered rod limit", "refused", "check", f,
+         "--max-rod-segments", "100")
     f = write("deck_numsegs.txt", DECK.format(segments=10**9))
     case("MoorDyn deck NumSegs = 1e9", "refused", "check", f)
     f = write("deck_ok.txt", DECK.format(segments=10))

@@ -267,7 +267,7 @@ def assemble(parts: Iterable[Mechanism], joints: Iterable = (), *, name: str = "
             xd = j.velocity(qb, vb)
             motion[j.name] = (j.position(qb), xd, ca.jtimes(xd, q, qdot))
 
-    M = kind.zeros(n_v, n_v)
+    M = kind(n_v, n_v)  # structurally zero: each part adds its own (sparse) block
     f = kind.zeros(n_v, 1)
     g_rows, outputs, bounds, when = [], {}, {}, []
     part_layouts = {}

@@ -187,7 +187,8 @@ def _build(data: Mapping, source: str, base: str = ".") -> Scene:
     if _get(data, "lines") is not None:  # version 2: several lines and points
         _check_friction_options(seabed, model.value, True, None)
         points, lines, bodies = read_system(data, env, types, dim, model.value, base)
-        _check_segments({f"lines[{k}].sections": ln.sections for k, ln in enumerate(lines)})
+        _check_segments({f"lines[{k}].sections": ln.sections for k, ln in enumerate(lines)},
+                        model, zones)
         for k, ln in enumerate(lines):
             _check_section_models(model, zones, ln.sections, f"lines[{k}].sections")
         return Scene(name=name, model=model, environment=env, seabed=seabed,
@@ -199,7 +200,7 @@ def _build(data: Mapping, source: str, base: str = ".") -> Scene:
             raise _err(key, "{...}", "", f"{key} are attached to [[lines]] (scene version 2): "
                        f"give [[lines]] with end_a / end_b naming them, or remove [{key}]")
     sections = _sections(data, types)
-    _check_segments({"sections": sections})
+    _check_segments({"sections": sections}, model, zones)
     _check_section_models(model, zones, sections, "sections")
     ends = {"end_a": _end("end_a", data, dim, base), "end_b": _end("end_b", data, dim, base)}
     for key, end in ends.items():
@@ -227,16 +228,25 @@ def _build(data: Mapping, source: str, base: str = ".") -> Scene:
                  mass_matrix=mass_matrix, zones=zones)
 
 
-def _check_segments(by_key: Mapping[str, tuple]) -> None:
-    """The scene's segments, all lines together, within the ``segments`` limit (a section
-    over it alone is named by its key)."""
-    why = "a guard against scenes that exhaust memory: each segment costs kilobytes of " \
-          "symbolic graph"
-    for key, sections in by_key.items():
-        for i, sec in enumerate(sections):
-            check("segments", sec.segments, f"{key}[{i}].segments", why)
-    check("segments", sum(sec.segments for secs in by_key.values() for sec in secs),
-          "the scene's segments, all lines together", why)
+def _check_segments(by_key: Mapping[str, tuple], model: Model, zones: str) -> None:
+    """The scene's segments, all lines together, within the ``segments`` limit, and those of
+    its rod sections within ``rod_segments`` (a section over a limit alone is named by its
+    key)."""
+    def is_rod(sec) -> bool:
+        return model is Model.ROD or (model is Model.HYBRID and (zones == "auto" or
+                                                                 sec.model == "rod"))
+
+    for name, what, mine in (("segments", "", lambda sec: True),
+                             ("rod_segments", "rod ", is_rod)):
+        why = (f"a guard against scenes that exhaust memory: each {what}segment costs "
+               f"{'about 0.7 MB' if what else 'tens of kB'} of symbolic graph and solver")
+        for key, sections in by_key.items():
+            for i, sec in enumerate(sections):
+                if mine(sec):
+                    check(name, sec.segments, f"{key}[{i}].segments"
+                          + (" (rod segments)" if what else ""), why)
+        check(name, sum(sec.segments for secs in by_key.values() for sec in secs if mine(sec)),
+              f"the scene's {what}segments, all lines together", why)
 
 
 def _check_section_models(model: Model, zones: str, sections, key: str) -> None:

@@ -10,32 +10,32 @@ See the README for the scene-file contract and the CLI.
 """
 from __future__ import annotations
 
-from .api import (build_dynamic_model, end_stiffness, linearize, modal_analysis, simulate,
+from .api.analyses import (build_dynamic_model, end_stiffness, linearize, modal_analysis, simulate,
                   solve_periodic, sweep_periodic)
 from .errors import ConvergenceError, LimitError, SceneError, SymcableError
 from .limits import Limits, limits
 from .models import build_model
-from .results import BodyState, ModalSolution, PointState, StaticSolution, SystemStaticSolution
-from .results_periodic import PeriodicSolution, PeriodicSweep
-from .results_time import Trajectory
+from .results.static import BodyState, ModalSolution, PointState, StaticSolution, SystemStaticSolution
+from .results.periodic import PeriodicSolution, PeriodicSweep
+from .results.trajectory import Trajectory
 from .scene import Scene, load_scene
-from .results_line3d import LineTrajectory
-from .cable3d_static import cable3d_mechanism
-from .planar_static import solve_static
-from .models.assembly import Prescribed, Shared, assemble
-from .models.mechanism import (Bound, Mechanism, Output, ParamBlocks, PartLayout, Layout, Scales,
+from .results.line3d import LineTrajectory
+from .api.cable3d_static import cable3d_mechanism
+from .api.planar_static import solve_static
+from .mechanism.assembly import Prescribed, Shared, assemble
+from .mechanism.mechanism import (Bound, Mechanism, Output, ParamBlocks, PartLayout, Layout, Scales,
                                Start)
 from .models import toys
-from .results_mechanism import (Equilibrium, Linearization, MechanismModes, MechanismTrajectory,
+from .results.generic import (Equilibrium, Linearization, MechanismModes, MechanismTrajectory,
                                 SceneLinearization)
-from .results_periodic_mech import MechanismPeriodic
-from .results_sweep import CaseResult, SweepResult
-from .offsets import offset_sweep, offsets_along
-from .results_offsets import OffsetSweep
+from .results.periodic_generic import MechanismPeriodic
+from .results.sweep import CaseResult, SweepResult
+from .api.offsets import offset_sweep, offsets_along
+from .results.offsets import OffsetSweep
 from .sweep import read_sweep, run_sweep
 from .solvers.equilibrium import solve_equilibrium
 from .solvers.branch import Branch, BranchPoint, trace_branch
-from .rod_contact import SelfContact, self_contact
+from .api.rod_contact import SelfContact, self_contact
 from .solvers.integrate import integrate
 from .solvers.linearize import linearize_mechanism, mechanism_modes, output_sensitivity
 from .solvers.options import (RK4, Collocation, GeneralizedAlpha, GeneralizedAlphaFirstOrder,

@@ -79,7 +79,7 @@ def taut_string(T=1e5, L=100.0, mass=10.0, EA=1e9, segments=50):
 def planar_rates(model):
     """``(rate, jacobian)`` of the planar DynamicModel ``model`` in its own state order y,
     composed from the derived Functions of its Mechanism
-    (``symcable.derive.functions(mechanism_of(model))``, permuted by ``state_permutation``):
+    (``symcable.mechanism.functions.functions(mechanism_of(model))``, permuted by ``state_permutation``):
 
     * ``rate(y, t, p) -> y'`` (n_y,): q' = ``qdot`` (the kinematics G v + w) and v' = M^-1 f
       with f = -``acc_residual``(q, v, a = 0).r_f;
@@ -89,7 +89,7 @@ def planar_rates(model):
     import casadi as ca
     import numpy as np
 
-    from symcable.derive import functions
+    from symcable.mechanism.functions import functions
     from symcable.models.planar_mechanism import mechanism_of, state_permutation
 
     mech = mechanism_of(model)

@@ -1,4 +1,4 @@
-"""Run hostile-input cases (``hostile.py``) through ``symcable.cli.main`` in this process.
+"""Run hostile-input cases (``hostile.py``) through ``symcable.cli.main.main`` in this process.
 
     python hostile_runner.py CASES.json RESULTS.json
 
@@ -32,7 +32,7 @@ def _alarm(signum, frame):
 
 
 def run(cases: list) -> dict:
-    from symcable.cli import main
+    from symcable.cli.main import main
 
     signal.signal(signal.SIGALRM, _alarm)
     out = []

@@ -11,7 +11,7 @@ import pytest
 
 import symcable as sc
 from symcable import Bound, Mechanism, ParamBlocks, Scales, Start
-from symcable.models.mechanism import Layout
+from symcable.mechanism.mechanism import Layout
 from symcable.solvers.equilibrium import solve_equilibrium
 
 
@@ -136,7 +136,7 @@ def test_straight_column_beyond_euler_load_is_unstable_and_buckles():
     finds it unstable; pseudo-transient continuation pushed along the unstable mode reaches
     the buckled branch, the same shape the default (hanging-line) start gives. Below Euler's
     load (1 N) the straight column is stable and returned."""
-    from symcable.models.mechanism import Start
+    from symcable.mechanism.mechanism import Start
     from symcable.models.static_mechanism import static_mechanism
     from symcable.solvers.equilibrium import solve_equilibrium
 

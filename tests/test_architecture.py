@@ -8,23 +8,18 @@ the package ``a.b`` (its ``__init__`` runs first) unless the importer lives insi
 
 Layers, lowest first; a module may import modules of its own layer or of a lower one:
 
-0. ``errors``, ``limits``, ``progress``, ``analytic``, ``linalg``, ``codegen``, ``data``: leaves that
-   know no scene, model or solver
-1. ``scene``: what is modelled
+0. ``errors``, ``limits``, ``progress``, ``analytic``, ``linalg``, ``data``: leaves that know
+   no scene, model or solver
+1. ``scene`` (what is modelled) and ``mechanism`` (the Mechanism every formulation produces,
+   its assembly, the Functions derived from it and generated C): neither knows the other
 2. ``models``: the formulations (never a solver)
-3. ``derive``, ``derive_static``: the Functions derived from a Mechanism, and their caches
-4. ``results``, ``results_time``, ``results_periodic``, ``results_mechanism``,
-   ``results_periodic_mech``, ``plotting``, ``plotting3d``: what comes out
-   (results import plotting lazily; plotting imports no solver)
+4. ``results``, ``plotting``: what comes out (results import plotting lazily; plotting
+   imports no solver)
 5. ``solvers``: how it is solved
-6. ``api``, ``planar_static``, ``cable3d_static``, ``planar_time``, ``planar_periodic``, ``export``, ``cli`` and
-   the package's ``__init__``: orchestration and entry points
+6. ``api``, ``sweep``, ``cli`` and the package's ``__init__``: orchestration and entry points
 
-``codegen`` sits at layer 0, below the derived Functions that design.md puts it with: it
-imports only ``errors`` and ``progress`` and knows nothing of models, so the functions layer
-(``derive_static``), the solvers and ``export`` compile through it, never the reverse. No
-formulation compiles anything (the planar DynamicModel is a plain record; its Mechanism's
-Functions come from ``derive``).
+No formulation compiles anything (the planar DynamicModel is a plain record; its
+Mechanism's Functions come from ``mechanism.functions``).
 
 Beyond the layers there is no import cycle at all, not even between two modules of one
 layer (two modules that import each other).
@@ -47,43 +42,16 @@ LAYERS = {
     "symcable.progress": 0,
     "symcable.analytic": 0,
     "symcable.linalg": 0,
-    "symcable.codegen": 0,
     "symcable.data": 0,
     "symcable.scene": 1,
+    "symcable.mechanism": 1,
     "symcable.models": 2,
-    "symcable.derive": 3,
-    "symcable.derive_static": 3,
     "symcable.results": 4,
-    "symcable.results_time": 4,
-    "symcable.results_periodic": 4,
-    "symcable.results_mechanism": 4,
-    "symcable.results_periodic_mech": 4,
     "symcable.plotting": 4,
-    "symcable.plotting3d": 4,
-    "symcable.plotting_bodies": 4,
-    "symcable.plotting_line3d": 4,
-    "symcable.plotting_tow": 4,
-    "symcable.plotting_system": 4,
-    "symcable.results_line3d": 4,
-    "symcable.results_sweep": 4,
-    "symcable.results_offsets": 4,
-    "symcable.rod_fields": 4,
-    "symcable.rod_contact": 4,
     "symcable.solvers": 5,
     "symcable.api": 6,
-    "symcable.planar_static": 6,
-    "symcable.cable3d_api": 6,
-    "symcable.cable3d_periodic": 6,
-    "symcable.cable3d_static": 6,
-    "symcable.scene3d": 6,
-    "symcable.rod_static": 6,
-    "symcable.planar_periodic": 6,
-    "symcable.planar_time": 6,
-    "symcable.export": 6,
-    "symcable.cli": 6,
-    "symcable.offsets": 6,
-    "symcable.offsets_cli": 6,
     "symcable.sweep": 6,
+    "symcable.cli": 6,
     "symcable": 6,
 }
 
@@ -276,7 +244,7 @@ def problems(graph: Graph, layers: dict) -> list:
                 continue
             out.append(f"upward import: {m} (layer {lm}) imports {t} (layer {lt}) at "
                        f"{', '.join(where)}: move the code that needs {t} up to a layer "
-                       f">= {lt} (e.g. symcable.api), or what it needs down")
+                       f">= {lt} (e.g. symcable.api.analyses), or what it needs down")
     for component, cycle in zip(strongly_connected(graph), find_cycles(graph)):
         steps = "; ".join(f"{a} imports {b} at {', '.join(graph[a][b])}"
                           for a, b in zip(cycle, cycle[1:]))

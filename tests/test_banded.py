@@ -72,7 +72,7 @@ def test_schur_banded_on_a_mechanical_iteration_matrix():
 
 def test_generated_c_equals_virtual_machine(tmp_path):
     """The loops compile to C and give the virtual machine's answer to the last bits."""
-    from symcable.codegen import compile_functions, use_codegen
+    from symcable.mechanism.codegen import compile_functions, use_codegen
     if not use_codegen(True):
         pytest.fail("no C compiler on this machine: CI installs one")
     rng = np.random.default_rng(5)

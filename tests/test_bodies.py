@@ -11,9 +11,9 @@ import numpy as np
 import pytest
 
 import symcable as sc
-from symcable.derive import functions
+from symcable.mechanism.functions import functions
 from symcable.models.body import body_part, start_q
-from symcable.results_mechanism import Equilibrium
+from symcable.results.generic import Equilibrium
 from symcable.scene.bodies import Body, BodyKind
 from symcable.scene.model import Environment
 from symcable.solvers.integrate import integrate
@@ -183,7 +183,7 @@ def test_pendulum_swings_at_its_period_and_keeps_its_energy():
     the amplitude's theta0^2 / 16 = 2e-5, the wire's mass 1e-5); with rho_inf = 1 the
     energy changes by less than 1e-5 of the swing's (measured 1.5e-7: the ball's end node is
     a point of the ball, its mass and motion exact)."""
-    from symcable.cable3d_static import static_equilibrium
+    from symcable.api.cable3d_static import static_equilibrium
     from symcable.scene import load_scene
 
     mech, eq = static_equilibrium(load_scene(_pendulum()), codegen=False)
@@ -217,7 +217,7 @@ def test_energy_with_the_wire_off_the_centre_of_gravity(mass_matrix):
     with the wire's lumped or consistent mass): the energy drifts at second order in dt
     (measured 9.7e-7 and 2.3e-7 J at 0.01 and 0.005 s, of 3.9 J kinetic, both mass
     matrices)."""
-    from symcable.cable3d_static import static_equilibrium
+    from symcable.api.cable3d_static import static_equilibrium
     from symcable.scene import load_scene
 
     d = _pendulum()

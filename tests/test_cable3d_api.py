@@ -10,7 +10,7 @@ import pytest
 import scipy.linalg
 
 import symcable as sc
-from symcable.results_line3d import LineTrajectory
+from symcable.results.line3d import LineTrajectory
 
 T = 8.0  # s, the fairlead motion's period
 MOTION = {"kind": "harmonic", "period": T, "amplitude": [1.0, 0.5, 1.5], "phase_deg": [0, 30, -90]}

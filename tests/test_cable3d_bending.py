@@ -23,7 +23,7 @@ import pytest
 import symcable as sc
 from symcable.analytic import (cantilever_tip_load, cantilever_tip_load_small,
                                heavy_cantilever_small)
-from symcable.cable3d_static import cable3d_mechanism
+from symcable.api.cable3d_static import cable3d_mechanism
 from symcable.models.cable3d_bending import bending_kernel
 from symcable.scene import load_scene
 from symcable.solvers.equilibrium import solve_equilibrium

@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 import symcable as sc
-from symcable.cable3d_static import cable3d_mechanism, check_periodic_3d
+from symcable.api.cable3d_static import cable3d_mechanism, check_periodic_3d
 from symcable.errors import SceneError
 from symcable.scene import load_scene
 from symcable.solvers.equilibrium import solve_equilibrium

@@ -10,7 +10,7 @@ import casadi as ca
 import numpy as np
 import pytest
 
-from symcable.cable3d_static import cable3d_mechanism
+from symcable.api.cable3d_static import cable3d_mechanism
 from symcable.scene import load_scene
 from symcable.solvers.equilibrium import solve_equilibrium
 from symcable.solvers.integrate import integrate

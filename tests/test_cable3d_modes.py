@@ -12,7 +12,7 @@ import math
 
 import numpy as np
 
-from symcable.cable3d_static import cable3d_mechanism
+from symcable.api.cable3d_static import cable3d_mechanism
 from symcable.scene import load_scene
 from symcable.solvers.equilibrium import solve_equilibrium
 from symcable.solvers.linearize import mechanism_modes

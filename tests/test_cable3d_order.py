@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 
 import symcable as sc
-from symcable.cable3d_static import static_equilibrium
+from symcable.api.cable3d_static import static_equilibrium
 from symcable.errors import ConvergenceError
 from symcable.scene import load_scene
 from symcable.solvers.integrate import integrate

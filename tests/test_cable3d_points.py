@@ -308,7 +308,7 @@ def test_free_point_force_balance(two_lines):
 
 
 def test_outputs_are_namespaced():
-    from symcable.cable3d_static import cable3d_mechanism
+    from symcable.api.cable3d_static import cable3d_mechanism
 
     mech = cable3d_mechanism(load_scene(_two_lines()))
     for name in ("lower.axial_force", "lower.end_force_b", "upper.positions", "buoy.position",
@@ -355,7 +355,7 @@ def test_energy_conserved_with_a_free_point():
     from a bowed shape: generalized-alpha with rho_inf = 1 conserves the system's energy (the
     Mechanism's kinetic and potential energy outputs, the point's included) to second order
     in dt (measured drifts 1.51, 0.383, 0.098 %)."""
-    from symcable.cable3d_static import cable3d_mechanism
+    from symcable.api.cable3d_static import cable3d_mechanism
     from symcable.solvers.equilibrium import solve_equilibrium
     from symcable.solvers.integrate import integrate
     from symcable.solvers.options import GeneralizedAlpha

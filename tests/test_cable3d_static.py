@@ -50,7 +50,7 @@ def test_planar_equals_3d_on_oc3(planar_oc3, angle, monkeypatch):
     (the test below it)."""
     from collections import OrderedDict
 
-    import symcable.cable3d_static as c3s
+    import symcable.api.cable3d_static as c3s
     from symcable.models import seabed3d
     default = sc.solve_static(_oc3_3d(angle))
     assert default.fairlead_tension == pytest.approx(planar_oc3.fairlead_tension, rel=1e-4)
@@ -81,7 +81,7 @@ def test_planar_equals_3d_at_the_seed_001_stiffness(monkeypatch):
     as above)."""
     from collections import OrderedDict
 
-    import symcable.cable3d_static as c3s
+    import symcable.api.cable3d_static as c3s
     from symcable.models import seabed3d
     planar = sc.load_scene(sc.demo_scene_path("oc3")).to_dict()
     planar["line_types"]["chain"]["EA"] = 3.84243e7

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import symcable as sc
-from symcable.results_line3d import SystemTrajectory
+from symcable.results.line3d import SystemTrajectory
 
 T = 8.0
 

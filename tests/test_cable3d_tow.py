@@ -12,7 +12,7 @@ import math
 import numpy as np
 import pytest
 
-from symcable.cable3d_api import simulate_3d
+from symcable.api.cable3d import simulate_3d
 from symcable.errors import SceneError, SymcableError
 from symcable.models.tow import tow_state
 from symcable.scene import load_scene
@@ -194,7 +194,7 @@ def test_tow_is_cable3d_only_and_not_periodic():
                         "motion": {"kind": "tow", "speed": 1.0, "heading": 0.0}}}
     with pytest.raises(SceneError, match='end_b.motion.kind = .tow.: tow motions are read by'):
         load_scene(planar)
-    from symcable.cable3d_static import check_periodic_3d
+    from symcable.api.cable3d_static import check_periodic_3d
     with pytest.raises(SymcableError, match="end_a.motion: kind = 'tow' is not periodic"):
         check_periodic_3d(load_scene(_pode()))
 
@@ -274,7 +274,7 @@ def test_cli_checks_and_simulates_a_tow(tmp_path, capsys):
 
     import tomli_w
 
-    from symcable.cli import main
+    from symcable.cli.main import main
     path = tmp_path / "tow.toml"
     path.write_text(tomli_w.dumps(_pode()))
     assert main(["check", str(path)]) == 0

@@ -12,7 +12,7 @@ import math
 import numpy as np
 import pytest
 
-from symcable.cable3d_api import simulate_3d
+from symcable.api.cable3d import simulate_3d
 from symcable.models.tow_steady import steady_tow, tow_sections
 from symcable.scene import load_scene
 
@@ -272,8 +272,8 @@ def test_cli_simulates_and_plots_a_tow(tmp_path, monkeypatch, capsys):
     import json
 
     from symcable import demo_scene_path
-    from symcable.cli import main
-    from symcable.plotting_tow import tow_tracks
+    from symcable.cli.main import main
+    from symcable.plotting.tows import tow_tracks
     monkeypatch.setenv("SYMCABLE_CODEGEN", "0")
     png = tmp_path / "tow.png"
     assert main(["simulate", str(demo_scene_path("towed_body")), "--duration", "1",

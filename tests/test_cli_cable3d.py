@@ -6,8 +6,8 @@ import json
 
 import pytest
 
-from symcable.cli import main
-from symcable.results_line3d import LineTrajectory
+from symcable.cli.main import main
+from symcable.results.line3d import LineTrajectory
 from symcable.scene import load_scene, scene_to_toml
 
 from test_cable3d_api import _scene

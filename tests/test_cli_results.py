@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import symcable as sc
-from symcable.cli import main
+from symcable.cli.main import main
 
 from conftest import OC3, two_point
 
@@ -172,7 +172,7 @@ def test_time_series_plots_show_compression(tmp_path):
     the least axial force along the line, which goes below the dashed zero line, with the
     compressive part shaded. The periodic envelope is on the nodes (21 points, from s = 0)."""
     from matplotlib.collections import PolyCollection
-    from symcable.plotting import close, plot_periodic, plot_trajectory
+    from symcable.plotting.profiles import close, plot_periodic, plot_trajectory
 
     d = sc.load_scene(sc.demo_scene_path("seed001")).to_dict()
     d["sections"][0]["segments"] = 20

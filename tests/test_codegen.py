@@ -14,8 +14,8 @@ import numpy as np
 import pytest
 
 import symcable as sc
-from symcable import codegen
-from symcable.cli import main
+from symcable.mechanism import codegen
+from symcable.cli.main import main
 
 from conftest import OC3, seed001
 
@@ -149,7 +149,7 @@ def test_cache_memory_disk_and_damaged_entry(monkeypatch, tmp_path):
 
 
 def test_cache_concurrent_builders(tmp_path):
-    code = ("import casadi as ca, numpy as np; from symcable import codegen\n"
+    code = ("import casadi as ca, numpy as np; from symcable.mechanism import codegen\n"
             "x = ca.SX.sym('x', 3)\n"
             "f = ca.Function('race_fn', [x], [ca.cos(x) * x[1]], ['x'], ['y'])\n"
             "y = codegen.compile_functions([f])['race_fn']([1.0, 2.0, 3.0])\n"

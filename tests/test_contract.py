@@ -15,8 +15,8 @@ from scipy.special import ellipk
 
 from symcable.errors import ConvergenceError, SymcableError
 from symcable.models import toys
-from symcable.models.assembly import Prescribed, Shared, assemble
-from symcable.models.mechanism import Start
+from symcable.mechanism.assembly import Prescribed, Shared, assemble
+from symcable.mechanism.mechanism import Start
 from symcable.solvers.equilibrium import solve_equilibrium
 from symcable.solvers.integrate import integrate
 from symcable.solvers.linearize import mechanism_modes, output_sensitivity

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 import symcable as sc
-from symcable.api import solve_periodic
+from symcable.api.analyses import solve_periodic
 
 from conftest import seed001
 
@@ -29,7 +29,7 @@ def test_collocation_harmonic_balance_and_long_time_run_agree():
     assert np.max(np.abs(col_on_tr - f_last)) < 0.01 * rng
     # and the envelopes agree along the line (on the nodes, ends included, as the periodic
     # solution gives them: an API change, they were per segment)
-    from symcable.results_time import node_tension
+    from symcable.results.trajectory import node_tension
     ten = node_tension(tr.tension[last], tr.anchor_tension[last], tr.fairlead_tension[last])
     assert np.max(np.abs(ten.max(axis=0) - col.tension_max)) < 0.01 * rng
     assert np.max(np.abs(ten.min(axis=0) - col.tension_min)) < 0.01 * rng

@@ -1,4 +1,4 @@
-"""The Mechanism's element form (symcable/models/element_form.py) and the step built from it
+"""The Mechanism's element form (symcable/mechanism/element_form.py) and the step built from it
 (symcable/solvers/element_jacobian.py): the cable3d line's momentum rows as element kernels
 plus a rest reproduce the Mechanism's own, the step's residual and iteration matrix from the
 elements' loop equal the written-out ones, a run takes the same steps either way, and a
@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from symcable.models.cable3d import build_cable3d
-from symcable.models.element_form import split_mismatch
+from symcable.mechanism.element_form import split_mismatch
 from symcable.scene import load_scene
 from symcable.solvers import galpha1 as ga
 from symcable.solvers.equilibrium import solve_equilibrium
@@ -149,7 +149,7 @@ def test_the_compiled_step_equals_the_virtual_machine():
     step in CasADi's virtual machine, three steps of 0.25 s on the 40-segment line: the
     same iterations and states to 1e-10 of their scales (round-off through Newton's
     iterations; the same graph evaluated in another order)."""
-    from symcable.codegen import use_codegen
+    from symcable.mechanism.codegen import use_codegen
     from symcable.solvers.galpha1 import galpha1_kernel, step_scales
     if not use_codegen(True):
         pytest.fail("no C compiler on this machine: CI installs one")

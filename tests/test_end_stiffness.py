@@ -8,7 +8,7 @@ import pytest
 
 import symcable as sc
 from symcable.errors import SymcableError
-from symcable.api import end_stiffness
+from symcable.api.analyses import end_stiffness
 from symcable.scene import load_scene
 
 

@@ -23,7 +23,7 @@ import pytest
 
 from symcable.errors import SymcableError
 from symcable.models import toys
-from symcable.results_periodic_mech import MechanismPeriodic
+from symcable.results.periodic_generic import MechanismPeriodic
 from symcable.solvers.floquet import STABILITY_MARGIN, floquet
 from symcable.solvers.options import Collocation, HarmonicBalance, Shooting
 from symcable.solvers.periodic_mech import solve_periodic_mech

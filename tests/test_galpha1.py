@@ -14,7 +14,7 @@ import pytest
 
 import symcable as sc
 from symcable.errors import ConvergenceError, SymcableError
-from symcable.models.mechanism import Mechanism, ParamBlocks, Scales, Start
+from symcable.mechanism.mechanism import Mechanism, ParamBlocks, Scales, Start
 from symcable.models.planar_mechanism import mechanism_of
 from symcable.solvers.galpha1 import galpha1_kernel, galpha1_residual, galpha1_step, step_scales
 from symcable.solvers.integrate import integrate, start_rates

@@ -17,9 +17,9 @@ import numpy as np
 import pytest
 
 import symcable as sc
-from symcable.cable3d_static import static_equilibrium
+from symcable.api.cable3d_static import static_equilibrium
 from symcable.errors import SceneError
-from symcable.rod_static import hybrid_zones, rod_static_equilibrium
+from symcable.api.rod_static import hybrid_zones, rod_static_equilibrium
 from symcable.scene import load_scene
 
 
@@ -280,7 +280,7 @@ def test_check_shows_each_section_model_and_the_guided_end(tmp_path, capsys):
     there before a long run)."""
     import tomli_w
 
-    from symcable.cli import main
+    from symcable.cli.main import main
     path = tmp_path / "hybrid.toml"
     path.write_bytes(tomli_w.dumps(seed(20, sections=[(15, "cable3d"), (5, "rod")])).encode())
     assert main(["check", str(path)]) == 0

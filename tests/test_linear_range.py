@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import symcable as sc
-from symcable.cli import EXIT_INVALID, main
+from symcable.cli.main import EXIT_INVALID, main
 from symcable.errors import SceneError
 from symcable.scene import scene_to_toml
 

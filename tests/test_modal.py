@@ -9,9 +9,9 @@ import pytest
 
 import symcable as sc
 from symcable.analytic import sagged_cable_frequencies, taut_string_frequencies
-from symcable.api import modal_analysis
+from symcable.api.analyses import modal_analysis
 from symcable.errors import SymcableError
-from symcable.results import ModalSolution
+from symcable.results.static import ModalSolution
 
 from conftest import planar_rates, seed001, taut_string
 

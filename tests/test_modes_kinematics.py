@@ -9,9 +9,9 @@ import pytest
 
 import symcable as sc
 from symcable.errors import SymcableError
-from symcable.models.mechanism import Layout, Mechanism, ParamBlocks, Scales, Start
+from symcable.mechanism.mechanism import Layout, Mechanism, ParamBlocks, Scales, Start
 from symcable.models.planar_mechanism import mechanism_of
-from symcable.results_mechanism import Equilibrium
+from symcable.results.generic import Equilibrium
 from symcable.solvers.linearize import mechanism_modes
 
 from conftest import seed001

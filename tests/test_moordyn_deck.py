@@ -13,7 +13,7 @@ from pathlib import Path
 import pytest
 
 import symcable as sc
-from symcable.cli import main
+from symcable.cli.main import main
 from symcable.errors import SceneError
 from symcable.scene import EndCondition, Model, load_scene, moordyn_deck, scene_to_toml
 from symcable.scene.moordyn import ZETA_FACTOR, is_moordyn_deck, parse_moordyn

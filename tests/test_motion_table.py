@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from symcable.cable3d_static import cable3d_mechanism
+from symcable.api.cable3d_static import cable3d_mechanism
 from symcable.errors import SceneError
 from symcable.scene import load_scene, scene_to_toml
 from symcable.solvers.equilibrium import solve_equilibrium

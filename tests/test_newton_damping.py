@@ -13,7 +13,7 @@ from conftest import load_study
 
 
 def _run(study, tmp_path):
-    from symcable.cable3d_static import cable3d_mechanism
+    from symcable.api.cable3d_static import cable3d_mechanism
     from symcable.solvers.equilibrium import solve_equilibrium
     from symcable.solvers.integrate import integrate
     from symcable.solvers.options import GeneralizedAlphaFirstOrder

@@ -1,4 +1,4 @@
-"""The offset sweep of a moored body (issue 13, item 6; symcable/offsets.py): the restoring
+"""The offset sweep of a moored body (issue 13, item 6; symcable/api/offsets.py): the restoring
 force on the OC3-like submerged spar of test_bodies_moored held at a sweep of offsets, in
 one batched call, against separate static solves of the body held there, against MoorPy's
 lines, and its exact stiffness against linearize's."""
@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import symcable as sc
-from symcable.offsets import offsets_along
+from symcable.api.offsets import offsets_along
 from test_bodies_moored import CHAIN, DEPTH, G, LENGTH, R_ANCHOR, R_FAIR, RHO, _moored
 
 
@@ -115,7 +115,7 @@ def test_save_load_plot_and_errors(tmp_path, surge):
 def test_cli_offsets(tmp_path, capsys):
     """``symcable offsets``: the summary, the figure and the saved sweep; a bad body is one
     line and exit status 2."""
-    from symcable.cli import main
+    from symcable.cli.main import main
     from symcable.scene import load_scene, scene_to_toml
 
     p = tmp_path / "spar.toml"

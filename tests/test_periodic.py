@@ -12,10 +12,10 @@ import numpy as np
 import pytest
 
 import symcable as sc
-from symcable.api import solve_periodic, sweep_periodic
+from symcable.api.analyses import solve_periodic, sweep_periodic
 from symcable.errors import ConvergenceError, SceneError, SymcableError
 from symcable.models.planar_dynamics import reconstruct_positions
-from symcable.results_periodic import PeriodicSolution, PeriodicSweep
+from symcable.results.periodic import PeriodicSolution, PeriodicSweep
 
 from conftest import planar_rates, seed001
 
@@ -264,7 +264,7 @@ def test_closure_is_stabilised_and_the_problem_well_posed(scene, model, colloc):
     unique solution), so such parameters are refused in one line.
     (API change: the old solvers detected the two invariants by an SVD and gauged them.)"""
     from symcable.models.planar_mechanism import mechanism_of, state_permutation
-    from symcable.planar_periodic import periodic_params
+    from symcable.api.planar_periodic import periodic_params
     from symcable.solvers.hbalance_mech import hb_system
     from symcable.solvers.periodic_common import start_from_samples
 

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from symcable.errors import ConvergenceError
-from symcable.models.mechanism import ParamBlocks
+from symcable.mechanism.mechanism import ParamBlocks
 from symcable.solvers import periodic_fallback as pf
 
 #: a stand-in mechanism: a stiffness block, the motion's scale and its ramp flag

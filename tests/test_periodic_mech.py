@@ -19,7 +19,7 @@ import pytest
 from symcable.errors import ConvergenceError, SymcableError
 from symcable.models import toys
 from symcable.models.toys_forced import driven_pendulum
-from symcable.results_periodic_mech import MechanismPeriodic, trig_interp
+from symcable.results.periodic_generic import MechanismPeriodic, trig_interp
 from symcable.solvers import shooting_mech
 from symcable.solvers.collocation_mech import collocation_system
 from symcable.solvers.integrate import integrate

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import symcable as sc
-from symcable.derive import functions
+from symcable.mechanism.functions import functions
 from symcable.errors import SceneError
 from symcable.models.planar_mechanism import mechanism_of, state_permutation
 

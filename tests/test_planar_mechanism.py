@@ -11,11 +11,11 @@ import numpy as np
 import pytest
 
 import symcable as sc
-from symcable.derive import functions
+from symcable.mechanism.functions import functions
 from symcable.errors import SymcableError
-from symcable.models.mechanism import Mechanism, ParamBlocks, Scales, Start
+from symcable.mechanism.mechanism import Mechanism, ParamBlocks, Scales, Start
 from symcable.models.planar_mechanism import dynamics_mechanism, state_permutation
-from symcable.results_periodic_mech import MechanismPeriodic
+from symcable.results.periodic_generic import MechanismPeriodic
 from symcable.solvers.integrate import integrate
 from symcable.solvers.options import (RK4, Collocation, GeneralizedAlpha,
                                       GeneralizedAlphaFirstOrder)

@@ -8,7 +8,7 @@ import pytest
 
 import symcable as sc
 from symcable.analytic import elastic_catenary
-from symcable.derive import functions
+from symcable.mechanism.functions import functions
 from symcable.models.static_mechanism import static_mechanism
 
 from conftest import OC3, two_point

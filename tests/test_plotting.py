@@ -14,10 +14,11 @@ import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 
 import symcable as sc  # noqa: E402
-from symcable import plotting, plotting3d  # noqa: E402
-from symcable.results_periodic import PeriodicSolution  # noqa: E402
-from symcable.results_time import Trajectory  # noqa: E402
-from symcable.results import ModalSolution  # noqa: E402
+from symcable.plotting import profiles as plotting
+from symcable.plotting import view3d as plotting3d  # noqa: E402
+from symcable.results.periodic import PeriodicSolution  # noqa: E402
+from symcable.results.trajectory import Trajectory  # noqa: E402
+from symcable.results.static import ModalSolution  # noqa: E402
 
 from conftest import two_point  # noqa: E402
 

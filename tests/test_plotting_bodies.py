@@ -1,4 +1,4 @@
-"""Bodies in the 3D, plan and elevation views (symcable/plotting_bodies.py and
+"""Bodies in the 3D, plan and elevation views (symcable/plotting/bodies.py and
 plot_mechanism): the moored spar of test_bodies_moored drawn as a box spanning its
 attachment points, its axes and those points, at its pose; its Mechanism part is not drawn
 as nodes."""
@@ -11,8 +11,8 @@ matplotlib.use("Agg")
 import numpy as np  # noqa: E402
 
 import symcable as sc  # noqa: E402
-from symcable.cable3d_static import static_equilibrium  # noqa: E402
-from symcable.plotting_bodies import body_attachments, body_poses, plot_system  # noqa: E402
+from symcable.api.cable3d_static import static_equilibrium  # noqa: E402
+from symcable.plotting.bodies import body_attachments, body_poses, plot_system  # noqa: E402
 from symcable.scene import load_scene  # noqa: E402
 from test_bodies_moored import R_FAIR, _moored  # noqa: E402
 

@@ -12,7 +12,7 @@ import pytest
 
 import symcable as sc
 from symcable.limits import _open_brackets, check_nesting, current, read_bounded
-from symcable.models.mechanism import casadi_name
+from symcable.mechanism.mechanism import casadi_name
 
 from conftest import OC3, seed001
 

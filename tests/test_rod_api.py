@@ -1,7 +1,7 @@
 """The rod's user level (issue 14 item 3): ``sc.modal_analysis``, ``sc.simulate``,
 ``sc.linearize``, ``sc.end_stiffness`` and the CLI on a ``model = "rod"`` scene, through the
 cable3d user level with the rod's Mechanism and static state
-(:func:`symcable.scene3d.scene_mechanism`, :func:`~symcable.scene3d.scene_equilibrium`).
+(:func:`symcable.api.scene3d.scene_mechanism`, :func:`~symcable.api.scene3d.scene_equilibrium`).
 """
 from __future__ import annotations
 
@@ -146,7 +146,7 @@ def test_periodic_rod():
 
 def test_cli_simulate_rod(kick, tmp_path, capsys):
     """``symcable check``, ``simulate`` and ``modes`` on a rod scene file, with --json."""
-    from symcable.cli import main
+    from symcable.cli.main import main
     from symcable.scene import load_scene, scene_to_toml
     p = tmp_path / "rod.toml"
     p.write_text(scene_to_toml(load_scene(_cantilever(kick))))

@@ -1,4 +1,4 @@
-"""Re-anchoring in the time march (issue 14; notes/rod14.md sections 1 and 3): a rod's
+"""Re-anchoring in the time march (issue 14; studies/rod_notes/rod14.md sections 1 and 3): a rod's
 reference frames are anchored (the parameter block ``frame``) and singular where an edge
 has turned by half a turn from its anchor; the march calls the Mechanism's re-anchoring hook
 (:func:`symcable.models.rod_reanchor.reanchor_hook`, :mod:`symcable.solvers.reanchor`)
@@ -114,7 +114,7 @@ def _swinging():
 
 def test_the_reference_spin_makes_the_motion_chart_free():
     """The rod's twist inertia leaves out the spin of its anchored reference frames
-    (notes/rod14.md), so its motion depends on when the frames are re-anchored: the rod of
+    (studies/rod_notes/rod14.md), so its motion depends on when the frames are re-anchored: the rod of
     :func:`_swinging` over 1 s, re-anchored at threshold 0.5 and at 1.99 (37 times), ends
     9.2e-3 m apart at dt = 1 and 0.5 ms alike (measured: a model error, not the step's).
     With the spin in the kinetic energy (``with_reference_spin``, and the twist rates moved
@@ -137,7 +137,7 @@ def test_the_reference_spin_makes_the_motion_chart_free():
 def test_frame_margin_needs_anchored_frames():
     """A Mechanism without a ``frame`` block has nothing to re-anchor: a SymcableError
     naming it (the cable3d march never asks)."""
-    from symcable.cable3d_static import cable3d_mechanism
+    from symcable.api.cable3d_static import cable3d_mechanism
     from symcable.errors import SymcableError
     d = {"model": "cable3d", "line_types": {"c": {"EA": 1e6, "mass": 1.0, "diameter": 0.02}},
          "sections": [{"type": "c", "length": 10.0, "segments": 4}],

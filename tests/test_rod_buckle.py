@@ -1,7 +1,7 @@
 """Buckled shapes of the twisted rod reached by static continuation (issue 14 item 3):
 :func:`symcable.trace_branch` in a clamp's twist across Greenhill's critical moment;
 :func:`symcable.self_contact` on shapes; the loop oracle (:func:`symcable.analytic.twisted_loop`)
-and :func:`symcable.rod_contact.writhe` checked on each other and the Kirchhoff equations.
+and :func:`symcable.api.rod_contact.writhe` checked on each other and the Kirchhoff equations.
 
 The rod is test_rod_greenhill's (clamped at both ends along x, end rotation held, EA = 1e6
 B / L^2), at 12 segments. With both ends held at distance L an inextensible rod has no shape
@@ -170,14 +170,14 @@ def test_twisted_loop_solves_kirchhoff():
 
 
 def test_writhe_of_the_loop():
-    """symcable.rod_contact.writhe on the homoclinic loop's centre line (its tangent
+    """symcable.api.rod_contact.writhe on the homoclinic loop's centre line (its tangent
     integrated at 400 segments over +-20 / k, the ends extended along the axis): 2 pi Wr is
     the loop's end rotation 4 arccos(m / 2) (Calugareanu-White-Fuller with the twist M / C
     uniform), measured 0.21 % / 1.08 % low at m = 0.69 / 1.66 (second order in the
     segments: 0.013 % / 0.067 % at 1600); asserted 2 %. A planar curve has none, and the
     mirror image the opposite."""
     from symcable.analytic import twisted_loop
-    from symcable.rod_contact import writhe
+    from symcable.api.rod_contact import writhe
     Bs, T = 1.3, 40.0
     for M in (5.0, 12.0):
         lp = twisted_loop(Bs, T, M)

@@ -1,4 +1,4 @@
-"""The rod's cost (notes/rodc14.md): the reference frames' spin in closed form equals its
+"""The rod's cost (studies/rod_notes/rodc14.md): the reference frames' spin in closed form equals its
 Lagrange terms by CasADi, the compiler's optimisation level follows the graph's size, and
 a small rod run in generated C equals the virtual machine's."""
 from __future__ import annotations
@@ -10,10 +10,10 @@ import numpy as np
 import pytest
 
 import symcable as sc
-from symcable import codegen
+from symcable.mechanism import codegen
 from symcable.models.rod_spin import with_reference_spin, with_reference_spin_ad
 from symcable.scene import load_scene
-from symcable.scene3d import scene_mechanism
+from symcable.api.scene3d import scene_mechanism
 
 
 def _rod(model: str = "rod", segments: int = 6, iso: bool = False, motion=None) -> dict:
@@ -65,7 +65,7 @@ def test_closed_form_spin_equals_casadi_lagrange_terms(case, tmp_path):
         assert np.max(np.abs(Ma - Mb)) <= 1e-14 * np.max(np.abs(Mb))
         assert np.max(np.abs(Fa - Fb)) <= 1e-13 * np.max(np.abs(Fb))
         assert Ka.item() >= 0.0
-    # the closed form's Jacobian is far smaller (notes/rodc14.md: 124 k -> 37 k at 8 edges)
+    # the closed form's Jacobian is far smaller (studies/rod_notes/rodc14.md: 124 k -> 37 k at 8 edges)
     y = ca.vertcat(mech.q, mech.v)
     size = [ca.Function("J", [y, mech.t, mech.p], [ca.jacobian(m.force, y)]).n_instructions()
             for m in (a, b)]

@@ -7,7 +7,7 @@ neither step: the scheme's stability is tested too), released straight from rest
 its weight (w L^3 / EI = 2): the energy 0.5 v^T M v + the potential (the Mechanism's
 outputs) is conserved at rho_inf = 1 to the integrator's order. In air the mass matrix is
 constant, so the equations are Lagrangian and this energy exact; the spin of the anchored
-reference frame, which the twist's kinetic energy leaves out (notes/rod14.md), is a
+reference frame, which the twist's kinetic energy leaves out (studies/rod_notes/rod14.md), is a
 modelling error this test cannot see.
 """
 from __future__ import annotations

@@ -1,5 +1,5 @@
 """The seed's field variables and its field equations (7)-(10) on the discrete rod
-(:mod:`symcable.rod_fields`; issue 14: "the seed's field equations (7)-(10) hold on the
+(:mod:`symcable.api.rod_fields`; issue 14: "the seed's field equations (7)-(10) hold on the
 discrete solution, with the residual shrinking at second order as segments are refined").
 
 Statics: a heavy cantilever with two principal stiffnesses whose clamp's frame is turned
@@ -14,7 +14,7 @@ import math
 import numpy as np
 import pytest
 
-from symcable.rod_fields import field_residuals, rod_fields, trajectory_fields
+from symcable.api.rod_fields import field_residuals, rod_fields, trajectory_fields
 from test_rod_statics import EI, L, cantilever, solve
 
 W = 10.0 * EI / L**3  # N/m
@@ -101,7 +101,7 @@ def test_angular_velocity_is_the_frames_rate():
     omega x t to 1e-4 of |omega| (the differences' O(dt^2) error: measured 1.5e-6 and 9.5e-6
     at 0.5 ms, 5.8e-6 and 4.1e-5 at 1 ms); the tumbling, anisotropic rod of
     tests/test_rod_api_reanchor.py. The dynamic residuals of Eqs. (7)-(10) are computed
-    (shapes checked) but not asserted: module note in notes/wire14.md (they are dominated by
+    (shapes checked) but not asserted: module note in studies/rod_notes/wire14.md (they are dominated by
     the unresolved axial and twist modes a start off equilibrium rings, and do not shrink
     with the segments at a fixed step)."""
     from test_rod_api_reanchor import _spinning

@@ -17,7 +17,7 @@ import math
 import numpy as np
 import pytest
 
-from symcable.models.mechanism import Start
+from symcable.mechanism.mechanism import Start
 from symcable.models.rod import build_rod
 from symcable.models.rod_frames import reference_director
 from symcable.scene import load_scene

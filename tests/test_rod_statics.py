@@ -137,7 +137,7 @@ def test_small_deflection_heavy_cantilever_second_order():
 def test_heavy_cantilever_matches_the_planar_model():
     """Large sag (EI / (w L^3) = 0.1, as cable3d's test): the rod at 20 segments against
     the planar model, tips within 5e-4 L (each model's discretisation error; cable3d
-    measured 2.6e-4 L at 20), through sc.solve_static (symcable.rod_static): the clamp
+    measured 2.6e-4 L at 20), through sc.solve_static (symcable.api.rod_static): the clamp
     carries the weight w L (1e-9 relative)."""
     w = EI / (0.1 * L**3)
     st = sc.solve_static(cantilever(weight=w), codegen=False)

@@ -9,8 +9,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from symcable.cable3d_static import cable3d_mechanism
-from symcable.rod_static import rod_mechanism
+from symcable.api.cable3d_static import cable3d_mechanism
+from symcable.api.rod_static import rod_mechanism
 from symcable.scene import load_scene
 from symcable.solvers.equilibrium import solve_equilibrium
 from symcable.solvers.linearize import mechanism_modes

@@ -6,7 +6,7 @@ import pytest
 
 import symcable as sc
 from symcable.analytic import elastic_catenary
-from symcable.derive_static import SXLU_MAX_UNKNOWNS
+from symcable.mechanism.static_functions import SXLU_MAX_UNKNOWNS
 
 from conftest import two_point
 

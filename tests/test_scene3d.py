@@ -253,7 +253,7 @@ def test_build_model_refuses_cable3d_cleanly():
 
 
 def test_cli_check_cable3d(tmp_path, capsys):
-    from symcable.cli import main
+    from symcable.cli.main import main
 
     path = tmp_path / "rope3d.toml"
     path.write_text(TOML)

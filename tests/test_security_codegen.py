@@ -19,8 +19,8 @@ import numpy as np
 import pytest
 
 import symcable as sc
-from symcable import codegen
-from symcable import export
+from symcable.mechanism import codegen
+from symcable.api import export
 from symcable.scene import load_scene
 
 SEED001 = Path(sc.__file__).parent / "data" / "seed001.toml"

@@ -23,10 +23,10 @@ import psutil
 import pytest
 
 import symcable as sc
-from symcable.cli import main
+from symcable.cli.main import main
 from symcable.errors import LimitError, SceneError, SymcableError
 from symcable.limits import limits
-from symcable.results_sweep import SUMMARY_ROWS, CaseResult, SweepResult
+from symcable.results.sweep import SUMMARY_ROWS, CaseResult, SweepResult
 from symcable.sweep import run as sweep_run
 from symcable.sweep import spec
 

@@ -120,7 +120,7 @@ def test_seed_step_of_one_second_from_straight():
     (A step may still be taken as substeps: plain Newton from rest wanders through
     residuals of 1e7 N before it lands, and where it does not, substeps do.)"""
     from symcable.models.rod_reanchor import reanchor_hook
-    from symcable.rod_static import rod_mechanism
+    from symcable.api.rod_static import rod_mechanism
     from symcable.solvers.integrate import integrate
     from symcable.solvers.options import GeneralizedAlpha, GeneralizedAlphaFirstOrder
 

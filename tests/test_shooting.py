@@ -13,10 +13,10 @@ import numpy as np
 import pytest
 
 import symcable as sc
-from symcable.api import solve_periodic, sweep_periodic
+from symcable.api.analyses import solve_periodic, sweep_periodic
 from symcable.errors import ConvergenceError, SymcableError
 from symcable.models.planar_mechanism import mechanism_of
-from symcable.planar_periodic import periodic_params
+from symcable.api.planar_periodic import periodic_params
 from symcable.solvers import shooting_mech
 from symcable.solvers.options import Shooting
 from symcable.solvers.periodic_common import PERIODIC_CACHE

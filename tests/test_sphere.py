@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 import symcable as sc
-from symcable.cli import main
+from symcable.cli.main import main
 from symcable.data import names, resolve
 from symcable.scene import load_scene
 

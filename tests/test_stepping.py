@@ -9,10 +9,10 @@ import numpy as np
 import pytest
 
 import symcable as sc
-from symcable.api import simulate
+from symcable.api.analyses import simulate
 from symcable.errors import ConvergenceError, SymcableError
-from symcable.results_time import Trajectory
-from symcable.planar_time import ga_coefficients, ga_residual_function, rk4_stability_limit
+from symcable.results.trajectory import Trajectory
+from symcable.api.planar_time import ga_coefficients, ga_residual_function, rk4_stability_limit
 
 from conftest import planar_rates, seed001
 

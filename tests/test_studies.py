@@ -67,7 +67,7 @@ def test_performance_quick_writes_its_table(tmp_path):
       and C and VM agree to round-off; the error itself is generalized-alpha's at T/100,
       1.3e-3 of the range."""
     import symcable as sc
-    from symcable.planar_time import NEWTON_MAX_ITER
+    from symcable.api.planar_time import NEWTON_MAX_ITER
 
     study = load_study("performance")
     res = study.main(["--quick", "--out", str(tmp_path)])

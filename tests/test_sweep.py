@@ -25,8 +25,8 @@ import pytest
 import tomli_w
 
 import symcable as sc
-from symcable import codegen
-from symcable.cli import main
+from symcable.mechanism import codegen
+from symcable.cli.main import main
 from symcable.errors import SceneError, SymcableError
 
 #: a 3-segment cable3d line on the seabed (OC3 geometry), no motion: a case (its Mechanism

@@ -10,10 +10,10 @@ import numpy as np
 import pytest
 
 import symcable as sc
-from symcable.derive import functions
+from symcable.mechanism.functions import functions
 from symcable.models.static_mechanism import static_mechanism
 from symcable.linalg.sxlu import BlockLU, block_lu_check, block_matching, block_plan
-from symcable.planar_time import ga_residual_function
+from symcable.api.planar_time import ga_residual_function
 
 from conftest import OC3, seed001
 

@@ -28,8 +28,8 @@ from pathlib import Path
 
 import numpy as np
 
-from symcable.cable3d_api import NEWTON_TOL, RHO_INF
-from symcable.cable3d_static import cable3d_mechanism
+from symcable.api.cable3d import NEWTON_TOL, RHO_INF
+from symcable.api.cable3d_static import cable3d_mechanism
 from symcable.scene import load_scene
 from symcable.solvers.equilibrium import solve_equilibrium
 from symcable.solvers.integrate import integrate

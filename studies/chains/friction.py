@@ -50,7 +50,7 @@ from pathlib import Path
 
 import numpy as np
 
-from symcable.cable3d_static import cable3d_mechanism
+from symcable.api.cable3d_static import cable3d_mechanism
 from symcable.errors import SymcableError
 from symcable.scene import load_scene
 from symcable.solvers.equilibrium import solve_equilibrium
@@ -86,7 +86,7 @@ VARIANTS = {
 }
 BASE = "coulomb (deck)"
 DT = 0.1
-RHO_INF = 0.0  # simulate's default for cable3d (symcable.cable3d_api.RHO_INF)
+RHO_INF = 0.0  # simulate's default for cable3d (symcable.api.cable3d.RHO_INF)
 MAX_ITER = 30  # the start from rest into the table's full speed (cases.MAX_ITER_GA1)
 FULL = dict(decks=cases.DECKS, motions=cases.MOTIONS, variants=tuple(VARIANTS), t_end=20.0,
             repeats=3, codegen=True, cabledyn=True)

@@ -36,7 +36,7 @@ from pathlib import Path
 
 import numpy as np
 
-from symcable.cable3d_static import cable3d_mechanism
+from symcable.api.cable3d_static import cable3d_mechanism
 from symcable.errors import SymcableError
 from symcable.solvers.equilibrium import solve_equilibrium
 from symcable.solvers.integrate import integrate

@@ -17,11 +17,11 @@ import numpy as np
 
 import symcable as sc
 import symcable.solvers.equilibrium as _equilibrium
-from symcable.cable3d_static import cable3d_mechanism
+from symcable.api.cable3d_static import cable3d_mechanism
 from symcable.data import scene_path
 from symcable.errors import ConvergenceError, SymcableError
 from symcable.models.rod_reanchor import reanchor_hook
-from symcable.rod_static import rod_mechanism
+from symcable.api.rod_static import rod_mechanism
 from symcable.scene import load_scene
 from symcable.solvers.integrate import integrate
 from symcable.solvers.options import GeneralizedAlpha, GeneralizedAlphaFirstOrder

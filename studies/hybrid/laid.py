@@ -15,7 +15,7 @@ segments). Models:
 - ``hybrid``: cable3d (EI = 0, the seed's catenary) on [0, L - 0.5], rod on the last 0.5 m
   (the seed's rod zone; rod fraction f = 0.5 / L);
 - ``hybrid-td``: the same with the rod on the last 1.5 m, through the touchdown;
-- ``auto``: one section, ``zones = "auto"`` (symcable.rod_static.hybrid_zones: an
+- ``auto``: one section, ``zones = "auto"`` (symcable.api.rod_static.hybrid_zones: an
   all-cable3d solve first, rod where sqrt(EI / T) > 0.15 L): its zones and f reported.
 
 Measured per length and model: the static solve (the VM, without the stability verdict, from
@@ -51,8 +51,8 @@ interleaved, no_stability_check = bench.interleaved, bench.no_stability_check
 
 import symcable.solvers.equilibrium as _equilibrium  # noqa: E402
 from symcable.errors import SymcableError  # noqa: E402
-from symcable.models.mechanism import Start  # noqa: E402
-from symcable.rod_static import hybrid_zones, rod_mechanism  # noqa: E402
+from symcable.mechanism.mechanism import Start  # noqa: E402
+from symcable.api.rod_static import hybrid_zones, rod_mechanism  # noqa: E402
 from symcable.scene import load_scene  # noqa: E402
 from symcable.solvers.integrate import integrate  # noqa: E402
 from symcable.solvers.options import GeneralizedAlphaFirstOrder  # noqa: E402

@@ -38,7 +38,7 @@ sys.path.append(str(HERE.parent))
 import study_io  # noqa: E402
 
 from symcable import ConvergenceError, load_scene, self_contact, trace_branch  # noqa: E402
-from symcable.rod_contact import writhe  # noqa: E402
+from symcable.api.rod_contact import writhe  # noqa: E402
 from symcable.analytic import greenhill_moment, twisted_loop  # noqa: E402
 from symcable.models.rod import build_rod  # noqa: E402
 

@@ -1,5 +1,5 @@
 """The dynamic snap of a coarse twisted loop, marched: does the time march's re-anchoring keep
-the rod's link (notes/reanchor14.md)?
+the rod's link (studies/rod_notes/reanchor14.md)?
 
 A rod of loop.py's properties at 24 segments (2.4 per bending length at the loop's
 tension), twisted at fixed ends to R = 20 rad (13 points of ``trace_branch``), then its ends
@@ -29,7 +29,7 @@ import study_io  # noqa: E402
 from symcable import ConvergenceError, load_scene, trace_branch  # noqa: E402
 from symcable.models.rod import build_rod  # noqa: E402
 from symcable.models.rod_reanchor import reanchor_hook  # noqa: E402
-from symcable.rod_contact import writhe  # noqa: E402
+from symcable.api.rod_contact import writhe  # noqa: E402
 from symcable.solvers.integrate import integrate  # noqa: E402
 from symcable.solvers.options import GeneralizedAlphaFirstOrder  # noqa: E402
 

@@ -26,7 +26,7 @@ import dataclasses
 import casadi as ca
 import numpy as np
 
-from symcable.models.mechanism import Mechanism, Output, Scales, Start
+from symcable.mechanism.mechanism import Mechanism, Output, Scales, Start
 
 
 def constrained(rod: Mechanism, ds: np.ndarray) -> Mechanism:

@@ -22,7 +22,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spl
 from scipy.special import ellipj, ellipk
 
-from symcable.derive import functions
+from symcable.mechanism.functions import functions
 from symcable.solvers.galpha1 import galpha1_kernel, step_scales
 from symcable.solvers.options import GeneralizedAlpha, GeneralizedAlphaFirstOrder
 

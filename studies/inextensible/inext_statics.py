@@ -17,9 +17,9 @@ import casadi as ca
 import numpy as np
 
 from symcable.data import scene_path
-from symcable.derive import functions
+from symcable.mechanism.functions import functions
 from symcable.models.rod import rod_table
-from symcable.rod_static import rod_mechanism
+from symcable.api.rod_static import rod_mechanism
 from symcable.scene import load_scene
 from symcable.solvers.equilibrium import _x_scale, solve_equilibrium
 from symcable.solvers.newton import newton

@@ -33,7 +33,7 @@ if str(HERE.parent) not in sys.path:
     sys.path.append(str(HERE.parent))
 from study_io import load_module, parse, write_tables  # noqa: E402  (studies/study_io.py)
 
-from symcable.cable3d_static import cable3d_mechanism  # noqa: E402
+from symcable.api.cable3d_static import cable3d_mechanism  # noqa: E402
 from symcable.scene import load_scene  # noqa: E402
 
 cases = load_module(HERE.parent / "chains" / "cases.py", "chains_cases")

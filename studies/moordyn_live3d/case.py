@@ -209,7 +209,7 @@ def run_symcable(segments: int = SEGMENTS, dt: float = 0.025, duration: float = 
     """symcable's static solve and run (generalized-alpha, ``rho_inf``, step ``dt`` s).
     Returns ``time``, ``tension`` (N), ``static_tension`` (N), ``wall_time`` (s: static
     solve and run, as ``stats["wall_time"]``), ``static_time`` (s), ``error_estimate`` and
-    the :class:`~symcable.results_line3d.LineTrajectory` as ``trajectory``."""
+    the :class:`~symcable.results.line3d.LineTrajectory` as ``trajectory``."""
     import symcable as sc
 
     tr = sc.simulate(symcable_scene(segments), duration, dt=dt, rho_inf=rho_inf, codegen=codegen)

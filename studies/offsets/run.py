@@ -2,7 +2,7 @@
 
 Question
 --------
-``sc.offset_sweep`` (symcable/offsets.py) gives the restoring force and moment of a body's
+``sc.offset_sweep`` (symcable/api/offsets.py) gives the restoring force and moment of a body's
 lines over a sweep of prescribed offsets in one batched call of the static solve's fused
 Newton (one sparsity pattern, one compiled function, each offset warm-started from its
 neighbour's solution by a tangent predictor). How close are its forces to MoorPy's exact

@@ -43,8 +43,8 @@ from pathlib import Path
 import casadi as ca
 import numpy as np
 
-from symcable.cable3d_static import cable3d_mechanism
-from symcable.codegen import FastCall, compile_functions
+from symcable.api.cable3d_static import cable3d_mechanism
+from symcable.mechanism.codegen import FastCall, compile_functions
 from symcable.solvers import galpha1 as ga
 from symcable.solvers.equilibrium import solve_equilibrium
 

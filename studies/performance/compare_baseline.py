@@ -2,7 +2,7 @@
 
 Question: is the planar ``solve_static``, now the generic ``solve_equilibrium`` on the planar
 statics Mechanism with the fused Newton solve carried into the functions layer
-(``symcable/derive_static.py``), as fast as the planar-specific code it replaced?
+(``symcable/mechanism/static_functions.py``), as fast as the planar-specific code it replaced?
 
 Two long-lived worker processes, one importing this tree and one a checkout of the code
 before issue 10 (``--baseline DIR``, e.g. ``git worktree add ../baseline a958ce7``), time the
@@ -66,7 +66,7 @@ def _fused(sc, model, codegen):
         x0 = next(iter(model.initial_guess())).w
         fn = fns.fast("solve")
     except ImportError:  # this tree
-        from symcable.derive import functions
+        from symcable.mechanism.functions import functions
         from symcable.models.static_mechanism import static_mechanism
         mech = static_mechanism(model)
         fn = functions(mech).static_solver(codegen).fast("solve")

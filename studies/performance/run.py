@@ -36,7 +36,7 @@ from pathlib import Path
 import numpy as np
 
 import symcable as sc
-from symcable.derive import functions
+from symcable.mechanism.functions import functions
 from symcable.models.static_mechanism import static_mechanism
 
 HERE = Path(__file__).resolve().parent

@@ -62,7 +62,7 @@ def _peak_mb() -> float:
 def run_static(n: int) -> dict:
     """One process: the static stages of the OC3 line with n segments."""
     import symcable as sc
-    from symcable.derive import functions as derived
+    from symcable.mechanism.functions import functions as derived
     from symcable.models.static_mechanism import static_mechanism
 
     clock = time.perf_counter
@@ -93,7 +93,7 @@ def run_static(n: int) -> dict:
 
 
 def _uses_sxlu(model) -> bool:
-    from symcable.derive_static import SXLU_MAX_UNKNOWNS
+    from symcable.mechanism.static_functions import SXLU_MAX_UNKNOWNS
     return model.n_w <= SXLU_MAX_UNKNOWNS
 
 
@@ -104,7 +104,7 @@ def run_step(n: int) -> dict:
 
     import symcable as sc
     from symcable.models.planar_mechanism import mechanism_of, state_permutation
-    from symcable.planar_time import NEWTON_MAX_ITER
+    from symcable.api.planar_time import NEWTON_MAX_ITER
     from symcable.solvers.galpha1 import SXLU_MAX_STATES, galpha1_kernel, step_scales
     from symcable.solvers.integrate import start_rates
     from symcable.solvers.options import GeneralizedAlphaFirstOrder

@@ -12,7 +12,7 @@ into N segments, the ZZP1_A1 heave table on the fairlead, first-order generalize
 at t = -10 s for 10 s (100 steps). Every (N, way) runs in a fresh process with a fresh
 codegen cache (so compile times are first compiles): the Mechanism's build, the step
 Function's build (``galpha1_kernel``, virtual machine), its compile (``codegen=True``, at
-the optimisation level ``symcable.codegen.flags_for`` gives its graph size), and RUNS + 1
+the optimisation level ``symcable.mechanism.codegen.flags_for`` gives its graph size), and RUNS + 1
 runs of the 100 steps (the last RUNS timed: the median of ``us_per_step`` of the runs'
 stats; and the Newton iterations per step). The written-out way only up to
 ``--written-max`` segments (its compile takes minutes beyond).
@@ -52,7 +52,7 @@ def _one(n: int, way: str, codegen: bool, steps: int) -> dict:
     """One (N, way) measurement in this process (module docstring)."""
     from study_io import load_module
 
-    from symcable.codegen import flags_for, graph_size
+    from symcable.mechanism.codegen import flags_for, graph_size
     from symcable.models.cable3d import build_cable3d
     from symcable.scene import load_scene
     from symcable.solvers import galpha1 as ga

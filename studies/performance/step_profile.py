@@ -28,7 +28,7 @@ Per step with k linear solves (the step's ``iterations``): k + 1 residuals, k so
 1 + max(0, k - CHORD_ITERATIONS) factors; the sum is set beside the compiled step's own time
 at the same state (its remainder: the loop's norms, branches and copies).
 
-Timing: each Function compiled to C (``symcable.codegen``, the cache), called through
+Timing: each Function compiled to C (``symcable.mechanism.codegen``, the cache), called through
 ``FastCall`` at the state of a run 5 s after the start (t = -5 s: the fairlead at full heave
 speed, the chain on the bed), ``repeats`` interleaved rounds of blocks of calls, medians per
 call (us of CPU time). ``--quick``: WD0050 only, in the CasADi virtual machine (no
@@ -53,7 +53,7 @@ import casadi as ca
 import numpy as np
 
 from symcable.models.cable3d import build_cable3d
-from symcable.codegen import FastCall, compile_functions
+from symcable.mechanism.codegen import FastCall, compile_functions
 from symcable.solvers import galpha1 as ga
 from symcable.solvers.equilibrium import solve_equilibrium
 from symcable.solvers.integrate import integrate

@@ -91,8 +91,8 @@ def lateral_share(vec, n_q):
 
 def periodic(s, method, T0, **opts):
     """One periodic solve with stability: its metrics, stats and the mode that goes unstable."""
-    from symcable.cable3d_periodic import _solve_3d
-    from symcable.cable3d_static import static_equilibrium
+    from symcable.api.cable3d_periodic import _solve_3d
+    from symcable.api.cable3d_static import static_equilibrium
     from symcable.solvers.floquet import floquet
     t = time.perf_counter()
     per, mp = _solve_3d(s, method, None, False, None, dict(opts))

@@ -43,8 +43,8 @@ from typing import Callable
 import numpy as np
 
 import symcable as sc
-from symcable.api import solve_periodic
-from symcable.planar_time import rk4_stability_limit
+from symcable.api.analyses import solve_periodic
+from symcable.api.planar_time import rk4_stability_limit
 
 HERE = Path(__file__).resolve().parent
 SEGMENTS = 20             # the study's base discretisation (seed001.toml has 50)

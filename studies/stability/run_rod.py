@@ -58,7 +58,7 @@ import symcable as sc
 from symcable.errors import ConvergenceError
 from symcable.models.rod_reanchor import reanchor_hook
 from symcable.scene import load_scene
-from symcable.scene3d import dynamics_mechanism, scene_equilibrium
+from symcable.api.scene3d import dynamics_mechanism, scene_equilibrium
 from symcable.solvers.integrate import integrate
 from symcable.solvers.options import GeneralizedAlphaFirstOrder
 

@@ -112,7 +112,7 @@ def write_sweep(folder: Path, setup: Setup) -> Path:
 
 def _compile(sweep) -> dict:
     """The first case with an empty build cache, then again from memory, s."""
-    from symcable import codegen
+    from symcable.mechanism import codegen
     from symcable.sweep.case import run_case
     from symcable.sweep.run import _task
 

@@ -23,7 +23,7 @@ import time
 import numpy as np
 
 import symcable as sc
-from symcable.derive import functions
+from symcable.mechanism.functions import functions
 from symcable.models.planar_mechanism import mechanism_of, state_permutation
 from symcable.solvers.integrate import _initial_state
 from symcable.solvers.march import RunningEstimate, get_stepper

@@ -48,11 +48,11 @@ sys.path.insert(1, str(HERE.parent))
 import study_io  # noqa: E402
 
 from symcable import demo_scene_path  # noqa: E402
-from symcable.cable3d_api import (TOW_STRETCH_STEP, TOW_TURN_STEP,  # noqa: E402
+from symcable.api.cable3d import (TOW_STRETCH_STEP, TOW_TURN_STEP,  # noqa: E402
                                   simulate_3d)
 from symcable.errors import ConvergenceError  # noqa: E402
 from symcable.models.tow_steady import steady_tow, tow_sections  # noqa: E402
-from symcable.plotting_tow import plot_tow  # noqa: E402
+from symcable.plotting.tows import plot_tow  # noqa: E402
 from symcable.scene import load_scene  # noqa: E402
 from symcable.scene.bodies import rotation_rpy  # noqa: E402
 

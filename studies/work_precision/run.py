@@ -71,11 +71,11 @@ from matplotlib import ticker  # noqa: E402
 import numpy as np  # noqa: E402
 
 import symcable as sc  # noqa: E402
-from symcable.api import solve_periodic  # noqa: E402
-from symcable.codegen import cache_info  # noqa: E402
+from symcable.api.analyses import solve_periodic  # noqa: E402
+from symcable.mechanism.codegen import cache_info  # noqa: E402
 from symcable.errors import ConvergenceError  # noqa: E402
 from symcable.models.planar_mechanism import mechanism_of  # noqa: E402
-from symcable.planar_time import rk4_stability_limit  # noqa: E402
+from symcable.api.planar_time import rk4_stability_limit  # noqa: E402
 
 HERE = Path(__file__).resolve().parent
 if str(HERE.parent) not in sys.path:

@@ -49,8 +49,8 @@ from typing import NamedTuple
 import numpy as np
 
 import symcable as sc
-from symcable.cable3d_static import static_equilibrium
-from symcable.codegen import cache_info
+from symcable.api.cable3d_static import static_equilibrium
+from symcable.mechanism.codegen import cache_info
 from symcable.errors import ConvergenceError
 from symcable.scene import load_scene
 from symcable.solvers.integrate import integrate

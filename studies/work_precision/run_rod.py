@@ -27,7 +27,7 @@ alone: the orders are read from it). The periodic solvers are compared with the
 reference's last period (its period-to-period change is reported: the transient left).
 
 Wall time: the whole ``sc.simulate`` / ``sc.solve_periodic`` call in the CasADi VM
-(``codegen=False``: the rod's generated C takes minutes to compile, notes/wire14.md), after
+(``codegen=False``: the rod's generated C takes minutes to compile, studies/rod_notes/wire14.md), after
 one warm-up call per case and method (the VM functions are then built and cached in the
 process: what a second call of a session costs); the warm-up's own time is the "first call"
 column. Median of 3 when a call is under 2 s (full run).

@@ -25,7 +25,7 @@ def _builder(builders: dict, scene: Scene, what: str):
     builder = builders.get(scene.model)
     if builder is None and scene.model is ModelKind.CABLE3D:
         raise SymcableError(f"model = 'cable3d': no {what} Model record for it; cable3d is a "
-                            "Mechanism (symcable.cable3d_static.cable3d_mechanism(scene); "
+                            "Mechanism (symcable.api.cable3d_static.cable3d_mechanism(scene); "
                             "solve_static solves it)")
     if builder is None:
         raise SymcableError(f"model = {scene.model.value!r}: no {what} model for "
@@ -57,8 +57,8 @@ def build_model(scene) -> Model:
 
 def linearised_model(scene: Scene, static) -> DynamicModel:
     """The scene's dynamics linearised about ``static`` (its
-    :class:`~symcable.results.StaticSolution`), as CasADi expressions; not cached.
-    :func:`symcable.api.build_dynamic_model` solves the static state and caches."""
+    :class:`~symcable.results.static.StaticSolution`), as CasADi expressions; not cached.
+    :func:`symcable.api.analyses.build_dynamic_model` solves the static state and caches."""
     return _builder(_DYNAMIC_BUILDERS, scene, "dynamic")(scene, static)
 
 

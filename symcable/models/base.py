@@ -81,7 +81,7 @@ class Model:
         Anything else the formulation wants to expose (layout, node arc lengths, ...).
     bounds : Mapping[str, Bound]
         Admissibility conditions on ``(w, p)`` every solution is checked against
-        (:class:`~symcable.models.mechanism.Bound`).
+        (:class:`~symcable.mechanism.mechanism.Bound`).
     """
 
     name: str

@@ -61,7 +61,7 @@ from .cable3d_elements import element_form
 from .cable3d_starts import force_scale, starts_of
 from .relax import _ramp_integral
 from .tow import tow_path
-from .mechanism import (Bound, Layout, Mechanism, Output, ParamBlocks, PartLayout, Scales,
+from ..mechanism.mechanism import (Bound, Layout, Mechanism, Output, ParamBlocks, PartLayout, Scales,
                         StateNames)
 from .seabed3d import (bristle_scale, friction_setup, lumped as _lumped, profile_current,
                        reaction_bound, seabed_forces)

@@ -11,7 +11,7 @@ from __future__ import annotations
 import casadi as ca
 import numpy as np
 
-from .element_form import ElementForm
+from ..mechanism.element_form import ElementForm
 
 __all__ = ["element_form"]
 

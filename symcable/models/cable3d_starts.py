@@ -17,7 +17,7 @@ import numpy as np
 
 from ..errors import ConvergenceError, SymcableError
 from ..scene import EndCondition, Scene
-from .mechanism import Start
+from ..mechanism.mechanism import Start
 from .planar import _catenary_start, force_scale_of, slack_law
 from .relax import relax_line
 
@@ -95,7 +95,7 @@ def laid_shape(scene, seg) -> np.ndarray:
 
 
 def starts_of(scene, seg, params, moving):
-    """Start objects for :class:`~symcable.models.mechanism.Mechanism` (lazily)."""
+    """Start objects for :class:`~symcable.mechanism.mechanism.Mechanism` (lazily)."""
     p0 = params.with_values(motion=0.0)
     idx = np.asarray(moving, dtype=int)  # empty: one segment between two held ends
 

@@ -10,11 +10,11 @@ Morison drag on its velocity relative to the current, its applied force and, on 
 with a seabed, its own contact with the bed (:func:`point_contact`: a clump weight rests on
 the bed as the lines do, instead of sinking into it through the contact of the few line
 nodes beside it). The parts are
-assembled (:func:`~symcable.models.assembly.assemble`) with a :class:`Shared` joint between
+assembled (:func:`~symcable.mechanism.assembly.assemble`) with a :class:`Shared` joint between
 every free point's node and each line end attached to it, so the lines' end forces and the
 point's loads add up there by virtual work. Each free body is a part of six degrees of
 freedom (:func:`~symcable.models.body.body_part`), and a line's end on it is made a point of
-the body by an :class:`~symcable.models.assembly.Attached` joint named ``"LINE.end_a"`` /
+the body by an :class:`~symcable.mechanism.assembly.Attached` joint named ``"LINE.end_a"`` /
 ``"LINE.end_b"`` (:func:`~symcable.models.body.attachment`); a line's end on a fixed body
 is held at the body's point, as at a fixed point.
 
@@ -53,12 +53,12 @@ import numpy as np
 from ..scene import BodyEnd, End, EndCondition, Environment, Scene
 from ..scene.points import Point
 from . import terms
-from .assembly import Shared, assemble
+from ..mechanism.assembly import Shared, assemble
 from .body import attachment, body_outputs, body_part, start_q
 from .cable3d import DRAG_SPEED, _lumped, build_cable3d, force_scale
 from .cable3d_drag import law_table
 from .cable3d_starts import _catenary, _hanging
-from .mechanism import Layout, Mechanism, Output, ParamBlocks, PartLayout, Scales, Start
+from ..mechanism.mechanism import Layout, Mechanism, Output, ParamBlocks, PartLayout, Scales, Start
 from .planar import segment_table, slack_law
 from .relax import _ramp_integral, drag_loads, relaxed_network
 from .seabed3d import CONTACT_SMOOTHING

@@ -9,8 +9,8 @@ with the boundary motion already inside f (a prescribed end velocity enters as a
 function of t). This record keeps those expressions, the parameter blocks and their values,
 the scales and the formulation's details; it derives and compiles nothing. Solvers never see
 it: :func:`~symcable.models.planar_mechanism.mechanism_of` re-expresses it as a
-:class:`~symcable.models.mechanism.Mechanism` (q' = G v + w, M v' = f), and every Function a
-solver calls is derived from that Mechanism, once, by :func:`symcable.derive.functions`.
+:class:`~symcable.mechanism.mechanism.Mechanism` (q' = G v + w, M v' = f), and every Function a
+solver calls is derived from that Mechanism, once, by :func:`symcable.mechanism.functions.functions`.
 """
 from __future__ import annotations
 

@@ -20,7 +20,7 @@ its scene needs:
   cable3d's seabed contact, friction and current profile on every node
   (:mod:`.rod_loads`).
 
-``zones = "auto"`` scenes are resolved first (:func:`symcable.rod_static.hybrid_zones`, a
+``zones = "auto"`` scenes are resolved first (:func:`symcable.api.rod_static.hybrid_zones`, a
 static solve, which no formulation may call): this module refuses them.
 """
 from __future__ import annotations
@@ -31,7 +31,7 @@ from ..errors import SymcableError
 from ..scene import Scene
 from .cable3d import build_cable3d
 from .hybrid_terms import rod_mask
-from .mechanism import Mechanism
+from ..mechanism.mechanism import Mechanism
 from .rod import build_rod
 
 __all__ = ["build_hybrid"]
@@ -42,7 +42,7 @@ def build_hybrid(scene: Scene) -> Mechanism:
     (module docstring)."""
     if scene.zones != "given":
         raise SymcableError(f"scene {scene.name!r}: zones = {scene.zones!r} is chosen from a "
-                            "static solve: resolve it first (symcable.rod_static.hybrid_zones, "
+                            "static solve: resolve it first (symcable.api.rod_static.hybrid_zones, "
                             "or rod_mechanism(scene), which does)")
     rod = rod_mask(scene)
     if not np.any(rod) and not any(e is not None and e.guided

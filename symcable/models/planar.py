@@ -407,7 +407,7 @@ FOLD_PUSH = 0.05
 
 def _bounds(scene, seg, eps, T, contact, line_Px, line_Pz, Px, Pz, end_force_a, end_force_b,
             force_scale, residual_floor) -> dict:
-    """The planar line's admissibility bounds (:class:`~symcable.models.mechanism.Bound`):
+    """The planar line's admissibility bounds (:class:`~symcable.mechanism.mechanism.Bound`):
 
     - ``strain`` > -1: every segment has a positive length;
     - ``cable_axial_force`` >= -max(CABLE_COMPRESSION x force scale, FOLD_PUSH x the
@@ -420,7 +420,7 @@ def _bounds(scene, seg, eps, T, contact, line_Px, line_Pz, Px, Pz, end_force_a, 
       the forces of the held ends sum to zero (x and z, N), to 1e-6 of the force scale plus
       the round-off floor per node: a check of the end-force outputs against the
       equations."""
-    from .mechanism import Bound
+    from ..mechanism.mechanism import Bound
 
     N = len(seg["ds"])
     out = {"strain": Bound(eps, lower=-1.0 + 1e-9, unit="1", scale=1.0,

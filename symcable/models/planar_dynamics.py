@@ -133,7 +133,7 @@ def dynamics_refusal(scene: Scene, static) -> str | None:
 
 def build_planar_dynamics(scene: Scene, static) -> DynamicModel:
     """Linearised planar dynamics of ``scene`` about its static solution ``static``
-    (a :class:`~symcable.results.StaticSolution` of the same scene)."""
+    (a :class:`~symcable.results.static.StaticSolution` of the same scene)."""
     _check_scene(scene, static)
     seg = segment_table(scene)
     N = len(seg["ds"])
@@ -372,7 +372,7 @@ def build_planar_dynamics(scene: Scene, static) -> DynamicModel:
         "s_nodes": seg["s"], "static": static, "terms": tuple(term_names),
         "mass_tangential": m_t, "mass_normal": m_n, "scene": scene,
         # per segment: the largest total axial strain its line type takes, the range the
-        # linearised dynamics are checked against (results_time.strain_warnings)
+        # linearised dynamics are checked against (symcable.results.trajectory.strain_warnings)
         "max_strain": np.concatenate([[sec.line_type.max_strain] * sec.segments
                                       for sec in scene.sections]),
     })

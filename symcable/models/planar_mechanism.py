@@ -49,7 +49,7 @@ import numpy as np
 from ..errors import SymcableError
 from ..scene import Scene
 from .dynamic import DynamicModel
-from .mechanism import Layout, Mechanism, Output, ParamBlocks, PartLayout, Scales, Start
+from ..mechanism.mechanism import Layout, Mechanism, Output, ParamBlocks, PartLayout, Scales, Start
 from .planar_dynamics import build_planar_dynamics
 
 __all__ = ["MECHANISMS", "OUTPUT_UNITS", "dynamics_mechanism", "mechanism_of",
@@ -78,7 +78,7 @@ def _momentum_numerator(row, mass: float):
 
 def planar_dynamics_mechanism(scene: Scene, static) -> Mechanism:
     """The linearised planar dynamics of ``scene`` about its static solution ``static``
-    (a :class:`~symcable.results.StaticSolution` of the same scene), as a Mechanism (see the
+    (a :class:`~symcable.results.static.StaticSolution` of the same scene), as a Mechanism (see the
     module docstring)."""
     return dynamics_mechanism(build_planar_dynamics(scene, static))
 

@@ -41,7 +41,7 @@ at each element's mid-depth. Not yet: the consistent mass, natural curvature.
 ``model = "hybrid"`` (:mod:`.hybrid`) builds this Mechanism with a per-segment mask ``rod``
 (:mod:`.hybrid_terms`): the rod's terms on its rod sections, cable3d's elsewhere.
 
-The reference frame (design, notes/rod14.md): each edge's reference director is its
+The reference frame (design, studies/rod_notes/rod14.md): each edge's reference director is its
 *anchor* (t0_j, u0_j), a parameter block ``frame`` (6 per edge, data), carried to the
 current tangent by the smallest rotation. It is a smooth function of the edge's own two
 nodes, so the Jacobian keeps the band of the positions-plus-twists ordering, the generic
@@ -70,7 +70,7 @@ from .cable3d import _element_kernel, _held
 from .cable3d_drag import law_table
 from .cable3d_starts import force_scale, starts_of
 from .hybrid_terms import axial_law, cable_bending, rod_mask, rod_vertices, spun_edges
-from .mechanism import Bound, Layout, Mechanism, Output, ParamBlocks, PartLayout, Scales, Start
+from ..mechanism.mechanism import Bound, Layout, Mechanism, Output, ParamBlocks, PartLayout, Scales, Start
 from .planar import CABLE_COMPRESSION, FOLD_PUSH, segment_table
 from .relax import _ramp_integral
 from .rod_frames import end_moment_force, reference_director, transport, vertex_kernel

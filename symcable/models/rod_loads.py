@@ -18,7 +18,7 @@ import casadi as ca
 import numpy as np
 
 from ..scene import Scene
-from .mechanism import StateNames
+from ..mechanism.mechanism import StateNames
 from .seabed3d import bristle_scale, friction_setup, profile_current, seabed_forces
 
 __all__ = ["RodSeabed", "rod_mass", "rod_seabed", "seabed_setup", "water_velocity"]

@@ -1,7 +1,7 @@
-"""The rod's re-anchoring hook (:class:`~symcable.models.mechanism.Reanchor`): what a time
+"""The rod's re-anchoring hook (:class:`~symcable.mechanism.mechanism.Reanchor`): what a time
 march calls between steps so that no edge of a ``model = "rod"`` Mechanism nears the half
 turn from its anchor, where the anchored reference frame is singular
-(:mod:`symcable.models.rod`, notes/rod14.md section 1).
+(:mod:`symcable.models.rod`, studies/rod_notes/rod14.md section 1).
 
 - ``margin`` = min over edges of 1 + t0_j . t_j (2 with every edge on its anchor, 0 at the
   half turn; 0.5 is a turn of 120 degrees);
@@ -24,7 +24,7 @@ from __future__ import annotations
 import casadi as ca
 
 from ..errors import SymcableError
-from .mechanism import Mechanism, Reanchor
+from ..mechanism.mechanism import Mechanism, Reanchor
 from .rod_spin import reference_spins
 
 __all__ = ["FLOOR", "THRESHOLD", "frame_margin", "reanchor_hook"]
@@ -49,7 +49,7 @@ def frame_margin(mech: Mechanism):
 
 def reanchor_hook(mech: Mechanism, threshold: float = THRESHOLD,
                   floor: float = FLOOR) -> Reanchor | None:
-    """The :class:`~symcable.models.mechanism.Reanchor` of a rod or hybrid Mechanism (module
+    """The :class:`~symcable.mechanism.mechanism.Reanchor` of a rod or hybrid Mechanism (module
     docstring); the Mechanism's own when it carries one; None for one without anchored
     frames (a hybrid with no rod edge, cable3d)."""
     if getattr(mech, "reanchor", None) is not None:

@@ -1,5 +1,5 @@
 """The spin of the rod's anchored reference frames in the twist's kinetic energy
-(:mod:`symcable.models.rod`, notes/rod14.md section 1, notes/wire14.md).
+(:mod:`symcable.models.rod`, studies/rod_notes/rod14.md section 1, studies/rod_notes/wire14.md).
 
 The rod's twist theta_j is measured from the reference director d1_j = P(t0_j -> t_j) u0_j,
 a function of the edge's tangent and its anchor. As the edge turns, d1_j spins about t_j at
@@ -19,7 +19,7 @@ function of e_j and the anchor's tangent only), and its Lagrange equations: the 
 M + d^2 T_s / dv^2 (coupling each twist with its edge's two nodes; still a function of
 (q, t, p)) and the force f - (d p_s / dq) v - d p_s / dt + dT_s/dq (p_s = dT_s/dv), written
 out per edge (:func:`with_reference_spin`; by CasADi over the whole Mechanism they made the
-step's Jacobian 4 times larger, notes/rodc14.md). T is then I_j (theta_j' + s_j)^2 / 2 per edge plus the rest:
+step's Jacobian 4 times larger, studies/rod_notes/rodc14.md). T is then I_j (theta_j' + s_j)^2 / 2 per edge plus the rest:
 the material frame's own spin, the same in every chart, so a run no longer depends on when
 it re-anchors (tests/test_rod_api_reanchor.py). Statics are unchanged (T_s = 0 at rest with
 the ends still); the output ``kinetic_energy`` is T.
@@ -33,7 +33,7 @@ import casadi as ca
 import numpy as np
 
 from ..errors import SymcableError
-from .mechanism import Mechanism, Output
+from ..mechanism.mechanism import Mechanism, Output
 
 __all__ = ["edge_spins", "reference_spins", "spin_coefficient", "with_reference_spin",
            "with_reference_spin_ad"]
@@ -157,7 +157,7 @@ def with_reference_spin(mech: Mechanism) -> Mechanism:
     -(e_th + S^T c) I s_p - S^T P [(dc/de) e' - (dc/de)^T e'] with s_p = ds/dt at zero
     acceleration; the bracket is (e' x e) / |e|^3 (the curl of c). The same equations as
     CasADi's of T_s (:func:`with_reference_spin_ad`; to round-off, tests/test_rod_codegen.py),
-    with a quarter of the operations in the step's Jacobian (notes/rodc14.md)."""
+    with a quarter of the operations in the step's Jacobian (studies/rod_notes/rodc14.md)."""
     out = _CACHE.get(mech)
     if out is not None:
         return out

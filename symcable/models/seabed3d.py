@@ -26,7 +26,7 @@ import numpy as np
 from ..scene import EndCondition, Scene
 from . import terms
 from .cable3d_starts import laid_shape
-from .mechanism import Bound
+from ..mechanism.mechanism import Bound
 from .relax import _ramp_integral
 from .seabed_friction import Friction, friction
 

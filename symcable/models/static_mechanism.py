@@ -18,7 +18,7 @@ import casadi as ca
 import numpy as np
 
 from .base import Model
-from .mechanism import Layout, Mechanism, Output, ParamBlocks, PartLayout, Scales, Start
+from ..mechanism.mechanism import Layout, Mechanism, Output, ParamBlocks, PartLayout, Scales, Start
 
 __all__ = ["PLANAR_BLOCKS", "static_mechanism"]
 

@@ -2,7 +2,7 @@
 writing a formulation: a constrained pendulum, point masses and springs (assembled into a
 chain), and a forced Duffing oscillator.
 
-Every function returns a :class:`~symcable.models.mechanism.Mechanism` in SI units.
+Every function returns a :class:`~symcable.mechanism.mechanism.Mechanism` in SI units.
 """
 from __future__ import annotations
 
@@ -12,8 +12,8 @@ import casadi as ca
 import numpy as np
 
 from ..errors import SymcableError
-from .assembly import Prescribed, Shared, assemble
-from .mechanism import Layout, Mechanism, Output, ParamBlocks, PartLayout, Scales, Start
+from ..mechanism.assembly import Prescribed, Shared, assemble
+from ..mechanism.mechanism import Layout, Mechanism, Output, ParamBlocks, PartLayout, Scales, Start
 
 __all__ = ["duffing", "hanging_chain", "pendulum", "point_mass", "spring", "spring_chain"]
 

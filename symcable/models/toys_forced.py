@@ -1,7 +1,7 @@
 """Forced toy mechanisms for the periodic solvers' contract tests: a pendulum with a
 constraint whose pivot is driven horizontally.
 
-Every function returns a :class:`~symcable.models.mechanism.Mechanism` in SI units.
+Every function returns a :class:`~symcable.mechanism.mechanism.Mechanism` in SI units.
 """
 from __future__ import annotations
 
@@ -10,7 +10,7 @@ import math
 import casadi as ca
 import numpy as np
 
-from .mechanism import Layout, Mechanism, Output, ParamBlocks, PartLayout, Scales, Start
+from ..mechanism.mechanism import Layout, Mechanism, Output, ParamBlocks, PartLayout, Scales, Start
 
 __all__ = ["driven_pendulum"]
 

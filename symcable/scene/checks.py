@@ -37,7 +37,7 @@ def _check_name(path: str, name: Any, what: str) -> None:
     """The one rule for the names of lines, points and bodies: 1 to MAX_NAME letters,
     digits, ``_`` and ``-`` (ASCII). Every later stage takes them: the names of CasADi
     Functions and generated C are made from them by
-    :func:`~symcable.models.mechanism.casadi_name`."""
+    :func:`~symcable.mechanism.mechanism.casadi_name`."""
     if not isinstance(name, str) or not _NAME.fullmatch(name):
         raise _err(path, name, "", f"{what} names must be 1 to {MAX_NAME} ASCII letters, "
                    "digits, _ and - (they prefix the outputs)")

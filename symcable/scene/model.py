@@ -409,7 +409,7 @@ class Scene:
     zones : str
         ``model = "hybrid"``: ``"given"`` (default: each section's ``model``, cable3d when
         not given) or ``"auto"`` (the rod sections chosen from the line's static tension,
-        :func:`symcable.rod_static.hybrid_zones`).
+        :func:`symcable.api.rod_static.hybrid_zones`).
     """
 
     name: str

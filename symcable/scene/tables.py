@@ -486,7 +486,7 @@ def _check_motion_speed(name: str, motion: Motion, lt: LineType) -> None:
     end's largest speed: it then also rejects a purely transverse motion that fast, which is
     just as meaningless (e.g. 70 m/s for the seed-001 chain, 220 m/s for the OC3 line; a
     fairlead moves at a few m/s). Slower motions that still overstretch the line are caught
-    on the result, whose status is then "invalid" (results_time.strain_warnings)."""
+    on the result, whose status is then "invalid" (symcable.results.trajectory.strain_warnings)."""
     if motion.kind == "table":
         r = np.asarray(motion.samples, float)
         v = np.linalg.norm(np.diff(r[:, 1:], axis=0), axis=1) / np.diff(r[:, 0])

@@ -27,9 +27,9 @@ from dataclasses import dataclass, field
 import casadi as ca
 import numpy as np
 
-from ..derive import functions
+from ..mechanism.functions import functions
 from ..errors import ConvergenceError, SymcableError
-from ..models.mechanism import Mechanism
+from ..mechanism.mechanism import Mechanism
 from ..models.rod_reanchor import reanchor_hook
 from .equilibrium import (ESCAPES, _check, _ptc, _stability,
                           _unstable_direction, _x_scale, solve_equilibrium)
@@ -227,7 +227,7 @@ def trace_branch(mech: Mechanism, block: str, values, *, component: int | None =
         equilibrium at the same parameters (module docstring); False: follow the branch.
     reanchor : bool or Reanchor
         Re-anchor the rod's frames between steps (True: the Mechanism's hook, none when it
-        has no anchored frames; False: never; or a :class:`~symcable.models.mechanism.Reanchor`).
+        has no anchored frames; False: never; or a :class:`~symcable.mechanism.mechanism.Reanchor`).
     tol : float, optional
         N, as :func:`~symcable.solvers.equilibrium.solve_equilibrium`.
     max_iter, max_halvings : int

@@ -95,7 +95,7 @@ import time
 import casadi as ca
 import numpy as np
 
-from ..models.mechanism import Mechanism
+from ..mechanism.mechanism import Mechanism
 from .options import Collocation
 from .periodic_common import (PERIODIC_CACHE, Scaling, SquareSystem, StartFn, check_and_wrap,
                               point_function)

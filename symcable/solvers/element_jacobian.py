@@ -1,5 +1,5 @@
 """A step's iteration matrix from a Mechanism's element form
-(:class:`~symcable.models.element_form.ElementForm`): the elements' blocks computed by a
+(:class:`~symcable.mechanism.element_form.ElementForm`): the elements' blocks computed by a
 loop (CasADi ``map``, serial: a loop in the generated C) over the element kernel's own
 Jacobian, summed onto the matrix's nonzeros by index gathers
 (:mod:`symcable.linalg.gather`), plus the rest's Jacobian written out in SX (kinematic rows,
@@ -28,7 +28,7 @@ import casadi as ca
 import numpy as np
 
 from ..linalg.gather import gather_sum, sum_map, summed
-from ..models.element_form import ElementForm, gather, node_values
+from ..mechanism.element_form import ElementForm, gather, node_values
 
 __all__ = ["block_kernel", "element_jacobian", "element_residual"]
 

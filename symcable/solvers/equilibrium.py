@@ -1,11 +1,11 @@
 """Static equilibrium of any Mechanism: Newton on R(q, z; p) = (f(q, 0, z, 0), g) with its
 exact sparse Jacobian. From each start, in order of cost: plain Newton fused into one call
-(:mod:`symcable.derive_static`, generated C where it pays), then Newton with a backtracking
+(:mod:`symcable.mechanism.static_functions`, generated C where it pays), then Newton with a backtracking
 line search; then, from the starts tried, continuation from a start's own parameters to the
 target, continuation in a named parameter block, and pseudo-transient continuation. Every
 answer is checked afterwards, in floating point and independently of how it was found: the
 residual of the equations, finiteness, the mechanism's admissibility bounds
-(:class:`~symcable.models.mechanism.Bound`: segments of positive length, no compression in a
+(:class:`~symcable.mechanism.mechanism.Bound`: segments of positive length, no compression in a
 cable, ...), and the stability of the equilibrium (the tangent stiffness reduced to the
 constraints' null space). A failed check is never called converged: the next attempt runs.
 """
@@ -17,11 +17,11 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from ..derive import functions
-from ..derive_static import SOLVE_MAX_ITER
+from ..mechanism.functions import functions
+from ..mechanism.static_functions import SOLVE_MAX_ITER
 from ..errors import ConvergenceError, SymcableError
-from ..models.mechanism import Mechanism
-from ..results_mechanism import Equilibrium
+from ..mechanism.mechanism import Mechanism
+from ..results.generic import Equilibrium
 from ..linalg.eigen import lowest_eigenpair
 from .newton import NewtonResult, newton
 
@@ -272,7 +272,7 @@ def solve_equilibrium(mech: Mechanism, p=None, *, tol: float | None = None,
         it is returned with ``stats["stable"] = False`` and a warning.
     codegen : bool or None
         Run the fused Newton, the residual check and the line-search steps in generated C
-        (see :func:`symcable.derive_static.static_solver`; None: where it pays, when a
+        (see :func:`symcable.mechanism.static_functions.static_solver`; None: where it pays, when a
         compiler is found). The answer agrees with the virtual machine's to round-off.
 
     Returns

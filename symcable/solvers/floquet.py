@@ -49,8 +49,8 @@ import time
 import numpy as np
 
 from ..errors import SymcableError
-from ..models.mechanism import Mechanism
-from ..results_periodic_mech import MechanismPeriodic
+from ..mechanism.mechanism import Mechanism
+from ..results.periodic_generic import MechanismPeriodic
 from .options import Shooting
 from .periodic_common import Scaling
 from .shooting_mech import period_map

@@ -28,11 +28,11 @@ alpha_m dF/dy' + alpha_f gamma h dF/dy, in one of two ways (:class:`~.options.Ne
   costs less: :func:`_banded`) where the matrix is banded in
   reverse Cuthill-McKee order (a line's nodes: BANDED_MAX_WIDTH), else CasADi's sparse QR
   (:func:`symcable.linalg.sparse.sparse_solve`). A Mechanism with an element form
-  (:class:`~symcable.models.element_form.ElementForm`: the cable3d line) of at least
+  (:class:`~symcable.mechanism.element_form.ElementForm`: the cable3d line) of at least
   ELEMENT_MIN_STATES unknowns has its residual and matrix from loops over its elements
   instead (:mod:`symcable.solvers.element_jacobian`), factorised by the banded LU: on the
   WD0600 chain the written-out matrix was 344k instructions of C. Compiled to C through
-  :mod:`symcable.codegen` when asked (or, by default, when it pays). Its derivative with
+  :mod:`symcable.mechanism.codegen` when asked (or, by default, when it pays). Its derivative with
   respect to the step's inputs is that of the iterations taken: near the exact one (the
   chord iterations contract fast) but not equal to it;
 * ``"rootfinder"``: CasADi's Newton rootfinder with the exact Jacobian at every iteration;
@@ -55,15 +55,15 @@ import warnings
 import casadi as ca
 import numpy as np
 
-from ..codegen import use_codegen
-from ..derive import functions
+from ..mechanism.codegen import use_codegen
+from ..mechanism.functions import functions
 from ..errors import SymcableError
 from ..linalg.banded import BandedLU, bandwidths, reverse_cuthill
 from ..linalg.schur import SchurBandedLU, lead_blocks
 from ..linalg.sparse import jacobian as _jacobian, norm_inf, sparse_solve
 from ..linalg.sxlu import block_lu, block_plan
-from ..models.element_form import split_mismatch
-from ..models.mechanism import Mechanism
+from ..mechanism.element_form import split_mismatch
+from ..mechanism.mechanism import Mechanism
 from .element_jacobian import element_jacobian, element_residual
 from .newton import best_start, best_start_residual
 from .options import GeneralizedAlphaFirstOrder, NewtonScheme
@@ -110,7 +110,7 @@ CSE_MAX_STATES = SXLU_MAX_STATES_C
 #: every solve (studies/chains, dt 0.1 s: 1803 against 2093 us per step)
 BANDED_MAX_WIDTH = 40
 #: largest difference (relative to the force scale) between a Mechanism's residual and its
-#: element form's (:func:`~symcable.models.element_form.split_mismatch`) for the step to take
+#: element form's (:func:`~symcable.mechanism.element_form.split_mismatch`) for the step to take
 #: its matrix from the form: round-off is 1e-14 on the chains
 SPLIT_TOLERANCE = 1e-9
 #: whether the step takes its matrix from a Mechanism's element form where it has one (the
@@ -541,7 +541,7 @@ def galpha1_kernel(mech: Mechanism, opts: GeneralizedAlphaFirstOrder, *, lte: bo
     scale); ``iterations`` the linear solves of the unrolled loop (NaN with the rootfinder),
     ``failed`` 1 when Newton did not converge. ``lte`` NaN unless ``lte=True``. Built once per
     Mechanism; in generated C when ``codegen`` resolves to True
-    (:func:`symcable.codegen.use_codegen`: by default where the step is written out, up to
+    (:func:`symcable.mechanism.codegen.use_codegen`: by default where the step is written out, up to
     SXLU_MAX_STATES, and small enough to compile; with ``codegen=True`` written out up to
     SXLU_MAX_STATES_C), with a one-line notice while compiling."""
     if mech.n_z:

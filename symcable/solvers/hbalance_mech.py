@@ -61,8 +61,8 @@ import time
 import casadi as ca
 import numpy as np
 
-from ..derive import functions
-from ..models.mechanism import Mechanism
+from ..mechanism.functions import functions
+from ..mechanism.mechanism import Mechanism
 from .options import HarmonicBalance
 from .periodic_common import (PERIODIC_CACHE, Scaling, SquareSystem, StartFn, check_and_wrap,
                               point_function)

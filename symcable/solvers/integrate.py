@@ -8,7 +8,7 @@ Every step is one CasADi Function ``step(x, t, h, p) -> (x1, err, lte)`` (first-
 generalized-alpha adds the Newton iterations and a failure flag); ``mapaccum`` chains many
 steps into one call, so a long run pays the Python interpreter once per batch of saved
 samples, never once per step. The first-order generalized-alpha step and RK4 run in
-generated C when ``codegen`` resolves to True (:func:`symcable.codegen.use_codegen`).
+generated C when ``codegen`` resolves to True (:func:`symcable.mechanism.codegen.use_codegen`).
 Generalized-alpha runs estimate their own time-stepping error and warn when it exceeds 1 %
 (``stats["error_estimate"]``, see :func:`integrate`; studies/time_error).
 """
@@ -21,12 +21,12 @@ from collections import OrderedDict
 import casadi as ca
 import numpy as np
 
-from ..derive import functions
+from ..mechanism.functions import functions
 from ..errors import ConvergenceError, SymcableError
-from ..codegen import FastCall
+from ..mechanism.codegen import FastCall
 from ..limits import check as check_limit
-from ..models.mechanism import Mechanism
-from ..results_mechanism import Equilibrium, MechanismTrajectory
+from ..mechanism.mechanism import Mechanism
+from ..results.generic import Equilibrium, MechanismTrajectory
 from .galpha1 import galpha1_kernel, galpha1_step
 from .march import BLOWUP, IMPLICIT as _IMPLICIT, get_stepper, method_name, run_adaptive, run_fixed
 from .options import RK4, GeneralizedAlpha, GeneralizedAlphaFirstOrder
@@ -150,7 +150,7 @@ def integrate(mech: Mechanism, duration: float, dt: float | None = None, *, meth
         The motion's characteristic period, s (a forced run: the excitation's), which sets
         the error estimate's memory, ``period / (2 pi)``. Default: ``duration``.
     reanchor : Reanchor, optional
-        A re-anchoring hook (:class:`~symcable.models.mechanism.Reanchor`; default the
+        A re-anchoring hook (:class:`~symcable.mechanism.mechanism.Reanchor`; default the
         Mechanism's own ``reanchor``, None for most): the run re-anchors between steps
         (:mod:`symcable.solvers.reanchor`), each sample's outputs in its own chart, and
         ``stats`` adds ``reanchorings``, ``reanchor_times`` (s), ``min_frame_margin``,

@@ -38,10 +38,10 @@ import time
 import casadi as ca
 import numpy as np
 
-from ..derive import functions
+from ..mechanism.functions import functions
 from ..errors import SymcableError
-from ..models.mechanism import Mechanism
-from ..results_mechanism import Equilibrium, Linearization, MechanismModes
+from ..mechanism.mechanism import Mechanism
+from ..results.generic import Equilibrium, Linearization, MechanismModes
 from .equilibrium import constraint_null_space
 
 __all__ = ["linearize_mechanism", "mechanism_modes", "output_sensitivity", "MAX_DENSE"]

@@ -18,9 +18,9 @@ from collections import OrderedDict
 import casadi as ca
 import numpy as np
 
-from ..codegen import FastCall
+from ..mechanism.codegen import FastCall
 from ..limits import check as check_limit
-from ..models.mechanism import Mechanism
+from ..mechanism.mechanism import Mechanism
 from ..progress import ProgressBar
 from .galpha1 import galpha1_kernel, galpha1_residual, step_scales
 from .options import RK4, GeneralizedAlpha, GeneralizedAlphaFirstOrder

@@ -34,11 +34,11 @@ from typing import Callable, Mapping
 import casadi as ca
 import numpy as np
 
-from ..codegen import FastCall, compile_functions
-from ..derive import functions
+from ..mechanism.codegen import FastCall, compile_functions
+from ..mechanism.functions import functions
 from ..errors import ConvergenceError, SymcableError
-from ..models.mechanism import Mechanism
-from ..results_periodic_mech import MechanismPeriodic, trig_interp
+from ..mechanism.mechanism import Mechanism
+from ..results.periodic_generic import MechanismPeriodic, trig_interp
 from .newton import newton
 from .stepcache import StepCache, maybe_compiled
 
@@ -285,7 +285,7 @@ class SquareSystem:
 
 def point_function(mech: Mechanism, name: str, compiled: bool) -> ca.Function:
     """The derived Function ``name`` (``"dae_residual"``, ``"acc_residual"``) of ``mech``, or,
-    ``compiled``, it and its Jacobian in generated C (:mod:`symcable.codegen`, cached): the
+    ``compiled``, it and its Jacobian in generated C (:mod:`symcable.mechanism.codegen`, cached): the
     periodic systems map it over their points, so the C is one point's, small, and the
     whole system's graph, its map and its sparse Jacobian stay in CasADi (compiling the
     mapped system itself writes out every point's Jacobian: minutes of C compiler)."""
@@ -299,7 +299,7 @@ def point_function(mech: Mechanism, name: str, compiled: bool) -> ca.Function:
 # ---------------------------------------------------------------------------------------------
 def _check_functions(mech: Mechanism, m: int, codegen: bool | None = False) -> tuple:
     """(acc_residual, qdot, outputs), each mapped over ``m`` samples and called through
-    :class:`~symcable.codegen.FastCall` (samples as rows in, flat column-major out); each in
+    :class:`~symcable.mechanism.codegen.FastCall` (samples as rows in, flat column-major out); each in
     generated C where ``codegen`` resolves to True (:func:`~symcable.solvers.stepcache.
     maybe_compiled`: compiled once per Mechanism, the outputs shared with the integrators)."""
     F = functions(mech)

@@ -46,7 +46,7 @@ from typing import Callable
 import numpy as np
 
 from ..errors import ConvergenceError
-from ..models.mechanism import Mechanism
+from ..mechanism.mechanism import Mechanism
 
 __all__ = ["AMPLITUDE_BLOCK", "RAMP_BLOCK", "FIRST_STEP", "MIN_STEP", "MAX_SOLVES",
            "STEP_MAX_ITER", "amplitude_slices", "continuation_applies", "solve_by_continuation",

@@ -20,11 +20,11 @@ from typing import Mapping
 
 import numpy as np
 
-from ..codegen import use_codegen
+from ..mechanism.codegen import use_codegen
 from ..errors import ConvergenceError, SymcableError
-from ..models.mechanism import Mechanism
-from ..results_mechanism import Equilibrium
-from ..results_periodic_mech import MechanismPeriodic
+from ..mechanism.mechanism import Mechanism
+from ..results.generic import Equilibrium
+from ..results.periodic_generic import MechanismPeriodic
 from .collocation_mech import solve_collocation
 from .equilibrium import solve_equilibrium
 from .hbalance_mech import solve_hbalance
@@ -170,7 +170,7 @@ def solve_periodic_mech(mech: Mechanism, period: float, method=None, *, p=None, 
         False: the direct solve only.
     codegen : bool or None
         Collocation and harmonic balance: the per-point residual and its Jacobian in
-        generated C; shooting: the first-order step kernel (:func:`symcable.codegen.
+        generated C; shooting: the first-order step kernel (:func:`symcable.mechanism.codegen.
         use_codegen`: None is C where it pays; default False, the virtual machine); all
         three: the check's functions on its grid. Shooting's second-order step and the
         exact-monodromy step of its Newton fallback are CasADi rootfinders and stay in the

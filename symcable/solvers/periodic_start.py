@@ -15,7 +15,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import ConvergenceError
-from ..models.mechanism import Mechanism
+from ..mechanism.mechanism import Mechanism
 from .integrate import integrate
 from .options import Shooting
 from .periodic_common import rest_start, start_from_samples

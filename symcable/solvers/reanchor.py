@@ -1,5 +1,5 @@
 """Re-anchoring in the time march: a Mechanism's optional
-:class:`~symcable.models.mechanism.Reanchor` hook called between steps
+:class:`~symcable.mechanism.mechanism.Reanchor` hook called between steps
 (:func:`~symcable.solvers.march.run_fixed`, :func:`~symcable.solvers.march.run_adaptive`).
 
 The hook's ``margin`` (the rod: min over edges of 1 + t0 . t) is read at every step the
@@ -35,7 +35,7 @@ import math
 import casadi as ca
 import numpy as np
 
-from ..models.mechanism import Mechanism, Reanchor
+from ..mechanism.mechanism import Mechanism, Reanchor
 from .stepcache import STEP_CACHE
 
 #: a vertex twist that changes by more than this (rad) at a renewal has jumped

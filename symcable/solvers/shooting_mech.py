@@ -111,11 +111,11 @@ import time
 import casadi as ca
 import numpy as np
 
-from ..codegen import FastCall, use_codegen
-from ..derive import functions
+from ..mechanism.codegen import FastCall, use_codegen
+from ..mechanism.functions import functions
 from ..errors import SymcableError
-from ..models.mechanism import Mechanism
-from ..results_periodic_mech import trig_interp
+from ..mechanism.mechanism import Mechanism
+from ..results.periodic_generic import trig_interp
 from .galpha1 import galpha1_kernel, step_scales
 from .integrate import galpha1_step, galpha_step
 from .options import GeneralizedAlpha, GeneralizedAlphaFirstOrder, Shooting
@@ -275,7 +275,7 @@ def first_order(mech: Mechanism) -> bool:
 
 def period_map(mech: Mechanism, opts: Shooting, codegen: bool | None = False) -> PeriodMap:
     """The period map of ``mech`` for ``opts``, built once per mechanism and options; with
-    ``codegen`` (resolved by :func:`symcable.codegen.use_codegen`) the first-order step runs
+    ``codegen`` (resolved by :func:`symcable.mechanism.codegen.use_codegen`) the first-order step runs
     in generated C (compiled once, with a notice; the exact-derivative step of the Newton
     fallback stays in the virtual machine)."""
     fo = first_order(mech)

@@ -9,7 +9,7 @@ from __future__ import annotations
 import weakref
 from typing import Callable
 
-from ..codegen import compile_functions, graph_size, use_codegen
+from ..mechanism.codegen import compile_functions, graph_size, use_codegen
 
 __all__ = ["STEP_CACHE", "StepCache", "maybe_compiled"]
 
@@ -40,7 +40,7 @@ STEP_CACHE = StepCache()
 
 def maybe_compiled(mech, key: tuple, vm, codegen: bool | None, what: str, size=None):
     """``vm`` (a Function built for ``mech``), or its generated C when ``codegen`` resolves
-    to True (:func:`symcable.codegen.use_codegen`; ``size()`` the graph size it judges, by
+    to True (:func:`symcable.mechanism.codegen.use_codegen`; ``size()`` the graph size it judges, by
     default the serialised length of ``vm``), compiled once per Mechanism and ``key`` with
     the one-line notice ``compiling <what> for this model (once, cached) …``."""
     def judged():

@@ -39,10 +39,10 @@ import math
 import casadi as ca
 import numpy as np
 
-from ..derive import functions
+from ..mechanism.functions import functions
 from ..errors import SymcableError
 from ..linalg.sparse import norm_inf
-from ..models.mechanism import Mechanism
+from ..mechanism.mechanism import Mechanism
 from .newton import best_start
 from .options import GeneralizedAlpha
 from .stepcache import STEP_CACHE

@@ -10,7 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..models.mechanism import Mechanism
+from ..mechanism.mechanism import Mechanism
 from .options import GeneralizedAlpha, GeneralizedAlphaFirstOrder
 
 __all__ = ["EstimatePlan", "RunningEstimate", "leaky_sum", "MOTION_FLOOR"]

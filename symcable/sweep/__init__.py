@@ -4,7 +4,7 @@ sweep resumes where it stopped (``symcable sweep CASES.toml``, :func:`run_sweep`
 
 :mod:`.spec` reads the sweep file (its layout is documented there), :mod:`.case` runs one
 case and lists the outputs, :mod:`.run` runs them all; the table is a
-:class:`~symcable.results_sweep.SweepResult`. Dask (``pip install "symcable[sweep]"``) is
+:class:`~symcable.results.sweep.SweepResult`. Dask (``pip install "symcable[sweep]"``) is
 imported only when a sweep runs on it.
 """
 from __future__ import annotations

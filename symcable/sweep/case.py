@@ -109,8 +109,8 @@ def _per_line(result, pick, several: bool) -> dict:
 
 def _analyse(scene, analysis: str, options: Mapping, codegen) -> tuple:
     """``(values, status)`` of one case's analysis."""
-    from ..api import simulate, solve_periodic
-    from ..planar_static import solve_static
+    from ..api.analyses import simulate, solve_periodic
+    from ..api.planar_static import solve_static
 
     several = scene.version == 2
     if analysis == "static":
@@ -144,7 +144,7 @@ def run_case(task: Mapping) -> dict:
     ``task``: ``name``, ``hash``, ``scene`` (a loaded :class:`~symcable.scene.Scene`),
     ``analysis``, ``options`` (of the analysis), ``codegen`` (None, True or False; the
     analysis' argument), ``cached_only`` (compile nothing: generated C only from the build
-    cache, else the virtual machine, :func:`symcable.codegen.cached_only`), ``limits`` (the
+    cache, else the virtual machine, :func:`symcable.mechanism.codegen.cached_only`), ``limits`` (the
     client's :class:`~symcable.limits.Limits`, in force on the worker too; absent: the
     worker's own).
 
@@ -154,7 +154,7 @@ def run_case(task: Mapping) -> dict:
     reports a number), ``wall_time`` s, ``worker`` (host:pid), ``builds`` (this case's
     compile_functions calls by what they did: memory, cache, compiled, vm).
     """
-    from .. import codegen as _cg
+    from ..mechanism import codegen as _cg
 
     started = time.perf_counter()
     before = dict(_cg.build_counts)

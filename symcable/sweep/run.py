@@ -13,9 +13,9 @@ result saved as it arrives, so that an interrupted sweep resumes where it stoppe
   differences are parameters, inputs of the compiled functions: end and point positions,
   the current). The first case to run is run here, in the client (while the cluster starts
   and its workers import symcable): it compiles what generated C its analysis uses into
-  symcable's build cache (:func:`symcable.codegen.cache_dir`, keyed by the graph), and its
+  symcable's build cache (:func:`symcable.mechanism.codegen.cache_dir`, keyed by the graph), and its
   result is kept like any other. The other cases run within
-  :func:`symcable.codegen.cached_only`: local workers share the cache folder and load the
+  :func:`symcable.mechanism.codegen.cached_only`: local workers share the cache folder and load the
   library from it; a case whose compiled functions differ runs in the virtual machine
   rather than compile on a worker. What changes the graph: another ``dt``, number of
   segments or line type, a cable3d motion's period or amplitude, and on a cable3d line
@@ -34,7 +34,7 @@ result saved as it arrives, so that an interrupted sweep resumes where it stoppe
   whose file exists with the same hash is not run again (a failed one neither, unless
   ``retry_failed``). A saved file is used only when it is a regular file within the
   ``file_bytes`` limit holding a JSON object of the case's fields, each of the right type
-  and value (:meth:`~symcable.results_sweep.CaseResult.from_dict`, every output of the
+  and value (:meth:`~symcable.results.sweep.CaseResult.from_dict`, every output of the
   sweep a finite number); any other (edited, truncated, corrupt) runs the case again.
 * A case that fails (ConvergenceError, SceneError, any error in its analysis) is recorded
   as failed with its one-line message and no values; the sweep goes on. A worker lost while
@@ -55,7 +55,7 @@ from typing import Any
 from ..errors import SymcableError
 from ..limits import check_nesting, current, read_bounded
 from ..progress import ProgressBar
-from ..results_sweep import FAILED, NOT_RUN, CaseResult, SweepResult
+from ..results.sweep import FAILED, NOT_RUN, CaseResult, SweepResult
 from .case import run_case
 from .spec import Sweep, read_sweep
 

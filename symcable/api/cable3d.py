@@ -1,0 +1,407 @@
+"""The analyses of a ``cable3d`` scene, fully nonlinear: its Mechanism
+(:func:`~symcable.api.cable3d_static.cable3d_mechanism`) at rest
+(:func:`~symcable.api.cable3d_static.static_equilibrium`), then the generic solvers: time
+stepping (:func:`~symcable.solvers.integrate.integrate`), modes
+(:func:`~symcable.solvers.linearize.mechanism_modes`) and the exact linearisation.
+:mod:`symcable.api.analyses` sends a cable3d scene here; the arguments are the same. Periodic
+steady states: :mod:`symcable.api.cable3d_periodic`.
+
+The same analyses run a ``model = "rod"`` (or ``"hybrid"``) scene, with the Mechanism and
+static state :mod:`symcable.api.scene3d` says (the one place that dispatches on the model); a
+rod's time run re-anchors its reference frames as it goes
+(:func:`~symcable.models.rod_reanchor.reanchor_hook`), and its extra outputs (twist,
+curvature, moments, internal force) come in ``stats["outputs"]``.
+"""
+from __future__ import annotations
+
+import dataclasses
+import math
+import time
+
+import numpy as np
+
+from ..mechanism.functions import functions
+from ..errors import ConvergenceError, SymcableError
+from ..results.static import ModalSolution
+from ..results.line3d import LineTrajectory, SystemTrajectory, line_from_outputs
+from ..results.generic import SceneLinearization
+from ..scene import End, EndCondition, Scene
+from .cable3d_static import body_stiffness, dynamic_p, node_shapes
+from ..models.rod_reanchor import reanchor_hook
+from .scene3d import (dynamics_mechanism, is_rod, rod_line, scene_equilibrium, start_state,
+                      twist_names, twist_shapes)
+from ..solvers.integrate import ERROR_TARGET, accurate_dt, error_warning, integrate
+from ..solvers.march import leaky_sum
+from ..solvers.linearize import MAX_DENSE, mechanism_modes, output_sensitivity
+from ..solvers.options import RK4, GeneralizedAlphaFirstOrder
+
+__all__ = ["linearize_3d", "modal_analysis_3d", "simulate_3d"]
+
+#: steps per excitation period by default (as the planar line's generalized-alpha default)
+STEPS_PER_PERIOD = 100
+#: generalized-alpha's default spectral radius at infinite step for cable3d: the axial modes
+#: of a stiff line sit far above any step that resolves its motion, and a kinked motion table,
+#: a seabed landing or a snap excites them; rho_inf = 0 removes them in one step. Measured
+#: (first-order scheme), max fairlead error against the reference: the live-MoorDyn 3D case
+#: 5.8 against 26.6 % at T/240; MoorDyn's chain decks at dt = 0.1 s against OrcaFlex 8.4 /
+#: 7.0 / 8.0 / 8.4 against 10.9 / 14.0 / 9.0 / 8.3 % (WD0050, WD0200 x A1, A2; MoorDyn
+#: itself 14.1 / 11.1 / 10.0 / 9.5); the line of tests/test_cable3d_api.py 35 against 45 %
+#: at T/100 but 19 against 12 % at T/200
+RHO_INF = 0.0
+#: generalized-alpha's Newton tolerance on a cable3d run (``newton_tol``; the scaled step
+#: residual, see :class:`~symcable.solvers.options.GeneralizedAlphaFirstOrder`): on the
+#: chain decks at dt = 0.1 s the top segment's tension moves by 1.2e-6 (WD0600 A2) to
+#: 1.9e-5 (WD0600 A1) of its range from 1e-10's, four orders below the step's own error
+#: there, and the run takes 0.70-0.94 of the time (fewer chord iterations; medians of 5
+#: interleaved runs)
+NEWTON_TOL = 1e-8
+#: the end tensions' error estimate (:func:`tension_error_estimate`) times this: measured
+#: 0.49, 0.51 and 0.54 of the true error at T/200, T/400 and T/800 on a 10-segment line with
+#: seabed contact at rho_inf = 0.5 (true errors 12, 3.2 and 0.76 % of the range, against
+#: dt = T/3200); with the factor, 1.3 to 1.4 times the true error at rho_inf = 0
+TENSION_ESTIMATE_FACTOR = 2.0
+#: the least range an end tension's error is relative to, as a fraction of the largest end
+#: tension of the run: a steady tow's tensions vary by round-off only (a free end's is zero
+#: to 2e-4 N), and measured against that the estimate said 66-219 %
+TENSION_RANGE_FLOOR = 1e-3
+#: rad, a tow's default step turns it through at most this on its tightest turn (a 90 degree
+#: turn in 31 steps)
+TOW_TURN_STEP = 0.05
+#: a tow's default step in a turn is also at most TOW_STRETCH_STEP sqrt(T / EA) / Omega for
+#: each line (T its largest tension at the start, EA its stiffest section's, Omega = U / R
+#: the tightest turn's rate). Why: each step's Newton iterations start from y0 + h y'0,
+#: which moves every node along its velocity; a line turning at Omega is then stretched by
+#: the chord's strain (Omega h)^2 / 2, a spurious tension EA (Omega h)^2 / 2, and once that
+#: is a fair part of the line's own tension the chord iterations (the matrix of the step's
+#: start) diverge and the step substeps or fails. Measured (the largest step without
+#: substeps in the steady turn): Pode's 50 m cable on a 60 m circle at 1.5 m/s
+#: (tests/test_cable3d_tow.py) with 2 kN on its end 0.04-0.05 s at EA = 1e9 N, 0.08-0.15 s
+#: at 1e8, 0.4-0.8 s at 1e7 (the sqrt(EA) scaling: 0.63-0.78 sqrt(T/EA)/Omega), without the
+#: end weight 0.01-0.04 s at 1e9; with a 400 kg body at EA 1e7 (T = 3.7 kN) 0.2-0.39 s on 40
+#: segments, >= 0.39 s on 20, < 0.8 s on 10 (tests/test_cable3d_tow_body.py); seed 003's
+#: towed body on its 300 m turn (symcable/data/towed_body.toml) 0.5-1.08 s (0.35-0.75):
+#: 0.25 keeps the spurious tension under T / 32 (0.54 s there, whose time-stepping error
+#: estimate is then about 1 %). A default-step problem, not the turn's geometry: the
+#: straight tow, whose predictor is exact, takes any step; TOW_TURN_STEP alone gave 2.4 s
+#: there, half the steps substepped
+TOW_STRETCH_STEP = 0.25
+
+
+def _motions(scene: Scene) -> list:
+    """Every prescribed motion: of the ends (one line) or of the vessel points (version 2)."""
+    ends = [e for e in (scene.end_a, scene.end_b) if e is not None]
+    ends += [ln_end for ln in scene.lines for ln_end in (ln.end_a, ln.end_b)
+             if isinstance(ln_end, End)]
+    return [e.motion for e in ends if e.motion is not None] + [
+        pt.motion for pt in scene.points.values() if pt.motion is not None]
+
+
+def run_start(scene: Scene) -> float:
+    """When a run starts, s: the earliest row of a motion table when it is before 0 (MoorDyn's
+    tables start at -10 s), else 0 (where a harmonic motion starts its ramp)."""
+    firsts = [m.samples[0][0] for m in _motions(scene) if m.kind == "table"]
+    return min([0.0] + [float(t) for t in firsts])
+
+
+def default_dt(scene: Scene, duration: float, tensions: dict | None = None) -> float:
+    """The default step, s: a harmonic motion's period / STEPS_PER_PERIOD; a table's smallest
+    row spacing (the table resolves its motion no finer); a tow's time to turn through
+    TOW_TURN_STEP rad on its tightest turn, and given ``tensions`` ({line name: its largest
+    tension at the start, N}; a one-line scene's line is ``""``) at most TOW_STRETCH_STEP
+    sqrt(T / EA) / Omega there; at most duration / 100; with no motion duration / 100."""
+    dts = [duration / 100.0]
+    rates = [m.speed / radius for m in _motions(scene) if m.kind == "tow"
+             for _, radius, _ in m.turns]
+    if rates and tensions:
+        lines = {"": scene.sections} if scene.version == 1 else {
+            ln.name: ln.sections for ln in scene.lines}
+        for name, T in tensions.items():
+            EA = max(s.line_type.EA for s in lines[name])
+            if T > 0 and EA > 0:
+                dts.append(TOW_STRETCH_STEP * math.sqrt(T / EA) / max(rates))
+    for m in _motions(scene):
+        if m.kind == "table":
+            tk = np.array([r[0] for r in m.samples])
+            if tk.size > 1:
+                dts.append(float(np.min(np.diff(tk))))
+        elif m.kind == "tow":
+            dts += [TOW_TURN_STEP * radius / m.speed for _, radius, _ in m.turns]
+        else:
+            dts.append(m.period / STEPS_PER_PERIOD)
+    return min(dts)
+
+
+def _start_tensions(scene: Scene, eq) -> dict:
+    """{line name ("" for a one-line scene): its largest axial force at the start, N}."""
+    names = [""] if scene.version == 1 else [ln.name for ln in scene.lines]
+    out = {}
+    for n in names:
+        force = eq.outputs.get(f"{n}.axial_force" if n else "axial_force")
+        if force is not None:
+            out[n] = float(np.max(np.asarray(force, float)))
+    return out
+
+
+def _line_parts(mech) -> list:
+    """The names of the mechanism's line parts, in order."""
+    return [n for n, part in mech.layout.parts.items() if part.kind == "line"]
+
+
+def _prefixes(scene: Scene, lines) -> dict:
+    """Each line's output prefix: none in a one-line scene, ``"NAME."`` in version 2."""
+    return {n: ("" if scene.version == 1 else f"{n}.") for n in lines}
+
+
+def _one_line(scene: Scene, what: str) -> None:
+    """A SymcableError for a scene of several lines and points (version 2), which ``what``
+    does not run yet."""
+    if scene.version == 2:
+        raise SymcableError(f"scene {scene.name!r} has several lines and points (version 2): "
+                            f"{what} runs one-line cable3d scenes for now (solve_static solves "
+                            "it; symcable.integrate(symcable.cable3d_mechanism(scene), ...) "
+                            "steps it)")
+
+
+def _period(scene: Scene):
+    per = [m.period for m in _motions(scene) if m.kind == "harmonic"]
+    return min(per) if per else None
+
+
+def tension_error_estimate(time, series, h: float, tau: float, constant: float,
+                           floor: float = 0.0) -> float:
+    """The time-stepping error of a sampled series (an end tension) relative to its range,
+    by generalized-alpha's local error C h^3 |f'''| per step (``constant`` C, step ``h`` s)
+    summed with a memory of ``tau`` s (one radian of the excitation), as
+    :class:`~symcable.solvers.march.RunningEstimate` does on the state; the third derivative
+    from the samples (``time`` s). The state's own estimate measures positions against their
+    range, and a tension is EA times a small difference of positions: on a taut line the
+    tension's error was 25 times the positions' (each relative to its range). Times
+    TENSION_ESTIMATE_FACTOR. The range is at least ``floor`` (N): a steady tension (a
+    steady tow, a free end's zero) has no range, and its round-off is no motion."""
+    t, f = np.asarray(time, float), np.asarray(series, float)
+    rng = max(float(np.ptp(f)), floor) if f.size else 0.0
+    if t.size < 5 or not rng > 0:
+        return 0.0
+    f3 = np.gradient(np.gradient(np.gradient(f, t), t), t)
+    H = np.diff(t)
+    d = constant * h * h * 0.5 * (np.abs(f3[1:]) + np.abs(f3[:-1])) * H
+    E = leaky_sum(0.0, d, float(np.mean(H)) / tau)
+    return TENSION_ESTIMATE_FACTOR * float(np.max(E)) / rng
+
+
+def _with_tension_estimate(stats: dict, warnings, tr, ends, opts, period, label) -> tuple:
+    """The run's error estimate as the larger of the state's and the end tensions' (see
+    :func:`tension_error_estimate`), and its warning."""
+    if stats.get("error_estimate") is None or not hasattr(opts, "error_constant"):
+        return stats, warnings
+    h = stats["dt"]
+    tau = stats.get("error_memory") or (tr.time[-1] - tr.time[0]) / (2 * math.pi)
+    series = [np.linalg.norm(f, axis=1) for f in ends]
+    floor = TENSION_RANGE_FLOOR * max(float(np.max(f)) if f.size else 0.0 for f in series)
+    est = max(tension_error_estimate(tr.time, f, h, tau, opts.error_constant, floor)
+              for f in series)
+    stats = dict(stats, error_estimate_states=stats["error_estimate"], tension_error_estimate=est)
+    stats["error_estimate"] = max(est, stats["error_estimate"])
+    stats["dt_accurate"] = accurate_dt(h, stats["error_estimate"])
+    warnings = [w for w in warnings if "time step is too coarse" not in w]
+    if stats["error_estimate"] > ERROR_TARGET:
+        warnings.insert(0, error_warning(label, stats, "the end tensions and the motion", period))
+    return stats, warnings
+
+
+def _line_result(scene, mech, tr, method: str, dt: float, stats: dict, warnings,
+                 opts=None, period=None):
+    """The run as a LineTrajectory (one line) or a SystemTrajectory (scene version 2), its
+    error estimate extended to the end tensions when ``opts`` (the stepping method) is given."""
+    t = np.asarray(tr.time, float)
+    warnings = list(warnings)
+    lines = _line_parts(mech)
+    prefix = _prefixes(scene, lines)
+    if opts is not None:
+        ends = [np.asarray(tr.outputs[prefix[n] + k], float).reshape(t.size, 3)
+                for n in lines for k in ("end_force_a", "end_force_b")]
+        stats, warnings = _with_tension_estimate(dict(stats), warnings, tr, ends, opts, period,
+                                                 method)
+    common = dict(method=method, dt=float(dt), status=tr.status, stats=stats)
+    if scene.version == 1 and is_rod(scene):
+        return rod_line(scene, mech, t, tr.outputs, warnings, common)
+    if scene.version == 1:
+        return line_from_outputs(scene.name, t, tr.outputs, mech.layout.parts["line"].s,
+                                 warnings=warnings, **common)
+    out = SystemTrajectory(scene.name, t, {k: np.asarray(v, float) for k, v in tr.outputs.items()},
+                           tuple(lines), tuple(scene.points),
+                           {n: np.asarray(mech.layout.parts[n].s, float) for n in lines},
+                           warnings=tuple(warnings), body_names=tuple(scene.bodies),
+                           **common)
+    notes = [f"line {n}: {w}" for n, ln in out.lines.items() for w in ln.warnings]
+    return dataclasses.replace(out, warnings=out.warnings + tuple(notes)) if notes else out
+
+
+def simulate_3d(scene: Scene, duration: float, dt: float | None = None,
+                method: str = "generalized-alpha", *, rho_inf: float | None = None,
+                save_every: int | None = None, save_times=None, progress: bool | None = None,
+                newton_tol: float | None = None, codegen: bool | None = None,
+                t_start: float | None = None,
+                start: str | None = None) -> LineTrajectory | SystemTrajectory:
+    """Time response of a cable3d line from its static state (see :func:`symcable.simulate`).
+
+    The run starts at ``t_start`` s (default :func:`run_start`: a motion table's first row
+    when before 0, else 0) and lasts ``duration`` s; ``dt`` default :func:`default_dt`.
+    ``start``: ``"steady"`` (the default when the scene tows: the steady tow, the static
+    solution in the frame moving with the towpoints, everything moving with them), or
+    ``"rest"`` (:func:`~symcable.api.cable3d_static.run_start_state`); ``stats["start"]`` says
+    which was used (``"steady tow"`` or ``"rest"``), ``stats["tow_velocity"]`` the tow's
+    velocity at the start (m/s).
+    ``rho_inf`` (default :data:`RHO_INF` = 0) is generalized-alpha's numerical damping: on a
+    slack rope jerked taut (tests/test_cable3d_snap.py) rho_inf = 0.8 at dt = 0.05 s returned
+    a snap peak 500 times the converged one, 0.5 within 20 %, 0 within 5 % (second-order
+    scheme): high-frequency axial waves released by a snap need the damping. Returns a :class:`LineTrajectory` (a scene of
+    several lines and points: a :class:`SystemTrajectory`, ``.lines[name]`` each line's);
+    a failed step raises ConvergenceError whose ``partial`` is one too.
+    """
+    started = time.perf_counter()
+    name = str(getattr(method, "value", method)).strip().lower().replace("_", "-")
+    if name not in ("generalized-alpha", "rk4"):
+        raise SymcableError(f"method = {method!r}: must be 'generalized-alpha' or 'rk4'")
+    rho_inf = RHO_INF if rho_inf is None else rho_inf
+    if not (isinstance(rho_inf, (int, float)) and 0.0 <= rho_inf <= 1.0):
+        raise SymcableError(f"rho_inf = {rho_inf!r}: must be a number in [0, 1]")
+    try:
+        duration = float(duration)
+    except (TypeError, ValueError):
+        duration = float("nan")
+    if not (math.isfinite(duration) and duration > 0):
+        raise SymcableError(f"duration = {duration!r} s: must be > 0")
+    if name == "rk4":
+        opts = RK4()
+    else:
+        opts = GeneralizedAlphaFirstOrder(rho_inf=float(rho_inf), tol=NEWTON_TOL)
+        if newton_tol is not None:
+            opts = dataclasses.replace(opts, tol=float(newton_tol))
+    t0 = run_start(scene) if t_start is None else float(t_start)
+    mech, eq, v0, how, notes = start_state(scene, t0, start, codegen)
+    t_static = time.perf_counter() - started
+    if dt is None and name != "rk4":
+        dt = default_dt(scene, duration, _start_tensions(scene, eq))
+    kw = dict(method=opts, t0=t0, start=eq, v0=v0, p=mech.params.values, save_every=save_every,
+              save_times=save_times, progress=progress, codegen=codegen, label=name,
+              period=_period(scene),
+              reanchor=reanchor_hook(mech) if is_rod(scene) else None)
+    try:
+        tr = integrate(mech, duration, dt, **kw)
+    except ConvergenceError as exc:
+        part = exc.partial
+        if part is not None and len(part.time):
+            part = _line_result(scene, mech, part, name, part.stats.get("dt", dt or 0.0),
+                                dict(part.stats), part.warnings)
+        raise ConvergenceError(str(exc), partial=part, diagnostics=exc.diagnostics) from None
+    stats = dict(tr.stats, static_time=t_static, wall_time=time.perf_counter() - started,
+                 rho_inf=float(rho_inf) if name != "rk4" else None, **how)
+    return _line_result(scene, mech, tr, name, tr.stats["dt"], stats,
+                        tuple(notes) + tuple(tr.warnings), opts, _period(scene))
+
+
+def modal_analysis_3d(scene: Scene, n_modes: int = 10, *, max_dense: int = MAX_DENSE,
+                      damped: bool = False) -> ModalSolution:
+    """The lowest natural modes of a cable3d line about its static state (see
+    :func:`symcable.modal_analysis`): the symmetric problem K phi = omega^2 M phi in the node
+    positions, K the exact tangent stiffness (tension's geometric stiffness included), M the
+    lumped mass with added mass. ``shapes`` (n_modes, n, 3): node displacements (x, y, z),
+    zero at held ends, scaled to a largest node displacement of 1. ``damped=True`` adds the
+    damping ratios of the complex modes in ``stats["damping_ratios"]``. A scene of several
+    lines: the lines' nodes stacked in scene order (a shared node once per line), with
+    ``stats["lines"]`` giving each line's [start, stop) rows."""
+    started = time.perf_counter()
+    if isinstance(n_modes, bool) or int(n_modes) != n_modes or n_modes < 1:
+        raise SymcableError(f"n_modes = {n_modes!r}: must be an integer >= 1")
+    mech, eq = scene_equilibrium(scene)
+    mech = dynamics_mechanism(scene, mech)
+    t_static = time.perf_counter() - started
+    eq = dataclasses.replace(eq, p=dynamic_p(scene, mech, eq.p))
+    modes = mechanism_modes(mech, eq, int(n_modes), damped=damped, max_dense=max_dense)
+    lines = _line_parts(mech)
+    shapes = np.stack([node_shapes(scene, mech, eq, lines, u)
+                       for u in np.asarray(modes.velocity_shapes, float).reshape(-1, mech.n_v)])
+    freq = np.asarray(modes.frequencies, float)
+    st = dict(modes.stats)
+    stats = {"n_y": st.get("state_size"), "method": f"dense {st.get('method')}",
+             "zero_modes": st.get("zero_eigenvalues"), "zero_tolerance": st.get("zero_tolerance"),
+             "max_relative_real_part": st.get("max_relative_real_part"), "model_time": t_static,
+             "jacobian_time": st.get("linearize_time"), "eig_time": st.get("eig_time"),
+             "wall_time": time.perf_counter() - started}
+    tws = twist_shapes(mech, modes.velocity_shapes) if is_rod(scene) else None
+    if tws is not None:  # each mode's twist angles (rad per unit largest node displacement)
+        stats["twist_shapes"] = tws.tolist()
+    if damped and modes.damping_ratios is not None:
+        stats["damping_ratios"] = np.asarray(modes.damping_ratios, float).tolist()
+    pre = _prefixes(scene, lines)
+    if scene.version == 2:  # where each line's nodes sit in the stacked arrays
+        sizes = np.cumsum([0] + [len(mech.layout.parts[n].s) for n in lines])
+        stats["lines"] = {n: [int(a), int(b)] for n, a, b in zip(lines, sizes[:-1], sizes[1:])}
+    return ModalSolution(
+        scene_name=scene.name,
+        s=np.concatenate([np.asarray(mech.layout.parts[n].s, float) for n in lines]),
+        positions=np.vstack([np.asarray(eq.outputs[pre[n] + "positions"], float).reshape(-1, 3)
+                             for n in lines]), frequencies=freq,
+        periods=1.0 / freq, real_parts=np.asarray(modes.real_parts if modes.real_parts is not None
+                                                  else np.zeros_like(freq), float),
+        shapes=shapes, status="converged", stats=stats, warnings=tuple(modes.warnings))
+
+
+def end_stiffness_3d(scene: Scene, end: str = "b", *, equilibrium=None) -> np.ndarray:
+    """(3, 3) N/m: K = -dF/dx of the force the line exerts on pinned end ``end`` against that
+    end's position, the line in static equilibrium; exact (implicit function theorem on the
+    static residual's CasADi derivatives)."""
+    mech, eq = scene_equilibrium(scene) if equilibrium is None else equilibrium
+    return -output_sensitivity(mech, eq, f"end_force_{end}", f"end_{end}.position")
+
+
+def linearize_3d(scene: Scene, *, undamped: bool = False) -> SceneLinearization:
+    """K, C, M, G, H of a cable3d line about its static state (see :func:`symcable.linearize`):
+    q and v are the positions and velocities of the moving nodes (``q_kinds`` names each,
+    e.g. ``"node3.y"``); K includes the geometric stiffness of the static tension; C the
+    material damping and the drag linearised about the current (none with ``undamped``,
+    which also switches the current off); and the exact (3, 3) stiffness of each pinned
+    end (a scene of several lines: of each fixed or vessel point, by name, every line
+    attached to it moved with it; q named ``"line.node3.y"``, a free point's ``"buoy.x"``),
+    and the (6, 6) mooring stiffness of each free body (``body_stiffness``, global axes:
+    :func:`~symcable.api.cable3d_static.body_stiffness`; its q named ``"tow.x"``, ``"tow.e1"``,
+    its v ``"tow.rx"`` ...). A free body's statics-only spring is off (K of the lines and
+    bodies alone)."""
+    mech0, eq = scene_equilibrium(scene)
+    mech = dynamics_mechanism(scene, mech0)
+    p = dynamic_p(scene, mech, eq.p)
+    if undamped:
+        for block in mech.params.names:
+            if block.split(".")[-1] == "current":
+                p[mech.params.slice(block)] = 0.0
+    F = functions(mech)
+    z0 = np.zeros(0)
+    q0, v0 = np.asarray(eq.q, float), np.zeros(mech.n_v)
+    K, C, M, *_ = (np.asarray(a) for a in F.tangents(q0, v0, z0, 0.0, p))
+    H, G = (np.asarray(a) for a in F.kinematics_jacobian(q0, v0, z0, 0.0, p))
+    if undamped:
+        C = np.zeros_like(C)
+    q_kinds, v_kinds = mech.coordinate_names(tagged=scene.version == 2)
+    if is_rod(scene):  # the twists: "edge{j}.twist"
+        q_kinds, v_kinds = (twist_names(k, mech) for k in (q_kinds, v_kinds))
+    ends = {}
+    if scene.version == 1:
+        for end in ("a", "b"):
+            if getattr(scene, f"end_{end}").condition is EndCondition.PINNED:
+                ends[end] = end_stiffness_3d(scene, end, equilibrium=(mech0, eq))
+    else:  # each held point: -d(lines' force on it)/d(its position), every attached end
+        for pname, pt in scene.points.items():
+            if pt.is_free:
+                continue
+            K_pt = np.zeros((3, 3))
+            for ln in scene.lines:
+                for end in ("a", "b"):
+                    if getattr(ln, f"end_{end}") == pname:
+                        K_pt -= output_sensitivity(mech, eq, f"{pname}.force",
+                                                   f"{ln.name}.end_{end}.position")
+            ends[pname] = K_pt
+    bodies = {name: body_stiffness(scene, mech, eq, name, p)
+              for name, b in scene.bodies.items() if b.is_free}
+    return SceneLinearization(scene.name, K, C, M, G, H, q_kinds, v_kinds, ends, undamped,
+                              bodies)

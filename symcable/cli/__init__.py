@@ -1,0 +1,1 @@
+"""The ``symcable`` command (:mod:`.main`) and its subcommands."""

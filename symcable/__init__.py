@@ -15,7 +15,8 @@ from .api.analyses import (build_dynamic_model, end_stiffness, linearize, modal_
 from .errors import ConvergenceError, LimitError, SceneError, SymcableError
 from .limits import Limits, limits
 from .models import build_model
-from .results.static import BodyState, ModalSolution, PointState, StaticSolution, SystemStaticSolution
+from .results.static import (BodyState, ModalSolution, PointState, StaticSolution,
+                             SystemStaticSolution)
 from .results.periodic import PeriodicSolution, PeriodicSweep
 from .results.trajectory import Trajectory
 from .scene import Scene, load_scene

@@ -215,7 +215,7 @@ def test_no_bending_term_where_ei_is_zero():
     """A cable (EI = 0) builds no bending term and no moment output; a section of EI = 0
     beside one with EI > 0 makes the joint a hinge (no term at that node)."""
     from symcable.models.cable3d_bending import bending_nodes
-    from symcable.models.planar import segment_table
+    from symcable.models.common.segments import segment_table
     d = cantilever(weight=1.0)
     d["line_types"]["cable"] = dict(d["line_types"]["beam"], EI=0.0)
     d["sections"] = [{"type": "beam", "length": 1.0, "segments": 3},

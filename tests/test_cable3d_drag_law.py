@@ -23,7 +23,7 @@ from scipy.optimize import brentq
 
 import symcable as sc
 from symcable.errors import SceneError
-from symcable.models.cable3d import DRAG_SPEED, _element_kernel
+from symcable.models.common.elements import DRAG_SPEED, element_kernel
 from symcable.scene import load_scene
 from symcable.scene.loading import LoadingFunctions
 
@@ -61,7 +61,7 @@ def test_morison_coefficients_reproduce_morison():
     operations, Cd_n (Z^2 - A^2) for Cd_n B^2)."""
     cdn, cdt = 1.3, 0.07
     law = LoadingFunctions.morison(cdn, cdt)
-    k0, k1 = _element_kernel(), _element_kernel((3, 0))
+    k0, k1 = element_kernel(), element_kernel((3, 0))
     rng = np.random.default_rng(12)
     for case in range(8):
         xa, xb = rng.normal(size=3), rng.normal(size=3)
@@ -97,7 +97,7 @@ def test_nontrivial_law_against_hand_computation(alpha_deg):
     u = U * (math.cos(a) * t + math.sin(a) * side)
     xb = xa + 3.0 * t
     kc, ks = 5, 3
-    k = _element_kernel((kc, ks))
+    k = element_kernel((kc, ks))
     args = _args(xa, xb, u=u)
     got = _total(k(law=_row(LAW, kc, ks), **args))
     psi = min(a, math.pi - a)
@@ -122,7 +122,7 @@ def test_jacobian_finite_at_rest_and_in_axial_flow(flow):
     import casadi as ca
     law = LoadingFunctions(1.0, (0.5, 0.0, -0.5, 0, 0, 0, 0, 0, 0.01), (0.1,) * 8,
                            (0.05, 0.01, 0.0, 0, 0, 0, 0, 0, 0.001), (0.0,) * 7 + (0.002,))
-    k = _element_kernel((9, 8))
+    k = element_kernel((9, 8))
     xa, xb = np.array([0.1, -0.2, 0.3]), np.array([1.0, 0.5, -0.1])
     t = (xb - xa) / np.linalg.norm(xb - xa)
     v = np.zeros(3) if flow == "at rest" else 0.7 * t

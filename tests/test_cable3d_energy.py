@@ -79,9 +79,9 @@ def test_material_damping_in_the_kernel_and_the_scene():
     minus the damping ratio of the segment's axial mode, BA = zeta 2 ds sqrt(EA m)); and a
     damped string loses energy where the undamped one keeps it (the scheme's own energy
     error oscillates by ~1e-3 either way, so the loss is judged over the run)."""
-    from symcable.models.cable3d import _element_kernel
+    from symcable.models.common.elements import element_kernel
 
-    k = _element_kernel()
+    k = element_kernel()
     xa, xb = np.zeros(3), np.array([1.0, 2.0, 2.0])  # length 3
     vb = np.array([0.3, -0.1, 0.2])
     args = dict(xa=xa, xb=xb, va=np.zeros(3), u=np.zeros(3), L0=2.9, EA=1e6, EAs=0.0,

@@ -34,13 +34,13 @@ def test_table_velocity_is_one_value_at_a_row():
     """At a row, the end's velocity is the mean of the slopes either side, and the same a few
     ulps of t either side of it (the derivative of the interpolant gave the left slope, the
     right one or their mean by the rounding of t); between rows, the interval's slope."""
-    from symcable.models.cable3d import _held
+    from symcable.models.common.elements import held_end
 
     d = load_scene(REF / "WD0050_Chain.txt").to_dict()
     d["end_b"]["motion"] = {"kind": "table", "file": str(REF / "ZZP1_A1.txt")}
     end = load_scene(d).end_b
     t = ca.SX.sym("t")
-    x, v = _held(end, ca.DM.zeros(3), 1.0, t)
+    x, v = held_end(end, ca.DM.zeros(3), 1.0, t)
     fx, fv = ca.Function("x", [t], [x]), ca.Function("v", [t], [v])
     rows = np.loadtxt(REF / "ZZP1_A1.txt")
     k = 120  # t = 2.0 s, a row where the slope changes
@@ -97,7 +97,7 @@ def test_table_is_held_outside_its_rows_and_costs_the_same_at_any_length(tmp_pat
     velocity; in between, the linear interpolation. The table is a lookup in the graph (two
     CasADi interpolants): its instructions do not grow with the rows (a sum of ramps over the
     rows cost about ten per row: 3,444 for the 301-row heave table)."""
-    from symcable.models.cable3d import _held
+    from symcable.models.common.elements import held_end
 
     def held(n):
         tk = np.linspace(0.0, 10.0, n)
@@ -111,7 +111,7 @@ def test_table_is_held_outside_its_rows_and_costs_the_same_at_any_length(tmp_pat
              "end_b": {"condition": "pinned", "position": [15.0, 0.0, 0.0],
                        "motion": {"kind": "table", "file": str(path)}}}
         t = ca.SX.sym("t")
-        x, v = _held(load_scene(d).end_b, ca.DM.zeros(3), 1.0, t)
+        x, v = held_end(load_scene(d).end_b, ca.DM.zeros(3), 1.0, t)
         return rows, ca.Function("f", [t], [x, v])
 
     rows, f = held(41)

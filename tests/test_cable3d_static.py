@@ -17,7 +17,7 @@ import pytest
 
 import symcable as sc
 from symcable.analytic import elastic_catenary
-from symcable.models.cable3d import _element_kernel
+from symcable.models.common.elements import element_kernel
 
 
 def _oc3_3d(angle: float) -> dict:
@@ -123,7 +123,7 @@ def test_rigid_rotation_makes_no_strain():
     """Seed 003's argument for the position-vector element: strain from the current length
     against the rest length is invariant under any rigid rotation (and the axial force
     turns with the element)."""
-    k = _element_kernel()
+    k = element_kernel()
     rng = np.random.default_rng(3)
     xa, xb = rng.normal(size=3), rng.normal(size=3)
     L0 = 0.9 * float(np.linalg.norm(xb - xa))

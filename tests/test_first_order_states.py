@@ -17,7 +17,8 @@ import numpy as np
 import pytest
 
 from symcable.errors import SymcableError
-from symcable.mechanism.mechanism import Layout, Mechanism, Output, ParamBlocks, PartLayout, Scales, Start
+from symcable.mechanism.mechanism import (Layout, Mechanism, Output, ParamBlocks, PartLayout,
+                                          Scales, Start)
 from symcable.solvers.equilibrium import solve_equilibrium
 from symcable.solvers.integrate import integrate
 from symcable.solvers.linearize import mechanism_modes, output_sensitivity

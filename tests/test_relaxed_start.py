@@ -21,7 +21,7 @@ import pytest
 
 import symcable as sc
 from symcable.analytic import elastic_catenary
-from symcable.models.planar import FOLD_PUSH
+from symcable.models.common.segments import FOLD_PUSH
 
 G = 9.80665
 RHO = 1025.0

@@ -16,7 +16,7 @@ from ..models.cable3d import build_cable3d, force_scale
 from ..models.cable3d_system import build_system, line_scene
 from ..mechanism.mechanism import Mechanism
 from ..models.tow import held_motions, held_tows, moved_scene, tow_velocities
-from ..models.planar import grounded_length, segment_table
+from ..models.common.segments import grounded_length, segment_table
 from ..results.static import BodyState, PointState, StaticSolution, SystemStaticSolution
 from ..scene import BodyEnd, Scene
 from ..solvers.equilibrium import solve_equilibrium

@@ -37,7 +37,7 @@ from ..limits import check as check_limit
 from ..models.body import body_part, quaternion_rpy
 from ..models.cable3d_system import line_scene
 from ..mechanism.mechanism import Start
-from ..models.planar import segment_table
+from ..models.common.segments import segment_table
 from ..results.offsets import DOF_NAMES, OffsetSweep
 from ..scene import BodyEnd, load_scene
 from ..scene.bodies import BodyKind, rotation_rpy

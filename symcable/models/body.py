@@ -81,8 +81,9 @@ import numpy as np
 from ..scene import Environment
 from ..scene.bodies import Body
 from ..mechanism.assembly import Attached
-from .cable3d import DRAG_SPEED
-from ..mechanism.mechanism import Layout, Mechanism, Output, ParamBlocks, PartLayout, Scales, StateNames
+from .common.elements import DRAG_SPEED
+from ..mechanism.mechanism import (Layout, Mechanism, Output, ParamBlocks, PartLayout, Scales,
+                                   StateNames)
 
 __all__ = ["HOLD_STIFFNESS", "PULL_STIFFNESS", "attachment", "body_outputs", "body_part",
            "quaternion_rpy", "rotation", "roll_pitch_yaw", "start_q"]

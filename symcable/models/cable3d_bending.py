@@ -114,7 +114,7 @@ def bending_terms(scene, seg: dict, Xm):
 
 
 def linear_axial_law(seg: dict, law: dict) -> dict:
-    """The tension-only law of :func:`~symcable.models.planar.slack_law` with the segments
+    """The tension-only law of :func:`~symcable.models.common.segments.slack_law` with the segments
     that have EI > 0 carrying compression (the linear law EA e, as the planar line's:
     EA_slack = EA, so the smoothed corner drops out; its NaNs replaced)."""
     rod = seg["EI"] > 0.0

@@ -4,7 +4,7 @@
 Written in the tangential and normal relative speeds, never in the angle itself: with u the
 water's velocity relative to the element, t its unit tangent, u_t = u . t and u_perp =
 u - u_t t, the two |.| of the law are smoothed as the Morison law's |u| is, with
-:data:`~symcable.models.cable3d.DRAG_SPEED` = eps:
+:data:`~symcable.models.common.elements.DRAG_SPEED` = eps:
 
     A = sqrt(u_t^2 + eps^2)       (|u_t|),      B = sqrt(|u_perp|^2 + eps^2)   (u_n),
     Z^2 = A^2 + B^2               (|u|^2),      cos psi = A / Z,   sin psi = B / Z,

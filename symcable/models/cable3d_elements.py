@@ -1,5 +1,5 @@
 """The cable3d line's momentum rows as element kernels (:class:`~.element_form.ElementForm`):
-each element's forces on its two nodes (:func:`~.cable3d._element_kernel`: axial, material
+each element's forces on its two nodes (:func:`~symcable.models.common.elements.element_kernel`: axial, material
 damping, drag, weight and buoyancy) and its share of the mass (structural and added,
 lumped or seed 003's consistent), so that a solver may evaluate the iteration matrix as a
 loop over elements of the kernel's own 6 x 18 Jacobian. Contact, friction, bending and end

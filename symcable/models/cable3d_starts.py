@@ -18,7 +18,8 @@ import numpy as np
 from ..errors import ConvergenceError, SymcableError
 from ..scene import EndCondition, Scene
 from ..mechanism.mechanism import Start
-from .planar import _catenary_start, force_scale_of, slack_law
+from .common.catenary import catenary_start
+from .common.segments import force_scale_of, slack_law
 from .relax import relax_line
 
 __all__ = ["force_scale", "laid_shape", "starts_of"]
@@ -50,7 +51,7 @@ def _catenary(scene, seg):
     u = _plane(pa, pb)
     span = float(np.dot(pb[:2] - pa[:2], u))
     try:
-        start = _catenary_start(np.array([0.0, pa[2]]), np.array([span, pb[2]]), seg, scene)
+        start = catenary_start(np.array([0.0, pa[2]]), np.array([span, pb[2]]), seg, scene)
     except (ConvergenceError, ValueError, FloatingPointError):
         return None
     if start is None:

@@ -55,11 +55,12 @@ from ..scene.points import Point
 from . import terms
 from ..mechanism.assembly import Shared, assemble
 from .body import attachment, body_outputs, body_part, start_q
-from .cable3d import DRAG_SPEED, _lumped, build_cable3d, force_scale
+from .common.elements import DRAG_SPEED
+from .cable3d import _lumped, build_cable3d, force_scale
 from .cable3d_drag import law_table
 from .cable3d_starts import _catenary, _hanging
 from ..mechanism.mechanism import Layout, Mechanism, Output, ParamBlocks, PartLayout, Scales, Start
-from .planar import segment_table, slack_law
+from .common.segments import segment_table, slack_law
 from .relax import _ramp_integral, drag_loads, relaxed_network
 from .seabed3d import CONTACT_SMOOTHING
 

@@ -26,7 +26,7 @@ import numpy as np
 
 from ..scene import EndCondition, Scene
 from .cable3d_bending import bending_kernel, linear_axial_law
-from .planar import slack_law
+from .common.segments import slack_law
 
 __all__ = ["axial_law", "cable_bending", "cable_vertices", "rod_mask", "rod_runs",
            "rod_vertices", "spun_edges"]

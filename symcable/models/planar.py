@@ -67,28 +67,11 @@ from ..errors import ConvergenceError
 from ..scene import EndCondition, Scene
 from . import terms
 from .base import Guess, Model
+from .common.segments import (SLACK_CONTINUATION, CABLE_COMPRESSION, FOLD_PUSH, segment_table,
+                              force_scale_of, slack_law, nodal_weights, grounded_length)
+from .common.catenary import catenary_start
 
 P_NAMES = ("load", "bending", "xa", "za", "xb", "zb", "angle_a", "angle_b", "ux", "uz", "slack")
-
-
-def segment_table(scene: Scene) -> dict[str, np.ndarray]:
-    """Per-segment properties (arrays of shape (N,)) and node arc lengths (N+1,)."""
-    cols: dict[str, list] = {k: [] for k in ("ds", "EA", "EI", "w", "d", "cdn", "cdt", "mass", "can")}
-    for sec in scene.sections:
-        lt = sec.line_type
-        for _ in range(sec.segments):
-            cols["ds"].append(sec.ds)
-            cols["EA"].append(lt.EA)
-            cols["EI"].append(lt.EI)
-            cols["w"].append(lt.weight)
-            cols["d"].append(lt.diameter)
-            cols["cdn"].append(lt.cd_normal)
-            cols["cdt"].append(lt.cd_tangential)
-            cols["mass"].append(lt.mass)
-            cols["can"].append(lt.ca_normal)
-    table = {k: np.asarray(v, dtype=float) for k, v in cols.items()}
-    table["s"] = np.concatenate([[0.0], np.cumsum(table["ds"])])
-    return table
 
 
 def _lumping_matrix(n_seg: int) -> ca.DM:
@@ -108,41 +91,6 @@ def _end_slope_weights(h0: float, h1: float | None) -> tuple[float, float, float
         return -1.0 / s1, 1.0 / s1, 0.0
     s2 = h0 + 0.5 * h1
     return -(1.0 / s1 + 1.0 / s2), s2 / (s1 * (s2 - s1)), -s1 / (s2 * (s2 - s1))
-
-
-#: the tension-only law of cables (EI = 0; :func:`~symcable.models.terms.cable_axial_force`),
-#: relative to the scene's force scale F: the residual stiffness in compression is
-#: SLACK_STIFFNESS F per unit strain; the corner is smoothed where the tension is about
-#: SLACK_SMOOTHING F (strain width 2 SLACK_SMOOTHING F / EA); the wall that keeps segments
-#: of positive length pushes with F exp(-(1 + e) / SLACK_WALL): 4.5e-5 F at e = -0.95, F at
-#: e = -1. So a slack cable pushes with less than CABLE_COMPRESSION F while no segment has
-#: bunched below 5 % of its length
-SLACK_STIFFNESS = 1e-7
-SLACK_SMOOTHING = 1e-6
-SLACK_WALL = 0.005
-#: the tension-only law's corner is SLACK_CONTINUATION times wider at the start of the
-#: continuation in ``slack`` (the parameter sigma from 0 to 1): where Newton cannot follow
-#: the sharp corner from a start (segments that go slack on the way), the solver solves
-#: with the wide corner and narrows it in steps
-SLACK_CONTINUATION = 1e4
-
-
-def force_scale_of(scene: Scene, seg: dict) -> float:
-    """A characteristic force of the scene, N: the line's total |submerged weight|, the
-    largest applied end force, or 1e-6 of the smallest EA (at least 1 N)."""
-    applied = [float(np.linalg.norm(e.force)) for e in (scene.end_a, scene.end_b)
-               if e.force is not None]
-    return max(float(np.sum(np.abs(seg["w"]) * seg["ds"])), *applied,
-               1e-6 * float(np.min(seg["EA"])), 1.0)
-
-
-def slack_law(seg: dict, force_scale: float) -> dict:
-    """Per segment ``delta`` (strain width of the corner) and ``EA_slack`` (N) of the
-    tension-only law, NaN where the segment has bending (EI > 0: compression allowed)."""
-    cable = seg["EI"] <= 0.0
-    delta = np.where(cable, 2.0 * SLACK_SMOOTHING * force_scale / seg["EA"], np.nan)
-    return {"delta": delta, "EA_slack": np.where(cable, SLACK_STIFFNESS * force_scale, np.nan),
-            "F_wall": force_scale, "w_wall": SLACK_WALL}
 
 
 def internal_forces(phi, eps, seg: dict, cond_a: EndCondition, cond_b: EndCondition,
@@ -378,7 +326,7 @@ def build_planar(scene: Scene) -> Model:
     def initial_guess():
         return _initial_guess(scene, seg, layout, p_target, bending)
 
-    nodal = _nodal_weights(seg)
+    nodal = nodal_weights(seg)
 
     def postprocess(out: dict) -> dict:
         return _postprocess(scene, seg, nodal, out)
@@ -389,20 +337,6 @@ def build_planar(scene: Scene) -> Model:
                  residual_floor=residual_floor,
                  initial_guess=initial_guess,
                  postprocess=postprocess, info=info, bounds=bounds)
-
-
-#: compression a cable (EI = 0) may show and still count as carrying none, relative to the
-#: scene's force scale: far above the round-off of a converged solve (1e-9 of the scale)
-#: and the tension-only law's residual push while segments keep 5 % of their length, far
-#: below any compression that changes the answer
-CABLE_COMPRESSION = 1e-4
-#: ... or, where more, this fraction of the segment's own weight: a vertical line that folds
-#: inside one segment (two strands side by side) bunches that segment nearly shut, and the
-#: slack law's wall holds it open with a push of about SLACK_WALL times the local tension
-#: (measured 0.5-2.3 % of the segment's weight). The discrete line is uncertain there by
-#: about a segment's weight anyway (the bunching warning says so); a compressed strut
-#: pushes with many segments' weight
-FOLD_PUSH = 0.05
 
 
 def _bounds(scene, seg, eps, T, contact, line_Px, line_Pz, Px, Pz, end_force_a, end_force_b,
@@ -492,85 +426,6 @@ def _from_positions(pos: np.ndarray, seg: dict, tension_mid: np.ndarray | None):
     else:
         eps = tension_mid / seg["EA"]
     return phi, eps
-
-
-def _catenary_start(pa, pb, seg, scene):
-    """Node positions and midpoint tensions from the closed-form elastic catenary of an
-    equivalent uniform line (total weight, series stiffness) between the two ends."""
-    from ..analytic import elastic_catenary
-
-    s, ds = seg["s"], seg["ds"]
-    L = s[-1]
-    w_eq = float(np.sum(seg["w"] * ds) / L)
-    EA_eq = float(L / np.sum(ds / seg["EA"]))
-    s_mid = s[:-1] + 0.5 * ds
-    if abs(w_eq) * L < 1e-9 * EA_eq:
-        return None
-    depth = scene.environment.depth
-    start, end, s_eval, mid_eval = pa, pb, s, s_mid
-    seabed = False
-    if depth is not None and w_eq > 0:
-        low_first = pa[1] <= pb[1]
-        low = pa if low_first else pb
-        if low[1] + depth < 0.01 * L:
-            seabed = True
-            if not low_first:
-                start, end, s_eval, mid_eval = pb, pa, L - s, L - s_mid
-    dx, dz = end[0] - start[0], end[1] - start[1]
-    sx = 1.0 if dx >= 0 else -1.0
-    sz = 1.0 if w_eq > 0 else -1.0
-    sol = elastic_catenary(abs(dx), sz * dz, L, EA_eq, abs(w_eq), seabed=seabed)
-    source = "elastic catenary with seabed" if seabed else "elastic catenary"
-    if sol.H == 0.0 and sol.grounded_length == 0.0 and np.hypot(dx, dz) < L:
-        # a vertical fold: the catenary one segment wide instead (a narrow U, H > 0, whose
-        # segments are straight and taut), its span then closed by a shear along z
-        width = float(np.max(ds))
-        sol = elastic_catenary(width, sz * dz, L, EA_eq, abs(w_eq))
-        pos = sol.positions(s_eval) * np.array([sx, sz]) + np.asarray(start)
-        pos[:, 0] -= (s_eval / L) * sx * width
-        return pos, sol.tension(mid_eval), source + " (a vertical fold, one segment wide)"
-    if sol.H == 0.0:  # slack: piled on the seabed (see _march)
-        pos = _march(sol, seg, start, end, sx, sz, swapped=start is pb)
-        if seabed:  # grounded nodes sink to where the contact carries their weight
-            grounded = pos[:, 1] <= -depth + 1e-9 * L
-            grounded[[0, -1]] = False  # the held ends stay where they are held
-            pos[grounded, 1] -= abs(w_eq) / (scene.seabed.stiffness * float(np.mean(seg["d"])))
-        return pos, None, source
-    pos = sol.positions(s_eval) * np.array([sx, sz]) + np.asarray(start)
-    if depth is not None:
-        pos[:, 1] = np.maximum(pos[:, 1], -depth)
-    return pos, sol.tension(mid_eval), source
-
-
-def _march(sol, seg, start, end, sx, sz, swapped: bool) -> np.ndarray:
-    """Node positions of a slack closed-form catenary (H = 0) built segment by segment, so
-    that every segment is straight and keeps its length where the closed form cannot say
-    how (``sol.positions`` piles the grounded excess at one point and folds a vertical line
-    at a point, which a straight segment straddling it cannot follow): each segment takes
-    the closed form's direction and strain at its midpoint; a grounded segment lies flat,
-    shortened evenly so that the grounded length fits between the end on the seabed and
-    the touchdown (the bunched pile of a slack chain); the segment in which a vertical line
-    turns lies horizontal. The march's miss at the far end is spread along the line in
-    proportion to arc length."""
-    ds = seg["ds"][::-1] if swapped else seg["ds"]
-    s = np.concatenate([[0.0], np.cumsum(ds)])
-    mid = 0.5 * (s[:-1] + s[1:])
-    L, lb = float(s[-1]), sol.grounded_length
-    ang, eps = sol.angle(mid), sol.strain(mid)
-    V = sol.V_a + sol.weight * np.maximum(s - lb, 0.0)  # vertical force at the nodes
-    turn = (V[:-1] < 0.0) & (V[1:] > 0.0)
-    # the turn carries the small horizontal pull that tilts the two strands by one segment
-    # over their length (taut, away from the law's corner at zero strain)
-    ang[turn] = 0.0
-    eps[turn] = np.max(eps) * float(np.max(ds)) / L
-    if lb > 0.0:
-        ground = mid <= lb
-        ang[ground] = 0.0
-        eps[ground] = min(sol.span / lb, 1.0) - 1.0
-    steps = (ds * (1.0 + eps))[:, None] * np.stack([sx * np.cos(ang), sz * np.sin(ang)], axis=1)
-    pos = np.asarray(start, float) + np.concatenate([np.zeros((1, 2)), np.cumsum(steps, axis=0)])
-    pos += np.outer(s / L, np.asarray(end, float) - pos[-1])
-    return pos[::-1].copy() if swapped else pos
 
 
 def _bowed(pa, pb, seg) -> np.ndarray:
@@ -683,7 +538,7 @@ def _initial_guess(scene, seg, layout: _Layout, p_target, bending):
     if not free_a and not free_b:
         pa, pb = np.array(a.position), np.array(b.position)
         try:
-            start = _catenary_start(pa, pb, seg, scene)
+            start = catenary_start(pa, pb, seg, scene)
         except (ConvergenceError, ValueError, FloatingPointError):
             start = None
         if start is not None:
@@ -760,57 +615,10 @@ def _relaxed(scene, seg, pos0, p_target, make):
 
 # --------------------------------------------------------------------------- results
 
-def _nodal_weights(seg: dict) -> tuple:
-    """(tributary length (N+1,), m; submerged weight per length on each node (N+1,), N/m),
-    the lumping of the residual's loads: half of each adjacent segment."""
-    s = seg["s"]
-    trib = np.zeros_like(s)
-    trib[:-1] += 0.5 * seg["ds"]
-    trib[1:] += 0.5 * seg["ds"]
-    w_node = np.zeros_like(s)
-    w_node[:-1] += 0.5 * seg["ds"] * seg["w"]
-    w_node[1:] += 0.5 * seg["ds"] * seg["w"]
-    w_node /= trib
-    return trib, w_node, np.where(w_node > 0, w_node, np.inf), 0.1 * np.abs(w_node)
-
-
-def grounded_length(scene: Scene, seg: dict, nodal: tuple | None, pos: np.ndarray,
-                    contact: np.ndarray | None, fa: np.ndarray, fb: np.ndarray) -> tuple:
-    """(grounded length, m, unstretched; its end's arc length s, m, or None; the touchdown
-    point (dim,), m, or None) of a line (planar or 3D: z is the last coordinate) from its
-    nodes' contact forces and its end forces; ``nodal``: :func:`_nodal_weights` of ``seg``
-    (None: computed here)."""
-    s = seg["s"]
-    if contact is None or not contact.max() > 0:
-        return 0.0, None, None
-    trib, w_node, w_div, w_tenth = _nodal_weights(seg) if nodal is None else nodal
-    # the grounded length is the length whose weight the seabed carries: the contact
-    # forces, plus what a held end lying on the seabed props up of the grounded line
-    # next to it (on a penalty seabed the end sits above the sunken line beside it)
-    # (each node at most its tributary length: a light section between heavier ones
-    # carries part of their weight where the line curves over the penalty bed, and
-    # would count as more line than it is)
-    grounded = float(np.sum(np.minimum(contact / w_div, trib)))
-    # in contact: the seabed carries more than a tenth of the local weight per length
-    in_contact = contact / trib > w_tenth
-    for node, force, end in ((0, fa, scene.end_a), (len(s) - 1, fb, scene.end_b)):
-        if end.is_fixed and w_node[node] > 0 and in_contact[node]:
-            grounded += max(0.0, -float(force[-1])) / w_node[node]
-    grounded = min(grounded, float(s[-1]))
-    if not grounded > 0:
-        return grounded, None, None
-    if in_contact[0] and not in_contact[-1]:
-        s_td = grounded
-    elif in_contact[-1] and not in_contact[0]:
-        s_td = float(s[-1]) - grounded
-    else:
-        s_td = float(s[np.argmax(in_contact)])
-    return grounded, s_td, np.array([np.interp(s_td, s, pos[:, c]) for c in range(pos.shape[1])])
-
 
 def _postprocess(scene: Scene, seg: dict, nodal: tuple, out: dict) -> dict:
     """Fairlead/anchor tension, grounded length (m, unstretched) and touchdown point
-    (``nodal``: :func:`_nodal_weights` of ``seg``)."""
+    (``nodal``: :func:`nodal_weights` of ``seg``)."""
     fa = np.ravel(out["end_force_a"])
     fb = np.ravel(out["end_force_b"])
     res = {"anchor_force": fa, "fairlead_force": fb,

@@ -70,7 +70,8 @@ from ..errors import SceneError
 from ..scene import EndCondition, Scene
 from . import terms
 from .dynamic import DynamicModel
-from .planar import _lumping_matrix, force_scale_of, internal_forces, segment_table, slack_law
+from .planar import _lumping_matrix, internal_forces
+from .common.segments import force_scale_of, segment_table, slack_law
 
 
 def _node_frames(phi_s):

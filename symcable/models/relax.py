@@ -76,7 +76,7 @@ def relaxed_positions(seg: dict, pos0: np.ndarray, free: np.ndarray, law: dict,
     up); None when the minimiser ends on non-finite numbers.
 
     ``free``: (N+1,) bool, the nodes that move (held ends keep ``pos0``); ``law``: the
-    tension-only law (:func:`~symcable.models.planar.slack_law`, every segment a cable);
+    tension-only law (:func:`~symcable.models.common.segments.slack_law`, every segment a cable);
     ``node_weight``: (N+1,) N, downward; ``end_forces``: (N+1, dim) N applied on free nodes;
     ``contact``: (depth, stiffness Pa, smoothing m, tributary widths (N+1,) m) or None;
     ``loads``: position-dependent nodal loads (N+1, dim), N, that are not conservative (drag):
@@ -167,7 +167,7 @@ def relax_line(scene, seg: dict, pos0: np.ndarray, law: dict,
     """:func:`relaxed_positions` of a one-line scene (planar or 3D: the dimension of
     ``pos0``): its held ends at their positions, the weight lumped on the nodes, the free
     ends' forces, the seabed's contact and the current's drag as the residuals have them;
-    ``law`` the tension-only law (:func:`~symcable.models.planar.slack_law`)."""
+    ``law`` the tension-only law (:func:`~symcable.models.common.segments.slack_law`)."""
     a, b = scene.end_a, scene.end_b
     N = len(seg["ds"])
     free = np.ones(N + 1, dtype=bool)

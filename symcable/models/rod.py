@@ -5,7 +5,7 @@ Unknowns q: the positions (x, y, z) of the moving nodes (as :mod:`~symcable.mode
 every interior node and a free end), then one twist angle theta_j per edge (rad; edge j
 joins nodes j and j+1); v their rates (m/s, rad/s). Terms:
 
-- per edge, cable3d's element kernel (:func:`symcable.models.cable3d._element_kernel`):
+- per edge, cable3d's element kernel (:func:`symcable.models.common.elements.element_kernel`):
   the axial force as the *linear* law EA e (a rod carries compression; EA stiff: the
   inextensibility is a penalty, see below), Kelvin-Voigt damping BA, the submerged weight,
   Morison drag (or the loading functions) on the relative velocity, half on each node;
@@ -66,12 +66,13 @@ import numpy as np
 
 from ..errors import SymcableError
 from ..scene import EndCondition, Scene
-from .cable3d import _element_kernel, _held
+from .common.elements import element_kernel, held_end
 from .cable3d_drag import law_table
 from .cable3d_starts import force_scale, starts_of
 from .hybrid_terms import axial_law, cable_bending, rod_mask, rod_vertices, spun_edges
-from ..mechanism.mechanism import Bound, Layout, Mechanism, Output, ParamBlocks, PartLayout, Scales, Start
-from .planar import CABLE_COMPRESSION, FOLD_PUSH, segment_table
+from ..mechanism.mechanism import (Bound, Layout, Mechanism, Output, ParamBlocks, PartLayout,
+                                   Scales, Start)
+from .common.segments import CABLE_COMPRESSION, FOLD_PUSH, segment_table
 from .relax import _ramp_integral
 from .rod_frames import end_moment_force, reference_director, transport, vertex_kernel
 from .rod_loads import rod_mass, rod_seabed, seabed_setup, water_velocity
@@ -85,7 +86,7 @@ P_SIZES = (1, 3, 3, 3, 1, 1, 1, 1)
 
 
 def rod_table(scene: Scene) -> dict:
-    """cable3d's segment table (:func:`~symcable.models.planar.segment_table`) with the
+    """cable3d's segment table (:func:`~symcable.models.common.segments.segment_table`) with the
     rod's columns: ``EI2`` (N m^2, = EI for isotropic types), ``GJ`` (N m^2) and ``K`` (the
     tension-torsion coupling, N m), per segment."""
     seg = segment_table(scene)
@@ -197,7 +198,7 @@ def build_rod(scene: Scene, rod: np.ndarray | None = None) -> Mechanism:
         X[i], V[i] = q[k:k + 3], v[k:k + 3]
     for end, i, pp in ((a, 0, pa), (b, N, pb)):
         if X[i] is None:
-            X[i], V[i] = _held(end, pp, motion, t, ramp_on)
+            X[i], V[i] = held_end(end, pp, motion, t, ramp_on)
     Xm, Vm = ca.horzcat(*X), ca.horzcat(*V)
     theta = [ca.SX(0.0)] * N
     for j in spun:
@@ -210,7 +211,7 @@ def build_rod(scene: Scene, rod: np.ndarray | None = None) -> Mechanism:
     BA = np.array([s.line_type.damping for s in scene.sections for _ in range(s.segments)])
     BA = np.where(BA < 0, -BA * np.sqrt(seg["EA"] * seg["mass"]) * seg["ds"], BA)
     EAs, delta = axial_law(seg, rod, F)
-    fa, fb, T, e = _element_kernel(drag_law["shape"] if drag_law else None).map(N)(
+    fa, fb, T, e = element_kernel(drag_law["shape"] if drag_law else None).map(N)(
         Xm[:, :-1], Xm[:, 1:], Vm[:, :-1], Vm[:, 1:], water_velocity(scene, current, Xm),
         row("ds"), row("EA"), ca.DM(BA).T, ca.DM(EAs).T, ca.DM(delta).T, F, row("w"),
         row("d"), row("cdn"), row("cdt"), rho, load,

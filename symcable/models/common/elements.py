@@ -1,0 +1,131 @@
+"""The two-node cable element of the 3D formulations (seed 003): its kernel (axial force,
+material damping, Morison drag, weight and buoyancy on its two nodes) and the prescribed
+motion of a held node."""
+from __future__ import annotations
+
+import hashlib
+import math
+
+import casadi as ca
+import numpy as np
+
+from .. import terms
+from ..cable3d_drag import loading_drag
+from ..tow import tow_path
+
+
+#: m/s, the speed below which |u| in the drag law is smoothed (sqrt(|u|^2 + DRAG_SPEED^2)):
+#: far below any current or motion speed that matters, and a linear damping there of
+#: 0.5 rho d Cd DRAG_SPEED per metre
+DRAG_SPEED = 1e-4
+
+
+#: the velocity of a table motion changes from one interval's slope to the next over this
+#: fraction of the smallest row spacing about each row (see :func:`held_end`): far below any
+#: time step, far above the round-off of t
+TABLE_VELOCITY_WIDTH = 1e-6
+
+
+def element_kernel(law_shape: tuple[int, int] | None = None) -> ca.Function:
+    """Forces of one element on its two nodes (N, 3 each), its axial force T (N) and
+    strain e, from its node positions and velocities and its properties (module docstring).
+    ``law_shape`` = (Kc, Ks): the drag is the loading functions of an extra input ``law``
+    (2 Kc + 2 Ks; :func:`~symcable.models.cable3d_drag.law_table`) instead of Morison's
+    law on ``cdn``, ``cdt`` (then not read).
+    """
+    xa, xb, va, vb, u = (ca.SX.sym(n, 3) for n in ("xa", "xb", "va", "vb", "u"))
+    L0, EA, BA, EAs, delta, wall, w, d, cdn, cdt, rho, load = (
+        ca.SX.sym(n) for n in ("L0", "EA", "BA", "EAs", "delta", "wall", "w", "d", "cdn", "cdt",
+                               "rho", "load"))
+    law = ca.SX.sym("law", 2 * sum(law_shape)) if law_shape is not None else None
+    dx = xb - xa
+    ell = ca.sqrt(ca.dot(dx, dx))
+    t = dx / ell
+    e = ell / L0 - 1.0
+    edot = ca.dot(t, vb - va) / L0
+    T = terms.cable_axial_force(EA, e, delta, EAs, wall, 0.005) + BA * edot
+    u_rel = u - 0.5 * (va + vb)
+    k = 0.5 * rho * d * L0 * ca.sqrt(ca.fmax(1.0 + e, 0.0))
+    if law is None:
+        ut = ca.dot(u_rel, t)
+        un = u_rel - ut * t
+        drag = k * (cdt * ca.sqrt(ut * ut + DRAG_SPEED ** 2) * ut * t
+                    + cdn * ca.sqrt(ca.dot(un, un) + DRAG_SPEED ** 2) * un)
+    else:
+        drag = k * loading_drag(u_rel, t, law, law_shape, DRAG_SPEED)
+    gravity = ca.vertcat(0.0, 0.0, -load * w * L0)
+    half = 0.5 * (drag + gravity)
+    fa = T * t + half
+    fb = -T * t + half
+    names = ["xa", "xb", "va", "vb", "u", "L0", "EA", "BA", "EAs", "delta", "wall", "w", "d",
+             "cdn", "cdt", "rho", "load"] + (["law"] if law is not None else [])
+    inputs = [xa, xb, va, vb, u, L0, EA, BA, EAs, delta, wall, w, d, cdn, cdt, rho, load]
+    return ca.Function("cable3d_element", inputs + ([law] if law is not None else []),
+                       [fa, fb, T, e], names, ["fa", "fb", "T", "e"])
+
+
+def _table_lookup(samples):
+    """``(disp, vel)``: functions of t (SX) giving a table's displacement (3,) and velocity
+    (3,) as :func:`held_end` describes them, each a CasADi linear interpolant (a binary search
+    per call in the graph and in its C, where the table written as a sum of ramps over its
+    rows cost some ten operations per row: 4,500 of the 16,300 of a WD0050 chain residual
+    with its 400 rows) of the clamped time. The velocity is an interpolant through the slopes
+    held over each interval and ramped over TABLE_VELOCITY_WIDTH of the smallest row
+    spacing about each row (from zero before the first row to zero after the last)."""
+    r = np.asarray(samples, float)
+    tk, X = r[:, 0], r[:, 1:4]
+    slopes = np.diff(X, axis=0) / np.diff(tk)[:, None]
+    # at least a few units in the last place of the times, so that the grid increases
+    # (rows far from t = 0: a table in seconds since some epoch)
+    half = max(0.5 * TABLE_VELOCITY_WIDTH * float(np.min(np.diff(tk))),
+               4.0 * float(np.spacing(np.max(np.abs(tk)))))
+    grid = np.column_stack([tk - half, tk + half]).ravel()
+    zero = np.zeros((1, 3))
+    held = np.repeat(np.vstack([zero, slopes, zero]), 2, axis=0)[1:-1]  # (2 n, 3)
+    tag = hashlib.sha1(r.tobytes()).hexdigest()[:12]  # the same in every process: one C
+    d = ca.interpolant(f"table_disp_{tag}", "linear", [tk.tolist()], X.ravel().tolist())
+    v = ca.interpolant(f"table_vel_{tag}", "linear", [grid.tolist()], held.ravel().tolist())
+
+    def disp(t):
+        return d(ca.fmin(ca.fmax(t, tk[0]), tk[-1]))
+
+    def vel(t):
+        return v(ca.fmin(ca.fmax(t, grid[0]), grid[-1]))
+    return disp, vel
+
+
+def held_end(end, pos_p, motion_scale, t, ramp_on=1.0):
+    """A pinned end's position (m) and velocity (m/s): its parameter position plus the scaled
+    prescribed motion:
+
+    - a table's displacement, linearly interpolated (held at its first and last rows). Its
+      velocity is the interval's slope, and at a row the mean of the slopes either side,
+      changing linearly over :data:`TABLE_VELOCITY_WIDTH` of the smallest row spacing about
+      each row: continuous in t, so a time step that ends on a row (up to round-off in t)
+      sees one velocity, not the slope of whichever side the rounding of t falls on (with
+      the derivative of the interpolant, a step of 0.05 s on the MoorDyn chain tables saw
+      the left slope, the right one or their mean depending on how the run was batched:
+      runs differed by up to 25 kN);
+    - or x_i = r(t) A_i cos(2 pi t / period + phase_i), ramped in over the first period by
+      r = (1 - cos(pi t / period)) / 2 (0 before t = 0, 1 after one period), so that a run
+      from the static state at any t <= 0 starts without a jump in the end's position or
+      velocity; ``ramp_on`` = 0 (the parameter ``ramp``: periodic solves) takes r = 1
+      throughout. Its velocity is the derivative;
+    - or a tow's path (:func:`~symcable.models.tow.tow_path`), neither ramped nor changed by
+      ``ramp_on`` (scaled by ``motion_scale``: held at its scene position in statics)."""
+    m = end.motion
+    if m is None:
+        return pos_p, ca.SX.zeros(3, 1)
+    if m.kind == "tow":
+        x, v = tow_path(m, t)
+        return pos_p + motion_scale * x, motion_scale * v
+    if m.kind == "table":  # piecewise linear through the rows, held outside them
+        disp, vel = _table_lookup(m.samples)
+        return pos_p + motion_scale * disp(t), motion_scale * vel(t)
+    A = ca.DM(m.amplitude)
+    ph = ca.DM([math.radians(v) for v in m.phase_deg])
+    ramp = ca.if_else(t <= 0.0, 0.0,
+                      ca.if_else(t < m.period, 0.5 * (1.0 - ca.cos(math.pi * t / m.period)), 1.0))
+    ramp = 1.0 - ramp_on * (1.0 - ramp)
+    x = pos_p + motion_scale * ramp * A * ca.cos(2.0 * math.pi * t / m.period + ph)
+    return x, ca.jacobian(x, t)

@@ -1,0 +1,133 @@
+"""A line's segments, shared by every formulation: the segment table of a scene's sections, the
+force scale, the smooth tension-only law of a cable and its compression bounds, and the
+grounded length of a line on the seabed."""
+from __future__ import annotations
+
+import numpy as np
+
+from ...scene import Scene
+
+
+def segment_table(scene: Scene) -> dict[str, np.ndarray]:
+    """Per-segment properties (arrays of shape (N,)) and node arc lengths (N+1,)."""
+    cols: dict[str, list] = {k: [] for k in ("ds", "EA", "EI", "w", "d", "cdn", "cdt", "mass", "can")}
+    for sec in scene.sections:
+        lt = sec.line_type
+        for _ in range(sec.segments):
+            cols["ds"].append(sec.ds)
+            cols["EA"].append(lt.EA)
+            cols["EI"].append(lt.EI)
+            cols["w"].append(lt.weight)
+            cols["d"].append(lt.diameter)
+            cols["cdn"].append(lt.cd_normal)
+            cols["cdt"].append(lt.cd_tangential)
+            cols["mass"].append(lt.mass)
+            cols["can"].append(lt.ca_normal)
+    table = {k: np.asarray(v, dtype=float) for k, v in cols.items()}
+    table["s"] = np.concatenate([[0.0], np.cumsum(table["ds"])])
+    return table
+
+
+#: the tension-only law of cables (EI = 0; :func:`~symcable.models.terms.cable_axial_force`),
+#: relative to the scene's force scale F: the residual stiffness in compression is
+#: SLACK_STIFFNESS F per unit strain; the corner is smoothed where the tension is about
+#: SLACK_SMOOTHING F (strain width 2 SLACK_SMOOTHING F / EA); the wall that keeps segments
+#: of positive length pushes with F exp(-(1 + e) / SLACK_WALL): 4.5e-5 F at e = -0.95, F at
+#: e = -1. So a slack cable pushes with less than CABLE_COMPRESSION F while no segment has
+#: bunched below 5 % of its length
+SLACK_STIFFNESS = 1e-7
+
+
+SLACK_SMOOTHING = 1e-6
+
+
+SLACK_WALL = 0.005
+
+
+#: the tension-only law's corner is SLACK_CONTINUATION times wider at the start of the
+#: continuation in ``slack`` (the parameter sigma from 0 to 1): where Newton cannot follow
+#: the sharp corner from a start (segments that go slack on the way), the solver solves
+#: with the wide corner and narrows it in steps
+SLACK_CONTINUATION = 1e4
+
+
+def force_scale_of(scene: Scene, seg: dict) -> float:
+    """A characteristic force of the scene, N: the line's total |submerged weight|, the
+    largest applied end force, or 1e-6 of the smallest EA (at least 1 N)."""
+    applied = [float(np.linalg.norm(e.force)) for e in (scene.end_a, scene.end_b)
+               if e.force is not None]
+    return max(float(np.sum(np.abs(seg["w"]) * seg["ds"])), *applied,
+               1e-6 * float(np.min(seg["EA"])), 1.0)
+
+
+def slack_law(seg: dict, force_scale: float) -> dict:
+    """Per segment ``delta`` (strain width of the corner) and ``EA_slack`` (N) of the
+    tension-only law, NaN where the segment has bending (EI > 0: compression allowed)."""
+    cable = seg["EI"] <= 0.0
+    delta = np.where(cable, 2.0 * SLACK_SMOOTHING * force_scale / seg["EA"], np.nan)
+    return {"delta": delta, "EA_slack": np.where(cable, SLACK_STIFFNESS * force_scale, np.nan),
+            "F_wall": force_scale, "w_wall": SLACK_WALL}
+
+
+#: compression a cable (EI = 0) may show and still count as carrying none, relative to the
+#: scene's force scale: far above the round-off of a converged solve (1e-9 of the scale)
+#: and the tension-only law's residual push while segments keep 5 % of their length, far
+#: below any compression that changes the answer
+CABLE_COMPRESSION = 1e-4
+
+
+#: ... or, where more, this fraction of the segment's own weight: a vertical line that folds
+#: inside one segment (two strands side by side) bunches that segment nearly shut, and the
+#: slack law's wall holds it open with a push of about SLACK_WALL times the local tension
+#: (measured 0.5-2.3 % of the segment's weight). The discrete line is uncertain there by
+#: about a segment's weight anyway (the bunching warning says so); a compressed strut
+#: pushes with many segments' weight
+FOLD_PUSH = 0.05
+
+
+def nodal_weights(seg: dict) -> tuple:
+    """(tributary length (N+1,), m; submerged weight per length on each node (N+1,), N/m),
+    the lumping of the residual's loads: half of each adjacent segment."""
+    s = seg["s"]
+    trib = np.zeros_like(s)
+    trib[:-1] += 0.5 * seg["ds"]
+    trib[1:] += 0.5 * seg["ds"]
+    w_node = np.zeros_like(s)
+    w_node[:-1] += 0.5 * seg["ds"] * seg["w"]
+    w_node[1:] += 0.5 * seg["ds"] * seg["w"]
+    w_node /= trib
+    return trib, w_node, np.where(w_node > 0, w_node, np.inf), 0.1 * np.abs(w_node)
+
+
+def grounded_length(scene: Scene, seg: dict, nodal: tuple | None, pos: np.ndarray,
+                    contact: np.ndarray | None, fa: np.ndarray, fb: np.ndarray) -> tuple:
+    """(grounded length, m, unstretched; its end's arc length s, m, or None; the touchdown
+    point (dim,), m, or None) of a line (planar or 3D: z is the last coordinate) from its
+    nodes' contact forces and its end forces; ``nodal``: :func:`nodal_weights` of ``seg``
+    (None: computed here)."""
+    s = seg["s"]
+    if contact is None or not contact.max() > 0:
+        return 0.0, None, None
+    trib, w_node, w_div, w_tenth = nodal_weights(seg) if nodal is None else nodal
+    # the grounded length is the length whose weight the seabed carries: the contact
+    # forces, plus what a held end lying on the seabed props up of the grounded line
+    # next to it (on a penalty seabed the end sits above the sunken line beside it)
+    # (each node at most its tributary length: a light section between heavier ones
+    # carries part of their weight where the line curves over the penalty bed, and
+    # would count as more line than it is)
+    grounded = float(np.sum(np.minimum(contact / w_div, trib)))
+    # in contact: the seabed carries more than a tenth of the local weight per length
+    in_contact = contact / trib > w_tenth
+    for node, force, end in ((0, fa, scene.end_a), (len(s) - 1, fb, scene.end_b)):
+        if end.is_fixed and w_node[node] > 0 and in_contact[node]:
+            grounded += max(0.0, -float(force[-1])) / w_node[node]
+    grounded = min(grounded, float(s[-1]))
+    if not grounded > 0:
+        return grounded, None, None
+    if in_contact[0] and not in_contact[-1]:
+        s_td = grounded
+    elif in_contact[-1] and not in_contact[0]:
+        s_td = float(s[-1]) - grounded
+    else:
+        s_td = float(s[np.argmax(in_contact)])
+    return grounded, s_td, np.array([np.interp(s_td, s, pos[:, c]) for c in range(pos.shape[1])])

@@ -26,7 +26,7 @@ from .api.planar_static import solve_static
 from .mechanism.assembly import Prescribed, Shared, assemble
 from .mechanism.mechanism import (Bound, Mechanism, Output, ParamBlocks, PartLayout, Layout, Scales,
                                Start)
-from .models import toys
+from .models.toys import toys
 from .results.generic import (Equilibrium, Linearization, MechanismModes, MechanismTrajectory,
                                 SceneLinearization)
 from .results.periodic_generic import MechanismPeriodic
@@ -35,7 +35,8 @@ from .api.offsets import offset_sweep, offsets_along
 from .results.offsets import OffsetSweep
 from .sweep import read_sweep, run_sweep
 from .solvers.equilibrium import solve_equilibrium
-from .solvers.branch import Branch, BranchPoint, trace_branch
+from .api.branch import trace_branch
+from .solvers.branch import Branch, BranchPoint
 from .api.rod_contact import SelfContact, self_contact
 from .solvers.integrate import integrate
 from .solvers.linearize import linearize_mechanism, mechanism_modes, output_sensitivity

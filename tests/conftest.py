@@ -90,7 +90,7 @@ def planar_rates(model):
     import numpy as np
 
     from symcable.mechanism.functions import functions
-    from symcable.models.planar_mechanism import mechanism_of, state_permutation
+    from symcable.models.planar.mechanism import mechanism_of, state_permutation
 
     mech = mechanism_of(model)
     F = functions(mech)

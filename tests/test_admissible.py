@@ -137,7 +137,7 @@ def test_straight_column_beyond_euler_load_is_unstable_and_buckles():
     the buckled branch, the same shape the default (hanging-line) start gives. Below Euler's
     load (1 N) the straight column is stable and returned."""
     from symcable.mechanism.mechanism import Start
-    from symcable.models.static_mechanism import static_mechanism
+    from symcable.models.planar.static import static_mechanism
     from symcable.solvers.equilibrium import solve_equilibrium
 
     neutral = 1025.0 * np.pi / 4 * 0.05 ** 2

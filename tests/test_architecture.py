@@ -253,12 +253,79 @@ def problems(graph: Graph, layers: dict) -> list:
     return out
 
 
+#: the formulations' packages under symcable.models
+FORMULATIONS = ("planar", "cable3d", "rod", "body", "toys")
+#: what a formulation (and the shared physics, models.common) may import of the package,
+#: besides its own package: design.md's rule, plus the leaves of layer 0
+FORMULATION_MAY_IMPORT = ("symcable.scene", "symcable.mechanism", "symcable.models.common",
+                          "symcable.analytic", "symcable.errors", "symcable.limits",
+                          "symcable.progress", "symcable.linalg")
+
+
+def _under(module: str, prefix: str) -> bool:
+    return module == prefix or module.startswith(prefix + ".")
+
+
+def rule_problems(graph: Graph) -> list:
+    """Messages for every import that breaks design.md's rules beyond the layers: a
+    formulation (or models.common) importing anything but the scene, the mechanism, the
+    shared physics and the leaves (another formulation, a solver, the API, results); the
+    solvers importing a formulation; a module outside ``api`` importing both the
+    formulations and the solvers."""
+    out = []
+    for m in sorted(graph):
+        own = next((f"symcable.models.{f}" for f in FORMULATIONS
+                    if _under(m, f"symcable.models.{f}")), None)
+        if own is None and _under(m, "symcable.models.common"):
+            own = "symcable.models.common"
+        if own is not None:
+            for t, where in sorted(graph[m].items()):
+                if _under(t, own) or any(_under(t, a) for a in FORMULATION_MAY_IMPORT):
+                    continue
+                if t in ("symcable", "symcable.models"):  # packages on the way down
+                    continue
+                out.append(f"{m} imports {t} at {', '.join(where)}: a formulation imports only "
+                           "the scene, the mechanism, models.common and the leaves")
+        if _under(m, "symcable.solvers"):
+            for t, where in sorted(graph[m].items()):
+                if _under(t, "symcable.models"):
+                    out.append(f"{m} imports {t} at {', '.join(where)}: the solvers see only "
+                               "the Mechanism")
+        if not _under(m, "symcable.api") and m != "symcable":
+            targets = list(graph[m])
+            if any(_under(t, "symcable.models") for t in targets) and \
+                    any(_under(t, "symcable.solvers") for t in targets):
+                out.append(f"{m} imports both symcable.models and symcable.solvers: only "
+                           "symcable.api may")
+    return out
+
+
 # --------------------------------------------------------------------------- the tests
 
 def test_symcable_layers_and_no_cycles():
     graph = import_graph()
     found = problems(graph, LAYERS)
     assert not found, "\n" + "\n".join(found)
+
+
+def test_formulations_solvers_and_api_rules():
+    """design.md's rules: no formulation imports another formulation, a solver or the API;
+    the solvers never import a formulation; only the API imports both."""
+    found = rule_problems(import_graph())
+    assert not found, "\n" + "\n".join(found)
+
+
+def test_rule_checker_finds_each_kind():
+    graph = {"symcable.models.rod.rod": {"symcable.models.cable3d.line": ["r.py:3"],
+                                          "symcable.models.common.elements": ["r.py:4"]},
+             "symcable.solvers.branch": {"symcable.models.rod.reanchor": ["b.py:9"]},
+             "symcable.cli.main": {"symcable.models": ["c.py:1"], "symcable.solvers": ["c.py:2"]},
+             "symcable.api.branch": {"symcable.models": ["a.py:1"], "symcable.solvers": ["a.py:2"]}}
+    found = rule_problems(graph)
+    assert len(found) == 3
+    assert found[0].startswith("symcable.cli.main imports both")
+    assert found[1].startswith("symcable.models.rod.rod imports symcable.models.cable3d.line at r.py:3")
+    assert found[2].startswith("symcable.solvers.branch imports symcable.models.rod.reanchor")
 
 
 def test_checker_finds_a_cycle_within_one_layer():

@@ -1,4 +1,4 @@
-"""A rigid body of six degrees of freedom (issue 13, part 1: symcable/models/body.py) alone
+"""A rigid body of six degrees of freedom (issue 13, part 1: symcable/models/body/body.py) alone
 and on lines: a free body in still water against the closed forms of hydrostatics (rest,
 rising, roll), a pendulum of a compact body on a light wire against its period, and its
 energy in a free run."""
@@ -12,7 +12,7 @@ import pytest
 
 import symcable as sc
 from symcable.mechanism.functions import functions
-from symcable.models.body import body_part, start_q
+from symcable.models.body.body import body_part, start_q
 from symcable.results.generic import Equilibrium
 from symcable.scene.bodies import Body, BodyKind
 from symcable.scene.model import Environment

@@ -1,5 +1,5 @@
 """Bending of the cable3d line (EI > 0; issue 12 item 1): the discrete curvature energy
-EI |kb|^2 / (2 lbar) on node triplets (symcable.models.cable3d_bending).
+EI |kb|^2 / (2 lbar) on node triplets (symcable.models.common.bending).
 
 - small deflections: the cantilever under a tip load and under its own weight, clamped
   along a direction turned 0.7 rad about z, against Euler-Bernoulli's P L^3 / (3 EI) and
@@ -24,7 +24,7 @@ import symcable as sc
 from symcable.analytic import (cantilever_tip_load, cantilever_tip_load_small,
                                heavy_cantilever_small)
 from symcable.api.cable3d_static import cable3d_mechanism
-from symcable.models.cable3d_bending import bending_kernel
+from symcable.models.common.bending import bending_kernel
 from symcable.scene import load_scene
 from symcable.solvers.equilibrium import solve_equilibrium
 from symcable.solvers.linearize import mechanism_modes
@@ -214,7 +214,7 @@ def test_bending_forces_are_the_energy_gradient():
 def test_no_bending_term_where_ei_is_zero():
     """A cable (EI = 0) builds no bending term and no moment output; a section of EI = 0
     beside one with EI > 0 makes the joint a hinge (no term at that node)."""
-    from symcable.models.cable3d_bending import bending_nodes
+    from symcable.models.common.bending import bending_nodes
     from symcable.models.common.segments import segment_table
     d = cantilever(weight=1.0)
     d["line_types"]["cable"] = dict(d["line_types"]["beam"], EI=0.0)

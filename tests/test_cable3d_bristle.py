@@ -258,7 +258,7 @@ def test_isotropic_bristle_needs_no_frame():
 
     import casadi as ca
 
-    from symcable.models.seabed_friction import friction
+    from symcable.models.common.friction import friction
     sb = _across().seabed
     framed = dataclasses.replace(sb, friction_lateral=MU * (1 + 1e-12))
     n = 6

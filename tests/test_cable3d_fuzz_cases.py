@@ -121,7 +121,7 @@ def test_point_contact_damper_and_friction():
     (the spring, by the point's stiffness from ``point_contact``), the damper resists the
     vertical speed, and friction -mu N v_h / sqrt(|v_h|^2 + v_eps^2) opposes the sliding; a
     point well above the bed feels none of it (but the smooth ramp's tail)."""
-    from symcable.models.cable3d_system import point_contact, point_part
+    from symcable.models.system import point_contact, point_part
     d = _clump()
     d["seabed"].update(friction=0.6, damping=2e4, friction_velocity=0.01)
     scene = load_scene(d)
@@ -173,7 +173,7 @@ def test_one_segment_between_held_ends_has_a_start():
     """A line of one segment between two held ends has no unknowns; its start is the empty
     vector (the start's indexing raised an IndexError on the empty list of moving nodes,
     fuzz scene c11-0030)."""
-    from symcable.models.cable3d import build_cable3d
+    from symcable.models.cable3d.line import build_cable3d
     d = {"model": "cable3d", "line_types": {"chain": {"mass": 71.0, "diameter": 0.06, "EA": 1.1e8}},
          "sections": [{"type": "chain", "length": 24.0, "segments": 1}],
          "end_a": {"condition": "pinned", "position": [-117.2, -847.7, -25.8]},

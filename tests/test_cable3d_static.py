@@ -44,14 +44,14 @@ def planar_oc3():
 @pytest.mark.parametrize("angle", [0.0, 0.7])
 def test_planar_equals_3d_on_oc3(planar_oc3, angle, monkeypatch):
     """With the planar line's contact smoothing (1 % of the penetration under the line's
-    weight; the 3D lines' default is 10 %, :data:`symcable.models.seabed3d.CONTACT_SMOOTHING`)
+    weight; the 3D lines' default is 10 %, :data:`symcable.models.common.seabed.CONTACT_SMOOTHING`)
     cable3d is the same discrete line as the planar one; with its own default it differs by
     the smoothing alone: 2.3e-5 of the fairlead tension, far below the discretisation error
     (the test below it)."""
     from collections import OrderedDict
 
     import symcable.api.cable3d_static as c3s
-    from symcable.models import seabed3d
+    from symcable.models.common import seabed as seabed3d
     default = sc.solve_static(_oc3_3d(angle))
     assert default.fairlead_tension == pytest.approx(planar_oc3.fairlead_tension, rel=1e-4)
     assert default.grounded_length == pytest.approx(planar_oc3.grounded_length, abs=0.1)
@@ -82,7 +82,7 @@ def test_planar_equals_3d_at_the_seed_001_stiffness(monkeypatch):
     from collections import OrderedDict
 
     import symcable.api.cable3d_static as c3s
-    from symcable.models import seabed3d
+    from symcable.models.common import seabed as seabed3d
     planar = sc.load_scene(sc.demo_scene_path("oc3")).to_dict()
     planar["line_types"]["chain"]["EA"] = 3.84243e7
     flat = sc.solve_static(planar)

@@ -14,7 +14,7 @@ import pytest
 
 from symcable.api.cable3d import simulate_3d
 from symcable.errors import SceneError, SymcableError
-from symcable.models.tow import tow_state
+from symcable.models.common.tow import tow_state
 from symcable.scene import load_scene
 
 U, W, L, D, CD, RHO = 1.5, 20.0, 50.0, 0.03, 1.5, 1025.0

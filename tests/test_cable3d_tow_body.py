@@ -1,7 +1,7 @@
 """A heavy, dragging body towed on a cable (issue 13, item 2): symcable's steady tow (the
 static problem in the frame moving with the towpoint, the start of ``simulate``) against
 the steady-tow ODEs integrated from the body up the cable (derived in
-:mod:`symcable.models.tow_steady`, our derivation: s the unstretched arc length from the
+:mod:`symcable.models.common.tow_steady`, our derivation: s the unstretched arc length from the
 body, phi the cable's angle above the horizontal, T' = w sin phi + F_t cos^2 phi sqrt(1+e),
 T phi' = w cos phi - R sin^2 phi sqrt(1+e), the body's weight and drag setting T(0) and
 phi(0); scipy DOP853 at rtol 1e-12)."""
@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from symcable.api.cable3d import simulate_3d
-from symcable.models.tow_steady import steady_tow, tow_sections
+from symcable.models.common.tow_steady import steady_tow, tow_sections
 from symcable.scene import load_scene
 
 U, L, D, CDN, CDT, W, EA, RHO, G = 2.0, 200.0, 0.03, 1.5, 0.03, 20.0, 1e8, 1025.0, 9.80665

@@ -1,6 +1,6 @@
 """Solver contract suite: the generic solvers on toy mechanisms with known answers.
 
-Toys (symcable.models.toys): a pendulum written as a constrained point mass (n_z = 1), a
+Toys (symcable.models.toys.toys): a pendulum written as a constrained point mass (n_z = 1), a
 chain of point masses and springs assembled from parts (quadratic drag, gravity, a moving
 end), and the forced Duffing oscillator. Every solver here sees only the Mechanism.
 """
@@ -14,7 +14,7 @@ from scipy.integrate import solve_ivp
 from scipy.special import ellipk
 
 from symcable.errors import ConvergenceError, SymcableError
-from symcable.models import toys
+from symcable.models.toys import toys
 from symcable.mechanism.assembly import Prescribed, Shared, assemble
 from symcable.mechanism.mechanism import Start
 from symcable.solvers.equilibrium import solve_equilibrium
@@ -297,7 +297,7 @@ def test_planar_statics_through_the_generic_solver(name):
     1e-9 relative: both converge Newton to ~1e-12 of the tension from the same start)."""
     import symcable as sc
     from symcable.models import build_model
-    from symcable.models.static_mechanism import static_mechanism
+    from symcable.models.planar.static import static_mechanism
 
     scene = sc.load_scene(sc.demo_scene_path(name))
     st = sc.solve_static(scene, codegen=False)

@@ -12,7 +12,7 @@ import casadi as ca
 import numpy as np
 import pytest
 
-from symcable.models.cable3d import build_cable3d
+from symcable.models.cable3d.line import build_cable3d
 from symcable.mechanism.element_form import split_mismatch
 from symcable.scene import load_scene
 from symcable.solvers import galpha1 as ga

@@ -22,7 +22,7 @@ import numpy as np
 import pytest
 
 from symcable.errors import SymcableError
-from symcable.models import toys
+from symcable.models.toys import toys
 from symcable.results.periodic_generic import MechanismPeriodic
 from symcable.solvers.floquet import STABILITY_MARGIN, floquet
 from symcable.solvers.options import Collocation, HarmonicBalance, Shooting

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from scipy.optimize import minimize
 
-from symcable.models import toys
+from symcable.models.toys import toys
 from symcable.solvers.equilibrium import solve_equilibrium
 
 G = 9.80665

@@ -15,7 +15,7 @@ import pytest
 import symcable as sc
 from symcable.errors import ConvergenceError, SymcableError
 from symcable.mechanism.mechanism import Mechanism, ParamBlocks, Scales, Start
-from symcable.models.planar_mechanism import mechanism_of
+from symcable.models.planar.mechanism import mechanism_of
 from symcable.solvers.galpha1 import galpha1_kernel, galpha1_residual, galpha1_step, step_scales
 from symcable.solvers.integrate import integrate, start_rates
 from symcable.solvers.options import RK4, GeneralizedAlphaFirstOrder
@@ -141,7 +141,7 @@ def test_integrate_saves_reports_and_refuses():
 def test_rootfinder_run_reports_no_iteration_counts():
     """newton = "rootfinder" gives no iteration counts (NaN from CasADi's rootfinder): the run
     says None, where it crashed converting NaN to an integer (found by studies/chains)."""
-    from symcable.models.toys import duffing
+    from symcable.models.toys.toys import duffing
     from symcable.solvers.options import GeneralizedAlphaFirstOrder, NewtonScheme
 
     mech = duffing()
@@ -158,7 +158,7 @@ def test_taylor_start_lands_on_the_taylor_step(rho):
     + gamma h (y'1 - y'0) puts q1 at q0 + h v0 + h^2 a0 / 2 and v1 at v0 + h a0 (q' = v),
     whatever the carried q'0 (the scheme carries q' at its alpha points, not v): to
     round-off, at every rho_inf (gamma 1, 2/3, 1/2)."""
-    from symcable.models.toys import spring_chain
+    from symcable.models.toys.toys import spring_chain
     from symcable.solvers.galpha1 import _taylor_rate, coefficients
 
     mech = spring_chain(4)

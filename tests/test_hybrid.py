@@ -1,5 +1,5 @@
 """The hybrid rod-catenary line (``model = "hybrid"``; issue 14 item 2): sections ``rod`` or
-``cable3d`` joined by the seed's moment-free spherical joint (symcable.models.hybrid).
+``cable3d`` joined by the seed's moment-free spherical joint (symcable.models.rod.hybrid).
 
 - rod = hybrid = cable3d where the tension is high (a heavy line pulled tight): all-rod and
   all-cable3d hybrids are exactly the rod's and cable3d's Mechanisms, the mixed one close to
@@ -241,7 +241,7 @@ def _swing(dt: float) -> tuple[float, float]:
     """(largest energy change over the largest kinetic energy, tip's final z) of 0.5 s of a
     2 m cantilever released straight under its weight: an anisotropic, twisted rod on the
     first metre (clamped, 30 deg of twist), a cable3d hose with bending on the second."""
-    from symcable.models.hybrid import build_hybrid
+    from symcable.models.rod.hybrid import build_hybrid
 
     L, EI, N = 2.0, 10.0, 8
     lt = {"EA": 1e4 * EI / L**2, "EI": [EI, 2 * EI], "GJ": 7.0, "mass": 1.0,

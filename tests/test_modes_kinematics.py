@@ -10,7 +10,7 @@ import pytest
 import symcable as sc
 from symcable.errors import SymcableError
 from symcable.mechanism.mechanism import Layout, Mechanism, ParamBlocks, Scales, Start
-from symcable.models.planar_mechanism import mechanism_of
+from symcable.models.planar.mechanism import mechanism_of
 from symcable.results.generic import Equilibrium
 from symcable.solvers.linearize import mechanism_modes
 

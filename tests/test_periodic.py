@@ -14,7 +14,7 @@ import pytest
 import symcable as sc
 from symcable.api.analyses import solve_periodic, sweep_periodic
 from symcable.errors import ConvergenceError, SceneError, SymcableError
-from symcable.models.planar_dynamics import reconstruct_positions
+from symcable.models.planar.dynamics import reconstruct_positions
 from symcable.results.periodic import PeriodicSolution, PeriodicSweep
 
 from conftest import planar_rates, seed001
@@ -162,7 +162,7 @@ def test_sweep_matches_the_single_solve(scene, model, colloc):
     solver that `colloc` built (the very same objects, checked by identity, not by a build
     time: speed belongs in studies). (API change: the systems live in the generic periodic
     solvers' cache, per Mechanism, not in the DynamicModel's.)"""
-    from symcable.models.planar_mechanism import mechanism_of
+    from symcable.models.planar.mechanism import mechanism_of
     from symcable.solvers.periodic_common import PERIODIC_CACHE
 
     cache = PERIODIC_CACHE.store[mechanism_of(model)]
@@ -263,7 +263,7 @@ def test_closure_is_stabilised_and_the_problem_well_posed(scene, model, colloc):
     singular values fall to round-off (1e-17: the closure's x and z levels are free, no
     unique solution), so such parameters are refused in one line.
     (API change: the old solvers detected the two invariants by an SVD and gauged them.)"""
-    from symcable.models.planar_mechanism import mechanism_of, state_permutation
+    from symcable.models.planar.mechanism import mechanism_of, state_permutation
     from symcable.api.planar_periodic import periodic_params
     from symcable.solvers.hbalance_mech import hb_system
     from symcable.solvers.periodic_common import start_from_samples

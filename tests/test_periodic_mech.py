@@ -7,7 +7,7 @@ numbers are quoted in each docstring), and must refuse bad input in one line.
 Toys: the forced Duffing oscillator at its defaults (m = 1, c = 0.2, k = 1, k3 = 1, F = 0.5,
 omega = 1.2), a chain of 3 point masses with quadratic drag whose right end moves
 harmonically, and a pendulum (a point mass with a position constraint, n_z = 1) whose pivot
-is driven horizontally (symcable.models.toys_forced).
+is driven horizontally (symcable.models.toys.forced).
 """
 from __future__ import annotations
 
@@ -17,8 +17,8 @@ import numpy as np
 import pytest
 
 from symcable.errors import ConvergenceError, SymcableError
-from symcable.models import toys
-from symcable.models.toys_forced import driven_pendulum
+from symcable.models.toys import toys
+from symcable.models.toys.forced import driven_pendulum
 from symcable.results.periodic_generic import MechanismPeriodic, trig_interp
 from symcable.solvers import shooting_mech
 from symcable.solvers.collocation_mech import collocation_system

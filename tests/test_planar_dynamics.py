@@ -8,7 +8,7 @@ import pytest
 import symcable as sc
 from symcable.mechanism.functions import functions
 from symcable.errors import SceneError
-from symcable.models.planar_mechanism import mechanism_of, state_permutation
+from symcable.models.planar.mechanism import mechanism_of, state_permutation
 
 from conftest import OC3, planar_rates, seed001, taut_string
 
@@ -97,7 +97,7 @@ def test_taut_line_with_its_anchor_on_the_seabed_runs():
     segment's weight. Moved 0.3 m closer, node 1 sinks 1.6 mm into the seabed and carries
     0.6 m of line: refused, with advice that keeps the seabed (never "remove the depth",
     which would hang the line through it)."""
-    from symcable.models.planar_dynamics import grounded_tolerance
+    from symcable.models.planar.dynamics import grounded_tolerance
 
     scene = _anchor_on_seabed(-887.8)
     st = sc.solve_static(scene)

@@ -1,4 +1,4 @@
-"""The planar linearised dynamics as a Mechanism (symcable.models.planar_mechanism) against
+"""The planar linearised dynamics as a Mechanism (symcable.models.planar.mechanism) against
 the DynamicModel it re-expresses, and the first-order generalized-alpha that runs it.
 
 Seed 001 at 10 segments (38 states) keeps every run to a second or two."""
@@ -14,7 +14,7 @@ import symcable as sc
 from symcable.mechanism.functions import functions
 from symcable.errors import SymcableError
 from symcable.mechanism.mechanism import Mechanism, ParamBlocks, Scales, Start
-from symcable.models.planar_mechanism import dynamics_mechanism, state_permutation
+from symcable.models.planar.mechanism import dynamics_mechanism, state_permutation
 from symcable.results.periodic_generic import MechanismPeriodic
 from symcable.solvers.integrate import integrate
 from symcable.solvers.options import (RK4, Collocation, GeneralizedAlpha,

@@ -9,7 +9,7 @@ import pytest
 import symcable as sc
 from symcable.analytic import elastic_catenary
 from symcable.mechanism.functions import functions
-from symcable.models.static_mechanism import static_mechanism
+from symcable.models.planar.static import static_mechanism
 
 from conftest import OC3, two_point
 

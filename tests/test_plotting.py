@@ -343,7 +343,7 @@ def test_2d_mechanism_and_refusals():
         _assert_units(fig)
     finally:
         plotting.close(fig)
-    from symcable.models.static_mechanism import static_mechanism
+    from symcable.models.planar.static import static_mechanism
     scene = sc.load_scene(two_point((0.0, 0.0), (80.0, 10.0)))
     mech = static_mechanism(sc.build_model(scene))
     st = sc.solve_equilibrium(mech)

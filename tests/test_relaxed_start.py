@@ -3,7 +3,7 @@
 them:
 
 - a slack pile of chain or wire on the seabed, reached from the minimum of the line's
-  potential energy (:mod:`symcable.models.relax`), against the closed-form elastic
+  potential energy (:mod:`symcable.models.common.relax`), against the closed-form elastic
   catenary with seabed;
 - a vertical line folded inside one of its two segments, whose nearly shut segment the slack
   law's wall holds open with a push within the bound (FOLD_PUSH of a segment's weight);

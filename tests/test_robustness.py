@@ -11,7 +11,7 @@ import pytest
 
 import symcable as sc
 from symcable.linalg.sparse import norm_inf
-from symcable.models import toys
+from symcable.models.toys import toys
 from symcable.solvers.galpha1 import galpha1_kernel, step_scales
 from symcable.solvers.options import GeneralizedAlphaFirstOrder
 

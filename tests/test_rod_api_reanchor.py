@@ -1,7 +1,7 @@
 """Re-anchoring in the time march (issue 14; studies/rod_notes/rod14.md sections 1 and 3): a rod's
 reference frames are anchored (the parameter block ``frame``) and singular where an edge
 has turned by half a turn from its anchor; the march calls the Mechanism's re-anchoring hook
-(:func:`symcable.models.rod_reanchor.reanchor_hook`, :mod:`symcable.solvers.reanchor`)
+(:func:`symcable.models.rod.reanchor.reanchor_hook`, :mod:`symcable.solvers.reanchor`)
 between steps and runs through.
 
 The case: a weakly weighted rod pinned at one end, free at the other, started straight and
@@ -16,8 +16,8 @@ import numpy as np
 import pytest
 
 from symcable.errors import ConvergenceError
-from symcable.models.rod import build_rod
-from symcable.models.rod_reanchor import frame_margin, reanchor_hook
+from symcable.models.rod.rod import build_rod
+from symcable.models.rod.reanchor import frame_margin, reanchor_hook
 from symcable.scene import load_scene
 from symcable.solvers.integrate import integrate
 from symcable.solvers.options import GeneralizedAlphaFirstOrder
@@ -122,7 +122,7 @@ def test_the_reference_spin_makes_the_motion_chart_free():
     steps' error only), its energy conserved as well (3.5e-5 of the kinetic energy at 1 ms,
     the same as without). Asserted at 1 ms: apart by more than 1e-3 m without, less than
     1e-5 m with."""
-    from symcable.models.rod_spin import with_reference_spin
+    from symcable.models.rod.spin import with_reference_spin
     mech, q0, v0, p = _swinging()
     spun = with_reference_spin(mech)
     apart = {}

@@ -11,7 +11,7 @@ import pytest
 
 import symcable as sc
 from symcable.mechanism import codegen
-from symcable.models.rod_spin import with_reference_spin, with_reference_spin_ad
+from symcable.models.rod.spin import with_reference_spin, with_reference_spin_ad
 from symcable.scene import load_scene
 from symcable.api.scene3d import scene_mechanism
 
@@ -86,8 +86,8 @@ def test_vertex_kernel_as_call_gives_the_same_step(monkeypatch):
     """With ``rod_frames.CALL_MIN_VERTICES`` reached the vertex kernel is a call node per
     vertex (never inlined): the DAE residual and its Jacobian are the straight-line
     Mechanism's to round-off, in a fraction of the instructions."""
-    from symcable.models import rod_frames
-    from symcable.models.hybrid import build_hybrid  # uncached (scene_mechanism caches)
+    from symcable.models.rod import frames as rod_frames
+    from symcable.models.rod.hybrid import build_hybrid  # uncached (scene_mechanism caches)
     from symcable.solvers.galpha1 import _sx_residual
     scene = load_scene(_rod("rod", 5, False))
     straight = with_reference_spin(build_hybrid(scene))

@@ -16,7 +16,7 @@ import math
 
 import numpy as np
 
-from symcable.models.rod import build_rod
+from symcable.models.rod.rod import build_rod
 from symcable.scene import load_scene
 from symcable.solvers.integrate import integrate
 from symcable.solvers.options import GeneralizedAlpha

@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 
 from symcable.analytic import greenhill_moment
-from symcable.models.rod import build_rod
+from symcable.models.rod.rod import build_rod
 from symcable.scene import load_scene
 from symcable.solvers.equilibrium import solve_equilibrium
 from symcable.solvers.linearize import mechanism_modes

@@ -5,7 +5,7 @@ uniform material twist Omega is in equilibrium under the wrench along its axis
     F = sqrt(kappa^2 + tau^2) (C Omega - B tau),
     M = (B kappa^2 + C Omega tau) / sqrt(kappa^2 + tau^2)
 
-(F a tension). The rod (symcable.models.rod) is clamped at both ends on the helix (positions,
+(F a tension). The rod (symcable.models.rod.rod) is clamped at both ends on the helix (positions,
 tangents, and material frames: end A's the reference director, end B's that director carried
 along the helix by parallel transport and turned by Omega L), started from the helix with its
 edges' anchors on it, and solved; its shape stays the helix and the clamps carry F and M.
@@ -18,8 +18,8 @@ import numpy as np
 import pytest
 
 from symcable.mechanism.mechanism import Start
-from symcable.models.rod import build_rod
-from symcable.models.rod_frames import reference_director
+from symcable.models.rod.rod import build_rod
+from symcable.models.rod.frames import reference_director
 from symcable.scene import load_scene
 from symcable.solvers.equilibrium import solve_equilibrium
 

@@ -1,5 +1,5 @@
 """The rod's and the hybrid's seabed and current profile (issue 14 item 1: "seabed contact and
-friction from the 3D cable"): cable3d's nodal pieces (:mod:`symcable.models.seabed3d`) on the
+friction from the 3D cable"): cable3d's nodal pieces (:mod:`symcable.models.common.seabed`) on the
 rod's nodes.
 
 - rod = cable3d with bending: an isotropic rod with a clamped end carries no twist (its

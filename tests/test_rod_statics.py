@@ -1,5 +1,5 @@
 """Statics of the Kirchhoff rod (``model = "rod"``; issue 14 items 1-3): the discrete elastic
-rod of symcable.models.rod solved by the generic solve_equilibrium.
+rod of symcable.models.rod.rod solved by the generic solve_equilibrium.
 
 - the tip-loaded elastica clamped along a direction turned 0.7 rad about z, against its
   elliptic-integral closed form, with the order in segments measured;
@@ -21,8 +21,8 @@ import pytest
 import symcable as sc
 from symcable.analytic import cantilever_tip_load, heavy_cantilever_small
 from symcable.errors import SceneError
-from symcable.models.rod import build_rod
-from symcable.models.rod_frames import (reference_director, reference_twist, transport,
+from symcable.models.rod.rod import build_rod
+from symcable.models.rod.frames import (reference_director, reference_twist, transport,
                                        vertex_kernel)
 from symcable.scene import load_scene
 from symcable.solvers.equilibrium import solve_equilibrium
@@ -165,7 +165,7 @@ def test_principal_stiffnesses_follow_the_clamps_twist():
 
 
 def test_reanchoring_keeps_the_solution(elastica):
-    """The reference frame's hook (symcable.models.rod): anchors := the output
+    """The reference frame's hook (symcable.models.rod.rod): anchors := the output
     reference_frame at a solution, twists unchanged, is the same material frame, so the
     same q is still a solution (residual at the solver's tolerance) and Newton stays put
     (to 1e-10 L)."""

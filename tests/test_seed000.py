@@ -119,7 +119,7 @@ def test_seed_step_of_one_second_from_straight():
     failed at 1 s and in 16 substeps, the first-order one ran off to 1e30 times the scales.
     (A step may still be taken as substeps: plain Newton from rest wanders through
     residuals of 1e7 N before it lands, and where it does not, substeps do.)"""
-    from symcable.models.rod_reanchor import reanchor_hook
+    from symcable.models.rod.reanchor import reanchor_hook
     from symcable.api.rod_static import rod_mechanism
     from symcable.solvers.integrate import integrate
     from symcable.solvers.options import GeneralizedAlpha, GeneralizedAlphaFirstOrder

@@ -15,7 +15,7 @@ import pytest
 import symcable as sc
 from symcable.api.analyses import solve_periodic, sweep_periodic
 from symcable.errors import ConvergenceError, SymcableError
-from symcable.models.planar_mechanism import mechanism_of
+from symcable.models.planar.mechanism import mechanism_of
 from symcable.api.planar_periodic import periodic_params
 from symcable.solvers import shooting_mech
 from symcable.solvers.options import Shooting

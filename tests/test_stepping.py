@@ -183,7 +183,7 @@ def test_saving_and_round_trip(line, tmp_path, capsys):
     assert tr.fairlead_force.shape == (6, 2) and tr.tension.shape == (6, 20)
     # an array built with the trajectory (API change: it was a method taking the model)
     assert tr.positions.shape == (6, 21, 2) and tr.axial_force.shape == (6, 20)
-    from symcable.models.planar_dynamics import reconstruct_positions
+    from symcable.models.planar.dynamics import reconstruct_positions
     np.testing.assert_allclose(tr.positions, reconstruct_positions(m, tr.strain, tr.angle),
                                rtol=0, atol=1e-9)
     assert "fairlead tension" in tr.summary()

@@ -11,7 +11,7 @@ import pytest
 
 import symcable as sc
 from symcable.mechanism.functions import functions
-from symcable.models.static_mechanism import static_mechanism
+from symcable.models.planar.static import static_mechanism
 from symcable.linalg.sxlu import BlockLU, block_lu_check, block_matching, block_plan
 from symcable.api.planar_time import ga_residual_function
 

@@ -10,7 +10,7 @@ import re
 import numpy as np
 import pytest
 
-from symcable.models.toys import duffing
+from symcable.models.toys.toys import duffing
 from symcable.solvers.integrate import ERROR_TARGET, accurate_dt, integrate
 from symcable.solvers.march import leaky_sum
 from symcable.solvers.options import RK4, GeneralizedAlpha, GeneralizedAlphaFirstOrder

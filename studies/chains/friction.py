@@ -4,7 +4,7 @@ from the others and from OrcaFlex, at the fairlead and at the anchor (issue 12, 
 Question
 --------
 symcable's cable3d has two friction laws (``seabed.friction_law``,
-:mod:`symcable.models.seabed_friction`): the regularised Coulomb law
+:mod:`symcable.models.common.friction`): the regularised Coulomb law
 -mu N v / sqrt(|v|^2 + v_eps^2), no state, which creeps under any load below mu N; and the
 bristle law, an elastic bristle per node (first-order states) that holds force at rest and
 slips at mu N. On the three chains (WD0050, WD0200, WD0600) under both heaves (ZZP1_A1, A2),

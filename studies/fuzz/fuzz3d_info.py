@@ -13,7 +13,7 @@ import numpy as np
 from fuzz_refs import curve_distance
 from fuzz_tolerance import TOL, UNRESOLVED_TURN
 
-#: the speed below which the model smooths |u| in its drag laws (symcable.models.cable3d)
+#: the speed below which the model smooths |u| in its drag laws (symcable.models.cable3d.line)
 DRAG_SPEED = 1e-4
 
 

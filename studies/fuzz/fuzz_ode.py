@@ -1,7 +1,7 @@
 """The study's numerical reference: the cable equations integrated along the line by scipy's
 ``solve_ivp`` (DOP853), with a root solve (``scipy.optimize.root``, hybr) on the end
 conditions (shooting). Covers what the closed forms do not: a steady current (Morison drag on
-the line at rest, the law of ``symcable.models.terms.morison_drag``: per unstretched length
+the line at rest, the law of ``symcable.models.common.terms.morison_drag``: per unstretched length
 ``0.5 rho d Cd |u| u sqrt(1 + strain)`` on the tangential and normal components of the
 current), any number of sections, and free ends. No bending, no seabed contact: a solution
 that goes through the seabed, or whose tension vanishes somewhere (a slack fold, where the

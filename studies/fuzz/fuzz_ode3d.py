@@ -9,7 +9,7 @@ t = N / T, strain T / EA, and
     dr/ds = (1 + T/EA) t,        dN/ds = -f(t, T),
     f = (0, 0, -w) + 0.5 rho d sqrt(1 + T/EA) (Cd_t |u_t| u_t t + Cd_n |u_n| u_n),
 
-u_t = U . t, u_n = U - u_t t (the Morison law of ``symcable.models.cable3d``: drag per
+u_t = U . t, u_n = U - u_t t (the Morison law of ``symcable.models.cable3d.line``: drag per
 unstretched metre on the current's tangential and normal components). Pinned-pinned: N(0)
 unknown (3 equations r(L) = r_B), found by continuation in the current from the line without
 it (started from its elastic catenary in the ends' vertical plane, :mod:`fuzz_catenary`); a

@@ -40,7 +40,7 @@ import study_io  # noqa: E402
 from symcable import ConvergenceError, load_scene, self_contact, trace_branch  # noqa: E402
 from symcable.api.rod_contact import writhe  # noqa: E402
 from symcable.analytic import greenhill_moment, twisted_loop  # noqa: E402
-from symcable.models.rod import build_rod  # noqa: E402
+from symcable.models.rod.rod import build_rod  # noqa: E402
 
 L, B, C, EA, DIAM = 1.0, 1.0, 0.8, 1e6, 0.01
 R0 = 37.5  # rad: M = 30 N m at fixed ends, T ~ 210 N, L sqrt(T / B) ~ 15

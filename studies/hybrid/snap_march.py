@@ -27,8 +27,8 @@ sys.path.append(str(HERE.parent))
 import study_io  # noqa: E402
 
 from symcable import ConvergenceError, load_scene, trace_branch  # noqa: E402
-from symcable.models.rod import build_rod  # noqa: E402
-from symcable.models.rod_reanchor import reanchor_hook  # noqa: E402
+from symcable.models.rod.rod import build_rod  # noqa: E402
+from symcable.models.rod.reanchor import reanchor_hook  # noqa: E402
 from symcable.api.rod_contact import writhe  # noqa: E402
 from symcable.solvers.integrate import integrate  # noqa: E402
 from symcable.solvers.options import GeneralizedAlphaFirstOrder  # noqa: E402

@@ -1,4 +1,4 @@
-"""The rod with exact inextensibility: the rod Mechanism of :mod:`symcable.models.rod` with its
+"""The rod with exact inextensibility: the rod Mechanism of :mod:`symcable.models.rod.rod` with its
 stiff axial energy taken out and one constraint per edge put in its place (study code).
 
     g_j(q) = |x_{j+1} - x_j| - ds_j = 0            (m, one row per edge)

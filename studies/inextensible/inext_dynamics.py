@@ -26,7 +26,7 @@ from symcable.mechanism.functions import functions
 from symcable.solvers.galpha1 import galpha1_kernel, step_scales
 from symcable.solvers.options import GeneralizedAlpha, GeneralizedAlphaFirstOrder
 
-from symcable.models.rod import rod_table
+from symcable.models.rod.rod import rod_table
 
 from inext_statics import benchmark, cond, pair, pendulum_scene, static_pair
 

@@ -18,7 +18,7 @@ import numpy as np
 
 from symcable.data import scene_path
 from symcable.mechanism.functions import functions
-from symcable.models.rod import rod_table
+from symcable.models.rod.rod import rod_table
 from symcable.api.rod_static import rod_mechanism
 from symcable.scene import load_scene
 from symcable.solvers.equilibrium import _x_scale, solve_equilibrium

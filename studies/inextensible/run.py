@@ -3,7 +3,7 @@
 
 Question
 --------
-The rod on main (symcable/models/rod.py) is inextensible through cable3d's axial law EA e
+The rod on main (symcable/models/rod/rod.py) is inextensible through cable3d's axial law EA e
 with a stiff EA. The exact alternative is one length constraint per edge with a Lagrange
 multiplier (the tension), solved on the KKT system in statics and as an index-3 DAE by the
 generalized-alpha step of Arnold & Bruels (2007) in time. Which is better, measured: in

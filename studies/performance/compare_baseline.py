@@ -67,7 +67,7 @@ def _fused(sc, model, codegen):
         fn = fns.fast("solve")
     except ImportError:  # this tree
         from symcable.mechanism.functions import functions
-        from symcable.models.static_mechanism import static_mechanism
+        from symcable.models.planar.static import static_mechanism
         mech = static_mechanism(model)
         fn = functions(mech).static_solver(codegen).fast("solve")
         x0 = next(iter(mech.starts())).q

@@ -37,7 +37,7 @@ import numpy as np
 
 import symcable as sc
 from symcable.mechanism.functions import functions
-from symcable.models.static_mechanism import static_mechanism
+from symcable.models.planar.static import static_mechanism
 
 HERE = Path(__file__).resolve().parent
 

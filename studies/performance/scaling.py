@@ -63,7 +63,7 @@ def run_static(n: int) -> dict:
     """One process: the static stages of the OC3 line with n segments."""
     import symcable as sc
     from symcable.mechanism.functions import functions as derived
-    from symcable.models.static_mechanism import static_mechanism
+    from symcable.models.planar.static import static_mechanism
 
     clock = time.perf_counter
     scene = _scene("oc3", n)
@@ -103,7 +103,7 @@ def run_step(n: int) -> dict:
     import numpy as np
 
     import symcable as sc
-    from symcable.models.planar_mechanism import mechanism_of, state_permutation
+    from symcable.models.planar.mechanism import mechanism_of, state_permutation
     from symcable.api.planar_time import NEWTON_MAX_ITER
     from symcable.solvers.galpha1 import SXLU_MAX_STATES, galpha1_kernel, step_scales
     from symcable.solvers.integrate import start_rates

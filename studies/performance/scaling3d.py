@@ -53,7 +53,7 @@ def _one(n: int, way: str, codegen: bool, steps: int) -> dict:
     from study_io import load_module
 
     from symcable.mechanism.codegen import flags_for, graph_size
-    from symcable.models.cable3d import build_cable3d
+    from symcable.models.cable3d.line import build_cable3d
     from symcable.scene import load_scene
     from symcable.solvers import galpha1 as ga
     from symcable.solvers.equilibrium import solve_equilibrium

@@ -52,7 +52,7 @@ from pathlib import Path
 import casadi as ca
 import numpy as np
 
-from symcable.models.cable3d import build_cable3d
+from symcable.models.cable3d.line import build_cable3d
 from symcable.mechanism.codegen import FastCall, compile_functions
 from symcable.solvers import galpha1 as ga
 from symcable.solvers.equilibrium import solve_equilibrium

@@ -1,10 +1,10 @@
 """Measure the reference-frame choices of studies/rod_notes/rod14.md: the Hessian of a bending-and-twist
-energy on N edges with (d) each edge's frame from its own anchor (as symcable.models.rod) and
+energy on N edges with (d) each edge's frame from its own anchor (as symcable.models.rod.rod) and
 (b) space-parallel transport along the rod from the clamp (every frame a function of all the
 edges before it). Prints (nnz of the Hessian, n_q, SX instructions, seconds to build it).
 Run: PYTHONPATH=. python studies/rod_notes/rod14_frames_measure.py"""
 import casadi as ca, numpy as np, time
-from symcable.models.rod_frames import transport
+from symcable.models.rod.frames import transport
 def build(N, chain):
     X = ca.SX.sym('x', 3, N + 1); th = ca.SX.sym('th', N)
     e = [X[:, j + 1] - X[:, j] for j in range(N)]; t = [ej / ca.norm_2(ej) for ej in e]

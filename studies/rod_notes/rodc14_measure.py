@@ -18,7 +18,7 @@ import numpy as np
 
 from symcable.scene import load_scene
 from symcable.api.scene3d import scene_mechanism
-from symcable.models.rod_spin import with_reference_spin
+from symcable.models.rod.spin import with_reference_spin
 from symcable.solvers import galpha1 as g1
 from symcable.solvers.options import GeneralizedAlphaFirstOrder
 from symcable.linalg.sparse import jacobian as _jacobian

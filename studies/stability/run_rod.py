@@ -56,7 +56,7 @@ import numpy as np
 
 import symcable as sc
 from symcable.errors import ConvergenceError
-from symcable.models.rod_reanchor import reanchor_hook
+from symcable.models.rod.reanchor import reanchor_hook
 from symcable.scene import load_scene
 from symcable.api.scene3d import dynamics_mechanism, scene_equilibrium
 from symcable.solvers.integrate import integrate

@@ -24,7 +24,7 @@ import numpy as np
 
 import symcable as sc
 from symcable.mechanism.functions import functions
-from symcable.models.planar_mechanism import mechanism_of, state_permutation
+from symcable.models.planar.mechanism import mechanism_of, state_permutation
 from symcable.solvers.integrate import _initial_state
 from symcable.solvers.march import RunningEstimate, get_stepper
 from symcable.solvers.options import GeneralizedAlphaFirstOrder

@@ -19,7 +19,7 @@ Cases (``--quick``: the first one, on fewer steps and a coarser reference)
 * ``seed001-resonant``: the same line in still water driven at its first natural period
   (``modal_analysis``: 11.0 s), damped by quadratic drag alone;
 * ``duffing-zeta0.5`` and ``duffing-zeta0.1``: the forced Duffing oscillator
-  (:func:`symcable.models.toys.duffing`, omega = 1.2 rad/s, near its hardened resonance) with
+  (:func:`symcable.models.toys.toys.duffing`, omega = 1.2 rad/s, near its hardened resonance) with
   damping ratio 0.5 and 0.1, 8 periods from rest, by ``integrate`` with both
   generalized-alpha schemes (first order, and the second-order one with its Newmark
   estimate): the lightly damped linear resonance the estimate is not made for.
@@ -53,7 +53,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 import symcable as sc  # noqa: E402
-from symcable.models.toys import duffing  # noqa: E402
+from symcable.models.toys.toys import duffing  # noqa: E402
 from symcable.solvers.integrate import integrate  # noqa: E402
 from symcable.solvers.options import RK4, GeneralizedAlpha, GeneralizedAlphaFirstOrder  # noqa: E402
 

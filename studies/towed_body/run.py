@@ -7,7 +7,7 @@ symcable/data/towed_body.toml is seed 003's towed-body system (355 m bare cable 
 faired cable, a 9500 kg body, 12 knots, a 270 degree turn; our turn radius 300 m). What does
 symcable compute for it (the ship's and the body's tracks, the body's depth and the tow
 tension through the turn), how close is its steady tow to the steady-tow ODE integrated
-from the body up (symcable.models.tow_steady), and what time step does the turn need: why
+from the body up (symcable.models.common.tow_steady), and what time step does the turn need: why
 did tight tow turns need steps far below the default, and is the new default
 (cable3d_api.TOW_STRETCH_STEP) enough?
 
@@ -51,7 +51,7 @@ from symcable import demo_scene_path  # noqa: E402
 from symcable.api.cable3d import (TOW_STRETCH_STEP, TOW_TURN_STEP,  # noqa: E402
                                   simulate_3d)
 from symcable.errors import ConvergenceError  # noqa: E402
-from symcable.models.tow_steady import steady_tow, tow_sections  # noqa: E402
+from symcable.models.common.tow_steady import steady_tow, tow_sections  # noqa: E402
 from symcable.plotting.tows import plot_tow  # noqa: E402
 from symcable.scene import load_scene  # noqa: E402
 from symcable.scene.bodies import rotation_rpy  # noqa: E402

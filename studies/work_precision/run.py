@@ -74,7 +74,7 @@ import symcable as sc  # noqa: E402
 from symcable.api.analyses import solve_periodic  # noqa: E402
 from symcable.mechanism.codegen import cache_info  # noqa: E402
 from symcable.errors import ConvergenceError  # noqa: E402
-from symcable.models.planar_mechanism import mechanism_of  # noqa: E402
+from symcable.models.planar.mechanism import mechanism_of  # noqa: E402
 from symcable.api.planar_time import rk4_stability_limit  # noqa: E402
 
 HERE = Path(__file__).resolve().parent

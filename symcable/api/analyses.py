@@ -24,11 +24,11 @@ from ..results.static import ModalSolution
 from ..errors import SymcableError
 from ..models import build_model
 from ..mechanism.mechanism import Start
-from ..models.static_mechanism import static_mechanism
+from ..models.planar.static import static_mechanism
 from ..solvers.equilibrium import solve_equilibrium
 from ..solvers.linearize import MAX_DENSE, mechanism_modes, output_sensitivity
 from ..mechanism.functions import functions as _functions
-from ..models.planar_mechanism import dynamics_mechanism, mechanism_of, state_permutation
+from ..models.planar.mechanism import dynamics_mechanism, mechanism_of, state_permutation
 from . import planar_time as _planar_time
 from .planar_periodic import solve_model, sweep_model
 from ..results.generic import Equilibrium, SceneLinearization
@@ -78,7 +78,7 @@ def simulate(scene, duration: float, dt: float | None = None, method: str = "gen
              newton_tol: float | None = None, codegen: bool | None = None,
              start: str | None = None) -> Trajectory:
     """Time response of a line from rest at t = 0 (where its excitation starts): its
-    dynamics Mechanism (:func:`~symcable.models.planar_mechanism.mechanism_of`) marched by
+    dynamics Mechanism (:func:`~symcable.models.planar.mechanism.mechanism_of`) marched by
     :func:`symcable.integrate`.
 
     Parameters
@@ -185,7 +185,7 @@ def solve_periodic(scene, method="shooting", *, model: DynamicModel | None = Non
                    ipopt_options: Mapping | None = None, **options) -> PeriodicSolution:
     """Periodic steady state of a scene's dynamics over one period of its excitation.
 
-    The scene's dynamics Mechanism (:func:`~symcable.models.planar_mechanism.mechanism_of`)
+    The scene's dynamics Mechanism (:func:`~symcable.models.planar.mechanism.mechanism_of`)
     is solved by the generic periodic solvers
     (:func:`~symcable.solvers.periodic_mech.solve_periodic_mech`) at the periodic parameters
     (no start-up ramp); the glue is :mod:`symcable.api.planar_periodic`.
@@ -307,7 +307,7 @@ def modal_analysis(scene, n_modes: int = 10, *, model: DynamicModel | None = Non
     """The lowest undamped natural frequencies and mode shapes of a line about its static
     state.
 
-    The line's dynamics Mechanism (:func:`symcable.models.planar_mechanism.mechanism_of`) is
+    The line's dynamics Mechanism (:func:`symcable.models.planar.mechanism.mechanism_of`) is
     linearised at rest with its undamped parameters (``model.p_undamped``: the static state
     kept, current included; excitation, current and the closure stabilisation off) and its
     modes solved by :func:`symcable.solvers.linearize.mechanism_modes`: with no

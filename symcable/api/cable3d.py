@@ -9,7 +9,7 @@ steady states: :mod:`symcable.api.cable3d_periodic`.
 The same analyses run a ``model = "rod"`` (or ``"hybrid"``) scene, with the Mechanism and
 static state :mod:`symcable.api.scene3d` says (the one place that dispatches on the model); a
 rod's time run re-anchors its reference frames as it goes
-(:func:`~symcable.models.rod_reanchor.reanchor_hook`), and its extra outputs (twist,
+(:func:`~symcable.models.rod.reanchor.reanchor_hook`), and its extra outputs (twist,
 curvature, moments, internal force) come in ``stats["outputs"]``.
 """
 from __future__ import annotations
@@ -27,7 +27,7 @@ from ..results.line3d import LineTrajectory, SystemTrajectory, line_from_outputs
 from ..results.generic import SceneLinearization
 from ..scene import End, EndCondition, Scene
 from .cable3d_static import body_stiffness, dynamic_p, node_shapes
-from ..models.rod_reanchor import reanchor_hook
+from ..models.rod.reanchor import reanchor_hook
 from .scene3d import (dynamics_mechanism, is_rod, rod_line, scene_equilibrium, start_state,
                       twist_names, twist_shapes)
 from ..solvers.integrate import ERROR_TARGET, accurate_dt, error_warning, integrate

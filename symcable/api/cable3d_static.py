@@ -1,5 +1,5 @@
 """The static configuration of a ``cable3d`` scene: its Mechanism
-(:func:`~symcable.models.cable3d.build_cable3d`) solved by the generic
+(:func:`~symcable.models.cable3d.line.build_cable3d`) solved by the generic
 :func:`~symcable.solvers.equilibrium.solve_equilibrium`, and the outputs turned into a
 :class:`~symcable.results.static.StaticSolution` with 3D positions and forces."""
 from __future__ import annotations
@@ -12,10 +12,11 @@ from types import MappingProxyType
 import numpy as np
 
 from ..errors import ConvergenceError, SymcableError
-from ..models.cable3d import build_cable3d, force_scale
-from ..models.cable3d_system import build_system, line_scene
+from ..models import build_mechanism
+from ..models.cable3d.line import force_scale
+from ..models.system import line_scene
 from ..mechanism.mechanism import Mechanism
-from ..models.tow import held_motions, held_tows, moved_scene, tow_velocities
+from ..models.common.tow import held_motions, held_tows, moved_scene, tow_velocities
 from ..models.common.segments import grounded_length, segment_table
 from ..results.static import BodyState, PointState, StaticSolution, SystemStaticSolution
 from ..scene import BodyEnd, Scene
@@ -36,14 +37,13 @@ _CACHE_SIZE = 16
 
 
 def cable3d_mechanism(scene: Scene) -> Mechanism:
-    """The scene's cable3d Mechanism, built once per scene content (16 most recent): one
-    line's (:func:`~symcable.models.cable3d.build_cable3d`), or for a scene of several lines
-    and points (version 2) their assembly
-    (:func:`~symcable.models.cable3d_system.build_system`)."""
+    """The scene's cable3d Mechanism (:func:`symcable.models.build_mechanism`: one line's, or
+    for a scene of several lines and points their assembly), built once per scene content
+    (16 most recent)."""
     key = repr(scene.to_dict())
     mech = _CACHE.get(key)
     if mech is None:
-        mech = _CACHE[key] = build_system(scene) if scene.version == 2 else build_cable3d(scene)
+        mech = _CACHE[key] = build_mechanism(scene)
         if len(_CACHE) > _CACHE_SIZE:
             _CACHE.popitem(last=False)
     else:
@@ -57,7 +57,7 @@ def check_periodic_3d(scene: Scene) -> None:
     :class:`~symcable.errors.SymcableError` of
     :func:`~symcable.solvers.periodic_mech.check_periodic`, naming the setting; or a tow
     (the towpoint travels on). A free body is taken: the periodic solvers make its
-    quaternion's norm relax (:mod:`~symcable.models.body`)."""
+    quaternion's norm relax (:mod:`~symcable.models.body.body`)."""
     towing = [label for label, m in held_motions(scene) if m is not None and m.kind == "tow"]
     if towing:
         raise SymcableError(f"{towing[0]}.motion: kind = 'tow' is not periodic (the towpoint "
@@ -91,7 +91,7 @@ def run_start_state(scene: Scene, t0: float, start: str | None = None, *,
     - ``"steady"``: the steady tow. Every held point (pinned end, fixed or vessel point,
       fixed body) must tow (``kind = "tow"``) at one velocity u at t0; the start is the
       static solution in the frame moving at u (the water flowing past at the current
-      minus u, :func:`~symcable.models.tow.moved_scene`), the towpoints where their paths
+      minus u, :func:`~symcable.models.common.tow.moved_scene`), the towpoints where their paths
       put them at t0, and every free node, free point and free body moving at u (a body's
       angular velocity zero). Before any turn this is an exact solution of the dynamics
       (no acceleration anywhere): a run from it stays in it;
@@ -244,7 +244,7 @@ def _system(scene, out, q, status, stats, warnings) -> SystemStaticSolution:
 
 def dynamic_p(scene: Scene, mech: Mechanism, p) -> np.ndarray:
     """``p`` with every free body's statics-only spring off (``NAME.hold`` = 0,
-    :mod:`~symcable.models.body`): the parameters a linearisation about a static state
+    :mod:`~symcable.models.body.body`): the parameters a linearisation about a static state
     takes."""
     p = np.array(p, float)
     for name, body in scene.bodies.items():

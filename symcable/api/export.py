@@ -18,10 +18,10 @@ from ..mechanism.codegen import export_sources
 from ..errors import SymcableError
 from ..mechanism.functions import functions
 from ..models import build_model
-from ..models.static_mechanism import static_mechanism
+from ..models.planar.static import static_mechanism
 from .planar_static import solve_static
 from ..mechanism.functions import functions as mechanism_functions
-from ..models.planar_mechanism import mechanism_of, state_permutation
+from ..models.planar.mechanism import mechanism_of, state_permutation
 from .planar_time import NEWTON_MAX_ITER, NEWTON_TOL
 from ..solvers.galpha1 import galpha1_kernel, step_scales
 from ..solvers.integrate import start_rates

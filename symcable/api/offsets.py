@@ -34,8 +34,8 @@ from ..mechanism.functions import functions
 from ..mechanism.static_functions import SOLVE_MAX_ITER
 from ..errors import ConvergenceError, SceneError, SymcableError
 from ..limits import check as check_limit
-from ..models.body import body_part, quaternion_rpy
-from ..models.cable3d_system import line_scene
+from ..models.body.body import body_part, quaternion_rpy
+from ..models.system import line_scene
 from ..mechanism.mechanism import Start
 from ..models.common.segments import segment_table
 from ..results.offsets import DOF_NAMES, OffsetSweep
@@ -171,7 +171,7 @@ def _qmul(a, b):
 def _own_loads(scene, body, pos, rpy0) -> ca.Function:
     """``own(offset) -> (6,)``: the free body's weight, buoyancy and drag in the current at
     rest (force N, moment N m about the reference point, global axes) at the offset pose,
-    from its own Mechanism part (:func:`~symcable.models.body.body_part`); zeros for a
+    from its own Mechanism part (:func:`~symcable.models.body.body.body_part`); zeros for a
     fixed body (it has none)."""
     off = ca.SX.sym("offset", 6)
     if not body.is_free:

@@ -2,7 +2,7 @@
 DynamicModel and :func:`~symcable.solvers.periodic_mech.solve_periodic_mech`.
 
 :func:`symcable.solve_periodic` and :func:`symcable.sweep_periodic` (in :mod:`symcable.api.analyses`)
-build the scene's DynamicModel; here its Mechanism (:func:`~symcable.models.planar_mechanism.
+build the scene's DynamicModel; here its Mechanism (:func:`~symcable.models.planar.mechanism.
 mechanism_of`) is solved at the periodic parameters (no start-up ramp) by the method the
 user names, and the generic result (:class:`~symcable.results.periodic_generic.
 MechanismPeriodic`) becomes the planar one (:class:`~symcable.results.periodic.
@@ -13,7 +13,7 @@ The closure invariant
 ---------------------
 With both ends held the planar kinematics conserve the end-to-end closure; the Mechanism
 stabilises it in its formulation (``dc/dt = -beta c``, see
-:mod:`symcable.models.planar_mechanism`), so its periodic problem is well posed as it stands
+:mod:`symcable.models.planar.mechanism`), so its periodic problem is well posed as it stands
 and the generic solvers detect nothing. With ``beta = 0`` the closure's level would be free
 (a Floquet multiplier 1 of the period map, a singular collocation Jacobian): such parameters
 are refused here.
@@ -30,7 +30,7 @@ import numpy as np
 from ..mechanism.functions import functions
 from ..errors import ConvergenceError, SceneError, SymcableError
 from ..models import DynamicModel
-from ..models.planar_mechanism import mechanism_of, state_permutation
+from ..models.planar.mechanism import mechanism_of, state_permutation
 from ..results.periodic import PeriodicSolution, PeriodicSweep
 from ..results.periodic_generic import MechanismPeriodic
 from ..results.trajectory import node_tension, range_warnings, slack_warnings

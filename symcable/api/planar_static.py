@@ -1,6 +1,6 @@
 """The static configuration of a planar scene, on the generic equilibrium solver: the planar
-Model (:mod:`symcable.models.planar`) seen as a Mechanism
-(:func:`~symcable.models.static_mechanism.static_mechanism`), solved by
+Model (:mod:`symcable.models.planar.model`) seen as a Mechanism
+(:func:`~symcable.models.planar.static.static_mechanism`), solved by
 :func:`~symcable.solvers.equilibrium.solve_equilibrium`, and its outputs turned into the
 planar :class:`~symcable.results.static.StaticSolution`. The planar glue sits here, above the
 solvers, which know nothing planar.
@@ -14,8 +14,8 @@ import numpy as np
 from ..mechanism.functions import functions
 from ..errors import ConvergenceError, SymcableError
 from ..models import build_model
-from ..models.base import Model
-from ..models.static_mechanism import static_mechanism
+from ..models.planar.base import Model
+from ..models.planar.static import static_mechanism
 from ..results.static import StaticSolution
 from ..scene import Scene, load_scene
 from ..solvers.equilibrium import solve_equilibrium

@@ -1,8 +1,8 @@
 """The planar line's time response: its DynamicModel re-expressed as a Mechanism
-(:func:`~symcable.models.planar_mechanism.mechanism_of`), marched by the generic integrator
+(:func:`~symcable.models.planar.mechanism.mechanism_of`), marched by the generic integrator
 (:func:`~symcable.solvers.integrate.integrate`), and returned as a
 :class:`~symcable.results.trajectory.Trajectory` with the states in the DynamicModel's order
-(:func:`~symcable.models.planar_mechanism.state_permutation`).
+(:func:`~symcable.models.planar.mechanism.state_permutation`).
 
 ``method="generalized-alpha"`` is the first-order generalized-alpha of Jansen, Whiting &
 Hulbert (2000) on the DAE residual (:mod:`symcable.solvers.galpha1`), ``"rk4"`` classical
@@ -20,8 +20,8 @@ import numpy as np
 
 from ..errors import ConvergenceError, SymcableError
 from ..linalg.sparse import jacobian
-from ..models.dynamic import DynamicModel
-from ..models.planar_mechanism import mechanism_of, state_permutation
+from ..models.planar.dynamic import DynamicModel
+from ..models.planar.mechanism import mechanism_of, state_permutation
 from ..results.trajectory import Trajectory
 from ..scene import load_scene
 from ..solvers import steps as _steps

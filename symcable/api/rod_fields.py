@@ -15,7 +15,7 @@ with v the centreline velocity (m/s), omega the angular velocity of the material
 the internal moment (N, N m: the part beyond s on the part before it), F and Q the
 distributed force and moment (N/m, N m/m), m the mass and I the rotary inertia per metre.
 
-Where each lives on the discrete rod (:mod:`symcable.models.rod`): positions and v at the
+Where each lives on the discrete rod (:mod:`symcable.models.rod.rod`): positions and v at the
 nodes; the material frame (t, m1, m2), omega, f, tension f . t and shear |f - (f . t) t| on
 the edges; kappa and q at the vertices (the interior nodes, and a clamped or guided end;
 zero at a pinned or free end, which carries no moment). kappa = kb / lbar + tau t_v

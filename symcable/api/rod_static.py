@@ -1,4 +1,4 @@
-"""The static configuration of a ``model = "rod"`` scene (:mod:`symcable.models.rod`): its
+"""The static configuration of a ``model = "rod"`` scene (:mod:`symcable.models.rod.rod`): its
 Mechanism solved by the generic :func:`~symcable.solvers.equilibrium.solve_equilibrium`, the
 outputs turned into a :class:`~symcable.results.static.StaticSolution` as cable3d's
 (:func:`symcable.solve_static` sends rod scenes here)."""
@@ -12,11 +12,11 @@ import numpy as np
 
 from .cable3d_static import FRICTIONLESS, RTOL, _frictionless_statics, _solution
 from ..errors import ConvergenceError
-from ..models.cable3d_starts import force_scale
+from ..models.common.starts import force_scale
 from ..mechanism.mechanism import Mechanism
-from ..models.hybrid import build_hybrid
-from ..models.hybrid_terms import rod_runs
-from ..models.rod import build_rod, rod_table
+from ..models import build_mechanism
+from ..models.rod.hybrid_terms import rod_runs
+from ..models.rod.rod import build_rod, rod_table
 from ..results.static import StaticSolution
 from .rod_fields import tension_shear
 from ..scene import Scene
@@ -30,7 +30,7 @@ _CACHE_SIZE = 16
 
 
 def rod_mechanism(scene: Scene) -> Mechanism:
-    """The scene's rod or hybrid Mechanism (:func:`~symcable.models.hybrid.build_hybrid`;
+    """The scene's rod or hybrid Mechanism (:func:`symcable.models.build_mechanism`;
     a hybrid with ``zones = "auto"`` resolved first by :func:`hybrid_zones`), built once per
     scene content (the 16 most recent)."""
     key = repr(scene.to_dict())
@@ -38,7 +38,7 @@ def rod_mechanism(scene: Scene) -> Mechanism:
     if mech is None:
         if scene.zones == "auto":
             scene = hybrid_zones(scene)[0]
-        mech = _CACHE[key] = build_hybrid(scene)
+        mech = _CACHE[key] = build_mechanism(scene)
         if len(_CACHE) > _CACHE_SIZE:
             _CACHE.popitem(last=False)
     else:
@@ -117,7 +117,7 @@ def hybrid_zones(scene: Scene, threshold: float = ZONE_THRESHOLD,
     other scene is returned as it is, with an empty report).
 
     The line is solved at rest with every section cable3d (cable3d's own bending where
-    EI > 0; a guided end held by it: :func:`~symcable.models.rod.build_rod` with no rod
+    EI > 0; a guided end held by it: :func:`~symcable.models.rod.rod.build_rod` with no rod
     edge but an end's that takes a moment), and a segment becomes a rod where its bending length sqrt(EI / T) exceeds
     ``threshold`` times the line's length L, T the tension (the internal force along the
     segment; T <= 0: a rod), among the segments whose line type has EI > 0 and GJ > 0;

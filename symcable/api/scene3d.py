@@ -14,8 +14,8 @@ import numpy as np
 from .cable3d_static import (cable3d_mechanism, check_periodic_3d, run_start_state,
                              static_equilibrium)
 from ..errors import SymcableError
-from ..models.rod_spin import with_reference_spin
-from ..models.tow import held_tows
+from ..models.rod.spin import with_reference_spin
+from ..models.common.tow import held_tows
 from ..results.line3d import LineTrajectory, line_from_outputs
 from .rod_fields import tension_shear
 from .rod_static import rod_mechanism, rod_static_equilibrium
@@ -28,7 +28,7 @@ __all__ = ["ROD_MODELS", "ROD_SERIES", "check_periodic_scene", "dynamics_mechani
 #: the models whose Mechanism is the rod's (:mod:`symcable.api.rod_static`)
 ROD_MODELS = ("rod", "hybrid")
 #: the rod's outputs a time or periodic result carries in ``stats["outputs"]`` (name ->
-#: array (n_t, ...)), beyond the cable's series (see :mod:`symcable.models.rod`)
+#: array (n_t, ...)), beyond the cable's series (see :mod:`symcable.models.rod.rod`)
 ROD_SERIES = ("twist_angles", "curvature", "twist", "bending_moment", "twisting_moment",
               "internal_force", "reference_frame", "kinetic_energy", "potential_energy")
 
@@ -54,7 +54,7 @@ def scene_equilibrium(scene: Scene, **options):
 def dynamics_mechanism(scene: Scene, mech):
     """The Mechanism the dynamic analyses of ``scene`` run: a rod's with its reference
     frames' spin in the twist's kinetic energy
-    (:func:`~symcable.models.rod_spin.with_reference_spin`: the motion then independent of
+    (:func:`~symcable.models.rod.spin.with_reference_spin`: the motion then independent of
     when the frames are re-anchored), else ``mech`` itself. The same q, v and p: a static
     state of ``mech`` is one of it."""
     return with_reference_spin(mech) if is_rod(scene) else mech
@@ -111,7 +111,7 @@ def twist_shapes(mech, velocity_shapes) -> np.ndarray | None:
     (:func:`~symcable.api.cable3d_static.node_shapes`: a largest node displacement of 1, its
     largest entry positive); a mode that moves no node (pure torsion) to a largest twist of
     1. None for a Mechanism without twists."""
-    from ..models.rod_spin import twist_edges
+    from ..models.rod.spin import twist_edges
     if "twist_angles" not in mech.outputs:
         return None
     pairs = twist_edges(mech)
@@ -136,7 +136,7 @@ def twist_shapes(mech, velocity_shapes) -> np.ndarray | None:
 def twist_names(kinds, mech) -> tuple:
     """``kinds`` (the Mechanism's coordinate names) with its twists named
     ``"edge{j}.twist"``."""
-    from ..models.rod_spin import twist_edges
+    from ..models.rod.spin import twist_edges
     names = list(kinds)
     if "twist_angles" in mech.outputs:
         for i, j in twist_edges(mech):

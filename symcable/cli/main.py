@@ -143,7 +143,7 @@ def _check(args) -> int:
         return 0
     # a moving scene: its dynamics are linearised about the static state, so whether they
     # can run is only known from that state (a line resting on the seabed cannot yet)
-    from ..models.planar_dynamics import dynamics_refusal
+    from ..models.planar.dynamics import dynamics_refusal
     from ..api.planar_static import solve_static
 
     static = solve_static(scene, codegen=False)

@@ -25,7 +25,7 @@ Prescribed coordinates are not unknowns: they enter ``f`` and the outputs as fun
 ``t`` and ``p`` (see :mod:`symcable.mechanism.assembly` for fixed and moving nodes).
 
 First-order states (coordinates without a velocity of their own, such as the seabed
-friction's bristle deflections of :mod:`symcable.models.seabed_friction`) are the last
+friction's bristle deflections of :mod:`symcable.models.common.friction`) are the last
 ``n_q - n_v`` entries of ``q``; ``kinematics`` gives their rates, and ``rest`` the rows that
 fix them at rest, which the static residual appends to the force balance; ``layout.states``
 names them (:class:`StateNames`), for labels (:meth:`Mechanism.coordinate_names`) and for the
@@ -303,7 +303,7 @@ class Layout:
 @dataclass(frozen=True)
 class Reanchor:
     """An optional hook of a Mechanism whose coordinates are measured from frames stored as
-    parameters (the rod's anchored reference frames, :mod:`symcable.models.rod`): a time
+    parameters (the rod's anchored reference frames, :mod:`symcable.models.rod.rod`): a time
     march calls it between steps so that no coordinate nears the chart's singularity.
 
     ``margin``: expression (1, 1) of ``(q, t, p)``, how far the state is from the chart's

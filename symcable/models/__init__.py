@@ -1,17 +1,33 @@
-"""Formulations: each turns a Scene into a :class:`~symcable.models.base.Model`."""
+"""The formulations and their registry.
+
+Each formulation lives in its own package (``planar``, ``cable3d``, ``rod`` with the hybrid,
+``body``, ``toys``) and imports only :mod:`symcable.scene`, :mod:`symcable.mechanism`,
+:mod:`.common` (the shared physics) and :mod:`symcable.analytic`, never another formulation.
+:data:`FORMULATIONS` maps a scene's kind to the function that builds its Mechanism;
+:func:`build_mechanism` is the one entry. A scene of several lines, points and bodies is
+assembled from its parts by :mod:`.system`.
+
+The planar formulation also keeps its own records (:class:`~.planar.base.Model`, the
+linearised :class:`~.planar.dynamic.DynamicModel`), built by :func:`build_model` and
+:func:`linearised_model`.
+"""
 from __future__ import annotations
 
 from collections import OrderedDict
 
 from ..errors import SymcableError
 from ..scene import Model as ModelKind, Scene, load_scene
-from .base import Guess, Model
-from .dynamic import DynamicModel
-from .planar import build_planar
-from .planar_dynamics import build_planar_dynamics
+from .planar.base import Guess, Model
+from .planar.dynamic import DynamicModel
+from .cable3d.line import build_cable3d
+from .planar.model import build_planar
+from .planar.dynamics import build_planar_dynamics
+from .planar.static import static_mechanism
+from .rod.hybrid import build_hybrid, is_cable
+from .system import build_system
 
-__all__ = ["DynamicModel", "Guess", "Model", "build_model", "cache_dynamic_model",
-           "cached_dynamic_model", "linearised_model"]
+__all__ = ["FORMULATIONS", "DynamicModel", "Guess", "Model", "build_mechanism", "build_model",
+           "cache_dynamic_model", "cached_dynamic_model", "linearised_model"]
 
 _BUILDERS = {ModelKind.PLANAR: build_planar}
 _DYNAMIC_BUILDERS = {ModelKind.PLANAR: build_planar_dynamics}
@@ -75,3 +91,36 @@ def cache_dynamic_model(scene: Scene, model: DynamicModel) -> DynamicModel:
     if len(_CACHE) > _CACHE_SIZE:
         _CACHE.popitem(last=False)
     return model
+
+
+def _planar(scene: Scene):
+    """The planar line's statics as a Mechanism."""
+    return static_mechanism(build_model(scene))
+
+
+def _cable3d(scene: Scene):
+    """One cable3d line, or a scene of several lines, points and bodies assembled."""
+    return build_system(scene) if scene.version == 2 else build_cable3d(scene)
+
+
+def _rod(scene: Scene):
+    """A rod or hybrid line (zones given): cable3d's line where it has no rod section and
+    no guided end, else the generalised rod."""
+    return build_cable3d(scene) if is_cable(scene) else build_hybrid(scene)
+
+
+#: scene kind -> build(scene) -> Mechanism
+FORMULATIONS = {ModelKind.PLANAR: _planar, ModelKind.CABLE3D: _cable3d, ModelKind.ROD: _rod,
+                ModelKind.HYBRID: _rod}
+
+
+def build_mechanism(scene: Scene):
+    """The scene's Mechanism, by its formulation (:data:`FORMULATIONS`; not cached).
+
+    Raises
+    ------
+    SymcableError
+        A hybrid scene whose rod zones are to be chosen from a static solve
+        (``zones = "auto"``): :func:`symcable.api.rod_static.hybrid_zones` resolves them.
+    """
+    return FORMULATIONS[scene.model](scene)

@@ -213,7 +213,7 @@ class SystemTrajectory(Exportable):
     time : ndarray (n_t,), s
     outputs : dict name -> ndarray (n_t, ...)
         The mechanism's outputs at the samples, namespaced (``"upper.axial_force"``,
-        ``"buoy.position"``; see :mod:`symcable.models.cable3d_system`).
+        ``"buoy.position"``; see :mod:`symcable.models.system`).
     line_names, point_names : tuple of str
     line_s : dict line name -> ndarray (n,)  unstretched arc length of its nodes, m
     method : str;  dt : float, s;  status : str;  stats : dict;  warnings : tuple of str

@@ -29,7 +29,7 @@ class Trajectory(OneLine, Exportable):
         Unstretched arc length of each segment's midpoint from end A, m.
     states : ndarray (n_t, n_y)
         The model's state (for the planar model: node velocities in m/s, dynamic strain
-        and dynamic angle in rad, interleaved; see :mod:`symcable.models.planar_dynamics`).
+        and dynamic angle in rad, interleaved; see :mod:`symcable.models.planar.dynamics`).
     fairlead_tension, anchor_tension : ndarray (n_t,)
         Magnitude of the force the line exerts on end B (fairlead) and end A (anchor), N.
     fairlead_force, anchor_force : ndarray (n_t, 2)
@@ -74,7 +74,7 @@ class Trajectory(OneLine, Exportable):
         before it existed.
     positions : ndarray (n_t, n_seg + 1, 2)
         Node positions (x, z) at the samples, m, chained from the total angle and strain
-        (see :mod:`symcable.models.planar_dynamics`). None in files saved before it existed.
+        (see :mod:`symcable.models.planar.dynamics`). None in files saved before it existed.
     """
 
     scene_name: str

@@ -171,7 +171,7 @@ class Motion:
     an end is a point).
     ``"tow"`` (cable3d): a towpoint moving at constant ``speed`` in the x-y plane, straight
     on ``heading`` and through the circular ``turns`` (:mod:`symcable.scene.tow`; the path
-    is :func:`symcable.models.tow.tow_path`).
+    is :func:`symcable.models.common.tow.tow_path`).
 
     Attributes
     ----------
@@ -251,7 +251,7 @@ class End:
     twist_deg : float or None
         Clamped ends of ``model = "rod"`` only: the angle of the clamp's material director
         m1 about ``direction`` from the reference director
-        (:func:`symcable.models.rod_frames.reference_director` of the direction), degrees;
+        (:func:`symcable.models.rod.frames.reference_director` of the direction), degrees;
         None: 0.
     moment : tuple of float or None
         Free (not guided) ends of ``model = "rod"``, or of a rod section of ``"hybrid"``:
@@ -337,7 +337,7 @@ class Seabed:
         m/s (> 0): the speed over which the Coulomb law is regularised,
         -mu N v / sqrt(|v|^2 + friction_velocity^2). Default 0.01. Not used by the bristle law.
     friction_law : str
-        cable3d dynamics (:mod:`symcable.models.seabed_friction`): ``"coulomb"`` (default,
+        cable3d dynamics (:mod:`symcable.models.common.friction`): ``"coulomb"`` (default,
         the law above) or ``"bristle"`` (an elastic bristle per node that slips at mu N:
         holds force at rest; in a scene of several lines on every line's nodes, a free
         point on the bed keeping the Coulomb law).

@@ -7,7 +7,7 @@ scene position) and optional ``turns``, a list of tables ``{after = s, radius = 
 angle = deg}``: after a straight run of ``after`` s, a circular turn of that radius through
 that angle (positive to port: counter-clockwise seen from above), then straight on the new
 heading. The displacement from the point's scene position is
-:func:`symcable.models.tow.tow_path`.
+:func:`symcable.models.common.tow.tow_path`.
 
 The tow runs at its speed from t = -inf: before its first turn the point moves on a
 straight line for all earlier times (``start`` only places it on that line). So the path

@@ -30,7 +30,6 @@ import numpy as np
 from ..mechanism.functions import functions
 from ..errors import ConvergenceError, SymcableError
 from ..mechanism.mechanism import Mechanism
-from ..models.rod_reanchor import reanchor_hook
 from .equilibrium import (ESCAPES, _check, _ptc, _stability,
                           _unstable_direction, _x_scale, solve_equilibrium)
 from .newton import newton
@@ -124,7 +123,7 @@ class _Charts:
     """The re-anchoring of a Mechanism with anchored frames (none: every call a no-op)."""
 
     def __init__(self, mech, reanchor, every_step: bool = False):
-        hook = reanchor_hook(mech) if reanchor is True else (reanchor or None)
+        hook = reanchor or None
         self.hook, self.margin, self.update = hook, None, None
         self.every_step = every_step
         self.turns = None
@@ -203,7 +202,7 @@ def _escape(F, mech, x, p, tol, charts):
 
 
 def trace_branch(mech: Mechanism, block: str, values, *, component: int | None = None,
-                 p=None, start=None, leave_unstable: bool = True, reanchor=True,
+                 p=None, start=None, leave_unstable: bool = True, reanchor=None,
                  tol: float | None = None, max_iter: int = 30, max_halvings: int = 6,
                  codegen: bool | None = False) -> Branch:
     """Static continuation of ``mech`` along ``values`` of the parameter block ``block``.
@@ -225,9 +224,10 @@ def trace_branch(mech: Mechanism, block: str, values, *, component: int | None =
     leave_unstable : bool
         Where a point is unstable, leave along its unstable eigenvector to a stable
         equilibrium at the same parameters (module docstring); False: follow the branch.
-    reanchor : bool or Reanchor
-        Re-anchor the rod's frames between steps (True: the Mechanism's hook, none when it
-        has no anchored frames; False: never; or a :class:`~symcable.mechanism.mechanism.Reanchor`).
+    reanchor : Reanchor, optional
+        Re-anchor the frames between steps by this hook
+        (:class:`~symcable.mechanism.mechanism.Reanchor`); None or False: never.
+        :func:`symcable.trace_branch` passes a rod's own.
     tol : float, optional
         N, as :func:`~symcable.solvers.equilibrium.solve_equilibrium`.
     max_iter, max_halvings : int

@@ -9,9 +9,9 @@ import math
 import casadi as ca
 import numpy as np
 
-from .. import terms
-from ..cable3d_drag import loading_drag
-from ..tow import tow_path
+from . import terms
+from .drag import loading_drag
+from .tow import tow_path
 
 
 #: m/s, the speed below which |u| in the drag law is smoothed (sqrt(|u|^2 + DRAG_SPEED^2)):
@@ -30,7 +30,7 @@ def element_kernel(law_shape: tuple[int, int] | None = None) -> ca.Function:
     """Forces of one element on its two nodes (N, 3 each), its axial force T (N) and
     strain e, from its node positions and velocities and its properties (module docstring).
     ``law_shape`` = (Kc, Ks): the drag is the loading functions of an extra input ``law``
-    (2 Kc + 2 Ks; :func:`~symcable.models.cable3d_drag.law_table`) instead of Morison's
+    (2 Kc + 2 Ks; :func:`~symcable.models.common.drag.law_table`) instead of Morison's
     law on ``cdn``, ``cdt`` (then not read).
     """
     xa, xb, va, vb, u = (ca.SX.sym(n, 3) for n in ("xa", "xb", "va", "vb", "u"))
@@ -111,7 +111,7 @@ def held_end(end, pos_p, motion_scale, t, ramp_on=1.0):
       from the static state at any t <= 0 starts without a jump in the end's position or
       velocity; ``ramp_on`` = 0 (the parameter ``ramp``: periodic solves) takes r = 1
       throughout. Its velocity is the derivative;
-    - or a tow's path (:func:`~symcable.models.tow.tow_path`), neither ramped nor changed by
+    - or a tow's path (:func:`~symcable.models.common.tow.tow_path`), neither ramped nor changed by
       ``ramp_on`` (scaled by ``motion_scale``: held at its scene position in statics)."""
     m = end.motion
     if m is None:

@@ -28,7 +28,7 @@ def segment_table(scene: Scene) -> dict[str, np.ndarray]:
     return table
 
 
-#: the tension-only law of cables (EI = 0; :func:`~symcable.models.terms.cable_axial_force`),
+#: the tension-only law of cables (EI = 0; :func:`~symcable.models.common.terms.cable_axial_force`),
 #: relative to the scene's force scale F: the residual stiffness in compression is
 #: SLACK_STIFFNESS F per unit strain; the corner is smoothed where the tension is about
 #: SLACK_SMOOTHING F (strain width 2 SLACK_SMOOTHING F / EA); the wall that keeps segments

@@ -1,0 +1,335 @@
+"""The 3D position-vector cable (seed 003), ``model = "cable3d"``, as a Mechanism.
+
+Nodes 0..N along the line (end A to end B), two-node elements between them. The unknowns q
+are the positions (x, y, z) of the nodes that move (every interior node, and a free end),
+v their velocities; a pinned end is held at its scene position plus its prescribed motion,
+a function of t and the parameters. Per element j (unstretched length L0, current length
+l, unit tangent t = (x_b - x_a) / l, strain e = l / L0 - 1), one kernel mapped over the
+elements gives:
+
+- axial force T = law(e) + BA de/dt: the tension-only law of cables
+  (:func:`~symcable.models.common.terms.cable_axial_force`, as the planar line's; a seed-003
+  secant K is not used: CasADi differentiates this law exactly, giving the tangent
+  (EA/L0) t t^T + (T/l)(I - t t^T)), and Kelvin-Voigt material damping BA (N s), seed 003's
+  C = c K;
+- weight and buoyancy: the submerged weight w L0 (N), half on each node;
+- Morison drag on the water's velocity relative to the element (the current minus the
+  mean of its nodes' velocities), split along and across t: 0.5 rho d Cd |u| u sqrt(1+e)
+  per unstretched metre (the planar law), |u| smoothed as sqrt(|u|^2 + DRAG_SPEED^2) so the
+  force is differentiable at rest, half on each node; or, for a line type with ``drag_law =
+  "loading-functions"``, seed 003's loading functions (:mod:`.cable3d_drag`);
+- bending where EI > 0 (:mod:`.cable3d_bending`: a discrete curvature energy on node
+  triplets; a clamped end's tangent held by a ghost node); such segments carry compression
+  (the linear law EA e, as the planar line's), cable segments (EI = 0) do not;
+- lumped mass: structural m L0 / 2 per node, and added mass rho A L0 / 2 (Ca_n (I - t t^T) +
+  Ca_t t t^T) per node, rho A the displaced water per metre; or, with ``mass_matrix =
+  "consistent"``, seed 003's L0 B / 6 [[2, 1], [1, 2]] per element (:func:`_consistent_mass`).
+
+Each node on a flat seabed at z = -depth gets (:mod:`.seabed3d`, shared with the rod) the
+planar line's smooth penalty contact k d b ramp(-depth - z) (b its tributary length), a
+damper into the bed (:func:`~symcable.models.common.seabed.seabed_damper`) and friction, axial
+and lateral, by the scene's ``seabed.friction_law`` (:mod:`~symcable.models.common.friction`: regularised Coulomb, or an
+elastic bristle per node whose deflections (m, x and y) are first-order states: the last
+entries of q, node by node, their rates in the kinematics, zero at rest or, with
+``seabed.static_friction = "laid"``, the static spring's deflection from the as-laid
+shape). The free end carries its applied force. The lumped mass of an element next to a
+moving end turns with it, so the mass matrix depends on t as well as q.
+
+Parameters (blocks): ``load`` (scales weight, buoyancy and applied forces; 1),
+``end_a.position``, ``end_b.position`` (3 each, m), ``current`` (3, m/s), ``slack`` (the
+tension-only law's continuation, as planar), ``motion`` (scales the prescribed motions, a
+tow's included; 0 in statics), ``ramp`` (1: a harmonic motion ramps in over its first
+period from t = 0; 0: at full amplitude throughout, as periodic solves take it); with
+static friction ``static_friction`` (1 in statics, 0 in time) and ``laid`` (the as-laid
+horizontal positions of the nodes, m, node by node).
+"""
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import casadi as ca
+import numpy as np
+
+from ...errors import SymcableError
+from ...scene import EndCondition, Scene
+from ..common.bending import bending_terms, linear_axial_law
+from ..common.drag import law_table
+from .elements import element_form
+from ..common.starts import force_scale, starts_of
+from ..common.relax import _ramp_integral
+from ...mechanism.mechanism import (Bound, Layout, Mechanism, Output, ParamBlocks, PartLayout,
+                                   Scales, StateNames)
+from ..common.seabed import (bristle_scale, friction_setup, lumped as _lumped, profile_current,
+                       reaction_bound, seabed_forces)
+from ..common.segments import (CABLE_COMPRESSION, FOLD_PUSH, SLACK_CONTINUATION, segment_table,
+                              slack_law)
+from ..common.elements import DRAG_SPEED, element_kernel, held_end
+
+__all__ = ["DRAG_SPEED", "build_cable3d", "force_scale"]
+
+
+P_NAMES = ("load", "end_a.position", "end_b.position", "current", "slack", "motion", "ramp")
+P_SIZES = (1, 3, 3, 3, 1, 1, 1)
+
+
+def build_cable3d(scene: Scene, part: str | None = None,
+                  joined: tuple[bool, bool] = (False, False)) -> Mechanism:
+    """The scene's line as a cable3d Mechanism (module docstring).
+
+    ``part``: build the line as a part of an assembly
+    (:mod:`~symcable.models.system`) under that name: the Mechanism, its layout part
+    and its outputs' owner take the name, and both ends may be free (joined to free points
+    that other lines hold). None: the one-line scene's Mechanism ``"cable3d"``, part ``"line"``.
+    ``joined``: whether end A / end B is joined to a free point of the assembly (its seabed
+    contact then takes the neighbour's penetration while the point touches the bed: the
+    point has its own contact, :func:`~symcable.models.system.point_contact`; this
+    part of the contact is not conservative, and the potential energy output counts it at
+    the node's own penetration).
+    """
+    owner = part or "line"
+    if any(e.position is not None and len(e.position) != 3 for e in (scene.end_a, scene.end_b)):
+        raise SymcableError(f"build_cable3d: scene {scene.name!r} has planar end positions "
+                            "(model = 'cable3d' reads [x, y, z])")
+    seg = segment_table(scene)
+    N = len(seg["ds"])
+    env, sb = scene.environment, scene.seabed
+    a, b = scene.end_a, scene.end_b
+    free = [a.condition is EndCondition.FREE, b.condition is EndCondition.FREE]
+    if all(free) and part is None:
+        raise SymcableError(f"scene {scene.name!r}: both ends free; hold one end")
+    rubs, bristle, laid = friction_setup(scene, seg)
+    names, sizes = P_NAMES + (("static_friction", "laid") if laid is not None else ()), \
+        P_SIZES + ((1, laid.size) if laid is not None else ())
+    params = ParamBlocks(names, sizes, np.concatenate([
+        [1.0], a.position if a.position is not None else np.zeros(3),
+        b.position if b.position is not None else np.zeros(3), env.current, [1.0], [1.0], [1.0]]
+        + ([[0.0], laid] if laid is not None else [])))
+    p = ca.SX.sym("p", params.n)
+    load, pa, pb = p[0], p[1:4], p[4:7]
+    current, sigma, motion, ramp_on = p[7:10], p[10], p[11], p[12]
+    t = ca.SX.sym("t")
+
+    moving = [i for i in range(N + 1) if (i == 0 and free[0]) or (i == N and free[1]) or 0 < i < N]
+    n_v = 3 * len(moving)
+    q_all = ca.SX.sym("q", n_v + (2 * (N + 1) if bristle else 0))
+    q, state = q_all[:n_v], q_all[n_v:]
+    v = ca.SX.sym("v", n_v)
+    X, V = [None] * (N + 1), [None] * (N + 1)
+    for k, i in enumerate(moving):
+        X[i], V[i] = q[3 * k:3 * k + 3], v[3 * k:3 * k + 3]
+    for end, i, pp in ((a, 0, pa), (b, N, pb)):
+        if X[i] is None:
+            X[i], V[i] = held_end(end, pp, motion, t, ramp_on)
+    Xm, Vm = ca.horzcat(*X), ca.horzcat(*V)  # (3, N+1)
+
+    F = force_scale(scene, seg)
+    law = linear_axial_law(seg, slack_law(seg, F))
+    width = ca.exp(math.log(SLACK_CONTINUATION) * (1.0 - sigma))
+    rho = 0.0 if env.in_air else env.water_density
+    drag_law = law_table(scene)
+    if drag_law is not None:
+        seg["drag_law"] = dict(drag_law, eps=DRAG_SPEED)  # for the starts' frozen drag
+    kernel = element_kernel(drag_law["shape"] if drag_law else None).map(N)
+    row = lambda key: ca.DM(seg[key]).T  # noqa: E731  (1, N)
+    BA = np.array([s.line_type.damping for s in scene.sections for _ in range(s.segments)])
+    # negative: minus the damping ratio zeta of the line's highest axial mode (adjacent
+    # nodes in opposition: stiffness 4 EA/ds, damping 4 BA/ds, mass m ds per node), as
+    # MoorDyn reads BA/-zeta: BA = zeta ds sqrt(EA m)
+    BA = np.where(BA < 0, -BA * np.sqrt(seg["EA"] * seg["mass"]) * seg["ds"], BA)
+    water = ca.repmat(current, 1, N)
+    if env.current_profile:  # the current at each element's mid-depth
+        water = water + profile_current(env.current_profile,
+                                        0.5 * (Xm[2, :-1] + Xm[2, 1:]))
+    fa, fb, T, e = kernel(Xm[:, :-1], Xm[:, 1:], Vm[:, :-1], Vm[:, 1:], water,
+                          row("ds"), row("EA"), ca.DM(BA).T, ca.DM(law["EA_slack"]).T,
+                          width * ca.DM(law["delta"]).T, F, row("w"), row("d"), row("cdn"),
+                          row("cdt"), rho, load,
+                          *([ca.DM(drag_law["law"]).T] if drag_law else []))
+    elements = ca.horzcat(fa, ca.SX.zeros(3, 1)) + ca.horzcat(ca.SX.zeros(3, 1), fb)  # (3, N+1)
+    nodal = ca.SX.zeros(3, N + 1)  # what the elements do not give (the element form's rest)
+    contact = ca.SX.zeros(1, N + 1)
+    term_names = ["elastic", "weight"] + (["material damping"] if np.any(BA) else [])
+    bending = bending_terms(scene, seg, Xm)
+    if bending is not None:
+        term_names.append("bending")
+        nodal = nodal + bending[0]
+    if not env.in_air and (any(env.current) or env.current_profile):
+        term_names.append("drag")
+    fr = None
+    if sb is not None:  # contact, damper and friction on the nodes (.seabed3d)
+        sea = seabed_forces(scene, seg, Xm, Vm, nodal, term_names, state=state,
+                            laid=None if laid is None else p[params.slice("laid")],
+                            gate=None if laid is None else p[params.slice("static_friction")],
+                            joined=joined)
+        nodal, contact, fr = sea.nodal, sea.contact, sea.friction
+    # what the line exerts on each end (N): its element's pull and the loads lumped on the
+    # end node, which the support takes (as the planar line's end forces); on a free end the
+    # applied force is not the line's, and balances this
+    end_force_a = elements[:, 0] + nodal[:, 0] + (bending[1].get(0, 0.0) if bending else 0.0)
+    end_force_b = elements[:, N] + nodal[:, N] + (bending[1].get(N, 0.0) if bending else 0.0)
+    applied = np.zeros((3, N + 1))
+    for end, i in ((a, 0), (b, N)):
+        if end.condition is EndCondition.FREE and end.force is not None:
+            applied[:, i] = end.force
+    if np.any(applied):
+        term_names.append("end force")
+        nodal = nodal + load * ca.DM(applied)
+    force_rest = ca.vertcat(*[nodal[:, i] for i in moving])
+    nodal = elements + nodal
+    force = ca.vertcat(*[nodal[:, i] for i in moving])
+
+    # mass: structural and added (normal, tangential); lumped: 3 x 3 per moving node, or
+    # consistent (scene.mass_matrix)
+    A_w = math.pi * seg["d"] ** 2 / 4.0
+    blocks = [ca.SX.zeros(3, 3) for _ in range(N + 1)]
+    halves = []  # each element's L0 B / 2
+    can = np.array([s.line_type.ca_normal for s in scene.sections for _ in range(s.segments)])
+    cat = np.array([s.line_type.ca_tangential for s in scene.sections for _ in range(s.segments)])
+    for j in range(N):
+        dx = Xm[:, j + 1] - Xm[:, j]
+        tt = ca.mtimes(dx, dx.T) / ca.dot(dx, dx)
+        m_j = 0.5 * seg["mass"][j] * seg["ds"][j]
+        ma = 0.5 * rho * A_w[j] * seg["ds"][j]
+        blk = m_j * ca.SX.eye(3) + ma * (can[j] * (ca.SX.eye(3) - tt) + cat[j] * tt)
+        blocks[j] += blk
+        blocks[j + 1] += blk
+        halves.append(blk)
+    # a prescribed end's acceleration reaches its neighbour through the consistent mass's
+    # coupling; a table's (impulses at its rows) is left out
+    acc = {i: (ca.jacobian(V[i], t) if end.motion is not None and end.motion.kind != "table"
+               else ca.SX.zeros(3, 1)) for end, i in ((a, 0), (b, N))}
+    if scene.mass_matrix == "lumped":
+        mass = ca.diagcat(*[blocks[i] for i in moving])
+    else:
+        mass, inertia = _consistent_mass(halves, acc, moving, N)
+        force = force + inertia
+
+    form = None
+    if not env.current_profile:  # the elements' kernel as a loop (.cable3d_elements)
+        held = ca.SX.zeros(9, N + 1)
+        for i in (0, N):
+            if i not in moving:
+                held[:, i] = ca.vertcat(X[i], V[i], acc[i])
+        form = element_form(
+            element_kernel(drag_law["shape"] if drag_law else None),
+            dict(L0=seg["ds"], EA=seg["EA"], BA=BA, EAs=law["EA_slack"], delta=law["delta"],
+                 wall=F, w=seg["w"], d=seg["d"], cdn=seg["cdn"], cdt=seg["cdt"], rho=rho,
+                 structural_half=0.5 * seg["mass"] * seg["ds"],
+                 added_half=0.5 * rho * A_w * seg["ds"], ca_normal=can, ca_tangential=cat),
+            drag_law["law"].T if drag_law else None, ca.vertcat(current, load, width),
+            _node_index(N, moving), held, force_rest, scene.mass_matrix != "lumped")
+    outputs = {
+        "positions": Output(Xm.T, "m", owner, "node positions (x, y, z)"),
+        "velocities": Output(ca.densify(Vm.T), "m/s", owner, "node velocities (x, y, z)"),
+        "axial_force": Output(T.T, "N", owner, "axial force of each segment"),
+        "strain": Output(e.T, "1", owner, "strain of each segment"),
+        "contact_force": Output(contact.T, "N", owner, "seabed contact force on each node"),
+        **({"friction_force": Output(fr.force.T, "N", owner, "seabed friction force on each "
+                                     "node (x, y)")} if rubs else {}),
+        "end_force_a": Output(end_force_a, "N", owner, "force of the line on end A"),
+        "end_force_b": Output(end_force_b, "N", owner, "force of the line on end B"),
+    }
+    # energies (J): kinetic 0.5 v^T M v of the moving nodes; potential: the law's integral
+    # over each element, the submerged weight's height, the contact's integral (the
+    # conservative forces' potential: with no drag, damping, friction or moving end the
+    # sum is conserved)
+    ec = e.T  # (N, 1)
+    U = (0.5 * ca.DM(law["EA_slack"]) * ec * ec
+         + ca.DM(seg["EA"] - law["EA_slack"]) * _ramp_integral(ec, width * ca.DM(law["delta"]))
+         + F * 0.005 * ca.exp(-(1.0 + ec) / 0.005))
+    potential = ca.dot(ca.DM(seg["ds"]), U) + load * ca.dot(ca.DM(_lumped(seg)), Xm[2, :].T)
+    if sb is not None:
+        potential += sea.energy
+    if bending is not None:
+        potential += bending[2]
+        outputs["bending_moment"] = Output(bending[3].T, "N m", owner, "bending moment vector "
+                                           "at each node (along the binormal)")
+    outputs["kinetic_energy"] = Output(0.5 * ca.dot(v, ca.mtimes(mass, v)), "J", owner,
+                                       "kinetic energy of the moving nodes")
+    outputs["potential_energy"] = Output(potential, "J", owner, "elastic, gravity, contact "
+                                         "and bending potential energy")
+    L = scene.length
+    cable = seg["EI"] <= 0.0
+    push = np.maximum(CABLE_COMPRESSION * F, FOLD_PUSH * np.abs(seg["w"]) * seg["ds"])
+    bounds = {"strain": Bound(e.T, lower=-1.0 + 1e-9, unit="1", scale=1.0,
+                              what="segments of positive length")}
+    cab = np.flatnonzero(cable)
+    if cab.size:  # segments with EI > 0 carry compression
+        bounds["cable_axial_force"] = Bound(T.T if cab.size == N else T.T[cab.tolist()],
+                                            lower=-push[cab], unit="N", scale=F,
+                                            what="a cable (EI = 0) carries no compression")
+    if sb is not None:
+        cdn = seg["cdn"] if drag_law is None else drag_law["normal_bound"]
+        bounds["seabed_reaction"] = reaction_bound(scene, seg, contact, applied, cdn, rho,
+                                                   current, F)
+    coord = L + max((float(np.max(np.abs(e_.position))) for e_ in (a, b)
+                     if e_.position is not None), default=0.0)
+    floor = 100.0 * np.finfo(float).eps * float(np.max(seg["EA"] / seg["ds"])) * coord
+    n_q = 3 * len(moving)
+    total_mass = float(np.sum(seg["mass"] * seg["ds"]))
+    q_scale = np.full(n_q, 0.1 * L)
+    if bristle:  # a bristle's deflection: up to its mobilisation length mu N / k
+        q_scale = np.concatenate([q_scale, np.full(2 * (N + 1), bristle_scale(sb, seg))])
+    scales = Scales(q=q_scale, v=np.full(n_q, math.sqrt(env.gravity * L)),
+                    z=np.zeros(0), force=F, mass=max(total_mass, 1e-6), residual_floor=floor)
+    static = {"motion": np.zeros(1)}
+    if laid is not None:
+        static["static_friction"] = np.ones(1)
+    p_static = params.with_values(**static)
+
+    def starts():
+        for st in starts_of(scene, seg, params, moving):
+            yield dataclasses.replace(st, q=np.concatenate([st.q, np.zeros(q_all.numel() - n_q)]),
+                                      p=p_static)
+    states = None
+    if bristle:  # node by node, x then y (see seabed_friction.friction)
+        states = StateNames(tuple(f"node{i}.bristle.{c}" for i in range(N + 1) for c in "xy"),
+                            "m", 'seabed.friction_law = "bristle"',
+                            'seabed.friction_law = "coulomb"')
+    layout = Layout(3, {owner: PartLayout(
+        "line", seg["s"], _node_index(N, moving), _node_index(N, moving),
+        {i: name for i, name in ((0, "end_a"), (N, "end_b")) if i not in moving})}, states)
+    return Mechanism(
+        name=part or "cable3d", q=q_all, v=v, z=ca.SX.sym("z", 0), t=t, p=p, params=params,
+        mass=mass, force=force, constraint=ca.SX.zeros(0, 1), scales=scales,
+        starts=starts if not all(free) else tuple, outputs=outputs, layout=layout,
+        terms=tuple(term_names), static_params=static, bounds=bounds,
+        stability_when=ca.SX(1.0) if np.all(cable) else None,
+        kinematics=ca.vertcat(v, fr.rate) if bristle else None,
+        rest=fr.rest if bristle else None, elements=form,
+        stability_coordinates=np.arange(n_q) if bristle else None)
+
+
+def _consistent_mass(halves, acc, moving, N):
+    """Seed 003's consistent mass: element j's L0 B / 6 [[2, 1], [1, 2]] (B its mass per
+    metre, 3 x 3, structural and added), from ``halves[j]`` = L0 B / 2 (what the lumped mass
+    puts on each of its nodes): two thirds of a half on each node, one third coupling them.
+    Returns (M over the moving nodes, sparse block-tridiagonal; the force -M_ih a_h on a
+    moving node i beside a held node h, a_h = ``acc[h]`` the prescribed motion's
+    acceleration)."""
+    slot = {i: k for k, i in enumerate(moving)}
+    M = ca.SX(3 * len(moving), 3 * len(moving))
+    inertia = ca.SX.zeros(3 * len(moving), 1)
+    rows = lambda i: slice(3 * slot[i], 3 * slot[i] + 3)  # noqa: E731
+    for j, half in enumerate(halves):
+        a, b = j, j + 1
+        for i in (a, b):
+            if i in slot:
+                M[rows(i), rows(i)] = M[rows(i), rows(i)] + (2.0 / 3.0) * half
+        if a in slot and b in slot:
+            M[rows(a), rows(b)] = M[rows(a), rows(b)] + half / 3.0
+            M[rows(b), rows(a)] = M[rows(b), rows(a)] + half / 3.0
+        else:
+            for i, h in ((a, b), (b, a)):
+                if i in slot and h not in slot:
+                    inertia[rows(i)] = inertia[rows(i)] - ca.mtimes(half / 3.0, acc[h])
+    return M, inertia
+
+
+def _node_index(N, moving) -> np.ndarray:
+    """(N+1, 3) index of each node's coordinates in q (-1 for a held end)."""
+    idx = -np.ones((N + 1, 3), dtype=int)
+    for k, i in enumerate(moving):
+        idx[i] = np.arange(3 * k, 3 * k + 3)
+    return idx

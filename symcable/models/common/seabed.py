@@ -1,0 +1,188 @@
+"""The nodal seabed and current pieces of the 3D lines, shared by cable3d
+(:mod:`~symcable.models.cable3d.line`) and the rod and hybrid (:mod:`~symcable.models.rod.rod`): they
+act on node positions and velocities alone, whatever the line's formulation between the
+nodes.
+
+- :func:`seabed_forces`: each node on a flat seabed at z = -depth gets the planar line's
+  smooth penalty contact k b ramp(-depth - z) (b its tributary contact area, half of each
+  adjacent segment's diameter x length, m^2), a damper into the bed (:func:`seabed_damper`)
+  and friction, axial and lateral, by ``seabed.friction_law``
+  (:mod:`~symcable.models.common.friction`: regularised Coulomb, or an elastic bristle per
+  node whose deflections are first-order states) with, for ``seabed.static_friction =
+  "laid"``, the static spring from the as-laid shape;
+- :func:`reaction_bound`: the bound ``seabed_reaction`` (the bed carries at most what
+  presses the line onto it);
+- :func:`friction_setup`, :func:`bristle_scale`: what the friction law adds to a Mechanism
+  (states, parameters, scales);
+- :func:`profile_current`: ``environment.current_profile``, the current at given depths.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import casadi as ca
+import numpy as np
+
+from ...scene import EndCondition, Scene
+from . import terms
+from .starts import laid_shape
+from ...mechanism.mechanism import Bound
+from .relax import _ramp_integral
+from .friction import Friction, friction
+
+#: the 3D lines' contact ramp's smoothing width over the penetration under the line's own
+#: weight (:func:`~symcable.models.common.terms.contact_smoothing`). The planar line keeps 1 %: its
+#: linearised dynamics accept a grounded length up to 1 % of a segment, which the wider
+#: ramp's tail exceeds. So do free points
+#: (:data:`~symcable.models.system.POINT_CONTACT_SMOOTHING`). At 1 % Newton cycled
+#: on the touchdown node of the MoorDyn chains, between 15 mm above the bed and 22 mm into
+#: it across the 1.3 mm smoothing (WD0200 A2 at 0.2 s steps: 6 of 150 steps, each then
+#: retried as substeps; 1-3 on WD0050 A2 and WD0600 A2); at 10 % none does and WD0200 A2
+#: runs in 0.6 times the time. The chains' max errors against OrcaFlex move by at most 0.6
+#: % of the range, their tension series by up to 2.1 % of it (studies/chains/README.md);
+#: OC3's static fairlead tension by 2.3e-5. Its cost: a node at a height g above the bed
+#: carries k b delta^2 / 4 g (the ramp's tail), 1e-4 of its weight on these chains at 3 m
+CONTACT_SMOOTHING = 0.1
+
+__all__ = ["CONTACT_SMOOTHING", "SeabedTerms", "bristle_scale", "friction_setup", "lumped",
+           "profile_current", "reaction_bound", "seabed_damper", "seabed_forces"]
+
+
+@dataclass(frozen=True)
+class SeabedTerms:
+    """What :func:`seabed_forces` builds: ``nodal`` (3, n) the nodal forces given plus the
+    seabed's, N; ``contact`` (1, n) the contact's normal force (the spring), N;
+    ``friction`` (:class:`~symcable.models.common.friction.Friction`, or None without
+    friction); ``energy`` the contact spring's potential, J."""
+
+    nodal: object
+    contact: object
+    friction: Friction | None
+    energy: object
+
+
+def lumped(seg) -> np.ndarray:
+    """Submerged weight lumped on the nodes (N+1,), N: half of each adjacent segment."""
+    out = np.zeros(len(seg["ds"]) + 1)
+    out[:-1] += 0.5 * seg["w"] * seg["ds"]
+    out[1:] += 0.5 * seg["w"] * seg["ds"]
+    return out
+
+
+def friction_setup(scene: Scene, seg: dict) -> tuple[bool, bool, np.ndarray | None]:
+    """``(rubs, bristle, laid)``: whether the seabed has friction, whether by the bristle
+    law (2 states per node), and the as-laid horizontal node positions (2 (N+1),), m, when
+    ``seabed.static_friction = "laid"`` (else None)."""
+    sb = scene.seabed
+    rubs = sb is not None and (sb.mu_axial > 0 or sb.mu_lateral > 0)
+    bristle = rubs and sb.friction_law == "bristle"
+    laid = laid_shape(scene, seg) if rubs and sb.static_friction == "laid" else None
+    return rubs, bristle, laid
+
+
+def bristle_scale(sb, seg: dict) -> float:
+    """The scale of a bristle's deflection, m: the median mobilisation length mu N / k."""
+    mob = max(sb.mu_axial, sb.mu_lateral) * np.abs(seg["w"]) / (sb.tangential_stiffness
+                                                                 * seg["d"])
+    return float(np.median(mob)) or 1e-3
+
+
+def seabed_forces(scene: Scene, seg: dict, Xm, Vm, nodal, term_names: list, *, state=None,
+                  laid=None, gate=None, joined: tuple[bool, bool] = (False, False)
+                  ) -> SeabedTerms:
+    """The seabed's contact, damper and friction on the nodes (module docstring), added to
+    ``nodal`` (3, N+1), N. ``Xm``, ``Vm`` (3, N+1) node positions (m) and velocities (m/s),
+    held ends included; ``seg`` the segment table (``ds``, ``d``, ``w``); ``state`` the
+    bristle deflections (2 (N+1), 1), m; ``laid`` (2 (N+1), 1) the as-laid positions and
+    ``gate`` the static spring's on-off (``static_friction`` parameters); ``joined``:
+    whether end A / B is joined to a free point of an assembly (its contact then takes the
+    neighbour's penetration while the point touches the bed). Appends the term names.
+
+    A held end on the seabed takes its neighbour's penetration: the half segment beside it
+    rests where the neighbour does (as the planar line). An end joined to a free point: the
+    point's node sits as deep as the point's own contact and the other lines put it (a
+    clump pressed in, or held higher by a lighter bed load than this line's), so while the
+    point touches the bed the half segment beside it rests where the neighbour does; lifted
+    off the bed, it carries none (the smooth on-off factor of the point's penetration).
+    This part of the contact is not conservative, and ``energy`` counts it at the node's own
+    penetration."""
+    sb, env = scene.seabed, scene.environment
+    a, b = scene.end_a, scene.end_b
+    N = len(seg["ds"])
+    rubs, bristle = sb.mu_axial > 0 or sb.mu_lateral > 0, sb.friction_law == "bristle"
+    term_names.append("seabed")
+    trib = np.zeros(N + 1)
+    trib[:-1] += 0.5 * seg["d"] * seg["ds"]
+    trib[1:] += 0.5 * seg["d"] * seg["ds"]
+    dlt = terms.contact_smoothing(float(np.max(seg["w"])), sb.stiffness, float(np.min(seg["d"])),
+                                  CONTACT_SMOOTHING)
+    sink = max(abs(float(np.max(seg["w"]))) / (sb.stiffness * float(np.min(seg["d"]))),
+               1e-6 * scene.length)
+    probe = list(range(N + 1))
+    for end, i, nb in ((a, 0, 1), (b, N, N - 1)):
+        if end.condition is not EndCondition.FREE and end.position[2] <= -env.depth + sink:
+            probe[i] = nb
+    pen = ca.horzcat(*[-env.depth - Xm[2, i] for i in probe])
+    ramp = [terms.smooth_ramp(pen[i], dlt) for i in range(N + 1)]
+    for k, (i, nb) in enumerate(((0, 1), (N, N - 1))):
+        if joined[k] and N > 0:
+            ramp[i] = terms.smooth_ramp(pen[nb], dlt) * 0.5 * (
+                1.0 + pen[i] / ca.sqrt(pen[i] * pen[i] + dlt * dlt))
+    contact = ca.DM(trib * sb.stiffness).T * ca.horzcat(*ramp)
+    nodal = nodal + ca.vertcat(ca.SX.zeros(2, N + 1), contact)
+    nodal = nodal + seabed_damper(sb, Vm, pen, dlt, trib, term_names)
+    fr = None
+    if rubs:
+        term_names += ["seabed friction"] + (["friction bristles"] if bristle else []) \
+            + (["static friction"] if laid is not None else [])
+        fr = friction(sb, Xm, Vm, contact, trib, np.abs(lumped(seg)), state, laid, gate)
+        nodal = nodal + ca.vertcat(fr.force, ca.SX.zeros(1, N + 1))
+    energy = ca.dot(ca.DM(trib * sb.stiffness), _ramp_integral(pen, dlt).T)
+    return SeabedTerms(nodal, contact, fr, energy)
+
+
+def reaction_bound(scene: Scene, seg: dict, contact, applied: np.ndarray, cdn: np.ndarray,
+                   rho: float, current, F: float) -> Bound:
+    """The bound ``seabed_reaction``: the bed's reaction (the sum of ``contact``, N) is at
+    most the line's submerged weight, the applied end forces (``applied`` (3, N+1), N) and
+    the most the current's drag presses (normal drag coefficients ``cdn`` per segment, water
+    density ``rho``; the profile's fastest row, and the uniform ``current`` parameter (3,),
+    m/s), with 1 % margin. The uniform current's share is on the expression's side, in the
+    parameter, not a constant of the bound: scenes that differ only in their current then
+    share one graph, and one compiled library (a sweep of current speeds compiles once)."""
+    env = scene.environment
+    press = float(np.sum(np.maximum(seg["w"], 0.0) * seg["ds"])) + float(np.abs(applied).sum())
+    u2 = max((float(np.dot(r[1:], r[1:])) for r in env.current_profile), default=0.0) * 2.0
+    drag = float(np.sum(0.5 * rho * cdn * seg["d"] * seg["ds"]))
+    press += drag * u2
+    return Bound(
+        ca.sum2(contact) - 1.01 * drag * ca.dot(current, current),
+        upper=1.01 * press + 1e-6 * F, unit="N", scale=F,
+        what="the seabed carries at most what presses the line onto it (the value: its "
+             "reaction less 1.01 times the most the uniform current's drag presses)")
+
+
+def seabed_damper(sb, Vm, pen, dlt, area, term_names):
+    """Nodal forces (3, N+1) of the seabed's normal damper, N: -damping b v_z times the
+    contact's smooth on-off factor 0.5 (1 + g / sqrt(g^2 + delta^2)) (b = ``area``, the node's
+    contact width x length, m^2; g the penetration, m); zero at rest, built only where the
+    scene asks."""
+    out = ca.SX.zeros(3, Vm.shape[1])
+    if sb.damping > 0:
+        term_names.append("seabed damping")
+        on = 0.5 * (1.0 + pen / ca.sqrt(pen * pen + dlt * dlt))
+        out[2, :] = -sb.damping * ca.DM(area).T * Vm[2, :] * on
+    return out
+
+
+def profile_current(rows, z):
+    """The current (3, N) at depths ``z`` (1, N), m: linear between the profile's rows (z
+    ascending), held beyond the first and the last, written as a sum of ramps."""
+    r = np.asarray(rows, float)
+    zk, U = r[:, 0], r[:, 1:4]
+    slopes = np.diff(U, axis=0) / np.diff(zk)[:, None]
+    kinks = np.vstack([slopes[:1], np.diff(slopes, axis=0), -slopes[-1:]])  # (n, 3)
+    out = ca.repmat(ca.DM(U[0]), 1, z.shape[1])
+    for k in range(len(zk)):
+        out = out + ca.mtimes(ca.DM(kinks[k]), ca.fmax(z - zk[k], 0.0))
+    return out

@@ -1,0 +1,1 @@
+"""Small mechanisms that test the solvers: pendulums, oscillators, a forced string."""

@@ -239,3 +239,35 @@ def test_sparse_save_times_match_a_dense_run():
     rows = [int(round(t / dt)) for t in sparse.time]
     np.testing.assert_allclose(sparse.states, dense.states[rows], rtol=0,
                                atol=1e-12 * np.max(model.y_scale))
+
+
+def test_start_rates_with_a_badly_scaled_mass_matrix():
+    """v' = M^-1 f at the start for a coupled mass matrix of entries near 1e-13 (a rod's
+    rotary inertia): CasADi's sparse QR alone refused it ('nfact' failed: its pivots fall
+    under an absolute threshold); scaled by the diagonal it is solved to round-off, and a
+    singular one is a ConvergenceError naming the mass matrix."""
+    import casadi as ca
+
+    from symcable.mechanism.mechanism import Layout, Mechanism, ParamBlocks, PartLayout, Scales
+    from symcable.solvers.integrate import start_rates
+
+    def mech(m):
+        q, v, t = ca.SX.sym("q", 2), ca.SX.sym("v", 2), ca.SX.sym("t")
+        params = ParamBlocks(("k",), (1,), np.array([1e-9]))
+        p = ca.SX.sym("p", 1)
+        idx = np.arange(2).reshape(1, 2)
+        return Mechanism(name="tiny", q=q, v=v, z=ca.SX.sym("z", 0), t=t, p=p, params=params,
+                         mass=ca.SX(ca.DM(m)), force=-p[0] * q, constraint=ca.SX.zeros(0, 1),
+                         scales=Scales(q=np.ones(2), v=np.ones(2), z=np.zeros(0), force=1e-9),
+                         starts=tuple, layout=Layout(2, {"tiny": PartLayout(
+                             "point", np.zeros(1), idx, idx.copy())}))
+
+    M = np.array([[2e-13, 1e-13], [1e-13, 3e-13]])
+    q0 = np.array([1.0, -2.0])
+    with pytest.raises(RuntimeError, match="nfact"):  # the unscaled solve
+        ca.solve(ca.DM(M), ca.DM(-1e-9 * q0), "qr")
+    _, a = start_rates(mech(M), q0, np.zeros(2), 0.0, np.array([1e-9]))
+    assert np.allclose(M @ a, -1e-9 * q0, rtol=1e-12, atol=0.0)
+    with pytest.raises(ConvergenceError, match="the mass matrix is singular"):
+        start_rates(mech(np.array([[1.0, 1.0], [1.0, 1.0]])), q0, np.zeros(2), 0.0,
+                    np.array([1e-9]))

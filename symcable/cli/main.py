@@ -257,7 +257,8 @@ def _modes(args) -> int:
     from ..plotting.profiles import plot_modes
 
     scene = load_scene(args.scene)
-    modal = modal_analysis(scene, args.n)
+    modal = modal_analysis(scene, args.n, **({"max_dense": args.max_dense}
+                                             if args.max_dense is not None else {}))
     if scene.model.value in _MODELS_3D:
         from ..plotting.line3d import plot_modes_3d
         _emit(modal, args, lambda path: plot_modes_3d(modal, path))
@@ -344,6 +345,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("scene")
     _output_options(p, "modes")
     p.add_argument("--n", type=int, default=6, help="number of modes (default 6)")
+    p.add_argument("--max-dense", type=int, default=None, metavar="N", help="largest dense "
+                   "eigenproblem (default 3000; a larger symmetric one is solved sparse for a "
+                   "few modes)")
     p = sub.add_parser("codegen", help="write standalone C sources for a scene (with README and main.c)")
     p.add_argument("scene")
     p.add_argument("--out", required=True, metavar="DIR", help="folder to write into (created)")

@@ -216,7 +216,12 @@ def plot_system(result, path: str | Path | None = None, *, scene=None, snapshots
     ax3.set_ylabel("y (m)")
     ax3.set_zlabel("z (m)")
     ax3.set_title("3D view")
-    for ax, (a, b) in views:
+    for ax, (a, b) in views:  # each view spans the scene's extent: round-off stays flat
+        ax.set_xlim(centre[a] - half, centre[a] + half)
+        lo_b, hi_b = centre[b] - half, centre[b] + half
+        if b == 2 and seabed is not None:
+            lo_b = min(lo_b, seabed - 0.05 * extent)
+        ax.set_ylim(lo_b, hi_b)
         ax.set_aspect("equal", adjustable="datalim")
         ax.set_xlabel(f"{'xyz'[a]} (m)")
         ax.set_ylabel(f"{'xyz'[b]} (m)")

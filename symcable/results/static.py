@@ -16,10 +16,15 @@ __all__ = ["Exportable", "ModalSolution", "OneLine", "PointState", "StaticSoluti
 
 
 def _jsonable(v):
+    """``v`` as plain JSON: lists for arrays, and null for a number that is not finite (JSON
+    has no NaN or infinity; a float array reads null back as NaN)."""
     if isinstance(v, np.ndarray):
-        return v.tolist()
+        return _jsonable(v.tolist()) if v.dtype.kind == "f" and not np.all(np.isfinite(v)) \
+            else v.tolist()
     if isinstance(v, (np.floating, np.integer)):
-        return v.item()
+        v = v.item()
+    if isinstance(v, float) and not math.isfinite(v):
+        return None
     if isinstance(v, dict):
         return {k: _jsonable(x) for k, x in v.items()}
     if isinstance(v, (list, tuple)):
@@ -96,6 +101,11 @@ class Exportable:
                 d.update({k: z[k] for k in z.files if k != "__meta__"})
         else:
             raise SymcableError(f"load path = '{path}': suffix must be .npz or .json")
+        return cls.from_dict(d)
+
+    @classmethod
+    def from_dict(cls, d: dict):
+        """The result of :meth:`to_dict`'s dict (arrays as lists or arrays)."""
         d = cls._decode(d)
         kw = {}
         for f in fields(cls):
@@ -107,6 +117,22 @@ class Exportable:
             kw[f.name] = v
         return cls(**kw)
 
+
+
+def _plot_3d(result, path, scene):
+    """A 3D static solution's figure: the lines, points and bodies in a 3D view with the plan
+    and the elevation (:func:`symcable.plotting.bodies.plot_system`), the seabed of ``scene``
+    (when given and it has one) dashed in the elevation."""
+    from ..plotting.bodies import plot_system
+
+    seabed = None
+    if scene is not None:
+        if not hasattr(scene, "environment"):
+            from ..scene import load_scene
+            scene = load_scene(scene)
+        depth = scene.environment.depth
+        seabed = None if depth is None else -float(depth)
+    return plot_system(result, path, scene=scene, seabed=seabed)
 
 
 def _components(f) -> str:
@@ -230,9 +256,7 @@ class StaticSolution(OneLine, Exportable):
         free surface and seabed (see :func:`symcable.plotting.profiles.plot_static`). Returns the
         matplotlib Figure."""
         if self.positions.shape[1] != 2:
-            from ..errors import SymcableError
-            raise SymcableError("StaticSolution.plot: 3D (cable3d) static plots are not built "
-                                "yet; plot positions[:, 0] against positions[:, 2] meanwhile")
+            return _plot_3d(self, path, scene)
         from ..plotting.profiles import plot_static
         return plot_static(self, path, scene=scene)
 
@@ -444,3 +468,66 @@ class SystemStaticSolution:
         if path is not None:
             Path(path).write_text(text)
         return text
+
+    def plot(self, path: str | Path | None = None, scene=None):
+        """The lines, points and bodies in a 3D view with the plan and the elevation (the
+        seabed of ``scene``, when given, dashed), saved to ``path`` when given; returns the
+        matplotlib Figure."""
+        return _plot_3d(self, path, scene)
+
+    def save(self, path: str | Path) -> Path:
+        """Save to ``.json`` (:meth:`to_dict`) or ``.npz`` (each line's arrays under
+        ``lines/<name>/<field>``, the rest as JSON inside), by suffix; :meth:`load` reads
+        either back, every number exactly."""
+        path = Path(path)
+        if path.suffix == ".json":
+            self.to_json(path)
+            return path
+        if path.suffix != ".npz":
+            raise SymcableError(f"save path = '{path}': suffix must be .npz or .json")
+        meta, arrays = self.to_dict(), {}
+        for name, ln in self.lines.items():
+            for f in fields(ln):
+                v = getattr(ln, f.name)
+                if isinstance(v, np.ndarray):
+                    arrays[f"lines/{name}/{f.name}"] = v
+                    meta["lines"][name].pop(f.name)
+        if self.unknowns is not None:
+            arrays["unknowns"] = np.asarray(self.unknowns)
+            meta.pop("unknowns")
+        np.savez(path, __meta__=np.array(json.dumps(meta)), **arrays)
+        return path
+
+    @classmethod
+    def load(cls, path: str | Path) -> "SystemStaticSolution":
+        """Read a solution written by :meth:`save`."""
+        path = Path(path)
+        if path.suffix == ".json":
+            d = json.loads(path.read_text())
+        elif path.suffix == ".npz":
+            with np.load(path, allow_pickle=False) as z:
+                d = json.loads(str(z["__meta__"]))
+                for key in z.files:
+                    if key.startswith("lines/"):
+                        _, name, field_name = key.split("/", 2)
+                        d["lines"][name][field_name] = z[key]
+                    elif key == "unknowns":
+                        d["unknowns"] = z[key]
+        else:
+            raise SymcableError(f"load path = '{path}': suffix must be .npz or .json")
+
+        def state(kind, v):
+            return kind(**{f.name: (np.asarray(v[f.name], dtype=float)
+                                    if isinstance(v.get(f.name), (list, np.ndarray)) else
+                                    v.get(f.name)) for f in fields(kind)})
+
+        lines = {k: StaticSolution.from_dict(v) for k, v in d["lines"].items()}
+        unknowns = d.get("unknowns")
+        return cls(scene_name=d["scene_name"], lines=MappingProxyType(lines),
+                   points=MappingProxyType({k: state(PointState, v)
+                                            for k, v in d["points"].items()}),
+                   status=d["status"], stats=d.get("stats") or {},
+                   warnings=tuple(d.get("warnings") or ()),
+                   unknowns=None if unknowns is None else np.asarray(unknowns, dtype=float),
+                   bodies=MappingProxyType({k: state(BodyState, v)
+                                            for k, v in d.get("bodies", {}).items()}))

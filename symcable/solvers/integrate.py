@@ -71,9 +71,21 @@ def start_rates(mech: Mechanism, q0, v0, t0: float, p) -> tuple[np.ndarray, np.n
     mass = STEP_CACHE.get(mech, ("mass",),
                           lambda: ca.Function("mass", [mech.q, mech.t, mech.p], [mech.mass]))
     M = ca.DM(mass(q0, t0, p))
+    diag = np.asarray(ca.diag(M).full()).ravel()
     if M.sparsity().is_diag() and M.nnz() == mech.n_v:
-        return qd, f / np.asarray(ca.diag(M).full()).ravel()
-    return qd, np.asarray(ca.solve(M, ca.DM(f), "qr").full(), dtype=float).ravel()
+        return qd, f / diag
+    # scaled by its diagonal (S M S y = S f, v' = S y): a rod's rotary inertia (1e-13 kg m^2
+    # and less) beside its nodes' masses is below the sparse QR's absolute pivot threshold
+    scale = np.abs(diag)
+    scale = 1.0 / np.sqrt(np.where(scale > 0.0, scale, 1.0))
+    S = ca.DM(ca.Sparsity.diag(mech.n_v), scale)
+    try:
+        y = ca.solve(ca.mtimes([S, M, S]), ca.DM(scale * f), "qr")
+    except RuntimeError as exc:
+        raise ConvergenceError(f"the mass matrix is singular at the start (t = {t0:g} s): "
+                               f"v' = M^-1 f has no solution ({exc})".replace("\n", " "),
+                               diagnostics={"reason": "mass", "time": t0}) from None
+    return qd, scale * np.asarray(y.full(), dtype=float).ravel()
 
 
 def _initial_state(mech, F, method, q0, v0, z_guess, t0, p):

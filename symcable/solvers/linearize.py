@@ -55,6 +55,9 @@ SYMMETRY_TOL = 1e-10
 ZERO_TOL_SQUARED = 1e-12
 #: state matrix: |lambda| <= this fraction of max |lambda| is a zero eigenvalue
 ZERO_TOL = 1e-9
+#: a symmetric problem of a state size up to this many times max_dense is solved by the
+#: sparse eigensolver for a few modes (its tangents are still formed dense: O(n^2) memory)
+SPARSE_FACTOR = 4
 #: |Re lambda| / |lambda| above this: the linear model is not conservative (a warning)
 REAL_PART_TOL = 1e-6
 
@@ -164,6 +167,37 @@ def _symmetric_modes(mech, Kv, Mr, n_wanted: int):
     return lam, back(Y)
 
 
+def _sparse_symmetric_modes(mech, Kv, Mr, n_wanted: int):
+    """(omega^2 ascending, shapes as columns) of the ``n_wanted`` lowest non-zero modes of
+    ``Kv phi = omega^2 Mr phi`` (both symmetric, sparse in fact) and its zero modes among
+    them, by shift-invert Lanczos (ARPACK through :func:`scipy.sparse.linalg.eigsh`): for a
+    problem above ``max_dense``, where the dense solvers cost n^3. The shift sits just below
+    zero (1e-10 of the largest eigenvalue), so the factorised ``Kv - shift Mr`` is positive
+    definite with rigid modes too and the lowest modes are the best resolved ones. Returns
+    also the largest ratio of the diagonals of ``Kv`` and ``Mr``, about the largest
+    eigenvalue (the scale of the zero tolerance)."""
+    import scipy.sparse as sps
+    from scipy.sparse.linalg import ArpackNoConvergence, eigsh
+
+    K, M = sps.csc_matrix(Kv), sps.csc_matrix(Mr)
+    k = K.shape[0]
+    dk, dm = K.diagonal(), M.diagonal()
+    lam_max = float(np.max(dk / np.where(dm > 0, dm, np.inf)))  # ~ the largest eigenvalue
+    try:
+        sigma = -1e-10 * max(lam_max, 1e-300)
+        n_ask = min(k - 1, n_wanted + 12)  # room for rigid modes
+        lam, Y = eigsh(K, k=n_ask, M=M, sigma=sigma, which="LM")
+    except (ArpackNoConvergence, RuntimeError) as exc:
+        raise SymcableError(f"modal analysis of {mech.name!r}: the sparse eigensolver did not "
+                            f"converge ({exc}); pass a larger max_dense for the dense one")
+    order = np.argsort(lam)
+    lam, Y = lam[order], Y[:, order]
+    if lam[0] < -1e-9 * max(1.0, lam_max):
+        raise SymcableError(f"modal analysis of {mech.name!r}: negative stiffness eigenvalue "
+                            f"{lam[0]:.3g} (the equilibrium is unstable)")
+    return lam, Y, lam_max
+
+
 def _state_matrix_modes(mech, Hd, GN, Kq, Mr):
     """The undamped state matrix [[H, G N], [-Mr^-1 Kq, 0]]: (eigenvalues with Im > 0
     ascending, their displacements in the reduced velocities (rows), zero eigenvalues,
@@ -228,20 +262,22 @@ def mechanism_modes(mech: Mechanism, eq: Equilibrium, n_modes: int | None = None
     definite (every free velocity carries mass); an unstable equilibrium (a negative
     stiffness eigenvalue) is refused. With ``damped=True`` the damping ratios of the complex
     modes of the system with C are returned too, matched to the undamped modes by order.
-    ``max_dense`` is the largest state size n_q + n_v solved (dense: O(n^3) time, O(n^2)
-    memory; at the default 3000 the symmetric problem takes a few seconds (4.6 s measured
-    on one loaded core), the state matrix ~20 s).
+    ``max_dense`` is the largest dense eigenproblem solved: the free velocities of a
+    symmetric problem, else the state size n_q + n_v (O(n^3) time, O(n^2) memory; at the
+    default 3000 a symmetric problem takes about 2 s, the state matrix ~20 s); a symmetric
+    problem up to SPARSE_FACTOR times larger is solved for its ``n_modes`` lowest modes
+    (fewer than half) by sparse shift-invert Lanczos.
     """
     n_state = mech.n_q + mech.n_v
     if isinstance(n_modes, bool) or (n_modes is not None and (int(n_modes) != n_modes
                                                                or n_modes < 1)):
         raise SymcableError(f"n_modes = {n_modes!r}: must be an integer >= 1 (or None: all)")
-    if n_state > max_dense:
+    if n_state > 2 * SPARSE_FACTOR * max_dense:
         raise SymcableError(
-            f"state size n_q + n_v = {n_state} > max_dense = {max_dense}: the dense eigenvalue "
-            f"problem grows as n^3 (~{4 * (n_state / 3000) ** 3:.2g} s as a symmetric "
-            f"problem, ~{20 * (n_state / 3000) ** 3:.2g} s as the state matrix); use a coarser "
-            "discretisation or pass a larger max_dense")
+            f"state size n_q + n_v = {n_state} > {2 * SPARSE_FACTOR} max_dense = "
+            f"{2 * SPARSE_FACTOR * max_dense}: even the sparse eigensolver's dense tangents take "
+            "O(n^2) memory; use a coarser discretisation or pass a larger max_dense "
+            "(symcable modes --max-dense N)")
     t0 = time.perf_counter()
     K, C, M, B, G, H = _tangents(mech, eq)
     Hd = _dense(H)
@@ -262,16 +298,33 @@ def mechanism_modes(mech: Mechanism, eq: Equilibrium, n_modes: int | None = None
     scale = float(np.max(np.abs(Kv))) if Kv.size else 0.0
     symmetric = (not np.any(Hd) and
                  (Kv.size == 0 or float(np.max(np.abs(Kv - Kv.T))) <= SYMMETRY_TOL * scale))
+    size = k if symmetric else n_state  # of the dense eigenproblem
+    sparse = size > max_dense
+    if sparse and not (symmetric and n_modes is not None and int(n_modes) < k // 2
+                       and size <= SPARSE_FACTOR * max_dense):
+        raise SymcableError(
+            f"{'free velocities' if symmetric else 'state size n_q + n_v'} = {size} > "
+            f"max_dense = {max_dense}: the dense eigenvalue problem grows as n^3 "
+            f"(~{(1 if symmetric else 20) * (size / 3000) ** 3:.2g} s), and the sparse one "
+            "takes a symmetric problem, fewer modes than half its size, up to "
+            f"{SPARSE_FACTOR} max_dense; use a coarser discretisation, fewer modes, or pass a "
+            "larger max_dense (symcable modes --max-dense N)")
     if symmetric:
         method, warnings, real = "symmetric (K G, M)", [], None
         n_wanted = k if n_modes is None else int(n_modes)
-        lam, U = _symmetric_modes(mech, 0.5 * (Kv + Kv.T), Mr, n_wanted)
-        lam_max = float(np.max(np.abs(lam))) if lam.size else 0.0
+        if sparse:
+            method = "symmetric (K G, M), sparse shift-invert"
+            lam, U, lam_max = _sparse_symmetric_modes(mech, 0.5 * (Kv + Kv.T), Mr, n_wanted)
+        else:
+            lam, U = _symmetric_modes(mech, 0.5 * (Kv + Kv.T), Mr, n_wanted)
+            lam_max = float(np.max(np.abs(lam))) if lam.size else 0.0
         zero = lam <= ZERO_TOL_SQUARED * lam_max
         zero_tol = float(np.sqrt(ZERO_TOL_SQUARED * lam_max))
         keep = np.flatnonzero(~zero)
         omega, u = np.sqrt(lam[keep]), U[:, keep].T
-        n_zero_ev, n_rigid = mech.n_q + k - 2 * keep.size, int(np.count_nonzero(zero))
+        n_rigid = int(np.count_nonzero(zero))
+        n_nonzero = k - n_rigid if sparse else keep.size  # sparse: those not computed too
+        n_zero_ev = mech.n_q + k - 2 * n_nonzero
     else:
         method, n_rigid = "state matrix", 0
         ev, u, n_zero_ev, zero_tol, warnings = _state_matrix_modes(mech, Hd, GN, Kq, Mr)

@@ -36,19 +36,25 @@ _CACHE: "OrderedDict[str, Mechanism]" = OrderedDict()
 _CACHE_SIZE = 16
 
 
-def cable3d_mechanism(scene: Scene) -> Mechanism:
-    """The scene's cable3d Mechanism (:func:`symcable.models.build_mechanism`: one line's, or
-    for a scene of several lines and points their assembly), built once per scene content
-    (16 most recent)."""
+def cached_mechanism(scene: Scene, build=build_mechanism) -> Mechanism:
+    """``build(scene)`` (default :func:`symcable.models.build_mechanism`), built once per
+    scene content: the 16 most recent Mechanisms of every formulation, in one cache."""
     key = repr(scene.to_dict())
     mech = _CACHE.get(key)
     if mech is None:
-        mech = _CACHE[key] = build_mechanism(scene)
+        mech = _CACHE[key] = build(scene)
         if len(_CACHE) > _CACHE_SIZE:
             _CACHE.popitem(last=False)
     else:
         _CACHE.move_to_end(key)
     return mech
+
+
+def cable3d_mechanism(scene: Scene) -> Mechanism:
+    """The scene's cable3d Mechanism (:func:`symcable.models.build_mechanism`: one line's, or
+    for a scene of several lines and points their assembly), built once per scene content
+    (:func:`cached_mechanism`)."""
+    return cached_mechanism(scene)
 
 
 def check_periodic_3d(scene: Scene) -> None:

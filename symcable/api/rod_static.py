@@ -6,11 +6,11 @@ from __future__ import annotations
 
 import dataclasses
 import time
-from collections import OrderedDict
 
 import numpy as np
 
-from .cable3d_static import FRICTIONLESS, RTOL, _frictionless_statics, _solution
+from .cable3d_static import (FRICTIONLESS, RTOL, _frictionless_statics, _solution,
+                             cached_mechanism)
 from ..errors import ConvergenceError
 from ..models.common.starts import force_scale
 from ..mechanism.mechanism import Mechanism
@@ -25,25 +25,12 @@ from ..solvers.equilibrium import solve_equilibrium
 __all__ = ["ZONE_THRESHOLD", "hybrid_zones", "rod_mechanism", "rod_static_equilibrium",
            "solve_static_rod"]
 
-_CACHE: "OrderedDict[str, Mechanism]" = OrderedDict()
-_CACHE_SIZE = 16
-
-
 def rod_mechanism(scene: Scene) -> Mechanism:
     """The scene's rod or hybrid Mechanism (:func:`symcable.models.build_mechanism`;
     a hybrid with ``zones = "auto"`` resolved first by :func:`hybrid_zones`), built once per
-    scene content (the 16 most recent)."""
-    key = repr(scene.to_dict())
-    mech = _CACHE.get(key)
-    if mech is None:
-        if scene.zones == "auto":
-            scene = hybrid_zones(scene)[0]
-        mech = _CACHE[key] = build_mechanism(scene)
-        if len(_CACHE) > _CACHE_SIZE:
-            _CACHE.popitem(last=False)
-    else:
-        _CACHE.move_to_end(key)
-    return mech
+    scene content (:func:`~symcable.api.cable3d_static.cached_mechanism`)."""
+    return cached_mechanism(scene, lambda s: build_mechanism(
+        hybrid_zones(s)[0] if s.zones == "auto" else s))
 
 
 def rod_static_equilibrium(scene: Scene, *, tol: float | None = None, max_iter: int = 50,

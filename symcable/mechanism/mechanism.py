@@ -51,7 +51,7 @@ def casadi_name(name: str) -> str:
     is one (a letter, then letters, digits and single underscores, not ending in one),
     else its letters and digits joined by single underscores, led by a letter and followed
     by 8 hex digits of its SHA-256, so that two names never map to one (``"my-line"`` ->
-    ``"my_line_4f1c0a2e"``, ``"1"`` -> ``"n1_6b86b273"``)."""
+    ``"my_line_e20e07b7"``, ``"1"`` -> ``"n1_6b86b273"``)."""
     if _CASADI_NAME.fullmatch(name) and name not in ("null", "jac", "hess"):
         return name
     words = re.findall(r"[A-Za-z0-9]+", name)

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from .api.analyses import (build_dynamic_model, end_stiffness, linearize, modal_analysis, simulate,
                   solve_periodic, sweep_periodic)
-from .errors import ConvergenceError, LimitError, SceneError, SymcableError
+from .errors import ConvergenceError, LimitError, ModelNote, SceneError, SymcableError
 from .limits import Limits, limits
 from .models import build_model
 from .results.static import (BodyState, ModalSolution, PointState, StaticSolution,
@@ -50,6 +50,7 @@ __version__ = "0.1.0"
 __all__ = [
     "ConvergenceError",
     "LimitError",
+    "ModelNote",
     "SceneError",
     "SymcableError",
     # resource limits on what an input may make symcable read, allocate or run

@@ -31,6 +31,13 @@ class LimitError(SymcableError, ValueError):
     """
 
 
+class ModelNote(UserWarning):
+    """A note on how an analysis was run that the user did not ask for but should know: e.g.
+    a planar line resting on the seabed whose dynamics run as the 3D cable in its plane.
+    Shown once, like a warning; filter it with ``warnings.simplefilter("ignore",
+    sc.ModelNote)``."""
+
+
 class ConvergenceError(SymcableError, RuntimeError):
     """A solver did not converge.
 

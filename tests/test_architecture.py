@@ -300,6 +300,58 @@ def rule_problems(graph: Graph) -> list:
     return out
 
 
+#: the formulation kinds a scene's ``model`` key takes, and the enum members naming them
+KINDS = ("planar", "cable3d", "rod", "hybrid")
+KIND_MEMBERS = ("PLANAR", "CABLE3D", "ROD", "HYBRID")
+#: where a kind may be named: the formulations and their registry, and the scene reader
+#: (which reads the ``model`` key and says which keys each kind takes)
+MAY_NAME_KINDS = ("models", "scene")
+
+
+def _names_kind(node: ast.AST) -> bool:
+    """Whether ``node`` (a comparison operand) is a kind: a string constant of
+    :data:`KINDS`, a collection of them, ``Model.X`` of :data:`KIND_MEMBERS`, or a scene's
+    ``model`` (``x.model``, ``x.model.value``)."""
+    if isinstance(node, ast.Constant):
+        return node.value in KINDS
+    if isinstance(node, (ast.Tuple, ast.List, ast.Set)):
+        return any(_names_kind(e) for e in node.elts)
+    if isinstance(node, ast.Attribute):
+        if node.attr in KIND_MEMBERS or node.attr == "model":
+            return True
+        return node.attr == "value" and isinstance(node.value, ast.Attribute) \
+            and node.value.attr == "model"
+    return False
+
+
+def kind_problems(src: Path = ROOT, package: str = PACKAGE) -> list:
+    """Messages for every place outside :data:`MAY_NAME_KINDS` that branches on a
+    formulation kind (a comparison with a kind, ``Model.CABLE3D``, a scene's ``model``),
+    and every module outside ``models`` and ``api`` that imports a formulation's own
+    package: the layers above ask the registry (``models.formulation_of``) instead."""
+    out = []
+    modules = find_modules(src, package)
+    graph = import_graph(src, package)
+    for name, path in sorted(modules.items()):
+        if any(_under(name, f"{package}.{m}") for m in MAY_NAME_KINDS):
+            continue
+        tree = ast.parse(path.read_text(), str(path))
+        for node in ast.walk(tree):
+            where = f"{path.relative_to(src)}:{getattr(node, 'lineno', '?')}"
+            if isinstance(node, ast.Compare) and any(
+                    _names_kind(x) for x in [node.left, *node.comparators]):
+                out.append(f"{where}: compares with a formulation kind")
+            elif isinstance(node, ast.Attribute) and node.attr in KIND_MEMBERS:
+                out.append(f"{where}: names Model.{node.attr}")
+        if name == package or _under(name, f"{package}.api"):
+            continue
+        for t, at in sorted(graph.get(name, {}).items()):
+            if any(_under(t, f"{package}.models.{f}") for f in FORMULATIONS):
+                out.append(f"{name} imports {t} at {', '.join(at)}: only models and api "
+                           "import a formulation's package")
+    return out
+
+
 # --------------------------------------------------------------------------- the tests
 
 def test_symcable_layers_and_no_cycles():
@@ -313,6 +365,35 @@ def test_formulations_solvers_and_api_rules():
     the solvers never import a formulation; only the API imports both."""
     found = rule_problems(import_graph())
     assert not found, "\n" + "\n".join(found)
+
+
+def test_nothing_outside_models_names_a_formulation_kind():
+    """design.md's rule: the API, CLI, results, plots, export and sweeps read the
+    formulation's capabilities (models.formulation_of) and the Mechanism's layout; only
+    models/ (and the scene reader) name the kinds."""
+    found = kind_problems()
+    assert not found, "\n" + "\n".join(found)
+
+
+def test_kind_checker_finds_each_form(tmp_path):
+    pkg = tmp_path / "pkg"
+    (pkg / "models" / "rod").mkdir(parents=True)
+    for f in ("__init__.py", "models/__init__.py", "models/rod/__init__.py"):
+        (pkg / f).write_text("")
+    (pkg / "models" / "rod" / "x.py").write_text("A = 1\nif 'rod' == 'rod': pass\n")
+    (pkg / "cli.py").write_text(
+        "from .models.rod import x\n"
+        "def f(scene, Model):\n"
+        "    if scene.model.value in ('rod', 'hybrid'): pass\n"
+        "    if scene.model is Model.CABLE3D: pass\n"
+        "    if kind == 'planar': pass\n"
+        "    text = 'a planar line'\n")
+    found = kind_problems(tmp_path, "pkg")
+    lines = {f.split(": ")[0].rsplit(":", 1)[-1] for f in found if "compares" in f}
+    assert lines == {"3", "4", "5"}, found  # not line 6: naming a kind in text is fine
+    assert sum("names Model.CABLE3D" in f for f in found) == 1, found
+    assert any(f.startswith("pkg.cli imports pkg.models.rod") for f in found), found
+    assert not any("models/rod/x.py" in f for f in found), found  # inside models: allowed
 
 
 def test_rule_checker_finds_each_kind():

@@ -12,6 +12,7 @@ from __future__ import annotations
 import math
 import time
 import warnings as _warnings
+from collections import OrderedDict
 from typing import Mapping, Sequence
 
 import numpy as np
@@ -21,8 +22,8 @@ from ..results.periodic import PeriodicSolution, PeriodicSweep
 from ..results.trajectory import Trajectory
 from ..scene import Scene, load_scene
 from ..results.static import ModalSolution
-from ..errors import SymcableError
-from ..models import build_model
+from ..errors import ModelNote, SymcableError
+from ..models import build_model, formulation_of
 from ..mechanism.mechanism import Start
 from ..models.planar.static import static_mechanism
 from ..solvers.equilibrium import solve_equilibrium
@@ -35,26 +36,72 @@ from ..results.generic import Equilibrium, SceneLinearization
 from .planar_static import solve_static
 from . import cable3d as _c3
 from . import cable3d_periodic as _c3p
-from . import scene3d as _s3d
-from ..scene import Model
 
-__all__ = ["build_dynamic_model", "modal_analysis", "simulate", "solve_periodic", "sweep_periodic"]
+__all__ = ["build_dynamic_model", "dynamics_scene", "modal_analysis", "runs_on_mechanism",
+           "simulate", "solve_periodic", "sweep_periodic"]
 
 
-def _cable3d(scene, **unsupported):
-    """The loaded scene when it is a cable3d, rod or hybrid scene (its analyses live in
-    :mod:`symcable.api.cable3d`), else None; an argument only the planar path takes, given
-    for a cable3d scene, is an error naming it."""
+def dynamics_scene(scene) -> Scene:
+    """The scene whose dynamics the analyses of ``scene`` run: ``scene`` itself, or the
+    stand-in of a linearised formulation that cannot represent them
+    (:attr:`~symcable.models.Formulation.stand_in`: the planar line resting on the seabed
+    as the 3D cable in its plane). Solves the static state of a linearised scene once (its
+    dynamic model is then built and cached for the analyses)."""
+    scene = load_scene(scene)
+    form = formulation_of(scene)
+    if not form.linearised or form.stand_in is None or cached_dynamic_model(scene) is not None:
+        return scene
+    key = repr(scene.to_dict())
+    if key not in _STAND_INS:
+        static = solve_static(scene)
+        stand_in = form.stand_in(scene, static)
+        if stand_in is None:  # the linearised path takes it: its model built once, here
+            cache_dynamic_model(scene, linearised_model(scene, static))
+            return scene
+        _STAND_INS[key] = stand_in
+        if len(_STAND_INS) > 16:
+            _STAND_INS.popitem(last=False)
+    return _STAND_INS[key]
+
+
+def runs_on_mechanism(scene) -> bool:
+    """Whether the dynamic analyses of ``scene`` run on its Mechanism (or its stand-in's)
+    rather than on a linearised model: their results are then the Mechanism path's
+    (:mod:`symcable.api.cable3d`), and their options (``start``, ``stability``) apply."""
+    return not formulation_of(dynamics_scene(scene)).linearised
+
+
+_STAND_INS: "OrderedDict[str, Scene]" = OrderedDict()
+
+
+def _nonlinear(scene, **linearised_only):
+    """The scene the Mechanism path runs (:mod:`symcable.api.cable3d`), or None when the
+    scene takes the linearised path (:mod:`symcable.api.planar_time`,
+    :mod:`symcable.api.planar_periodic`): :func:`dynamics_scene`, with a
+    :class:`~symcable.errors.ModelNote` when that is a stand-in. An argument only the
+    linearised path takes (``linearised_only``), given for a scene that runs on its
+    Mechanism, is an error naming it; given for a linearised scene, it keeps the scene on
+    its linearised path.
+    """
     if scene is None:
         return None
     scene = load_scene(scene)
-    if scene.model is not Model.CABLE3D and not _s3d.is_rod(scene):
-        return None
-    for key, value in unsupported.items():
-        if value is not None:
-            raise SymcableError(f"{key} = <{type(value).__name__}>: not for a "
-                                f"{scene.model.value} scene (its "
-                                "analyses build their own Mechanism from the scene)")
+    given = {k: v for k, v in linearised_only.items() if v is not None}
+    if formulation_of(scene).linearised:
+        if given:
+            return None
+        run = dynamics_scene(scene)
+        if run is scene:
+            return None
+        _warnings.warn(f"{scene.name}: the static line rests on the seabed, which the "
+                       f"linearised {scene.model.value} dynamics do not model; its dynamics "
+                       f"run as model = {run.model.value!r} in its plane (positions "
+                       "[x, 0, z])", ModelNote, stacklevel=3)
+        return run
+    for key, value in given.items():
+        raise SymcableError(f"{key} = <{type(value).__name__}>: not for a "
+                            f"{scene.model.value} scene (its analyses build their own "
+                            "Mechanism from the scene)")
     return scene
 
 
@@ -159,7 +206,7 @@ def simulate(scene, duration: float, dt: float | None = None, method: str = "gen
         Mechanism's q or v).
     """
     started = time.perf_counter()
-    s3 = _cable3d(scene, model=model, params=params)
+    s3 = _nonlinear(scene, model=model, params=params)
     if s3 is not None:
         return _c3.simulate_3d(s3, duration, dt, method,
                                rho_inf=_c3.RHO_INF if rho_inf is None else rho_inf,
@@ -253,7 +300,8 @@ def solve_periodic(scene, method="shooting", *, model: DynamicModel | None = Non
         a PeriodicSolution with status "failed", ``diagnostics`` the solver's status.
     """
     started = time.perf_counter()
-    s3 = _cable3d(scene, model=model, params=params, initial=initial, ipopt_options=ipopt_options)
+    s3 = _nonlinear(scene, model=model, params=params, initial=initial,
+                    ipopt_options=ipopt_options)
     if s3 is not None:
         return _c3p.solve_periodic_3d(s3, method, codegen=codegen, tol=tol, **options)
     if model is None:
@@ -290,7 +338,7 @@ def sweep_periodic(scene, periods: Sequence[float], method="collocation", *,
         When every period fails.
     """
     started = time.perf_counter()
-    s3 = _cable3d(scene, model=model, ipopt_options=ipopt_options)
+    s3 = _nonlinear(scene, model=model, ipopt_options=ipopt_options)
     if s3 is not None:
         return _c3p.sweep_periodic_3d(s3, periods, method, resolution=resolution, codegen=codegen,
                                      tol=tol, **options)
@@ -354,7 +402,7 @@ def modal_analysis(scene, n_modes: int = 10, *, model: DynamicModel | None = Non
         raise SymcableError(f"n_modes = {n_modes!r}: must be an integer >= 1")
     if codegen is not None and not isinstance(codegen, bool):
         raise SymcableError(f"codegen = {codegen!r}: must be True, False or None (automatic)")
-    s3 = _cable3d(scene, model=model)
+    s3 = _nonlinear(scene, model=model)
     if s3 is not None:
         return _c3.modal_analysis_3d(s3, n_modes, max_dense=max_dense)
     if model is None:
@@ -423,7 +471,7 @@ def end_stiffness(scene, end: str = "b", *, static=None) -> np.ndarray:
     if str(getattr(cond, "value", cond)) != "pinned":
         raise SymcableError(f"end_{end}.condition = {getattr(cond, 'value', cond)!r}: the end "
                             "stiffness is defined for a pinned end (a prescribed position)")
-    if scene.model is Model.CABLE3D or _s3d.is_rod(scene):
+    if not formulation_of(scene).linearised:
         if static is not None:
             raise SymcableError("static = <StaticSolution>: not for a cable3d scene (its "
                                 "equilibrium is solved here)")
@@ -451,9 +499,10 @@ def linearize(scene, *, undamped: bool = False, static=None) -> SceneLinearizati
         them (its frequencies are the undamped eigenvalues of the state matrix).
     static : StaticSolution, optional
     """
+    s3 = _nonlinear(scene, static=static)
+    if s3 is not None:
+        return _c3.linearize_3d(s3, undamped=undamped)
     scene = load_scene(scene)
-    if _cable3d(scene, static=static) is not None:
-        return _c3.linearize_3d(scene, undamped=undamped)
     model = build_model(scene)
     st = solve_static(scene, model=model) if static is None else static
     dyn = build_dynamic_model(scene, static=st)

@@ -28,7 +28,7 @@ from ..results.generic import SceneLinearization
 from ..scene import End, EndCondition, Scene
 from .cable3d_static import body_stiffness, dynamic_p, node_shapes
 from ..models.rod.reanchor import reanchor_hook
-from .scene3d import (dynamics_mechanism, is_rod, rod_line, scene_equilibrium, start_state,
+from .scene3d import (dynamics_mechanism, has_twists, rod_line, scene_equilibrium, start_state,
                       twist_names, twist_shapes)
 from ..solvers.integrate import ERROR_TARGET, accurate_dt, error_warning, integrate
 from ..solvers.march import leaky_sum
@@ -223,7 +223,7 @@ def _line_result(scene, mech, tr, method: str, dt: float, stats: dict, warnings,
         stats, warnings = _with_tension_estimate(dict(stats), warnings, tr, ends, opts, period,
                                                  method)
     common = dict(method=method, dt=float(dt), status=tr.status, stats=stats)
-    if scene.version == 1 and is_rod(scene):
+    if scene.version == 1 and has_twists(scene):
         return rod_line(scene, mech, t, tr.outputs, warnings, common)
     if scene.version == 1:
         return line_from_outputs(scene.name, t, tr.outputs, mech.layout.parts["line"].s,
@@ -286,7 +286,7 @@ def simulate_3d(scene: Scene, duration: float, dt: float | None = None,
     kw = dict(method=opts, t0=t0, start=eq, v0=v0, p=mech.params.values, save_every=save_every,
               save_times=save_times, progress=progress, codegen=codegen, label=name,
               period=_period(scene),
-              reanchor=reanchor_hook(mech) if is_rod(scene) else None)
+              reanchor=reanchor_hook(mech) if has_twists(scene) else None)
     try:
         tr = integrate(mech, duration, dt, **kw)
     except ConvergenceError as exc:
@@ -329,7 +329,7 @@ def modal_analysis_3d(scene: Scene, n_modes: int = 10, *, max_dense: int = MAX_D
              "max_relative_real_part": st.get("max_relative_real_part"), "model_time": t_static,
              "jacobian_time": st.get("linearize_time"), "eig_time": st.get("eig_time"),
              "wall_time": time.perf_counter() - started}
-    tws = twist_shapes(mech, modes.velocity_shapes) if is_rod(scene) else None
+    tws = twist_shapes(mech, modes.velocity_shapes) if has_twists(scene) else None
     if tws is not None:  # each mode's twist angles (rad per unit largest node displacement)
         stats["twist_shapes"] = tws.tolist()
     if damped and modes.damping_ratios is not None:
@@ -383,7 +383,7 @@ def linearize_3d(scene: Scene, *, undamped: bool = False) -> SceneLinearization:
     if undamped:
         C = np.zeros_like(C)
     q_kinds, v_kinds = mech.coordinate_names(tagged=scene.version == 2)
-    if is_rod(scene):  # the twists: "edge{j}.twist"
+    if has_twists(scene):  # the twists: "edge{j}.twist"
         q_kinds, v_kinds = (twist_names(k, mech) for k in (q_kinds, v_kinds))
     ends = {}
     if scene.version == 1:

@@ -280,9 +280,9 @@ def offset_sweep(scene, body: str, offsets, *, about: str = "equilibrium",
     """
     t0 = time.perf_counter()
     scene = load_scene(scene)
-    if scene.model != "cable3d" or not scene.bodies:
-        raise SceneError(f"scene {scene.name!r}: an offset sweep needs a cable3d scene with "
-                         "bodies ([bodies.NAME])")
+    if not getattr(scene, "bodies", None):
+        raise SceneError(f"scene {scene.name!r}: an offset sweep needs a scene with bodies "
+                         "([bodies.NAME] of a model = \"cable3d\" scene)")
     if body not in scene.bodies:
         raise SceneError(f"body = {body!r}: no such body in scene {scene.name!r}; its bodies: "
                          f"{', '.join(scene.bodies)}")

@@ -13,7 +13,7 @@ import numpy as np
 
 from ..mechanism.functions import functions
 from ..errors import ConvergenceError, SymcableError
-from ..models import build_model
+from ..models import build_model, formulation_of
 from ..models.planar.base import Model
 from ..models.planar.static import static_mechanism
 from ..results.static import StaticSolution
@@ -74,17 +74,18 @@ def solve_static(scene, *, tol: float | None = None, max_iter: int = 50,
     """
     if not isinstance(scene, Scene):
         scene = load_scene(scene)
-    if scene.model.value == "cable3d":
+    form = formulation_of(scene)
+    if not form.linearised:
         if model is not None:
-            raise SymcableError("solve_static(model=...): a planar Model; a cable3d scene "
-                                "builds its own Mechanism (leave model out)")
-        from .cable3d_static import solve_static_3d
-        return solve_static_3d(scene, tol=tol, max_iter=max_iter, continuation=continuation,
-                               codegen=codegen)
-    if scene.model.value in ("rod", "hybrid") and model is None:
-        from .rod_static import solve_static_rod
-        return solve_static_rod(scene, tol=tol, max_iter=max_iter, continuation=continuation,
-                                codegen=codegen)
+            raise SymcableError(f"solve_static(model=...): a planar Model; a "
+                                f"{scene.model.value} scene builds its own Mechanism (leave "
+                                "model out)")
+        if form.twists:
+            from .rod_static import solve_static_rod as solve
+        else:
+            from .cable3d_static import solve_static_3d as solve
+        return solve(scene, tol=tol, max_iter=max_iter, continuation=continuation,
+                     codegen=codegen)
     t0 = time.perf_counter()
     model = model or build_model(scene)
     mech = static_mechanism(model)

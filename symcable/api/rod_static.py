@@ -15,8 +15,8 @@ from ..errors import ConvergenceError
 from ..models.common.starts import force_scale
 from ..mechanism.mechanism import Mechanism
 from ..models import build_mechanism
-from ..models.rod.hybrid_terms import rod_runs
-from ..models.rod.rod import build_rod, rod_table
+from ..models.rod.rod import rod_table
+from ..models.rod.zones import probe_mechanism, zoned_scene
 from ..results.static import StaticSolution
 from .rod_fields import tension_shear
 from ..scene import Scene
@@ -101,63 +101,14 @@ ZONE_GROW = 1.5
 def hybrid_zones(scene: Scene, threshold: float = ZONE_THRESHOLD,
                  grow: float = ZONE_GROW) -> tuple[Scene, dict]:
     """``(scene, report)``: a ``zones = "auto"`` hybrid with its rod sections chosen (any
-    other scene is returned as it is, with an empty report).
-
-    The line is solved at rest with every section cable3d (cable3d's own bending where
-    EI > 0; a guided end held by it: :func:`~symcable.models.rod.rod.build_rod` with no rod
-    edge but an end's that takes a moment), and a segment becomes a rod where its bending length sqrt(EI / T) exceeds
-    ``threshold`` times the line's length L, T the tension (the internal force along the
-    segment; T <= 0: a rod), among the segments whose line type has EI > 0 and GJ > 0;
-    an end's segment also where the end is guided, takes a moment or a clamp gives
-    ``twist_deg``. Each
-    zone is grown by ``grow`` x ``threshold`` x L on both sides, to whole segments (within
-    the candidates). Sections are split at the zones' ends (the segment table is
-    unchanged), the rod runs marked ``model = "rod"``, the rest ``"cable3d"``. The
-    report: ``zones`` [(s_start, s_end)] m of the rod runs, ``threshold``, ``grow``,
-    ``bending_length`` per segment (m, inf where T <= 0), ``message`` (one line)."""
+    other scene is returned as it is, with an empty report): the line solved at rest with
+    every section a cable (:func:`~symcable.models.rod.zones.probe_mechanism`), its rod
+    zones and the report as :func:`~symcable.models.rod.zones.zoned_scene` gives them."""
     if scene.zones != "auto":
         return scene, {"zones": [], "threshold": threshold, "grow": grow,
                        "message": "zones given"}
-    given = dataclasses.replace(scene, zones="given", sections=tuple(
-        dataclasses.replace(s, model=None) for s in scene.sections))
-    seg = rod_table(scene)
-    N = len(seg["ds"])
-    first = np.zeros(N, bool)  # an end moment needs a rod edge to act on, even here
-    for end, j in ((scene.end_a, 0), (scene.end_b, N - 1)):
-        first[j] = end.moment is not None
-    mech = build_rod(given, first)
-    tol = max(RTOL * force_scale(scene, seg), 10 * mech.scales.residual_floor)
+    mech = probe_mechanism(scene)
+    tol = max(RTOL * force_scale(scene, rod_table(scene)), 10 * mech.scales.residual_floor)
     eq = solve_equilibrium(mech, tol=tol, codegen=False)
-    X, f = np.asarray(eq.outputs["positions"]), np.asarray(eq.outputs["internal_force"])
-    t = np.diff(X, axis=0)
-    T = np.sum(f * t, axis=1) / np.linalg.norm(t, axis=1)
-    ok = (seg["EI"] > 0) & (seg["EI2"] > 0) & (seg["GJ"] > 0)
-    lam = np.where(T > 0, np.sqrt(seg["EI"] / np.maximum(T, 1e-300)), np.inf)
-    rod = ok & (lam > threshold * scene.length)
-    a, b = scene.end_a, scene.end_b
-    for end, j in ((a, 0), (b, N - 1)):
-        if end.guided or end.twist_deg is not None or end.moment is not None:
-            rod[j] = True
-    s = seg["s"]
-    mid = 0.5 * (s[:-1] + s[1:])
-    width = grow * threshold * scene.length
-    for j0, j1 in rod_runs(rod.copy()):
-        rod |= ok & (mid > s[j0] - width) & (mid < s[j1 + 1] + width)
-    sections, j0 = [], 0
-    for sec in scene.sections:
-        mask = rod[j0:j0 + sec.segments]
-        k = 0
-        while k < sec.segments:
-            n = int(np.argmax(mask[k:] != mask[k])) or sec.segments - k
-            sections.append(dataclasses.replace(sec, length=sec.ds * n, segments=n,
-                                                model="rod" if mask[k] else "cable3d"))
-            k += n
-        j0 += sec.segments
-    zones = [(float(s[j0]), float(s[j1 + 1])) for j0, j1 in rod_runs(rod)]
-    where = ", ".join(f"{x0:.4g}-{x1:.4g} m" for x0, x1 in zones) or "none"
-    msg = (f"zones = 'auto': rod on {where} of {scene.length:.4g} m (bending length "
-           f"sqrt(EI/T) > {threshold:g} L = {threshold * scene.length:.4g} m, grown by "
-           f"{width:.4g} m)")
-    return (dataclasses.replace(scene, zones="given", sections=tuple(sections)),
-            {"zones": zones, "threshold": threshold, "grow": grow, "bending_length": lam,
-             "message": msg})
+    return zoned_scene(scene, eq.outputs["positions"], eq.outputs["internal_force"],
+                       threshold, grow)

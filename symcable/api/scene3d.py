@@ -1,8 +1,8 @@
-"""Which Mechanism and which static state a 3D scene's analyses take: cable3d's, or for a
-``model = "rod"`` (or ``"hybrid"``) scene the rod's (:mod:`symcable.api.rod_static`): the one
-place that dispatches on the model (:mod:`symcable.api.cable3d` and
-:mod:`symcable.api.cable3d_periodic` run every scene through it), and the rod's extras in the
-3D results (its series, twist mode shapes, twist coordinate names).
+"""Which Mechanism and which static state the Mechanism path's analyses take: the cable's,
+or for a formulation with twists (:attr:`~symcable.models.Formulation.twists`, a rod) the
+rod's (:mod:`symcable.api.rod_static`): the one place that asks (:mod:`symcable.api.cable3d`
+and :mod:`symcable.api.cable3d_periodic` run every scene through it), and the twists' extras
+in the results (the rod's series, twist mode shapes, twist coordinate names).
 """
 from __future__ import annotations
 
@@ -14,6 +14,7 @@ import numpy as np
 from .cable3d_static import (cable3d_mechanism, check_periodic_3d, run_start_state,
                              static_equilibrium)
 from ..errors import SymcableError
+from ..models import formulation_of
 from ..models.rod.spin import with_reference_spin
 from ..models.common.tow import held_tows
 from ..results.line3d import LineTrajectory, line_from_outputs
@@ -21,33 +22,32 @@ from .rod_fields import tension_shear
 from .rod_static import rod_mechanism, rod_static_equilibrium
 from ..scene import Scene
 
-__all__ = ["ROD_MODELS", "ROD_SERIES", "check_periodic_scene", "dynamics_mechanism", "is_rod",
+__all__ = ["ROD_SERIES", "check_periodic_scene", "dynamics_mechanism", "has_twists",
            "rod_line", "scene_equilibrium", "scene_mechanism", "start_state", "twist_names",
            "twist_shapes"]
 
-#: the models whose Mechanism is the rod's (:mod:`symcable.api.rod_static`)
-ROD_MODELS = ("rod", "hybrid")
 #: the rod's outputs a time or periodic result carries in ``stats["outputs"]`` (name ->
 #: array (n_t, ...)), beyond the cable's series (see :mod:`symcable.models.rod.rod`)
 ROD_SERIES = ("twist_angles", "curvature", "twist", "bending_moment", "twisting_moment",
               "internal_force", "reference_frame", "kinetic_energy", "potential_energy")
 
-def is_rod(scene: Scene) -> bool:
-    """Whether the scene's Mechanism is the rod's (``model`` in :data:`ROD_MODELS`)."""
-    return str(getattr(scene.model, "value", scene.model)) in ROD_MODELS
+def has_twists(scene: Scene) -> bool:
+    """Whether the scene's formulation carries twists and material frames (a rod's
+    Mechanism, :mod:`symcable.api.rod_static`)."""
+    return formulation_of(scene).twists
 
 
 def scene_mechanism(scene: Scene):
     """The scene's Mechanism: the rod's for a rod or hybrid scene, else cable3d's (each
     built once per scene content)."""
-    return rod_mechanism(scene) if is_rod(scene) else cable3d_mechanism(scene)
+    return rod_mechanism(scene) if has_twists(scene) else cable3d_mechanism(scene)
 
 
 def scene_equilibrium(scene: Scene, **options):
     """``(mechanism, Equilibrium)``: the scene at rest, by the rod's static solve for a rod
     or hybrid scene, else cable3d's (``options``: ``tol``, ``max_iter``, ``continuation``,
     ``codegen``, as :func:`~symcable.api.cable3d_static.static_equilibrium`)."""
-    solve = rod_static_equilibrium if is_rod(scene) else static_equilibrium
+    solve = rod_static_equilibrium if has_twists(scene) else static_equilibrium
     return solve(scene, **options)
 
 
@@ -57,12 +57,12 @@ def dynamics_mechanism(scene: Scene, mech):
     (:func:`~symcable.models.rod.spin.with_reference_spin`: the motion then independent of
     when the frames are re-anchored), else ``mech`` itself. The same q, v and p: a static
     state of ``mech`` is one of it."""
-    return with_reference_spin(mech) if is_rod(scene) else mech
+    return with_reference_spin(mech) if has_twists(scene) else mech
 
 
 def check_periodic_scene(scene: Scene) -> None:
     """:func:`~symcable.api.cable3d_static.check_periodic_3d`, for the scene's own Mechanism."""
-    if is_rod(scene):
+    if has_twists(scene):
         from ..solvers.periodic_mech import check_periodic
         check_periodic(rod_mechanism(scene))
     else:
@@ -72,7 +72,7 @@ def check_periodic_scene(scene: Scene) -> None:
 def start_state(scene: Scene, t0: float, start: str | None, codegen):
     """:func:`~symcable.api.cable3d_static.run_start_state`; a rod or hybrid scene starts from
     its static state at rest (a tow is refused: its steady start is cable3d's for now)."""
-    if not is_rod(scene):
+    if not has_twists(scene):
         return run_start_state(scene, t0, start, codegen=codegen)
     tows, _ = held_tows(scene, t0)
     if tows or start == "steady":

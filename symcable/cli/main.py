@@ -19,10 +19,6 @@ from pathlib import Path
 from ..errors import SymcableError
 from ..limits import OPTIONS, Limits, limits
 
-#: the models whose scenes take the 3D line's analyses and plots (symcable.api.cable3d)
-_MODELS_3D = ("cable3d", "rod", "hybrid")
-
-
 def _scene_summary(scene, n_unknowns: int, terms) -> str:
     lines = [f"scene      {scene.name}  ({scene.source})",
              f"model      {scene.model.value}: {n_unknowns} unknowns, terms: {', '.join(terms)}",
@@ -33,8 +29,8 @@ def _scene_summary(scene, n_unknowns: int, terms) -> str:
         lt = sec.line_type
         ei = f"EI {lt.EI:.4g} N m^2" if getattr(lt, "EI_2", None) is None else \
             f"EI {lt.EI:.4g}, {lt.EI_2:.4g} N m^2"
-        rod = scene.model.value == "rod" or getattr(sec, "model", None) == "rod"
-        kind = f", {sec.model or 'cable3d'}" if scene.model.value == "hybrid" else ""
+        rod = getattr(lt, "GJ", None) is not None and lt.GJ > 0
+        kind = f", {sec.model}" if getattr(sec, "model", None) else ""
         lines.append(f"  section {k}: {sec.length:.3f} m of '{lt.name}' in {sec.segments} segments "
                      f"(EA {lt.EA:.4g} N, {ei}" + (f", GJ {lt.GJ:.4g} N m^2" if rod else "")
                      + f", w {lt.weight:.4g} N/m{kind})")
@@ -47,7 +43,7 @@ def _scene_summary(scene, n_unknowns: int, terms) -> str:
             extra += f" at ({', '.join(f'{v:.3f}' for v in end.position)}) m"
         if end.angle_deg is not None:
             extra += f", angle {end.angle_deg:g} deg"
-        if getattr(end, "direction", None) is not None and scene.model.value != "planar":
+        if getattr(end, "direction", None) is not None:
             extra += f", direction ({', '.join(f'{v:.4g}' for v in end.direction)})"
         if getattr(end, "twist_deg", None) is not None:
             extra += f", twist {end.twist_deg:g} deg"
@@ -123,11 +119,13 @@ def _static(scene_path, args) -> int:
 
 
 def _check(args) -> int:
-    from ..models import build_model
+    from ..api.analyses import dynamics_scene
+    from ..api.planar_static import solve_static
+    from ..models import build_model, formulation_of
     from ..scene import load_scene, moordyn_deck
 
     scene = load_scene(args.scene)
-    if scene.model.value in _MODELS_3D:
+    if not formulation_of(scene).linearised:
         from ..api.scene3d import scene_mechanism
         mech = scene_mechanism(scene)
         print(_scene_summary(scene, mech.n_q, mech.terms))
@@ -142,19 +140,23 @@ def _check(args) -> int:
         print("ok")
         return 0
     # a moving scene: its dynamics are linearised about the static state, so whether they
-    # can run is only known from that state (a line resting on the seabed cannot yet)
-    from ..models.planar.dynamics import dynamics_refusal
-    from ..api.planar_static import solve_static
-
+    # can run, and how, is only known from that state
     static = solve_static(scene, codegen=False)
-    refusal = dynamics_refusal(scene, static)
-    if refusal is not None:
-        print(f"dynamics   refused: {refusal}")
+    try:
+        run = dynamics_scene(scene)
+    except SymcableError as exc:
+        print(f"dynamics   refused: {exc}")
         print("not ok: the scene's motion cannot run (simulate and periodic would refuse it; "
               "static runs)")
         return 1
-    print(f"dynamics   ok: linearised about the static state (fairlead tension "
-          f"{static.fairlead_tension / 1e3:.4g} kN, grounded length {static.grounded_length:.3g} m)")
+    if run is not scene:
+        print(f"dynamics   ok: the static line rests {static.grounded_length:.4g} m on the "
+              f"seabed, which the linearised dynamics do not model; simulate, periodic and "
+              f"modes run it as model = {run.model.value!r} in its plane")
+    else:
+        print(f"dynamics   ok: linearised about the static state (fairlead tension "
+              f"{static.fairlead_tension / 1e3:.4g} kN, grounded length "
+              f"{static.grounded_length:.3g} m)")
     print("ok")
     return 0
 
@@ -195,6 +197,7 @@ def _simulate(args) -> int:
     from ..scene import load_scene
     from ..api.analyses import simulate
     from ..plotting.profiles import plot_trajectory
+    from ..results.trajectory import Trajectory
 
     scene = load_scene(args.scene)
     motions = [e.motion for e in (scene.end_a, scene.end_b) if e is not None and e.motion] \
@@ -211,8 +214,8 @@ def _simulate(args) -> int:
         from ..plotting.tows import plot_tow
         _emit(traj, args, lambda path: plot_tow(traj, scene, path))
         return _exit_status(traj)
-    _emit(traj, args, lambda path: (_plot_3d(traj, scene, path) if scene.model.value in
-                                    _MODELS_3D else plot_trajectory(traj, path)))
+    _emit(traj, args, lambda path: (plot_trajectory(traj, path) if isinstance(traj, Trajectory)
+                                    else _plot_3d(traj, scene, path)))
     return _exit_status(traj)
 
 
@@ -234,16 +237,16 @@ def _plot_3d(res, scene, path):
 
 def _periodic(args) -> int:
     from ..scene import load_scene
-    from ..api.analyses import solve_periodic
+    from ..api.analyses import runs_on_mechanism, solve_periodic
     from ..plotting.profiles import plot_periodic
+    from ..results.periodic import PeriodicSolution
 
     scene = load_scene(args.scene)
-    c3 = scene.model.value in _MODELS_3D
-    # cable3d: the Floquet multipliers too (the planar path does not take stability)
-    per = solve_periodic(scene, method=args.method,
-                         **({"stability": not args.no_stability} if c3 else {}))
-    _emit(per, args, lambda path: (_plot_3d(per, scene, path) if c3 else
-                                   plot_periodic(per, path)))
+    # on the Mechanism: the Floquet multipliers too (the linearised path does not take them)
+    per = solve_periodic(scene, method=args.method, **(
+        {"stability": not args.no_stability} if runs_on_mechanism(scene) else {}))
+    _emit(per, args, lambda path: (plot_periodic(per, path) if isinstance(per, PeriodicSolution)
+                                   else _plot_3d(per, scene, path)))
     if "floquet_max" in per.stats and not args.json:
         print(f"stable: {'yes' if per.stats['stable'] else 'no'}, largest Floquet multiplier "
               f"|mu| = {per.stats['floquet_max']:.6g} (margin {per.stats['floquet_margin']:g}, "
@@ -259,7 +262,7 @@ def _modes(args) -> int:
     scene = load_scene(args.scene)
     modal = modal_analysis(scene, args.n, **({"max_dense": args.max_dense}
                                              if args.max_dense is not None else {}))
-    if scene.model.value in _MODELS_3D:
+    if modal.positions.shape[-1] == 3:
         from ..plotting.line3d import plot_modes_3d
         _emit(modal, args, lambda path: plot_modes_3d(modal, path))
         return 0

@@ -3,8 +3,9 @@
 Each formulation lives in its own package (``planar``, ``cable3d``, ``rod`` with the hybrid,
 ``body``, ``toys``) and imports only :mod:`symcable.scene`, :mod:`symcable.mechanism`,
 :mod:`.common` (the shared physics) and :mod:`symcable.analytic`, never another formulation.
-:data:`FORMULATIONS` maps a scene's kind to the function that builds its Mechanism;
-:func:`build_mechanism` is the one entry. A scene of several lines, points and bodies is
+:data:`FORMULATIONS` maps a scene's kind to its :class:`Formulation` (how it builds its
+Mechanism, which path its analyses take); :func:`build_mechanism` is the one entry, and
+:func:`formulation_of` what the layers above ask instead of naming the kind. A scene of several lines, points and bodies is
 assembled from its parts by :mod:`.system`.
 
 The planar formulation also keeps its own records (:class:`~.planar.base.Model`, the
@@ -13,7 +14,9 @@ linearised :class:`~.planar.dynamic.DynamicModel`), built by :func:`build_model`
 """
 from __future__ import annotations
 
+import dataclasses
 from collections import OrderedDict
+from typing import Callable
 
 from ..errors import SymcableError
 from ..scene import Model as ModelKind, Scene, load_scene
@@ -23,10 +26,11 @@ from .cable3d.line import build_cable3d
 from .planar.model import build_planar
 from .planar.dynamics import build_planar_dynamics
 from .planar.static import static_mechanism
+from .planar.in_plane import nonlinear_stand_in
 from .rod.hybrid import build_hybrid, is_cable
 from .system import build_system
 
-__all__ = ["FORMULATIONS", "DynamicModel", "Guess", "Model", "build_mechanism", "build_model",
+__all__ = ["FORMULATIONS", "DynamicModel", "Formulation", "formulation_of", "Guess", "Model", "build_mechanism", "build_model",
            "cache_dynamic_model", "cached_dynamic_model", "linearised_model"]
 
 _BUILDERS = {ModelKind.PLANAR: build_planar}
@@ -109,9 +113,48 @@ def _rod(scene: Scene):
     return build_cable3d(scene) if is_cable(scene) else build_hybrid(scene)
 
 
-#: scene kind -> build(scene) -> Mechanism
-FORMULATIONS = {ModelKind.PLANAR: _planar, ModelKind.CABLE3D: _cable3d, ModelKind.ROD: _rod,
-                ModelKind.HYBRID: _rod}
+@dataclasses.dataclass(frozen=True)
+class Formulation:
+    """What the analyses read of a formulation: how it builds its Mechanism and which
+    path its analyses take. Everything above :mod:`symcable.models` asks these questions
+    instead of naming the formulation.
+
+    Attributes
+    ----------
+    build : callable
+        ``build(scene) -> Mechanism``: the scene's statics as a Mechanism.
+    linearised : bool
+        True: its dynamics are a model linearised about the static state (a
+        :class:`DynamicModel`, :func:`linearised_model`) and its static solve keeps a
+        :class:`Model` record; False: every analysis runs on the Mechanism itself
+        (nonlinear dynamics, several lines, points and bodies).
+    twists : bool
+        Its Mechanism carries twist coordinates and material frames (a rod): the dynamics
+        add the frames' reference spin and the results the twists.
+    stand_in : callable or None
+        ``stand_in(scene, static) -> Scene | None``: the scene whose dynamics the analyses
+        run when this formulation cannot represent them about ``static`` (the same line
+        in another formulation, said in a note), or None when it can.
+    """
+
+    build: Callable
+    linearised: bool = False
+    twists: bool = False
+    stand_in: Callable | None = None
+
+
+#: scene kind -> its Formulation
+FORMULATIONS = {
+    ModelKind.PLANAR: Formulation(_planar, linearised=True, stand_in=nonlinear_stand_in),
+    ModelKind.CABLE3D: Formulation(_cable3d),
+    ModelKind.ROD: Formulation(_rod, twists=True),
+    ModelKind.HYBRID: Formulation(_rod, twists=True),
+}
+
+
+def formulation_of(scene: Scene) -> Formulation:
+    """The :class:`Formulation` of ``scene`` (its ``model`` key)."""
+    return FORMULATIONS[scene.model]
 
 
 def build_mechanism(scene: Scene):
@@ -123,4 +166,4 @@ def build_mechanism(scene: Scene):
         A hybrid scene whose rod zones are to be chosen from a static solve
         (``zones = "auto"``): :func:`symcable.api.rod_static.hybrid_zones` resolves them.
     """
-    return FORMULATIONS[scene.model](scene)
+    return formulation_of(scene).build(scene)

@@ -23,6 +23,7 @@ else:  # pragma: no cover - exercised on Python 3.10 only
     import tomli as tomllib
 
 from ..errors import LimitError, SceneError
+from ..data import resolve
 from ..limits import check, check_nesting, check_toml_nesting, read_bounded
 from .checks import _check_keys, _check_text, _choice, _err, _get
 from .model import _DIMS, Model, Scene, scene_to_dict
@@ -122,7 +123,8 @@ def load_scene(source: str | os.PathLike | Mapping | Scene, *,
     ----------
     source : str, os.PathLike, dict or Scene
         Path of a TOML scene file or of a MoorDyn v2 deck (a file that is not TOML and looks
-        like one, :mod:`.moordyn`), a dict in the scene layout, or a Scene (returned unchanged).
+        like one, :mod:`.moordyn`); the name of a built-in scene (``"oc3"``, ``"sphere"``:
+        :func:`symcable.data.names`) when no file of that name exists; a dict in the scene layout, or a Scene (returned unchanged).
     base : str or os.PathLike, optional
         For a dict: the folder its relative file names (a motion table's ``file``) are read
         from, as a scene file's own folder is for the file (default: the current folder).
@@ -142,7 +144,7 @@ def load_scene(source: str | os.PathLike | Mapping | Scene, *,
         return source
     deck = None
     if isinstance(source, (str, os.PathLike)):
-        name = os.fspath(source)
+        name = os.fspath(resolve(source))
         data, deck = _read_file(name)
     elif isinstance(source, Mapping):
         name, data = "<dict>", source

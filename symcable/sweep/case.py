@@ -40,6 +40,7 @@ import numpy as np
 
 from ..errors import SymcableError
 from ..limits import limits
+from ..models import formulation_of
 
 __all__ = ["ANALYSES", "OUTPUTS", "available_outputs", "run_case"]
 
@@ -61,14 +62,15 @@ OUTPUTS: dict = {
 }
 
 
-def available_outputs(analysis: str, model: str, lines: tuple = ()) -> list:
-    """The output names ``analysis`` gives on a scene of ``model`` ("planar" or "cable3d");
-    with ``lines`` (a scene of several lines) each prefixed by every line's name."""
+def available_outputs(analysis: str, scene, lines: tuple = ()) -> list:
+    """The output names ``analysis`` gives on ``scene`` (a Scene): no ``fairlead_force_y``
+    in the plane, no anchor tension series from a linearised periodic solve; with ``lines``
+    (a scene of several lines) each prefixed by every line's name."""
     names = [n for n, (_, an) in OUTPUTS.items() if analysis in an]
-    if model == "planar":
+    if scene.dim == 2:
         names = [n for n in names if n != "fairlead_force_y"]
-        if analysis == "periodic":
-            names = [n for n in names if not n.startswith("anchor_tension_")]
+    if analysis == "periodic" and formulation_of(scene).linearised:
+        names = [n for n in names if not n.startswith("anchor_tension_")]
     if lines:
         return [f"{ln}.{n}" for ln in lines for n in names]
     return names

@@ -254,7 +254,7 @@ def _options(analysis: str, raw: Any, where: str) -> dict:
 
 def _outputs(raw: Any, analysis: str, scene: Scene, where: str) -> tuple:
     lines = tuple(ln.name for ln in scene.lines)
-    allowed = available_outputs(analysis, scene.model.value, lines)
+    allowed = available_outputs(analysis, scene, lines)
     if raw is None:
         names = _DEFAULT_OUTPUTS[analysis]
         return tuple(f"{ln}.{n}" for ln in lines for n in names) if lines else names

@@ -63,8 +63,10 @@ OUTPUTS, title, comments     ignored
 BODIES                       ``[bodies.body<ID>]`` (:mod:`.moordyn_bodies`); a point with
                              Attachment Body<ID> is a point on it (lines end at
                              ``"body<ID>@[X, Y, Z]"``, body axes)
-RODS, ROD TYPES,             refused when they hold a row
-FAILURE, SYROPE IC
+RODS, ROD TYPES              a held rod (Fixed, Coupled, Body<N>): its ends are points the
+                             lines attach to (``R<ID>A``, ``R<ID>B``); a moving rod (Free,
+                             Pinned) is refused (:mod:`.moordyn_rods`)
+FAILURE, SYROPE IC           refused when they hold a row
 ===========================  ===============================================================
 """
 from __future__ import annotations
@@ -80,6 +82,7 @@ from typing import Any, Mapping
 from ..errors import SceneError
 from .bodies import rotation_rpy
 from .moordyn_bodies import _Bodies, body_name
+from .moordyn_rods import _Rods
 from .moordyn_tables import ZETA_FACTOR, _Tables, _float
 
 __all__ = ["ZETA_FACTOR", "MoorDynDeck", "is_moordyn_deck", "parse_moordyn"]
@@ -100,9 +103,7 @@ _SECTIONS = {
     "options": ("OPTIONS",),
     "outputs": ("OUTPUT",),
 }
-_REFUSED = {"rod_types": "rod types (symcable has no rods yet)",
-            "rods": "rods (symcable has no rods yet)",
-            "failure": "line failures (not modelled)",
+_REFUSED = {"failure": "line failures (not modelled)",
             "syrope": "Syrope initial conditions (no Syrope law)"}
 
 
@@ -187,7 +188,7 @@ def _kind(line: str) -> str | None:
     return next((k for k, names in _SECTIONS.items() if any(n in up for n in names)), None)
 
 
-class _Parser(_Tables, _Bodies):
+class _Parser(_Tables, _Bodies, _Rods):
     def __init__(self, text: str, source: str):
         self.lines = tuple(text.splitlines())
         self.source = source
@@ -245,7 +246,7 @@ class _Parser(_Tables, _Bodies):
         options = self.options(sec)
         types = self.line_types(sec)
         rows = self.line_rows(sec, types)
-        found = self.point_rows(sec, rows)
+        found = self.point_rows(sec, rows, self.rod_rows(sec))
         bodies = self.body_rows(sec)
         if len(rows) == 1 and not bodies and not any(f[1] in ("free", "body")
                                                      for f in found.values()):

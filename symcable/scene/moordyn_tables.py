@@ -104,8 +104,11 @@ class _Tables:
             for tok in entries[2:4]:
                 m = re.fullmatch(r"([A-Za-z]*)(\d+)([A-Za-z]*)", tok)
                 if m and m.group(1).upper() in ("R", "ROD"):
-                    raise self.fail(n, f"attachment {tok!r} to a rod is not representable yet "
-                                       "(symcable has no rods yet)")
+                    if m.group(3).upper() not in ("A", "B"):
+                        raise self.fail(n, f"attachment {tok!r}: a rod's end is R<ID>A or "
+                                           "R<ID>B")
+                    attach.append(f"R{int(m.group(2))}{m.group(3).upper()}")
+                    continue
                 if not m or m.group(1).upper() not in ("", "C", "CON", "P", "POINT") \
                         or m.group(3):
                     raise self.fail(n, f"attachment {tok!r}: must be a point's ID (1, P1, ...)")
@@ -119,10 +122,13 @@ class _Tables:
                             "segments": segments}))
         return out
 
-    def point_rows(self, sec: dict, rows: list) -> dict[int, tuple]:
-        """ID -> (deck line, "fixed" | "vessel" | "free", type token, [X, Y, Z], {M, V, Fx,
-        Fy, Fz, CdA, Ca}), every point on some line, every line's points defined."""
-        _, point_lines = self.table(sec, "points")
+    def point_rows(self, sec: dict, rows: list, rods: dict | None = None) -> dict:
+        """ID -> (deck line, "fixed" | "vessel" | "free" | "body", type token, [X, Y, Z],
+        {M, V, Fx, Fy, Fz, CdA, Ca}), every point on some line, every line's points defined;
+        with the ends of held rods (``rods``, :meth:`rod_rows`) that lines attach to, by
+        their names ``R<ID>A``, ``R<ID>B``."""
+        rods = rods or {}
+        _, point_lines = self.table(sec, "points") if "points" in sec or not rods else (0, [])
         found: dict[int, tuple] = {}
         for n in point_lines:
             entries = self.lines[n - 1].split()
@@ -164,15 +170,20 @@ class _Tables:
                 raise self.fail(n, "a Free point's M, V and CdA must be >= 0")
             found[ident] = (n, what, entries[1], xyz, extra)
         attached = {i for _, line in rows for i in line["attach"]}
+        for ident, entry in rods.items():  # a held rod's ends: those lines attach to
+            if ident in attached:
+                found[ident] = entry
+        for line_n, line in rows:
+            for ident in line["attach"]:
+                if ident not in found:
+                    what = "rod end" if isinstance(ident, str) else "point"
+                    table = "RODS (a held rod)" if isinstance(ident, str) else "POINTS"
+                    raise self.fail(line_n, f"the line attaches to {what} {ident}, which "
+                                            f"{table} does not define")
         for ident, (n, *_rest) in found.items():
             if ident not in attached:
                 raise self.fail(n, f"point {ident} is not on the line{'s' if len(rows) > 1 else ''}"
                                    ": every point must be a line's end (AttachA or AttachB)")
-        for line_n, line in rows:
-            for ident in line["attach"]:
-                if ident not in found:
-                    raise self.fail(line_n, f"the line attaches to point {ident}, which POINTS "
-                                            "does not define")
         return found
 
 

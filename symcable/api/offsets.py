@@ -337,8 +337,28 @@ def offset_sweep(scene, body: str, offsets, *, about: str = "equilibrium",
     acc, its, nr, _, packed = funcs[n, S.compiled](np.r_[x_base, 1.0, eq.p], off[order].T,
                                                    reset[None, :].astype(float), x_base, eq.p, tol)
     batch_time = time.perf_counter() - tb
-    acc, packed = np.asarray(acc), np.asarray(packed)
-    its, nr = np.ravel(its), np.ravel(nr)
+    _, outs, status, path, iters, resid, fallbacks = _walk(
+        mech, F, eq, off, order, reset, (acc, its, nr, packed), pose_p, tol, codegen)
+    K = _stiffness(funcs["tangents"], eq)
+    line_force, force, ta, tb_, balance = _forces(outs, off, body, lines, own,
+                                                  funcs["weights"])
+    stats = {"tolerance": tol, "batch_time": batch_time, "wall_time": time.perf_counter() - t0,
+             "fallbacks": fallbacks, "resets": int(reset.sum()), "compiled": bool(S.compiled),
+             "unknowns": int(n_x)}
+    return OffsetSweep(scene.name, body, off, np.r_[pos, rpy], line_force, force, K,
+                       tuple(ln.name for ln in lines), ta, tb_, tuple(status), tuple(path),
+                       iters, resid, balance, stats)
+
+
+def _walk(mech, F, eq, off, order, reset, batch, pose_p, tol, codegen) -> tuple:
+    """Each offset's solution: the batched Newton's where it converged, else a solve from
+    the neighbouring offset's solution (the walk's previous one, or the base pose after a
+    reset). Returns X (n, n_x), outputs (None where failed), status, path, iterations,
+    residual norms (N) and the number of fallbacks."""
+    acc, its, nr, packed = batch
+    acc, packed, its, nr = np.asarray(acc), np.asarray(packed), np.ravel(its), np.ravel(nr)
+    x_base = np.concatenate([eq.q, eq.z])
+    n, n_x = len(off), len(x_base)
     X = np.full((n, n_x), np.nan)
     outs, status, path = [None] * n, ["failed"] * n, [""] * n
     iters, resid = np.zeros(n), np.full(n, np.nan)
@@ -365,7 +385,14 @@ def offset_sweep(scene, body: str, offsets, *, about: str = "equilibrium",
             path[k], iters[k] = e_k.stats["path"], e_k.stats["iterations"]
             resid[k] = e_k.stats["residual_norm"]
         prev = k
-    K = _stiffness(funcs["tangents"], eq)
+    return X, outs, status, path, iters, resid, fallbacks
+
+
+def _forces(outs, off, body: str, lines, own, weights) -> tuple:
+    """Per offset (n rows; NaN where it failed): the lines' force and moment on the body
+    (n, 6) N, N m about its displaced reference point; with the body's own loads (n, 6);
+    each line's end tensions at A and B (n, n_lines) N; the lines' force balance (n,)."""
+    n = len(off)
     line_force = np.full((n, 6), np.nan)
     force = np.full((n, 6), np.nan)
     ta, tb_ = np.full((n, len(lines)), np.nan), np.full((n, len(lines)), np.nan)
@@ -380,13 +407,8 @@ def offset_sweep(scene, body: str, offsets, *, about: str = "equilibrium",
         for i, line in enumerate(lines):
             ta[k, i] = np.linalg.norm(np.ravel(o[f"{line.name}.end_force_a"]))
             tb_[k, i] = np.linalg.norm(np.ravel(o[f"{line.name}.end_force_b"]))
-        balance[k] = _line_balance(funcs["weights"], o)
-    stats = {"tolerance": tol, "batch_time": batch_time, "wall_time": time.perf_counter() - t0,
-             "fallbacks": fallbacks, "resets": int(reset.sum()), "compiled": bool(S.compiled),
-             "unknowns": int(n_x)}
-    return OffsetSweep(scene.name, body, off, np.r_[pos, rpy], line_force, force, K,
-                       tuple(ln.name for ln in lines), ta, tb_, tuple(status), tuple(path),
-                       iters, resid, balance, stats)
+        balance[k] = _line_balance(weights, o)
+    return line_force, force, ta, tb_, balance
 
 
 def _quat_rotation(e) -> np.ndarray:

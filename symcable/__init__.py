@@ -129,10 +129,11 @@ __all__ = [
 
 def demo_scene_path(name: str = "oc3"):
     """Path of a built-in scene: ``"oc3"`` (the OC3-Hywind mooring line on its seabed),
-    ``"seed001"`` (the seed-001 line: suspended, current, elliptic fairlead motion), or any
-    other of :func:`symcable.data.names`: ``"sphere"``, ``"sphere127"`` (seed 003's payload
-    sphere at 0.807 and 1.27 Hz), ``"towed_body"`` (seed 003's towed body: 355 m bare + 125 m
-    faired cable, 12 kn, a 270 degree turn)."""
+    ``"seed001"`` (the planar line of Boral, Hickey & Basu: suspended, current, elliptic
+    fairlead motion), or any other of :func:`symcable.data.names`: ``"sphere"``,
+    ``"sphere127"`` (the payload sphere of Sun, Zhu & LaRosa at 0.807 and 1.27 Hz),
+    ``"towed_body"`` (their towed body: 355 m bare + 125 m faired cable, 12 kn, a 270 degree
+    turn)."""
     from .data import names, scene_path
     path = scene_path(name) if isinstance(name, str) else None
     if path is None:

@@ -1,6 +1,6 @@
 """The localized loop of an infinite twisted rod under tension (Love's homoclinic solution;
 Coyne 1990, Thompson & Champneys 1996): the oracle of the looped shapes that
-:func:`symcable.trace_branch` reaches (studies/hybrid/loop.py).
+:func:`symcable.trace_branch` reaches.
 
 An isotropic, inextensible, unshearable rod (bending stiffness B, N m^2) straight at both
 ends along z, carrying the tension T (N) and the twisting moment M (N m) there. With the

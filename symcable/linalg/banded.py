@@ -4,8 +4,8 @@ generated C.
 Generic: it sees a square sparsity pattern, nothing about cables.
 
 Why: the iteration matrix of a long line is banded once its unknowns are ordered along the
-line (half-bandwidth 5 for a cable's node velocities), but CasADi's sparse QR spends about a
-millisecond on 500 such rows (studies/chains, WD0600), refactorises at every solve, and the
+line (half-bandwidth 5 for a cable's node velocities), but CasADi's sparse QR is slow on a
+few hundred such rows (its cost does not follow the band), refactorises at every solve, and the
 block LU written out in SX (:mod:`symcable.linalg.sxlu`) is fast but straight-line: its C
 takes minutes to compile above a few hundred unknowns. Here the elimination is one small
 kernel applied row after row (``Function.mapaccum``): generated C is a loop around a few

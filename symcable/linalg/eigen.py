@@ -1,8 +1,8 @@
 """The lowest eigenpair of a symmetric matrix, by its band where it has one.
 
 A static solve judges stability by the lowest eigenvalue of its tangent stiffness. The dense
-symmetric eigensolver costs n^3: 6.3 of the 7.1 s of a warm 200-segment rod solve (800
-unknowns; studies/hybrid). A line's stiffness is banded once its unknowns are ordered along
+symmetric eigensolver costs n^3, most of a warm static solve of a rod of a few hundred
+segments. A line's stiffness is banded once its unknowns are ordered along
 the line (reverse Cuthill-McKee finds the order), and LAPACK's banded solver (dsbevx, through
 :func:`scipy.linalg.eig_banded`) gives the lowest eigenpair alone in n b^2, b the half
 bandwidth: the same number, exactly, not an iterative estimate. Matrices without a narrow

@@ -5,9 +5,9 @@ Generic: a *sum map* ``by`` is a list with, for each entry of the result, the li
 positions of a source vector ``ext`` summed into it (empty: zero). :func:`gather_sum`
 evaluates it as one gather per depth (the most contributions an entry has): loops with an
 index array in the generated C, where the same sum written out in SX is straight-line code
-(WD0600's iteration matrix: 16k operations, 10 % of its step). Written instead as the
-product of a constant sparse 0/1 matrix with ``ext`` (CasADi's sparse product), the
-factorisation of WD0600's step took 1.6 times as long.
+whose length grows with the line (a sizeable share of a long chain's step). Written instead
+as the product of a constant sparse 0/1 matrix with ``ext`` (CasADi's sparse product), the
+factorisation of a long chain's step is slower.
 """
 from __future__ import annotations
 

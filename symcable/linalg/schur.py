@@ -10,8 +10,8 @@ add 2 x 2 blocks coupled within their node. Eliminating that lead L,
     A = [[L, B], [C, D]],   S = D - C L^-1 B,
 
 leaves the velocities alone to the banded LU: for a cable's nodes half the unknowns and
-half-bandwidth 5 instead of 13 (with bristles 507 unknowns of half-band 5 instead of 849 of
-7 on the WD0600 chain). S's band is gathered straight from the matrix's sources and from the
+half-bandwidth 5 instead of 13 (with friction bristles, the velocities at half-band 5 instead
+of every unknown at 7). S's band is gathered straight from the matrix's sources and from the
 products C_ir G_rj, G = L^-1 B, without forming the nonzeros or S (:mod:`.gather`). L's
 blocks are inverted in closed form (1 x 1 and 2 x 2), without pivoting: a singular block
 gives inf/NaN, which the caller's residual check catches.

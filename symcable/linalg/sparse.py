@@ -4,8 +4,8 @@ Generic: it sees a square sparse matrix expression and a right-hand side, nothin
 
 CasADi's sparse QR (``"qr"``) generates C, but QR fills in like the Cholesky factor of
 J^T J: a single dense row (a global constraint, an integral condition) makes J^T J dense
-and the factor full, 20 times slower than the banded rest deserves (on the seed-001 line's
-dynamics, two dense rows of 102 entries in 198 raise a QR solve from about 12 to 290 us).
+and the factor full: an order of magnitude slower than the banded rest deserves (two dense
+rows in the planar line's dynamics suffice).
 :func:`sparse_solve` therefore takes the dense rows out: with ``D`` the dense rows, it
 factorises the sparse matrix J_s that has unit rows e_i^T (i in D) in their place, and
 restores them by the Sherman-Morrison-Woodbury formula, J = J_s + E W^T with
@@ -90,7 +90,7 @@ def norm_inf(x):
     measure 0 and pass any tolerance. Here it is divided by (-inf < sum x_i < inf), which is
     1 for a finite x and 0 (so the quotient inf or NaN) when an entry is NaN or infinite (or
     the sum overflows): one sum (a loop without calls, where ``norm_1`` calls ``fabs`` per
-    entry: the step's norms were a fifth of a WD0050 chain step) and two comparisons,
+    entry, a cost that shows in a long line's step) and two comparisons,
     which CasADi cannot fold away (sum(x) - sum(x) it simplifies to 0)."""
     s = ca.sum1(ca.vec(x))
     return ca.norm_inf(x) / ca.logic_and(s < np.inf, s > -np.inf)

@@ -4,10 +4,10 @@ Generic: it sees a square sparsity pattern and a block size, nothing about cable
 
 Why: CasADi's sparse QR (:mod:`symcable.linalg.sparse`) is compiled C++ in the virtual
 machine and generic index-driven C in generated code, so generating code cannot make it
-faster, and it dominates a Newton iteration of the banded cable systems (12 us of 14 on the
-OC3 statics). Written out as straight-line arithmetic on the nonzeros, with the fill computed
-once from the pattern, the same elimination is a few thousand flops with no index logic:
-the C compiler turns it into a tight instruction stream.
+faster, and it dominates a Newton iteration of the banded cable systems (most of an
+iteration of a mooring line's statics). Written out as straight-line arithmetic on the
+nonzeros, with the fill computed once from the pattern, the same elimination is a few
+thousand flops with no index logic: the C compiler turns it into a tight instruction stream.
 
 Elimination is by ``b x b`` blocks in their natural order, each diagonal block inverted in
 closed form (``b = 1``: the reciprocal; ``b = 2``: adjugate over determinant). There is no

@@ -76,20 +76,16 @@ FLAGS = ("-O2", "-fPIC", "-shared")
 FORMAT = 1
 #: largest graph (characters of the serialised Functions, see :func:`graph_size`) that the
 #: default ``codegen=None`` compiles. The C of a Function is written out straight-line, and
-#: the C compiler's time grows faster than its length (about as its 1.7th power on the
-#: static and step functions: 13 s for the 50-segment statics, 130 s for 200), while the
-#: gain per call stays a constant factor; larger graphs run in the virtual machine unless
-#: asked (measured in studies/performance/scaling.py and its README)
+#: the C compiler's time grows faster than its length, while the gain per call stays a
+#: constant factor; larger graphs run in the virtual machine unless asked (the compile times
+#: against graph size behind this bound: the performance study, in the docs)
 DEFAULT_MAX_SIZE = 5_000_000
 #: the optimisation level by graph size (:func:`graph_size`): [(largest size, flag)]. Every
 #: graph the default ``codegen=None`` compiles gets -O2 (FLAGS); larger ones, compiled only
 #: when asked (``codegen=True``), get -O1, which runs as fast (gcc's time grows faster than
 #: the C's length, and -O2 gains little on straight-line code), and -O0 only beyond
-#: 10 DEFAULT_MAX_SIZE, where -O1 would take many minutes. Measured on the 8-segment rod's
-#: generalized-alpha step (1.06 MB of C, 3.9 M serialised; studies/rod_notes/rodc14.md): compile -O2
-#: 28 s, -O1 20 s, -O0 5.8 s; per step 47, 43, 85 us (the VM 472 us); on the WD0600 chain's
-#: step (1014 states, 36 M serialised; studies/chains): 0.237 s (-O2), 0.263 s (-O1) and
-#: 0.67 s (-O0) for its 300 steps at 0.1 s.
+#: 10 DEFAULT_MAX_SIZE, where -O1 would take many minutes (compile and step times at each
+#: level: the performance study, in the docs).
 OPTIMISATION = ((DEFAULT_MAX_SIZE, "-O2"), (10 * DEFAULT_MAX_SIZE, "-O1"), (math.inf, "-O0"))
 _ENV_CACHE = "SYMCABLE_CACHE_DIR"
 _ENV_DEFAULT = "SYMCABLE_CODEGEN"
@@ -202,7 +198,7 @@ def use_codegen(codegen: bool | None, functions=None) -> bool:
     :func:`graph_size`, when given) are small enough that compiling them pays
     (:data:`DEFAULT_MAX_SIZE`), else the virtual machine, silently;
     ``SYMCABLE_CODEGEN=0`` in the environment makes the default the virtual machine (for
-    one-off solves, where compiling a new model structure, 2-10 s once, costs more than it
+    one-off solves, where compiling a new model structure, seconds once, costs more than it
     saves). ``True``: generated C, or one :class:`CodegenWarning` and the virtual machine
     when there is no compiler. ``False``: the virtual machine. Where generated C would be
     used but the build cache folder is not fit (not the user's own, or writable by others:

@@ -3,10 +3,10 @@ elements, plus a rest, so that a solver can evaluate the iteration matrix as a l
 elements of each kernel's own small Jacobian instead of one straight-line expression.
 
 Written out in SX, the Jacobian of a long line is straight-line code whose size grows with the
-elements (on MoorDyn's WD0600 chain, 170 elements: 344k instructions, 3.6 MB of C, which runs
-at 0.89 ns an instruction against 0.39 on a chain a quarter its size: the code no longer fits
-the processor's caches). The same entries from a loop over the element kernel's 6 x 12 block
-and a straight-line rest cost a fifth of that (studies/performance/step_profile.py). A
+elements (for a line of a hundred or more elements, megabytes of C, which run more slowly per
+instruction than a short line's: the code no longer fits the processor's caches). The same
+entries from a loop over the element kernel's 6 x 12 block and a straight-line rest cost a
+fraction of that. A
 formulation that can say how its momentum residual splits gives the solvers that choice; the
 Mechanism's own expressions stay the definition (every solver still checks convergence on
 them).

@@ -20,7 +20,7 @@ each costs one Jacobian and one factorisation. Each Newton step is
 
 The written-out LU pays only when compiled: its construction and its C grow faster than the
 system, while the sparse QR costs O(n) to build and about as much per solve in the virtual
-machine (crossover measured in ``studies/performance/scaling.py``). By default
+machine (hence :data:`SXLU_MAX_UNKNOWNS`). By default
 (``codegen=None``) the solve is compiled where the written-out LU is used and its graph is
 small enough to compile in seconds (:func:`symcable.mechanism.codegen.use_codegen`).
 
@@ -47,7 +47,7 @@ __all__ = ["LINSOL", "SOLVE_MAX_ITER", "SXLU_MAX_UNKNOWNS", "StaticSolver", "sta
 #: a handful of steps or not at all; a damped Newton takes over when it does not)
 SOLVE_MAX_ITER = 12
 #: CasADi's sparse QR: it generates C (CSparse's LU does not) and, on the planar statics,
-#: is as fast as CSparse in the virtual machine (140 against 162 us per solve on OC3)
+#: is as fast as CSparse in the virtual machine
 LINSOL = "qr"
 #: largest system (unknowns) whose Newton step is the block LU written out in SX; above
 #: it, the sparse QR (see the module docstring)
@@ -59,8 +59,7 @@ class StaticSolver:
     """The Functions of a Mechanism's static solve (every one of ``(x, p)``, x = (q, z)).
 
     Their names are the same for every Mechanism (one library per Mechanism, so they never
-    meet), and the graphs are those of the planar statics solve before it was made generic,
-    operation for operation, so its generated C is too.
+    meet).
 
     Attributes
     ----------

@@ -106,9 +106,8 @@ def _point_loads(pt: Point, env: Environment) -> tuple[float, np.ndarray, float]
 
 #: a free point's contact smoothing over its penetration (:func:`point_contact`): 1 %, not
 #: the lines' CONTACT_SMOOTHING. The point's stiffness carries everything that can press it
-#: down, so the ramp's tail K delta^2 / 4 g is that much larger: at 10 % it held buoys and
-#: clumps up by 0.1-25 N at 20-250 m above the bed (21 of 300 cable3d fuzz scenes, flagged
-#: as wrong answers by the study's balance check; 0 at 1 %)
+#: down, so the ramp's tail K delta^2 / 4 g is that much larger: at 10 % it holds buoys and
+#: clumps up by a visible force far above the bed, enough to fail a balance check
 POINT_CONTACT_SMOOTHING = 0.01
 
 

@@ -1,4 +1,4 @@
-"""Rigid bodies in the 3D, plan and elevation views (issue 13): each body as the box that
+"""Rigid bodies in the 3D, plan and elevation views: each body as the box that
 spans its attachment points in body axes, its local axes (x red, y green, z blue) from its
 reference point, and its attachment points, at its position and orientation.
 

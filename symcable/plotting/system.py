@@ -1,8 +1,8 @@
 """End tensions of a scene of several lines and points over time (a
 :class:`~symcable.results.line3d.SystemTrajectory`, from ``simulate`` or a periodic solve):
-each line's end tensions normalised by their static values T0 when given (the report's
-T/T0, seed 003's Figs. 2-3), else in kN, the spans where some segment of a line is slack
-shaded. ``SystemTrajectory.plot`` draws it; the CLI passes T0 from the scene's static
+each line's end tensions normalised by their static values T0 when given (the report's T/T0,
+as in Sun, Zhu & LaRosa's Figs. 2-3), else in kN, the spans where some segment of a line is
+slack shaded. ``SystemTrajectory.plot`` draws it; the CLI passes T0 from the scene's static
 solution.
 """
 from __future__ import annotations

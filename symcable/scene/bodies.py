@@ -1,5 +1,5 @@
-"""Rigid bodies of a scene of several lines (scene version 2, ``[bodies.NAME]``; design.md,
-"Scene file"), and the line ends attached to them (``"NAME"`` or ``"NAME@[x, y, z]"``).
+"""Rigid bodies of a scene of several lines (scene version 2, ``[bodies.NAME]``; the README's
+"A scene file"), and the line ends attached to them (``"NAME"`` or ``"NAME@[x, y, z]"``).
 
 A body is six degrees of freedom: a reference point (``position``, where lines attach by
 default) and an orientation (``orientation`` = [roll, pitch, yaw], degrees: the rotation

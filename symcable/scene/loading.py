@@ -1,6 +1,6 @@
 """Drag loading functions of a line type (``drag_law = "loading-functions"``, cable3d): the
-law of seed 003 (towed cables: Eames, Choo and Casarella, Pode) as a short Fourier series in
-the angle of attack, ``[line_types.NAME.loading]`` (read by :mod:`.drag`).
+law of Sun, Zhu & LaRosa (towed cables: Eames, Choo and Casarella, Pode) as a short Fourier
+series in the angle of attack, ``[line_types.NAME.loading]`` (read by :mod:`.drag`).
 
 The law
 -------
@@ -19,7 +19,7 @@ stretch factor sqrt(1 + e) included),
 
 d the line type's ``diameter`` (m), rho the water density. The keys (all dimensionless):
 
-- ``cd``: the reference drag coefficient (the seed's D_0, Pode's C_R; required, >= 0). It
+- ``cd``: the reference drag coefficient (the paper's D_0, Pode's C_R; required, >= 0). It
   is not called R: in Pode's towed-cable theory R is the normal drag per metre,
   0.5 rho d C_R U^2 (N/m);
 - ``normal_cos = [a_0, a_1, ...]``, ``normal_sin = [b_1, b_2, ...]``: f_n's cosine (from
@@ -33,15 +33,15 @@ cd = 1, f_n = Cd_n sin^2 psi = Cd_n (1 - cos 2 psi) / 2, f_t = Cd_t cos^2 psi =
 Cd_t (1 + cos 2 psi) / 2 (:meth:`LoadingFunctions.morison`), and Pode's law f_n = sin^2
 psi, f_t = f (constant): ``normal_cos = [0.5, 0, -0.5]``, ``tangential_cos = [f]``.
 
-Presets: seed 003's laws (``loading = "seed003-bare"`` or ``"seed003-faired"``)
-------------------------------------------------------------------------------
+Presets: Sun, Zhu & LaRosa's laws (``loading = "seed003-bare"`` or ``"seed003-faired"``)
+--------------------------------------------------------------------------------------
 A line type may name a preset instead of the table (``loading = "seed003-bare"``), or a
 table with the preset and its own reference coefficient (``loading = {preset =
 "seed003-bare", cd = 1.5}``); the presets are :data:`PRESETS` (their coefficients are what
-``to_dict`` writes back). Seed 003 (Sun, Zhu & LaRosa, "Dynamic modeling of cable towed
+``to_dict`` writes back). The paper of Sun, Zhu & LaRosa ("Dynamic modeling of cable towed
 body using nodal position finite element method", Ocean Engineering 38 (2011)) gives the
 bare cable's laws as its Eq. 28 and the faired cable's as Eq. 29, with D_0 = 1.70 (bare,
-d = 0.0411 m) and 0.15 (faired, d = 0.0800 m) in its Table 3; our copy of the seed lost
+d = 0.0411 m) and 0.15 (faired, d = 0.0800 m) in its Table 3; our copy of the paper lost
 Eq. 28's signs and all of Eq. 29. Reconstructed here (alpha the angle of attack, our psi):
 
 - ``"seed003-bare"`` (Eq. 28): C_Dn = D_0 sin^2 psi, as printed; C_Dt = D_0 (0.019 +
@@ -57,7 +57,7 @@ Eq. 28's signs and all of Eq. 29. Reconstructed here (alpha the angle of attack,
   (Choo & Casarella 1973's survey, "A survey of analytical methods for dynamic simulation
   of cable-body systems", J. Hydronautics 7: f_t near 0.02 at axial flow, small at normal
   flow, for C_R near 1.5).
-- ``"seed003-faired"`` (Eq. 29, lost: our reconstruction, not the seed's): C_Dn = D_0
+- ``"seed003-faired"`` (Eq. 29, lost: our reconstruction, not the paper's): C_Dn = D_0
   sin^2 psi and C_Dt = D_0 0.08 cos^2 psi, the crossflow (independence) principle, which
   Packwood (1990, "Performance of segmented swept and unswept cable fairings at low
   Reynolds numbers", Ocean Engineering 17, 393-407) found to predict swept fairings' drag

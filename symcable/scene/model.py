@@ -51,8 +51,8 @@ class Model(str, enum.Enum):
 
     PLANAR = "planar"    #: a line in the vertical x-z plane; vectors are [x, z]
     CABLE3D = "cable3d"  #: a 3D position-vector cable; vectors are [x, y, z]
-    ROD = "rod"          #: a Kirchhoff rod (bending, torsion; issue 14); vectors [x, y, z]
-    #: sections of ``rod`` and ``cable3d`` joined by moment-free joints (issue 14); [x, y, z]
+    ROD = "rod"          #: a Kirchhoff rod (bending, torsion); vectors [x, y, z]
+    #: sections of ``rod`` and ``cable3d`` joined by moment-free joints; [x, y, z]
     HYBRID = "hybrid"
 
 
@@ -89,10 +89,10 @@ class LineType:
     ca_tangential : float
         Tangential added-mass coefficient (>= 0; cable3d only), default 0.
     damping : float
-        Axial material damping BA, N s (cable3d only; seed 003's C = c K, BA = c EA): the
-        axial force gains BA de/dt. Negative: minus the damping ratio of the line's highest
-        axial mode (adjacent nodes in opposition), BA = -damping x ds sqrt(EA mass), as
-        MoorDyn's BA/-zeta. Default 0.
+        Axial material damping BA, N s (cable3d only; Sun, Zhu & LaRosa's C = c K,
+        BA = c EA): the axial force gains BA de/dt. Negative: minus the damping ratio of the
+        line's highest axial mode (adjacent nodes in opposition), BA = -damping x ds
+        sqrt(EA mass), as MoorDyn's BA/-zeta. Default 0.
     drag_law : str
         cable3d: ``"morison"`` (default: ``cd_normal``, ``cd_tangential`` on the normal and
         tangential relative speeds) or ``"loading-functions"`` (``loading``; then
@@ -401,8 +401,8 @@ class Scene:
         name or an inline End); empty in version 1.
     mass_matrix : str
         cable3d: ``"lumped"`` (default: half of each element's mass, structural and added,
-        on each of its nodes) or ``"consistent"`` (seed 003's linear-interpolation mass,
-        L0/6 [[2, 1], [1, 2]] per element, coupling neighbours).
+        on each of its nodes) or ``"consistent"`` (Sun, Zhu & LaRosa's linear-interpolation
+        mass, L0/6 [[2, 1], [1, 2]] per element, coupling neighbours).
     bodies : Mapping[str, Body]
         Version 2 (``[bodies.NAME]``, :mod:`.bodies`): read-only mapping, name -> rigid
         body; lines attach to them (a line end :class:`BodyEnd`); empty without.

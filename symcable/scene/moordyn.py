@@ -1,4 +1,4 @@
-"""MoorDyn v2 input decks read into the scene layout (issue 12, item 5, first step).
+"""MoorDyn v2 input decks read into the scene layout.
 
 :func:`parse_moordyn` turns a deck's text into the plain dict that
 :func:`~symcable.scene.load_scene` validates (``model = "cable3d"``), plus notes on what it

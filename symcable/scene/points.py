@@ -1,5 +1,5 @@
 """Points and lines of a scene of several lines (scene version 2, ``[points.NAME]`` and
-``[[lines]]``; design.md, "Scene file").
+``[[lines]]``; the README's "A scene file").
 
 A version-1 scene is one line with ``[[sections]]``, ``[end_a]`` and ``[end_b]``; a version-2
 scene (``model = "cable3d"``) is any number of lines, each with its own sections and line

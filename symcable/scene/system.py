@@ -1,5 +1,5 @@
 """Reading the layout of several lines and points (scene version 2: ``[points.NAME]``,
-``[[lines]]``; design.md, "Scene file"), ``model = "cable3d"`` only.
+``[[lines]]``; the README's "A scene file"), ``model = "cable3d"`` only.
 
 Each ``[[lines]]`` entry has a ``name``, its own ``[[lines.sections]]`` (line types shared
 by the scene) and two ends, ``end_a`` and ``end_b``: a point's name, or an inline end table

@@ -411,10 +411,10 @@ def _check_geometry(env: Environment, sections: tuple[Section, ...], ends: dict[
 #: compatibility rows (EA/ds) (r_{j+1} - r_j - ds (1 + eps) t) carry the round-off of the
 #: coordinates, eps_64 |r|, magnified by EA/ds, so the residual floor relative to the line's
 #: weight grows as 100 eps_64 N EA / (|w| L) (N segments): at 1e9 and 50 segments it is
-#: already 2e-3 of the weight (the OC3 line's tolerance 1.3 kN against its 630 kN), and the
-#: closed-form start (an elastic catenary) is not built past it. Measured on four lines
-#: (10-200 segments, slack, taut, on a seabed): solved at 0.99e9, Newton fails ("singular
-#: Jacobian", "no decrease") from 1.01e9 on, and at 1.6e11 it "converged" 16 % off.
+#: already 2e-3 of the weight, and the closed-form start (an elastic catenary) is not built
+#: past it. The bound is where Newton stops converging on slack, taut and grounded lines of
+#: 10-200 segments ("singular Jacobian", "no decrease"); far beyond it a solve may report
+#: convergence to a wrong shape.
 MAX_STIFFNESS_RATIO = 1e9
 
 
@@ -484,8 +484,8 @@ def _check_motion_speed(name: str, motion: Motion, lt: LineType) -> None:
     more strain than the line takes, whatever the rest of the scene. Which part of the motion
     runs along the line is only known after the statics, so the bound is applied to the
     end's largest speed: it then also rejects a purely transverse motion that fast, which is
-    just as meaningless (e.g. 70 m/s for the seed-001 chain, 220 m/s for the OC3 line; a
-    fairlead moves at a few m/s). Slower motions that still overstretch the line are caught
+    just as meaningless (the bound is tens to hundreds of m/s for mooring lines; a fairlead
+    moves at a few m/s). Slower motions that still overstretch the line are caught
     on the result, whose status is then "invalid" (symcable.results.trajectory.strain_warnings)."""
     if motion.kind == "table":
         r = np.asarray(motion.samples, float)

@@ -39,15 +39,13 @@ As written, time-point-major: the unknowns are the scaled (q, v) of every node (
 node: an interval's start, then its d collocation points), then z of every collocation
 point; the rows are the DAE at every collocation point (n_q + n_v + n_z each, point after
 point), then the K continuity rows. IPOPT takes the system as written: MUMPS orders it
-itself (PORD), and the order below made it no faster (2.29 s against 2.19 s per solve at
-the defaults on seed 001, medians of 3).
+itself (PORD), and the order below does not make it faster.
 
 Newton factorises the Jacobian with CasADi's sparse LU (``csparse``), which keeps the order
 of the unknowns it is given and takes the diagonal pivot unless it is below 1e-8 of its
-column. As written, 30294 of the 31680 diagonal entries are structural zeros (seed 001 at
-the defaults, K = 40, d = 3), the pivots are found far away, and L + U filled in to 35
-million entries (estimated by SuperLU with the same order and pivot rule): 20-34 s per
-factorisation, 75-100 s per solve of 3 iterations. :meth:`CollocationSystem.lu_order`
+column. As written, nearly all the diagonal entries are structural zeros, the pivots are
+found far away, and L + U fills in to tens of millions of entries on a line of some fifty
+segments at the defaults: tens of seconds per factorisation. :meth:`CollocationSystem.lu_order`
 therefore hands the Newton solvers (:class:`~symcable.solvers.periodic_common.SquareSystem`
 permutes them) the system in an order of its own:
 
@@ -59,19 +57,15 @@ permutes them) the system in an order of its own:
   after the pieces they separate, down to chains of at most 10 intervals (``_LEAF``), each
   in CasADi's approximate-minimum-degree order (AMD) of the symmetrised pattern.
 
-At the defaults L + U is then 3.3 million entries, 0.45-0.7 s per factorisation (0.2-0.3 s
-at K = 20, 1.4 s at K = 80: linear in K), and a whole ``solve_periodic`` on a fresh model
-(transient start and builds included) takes 2.1 s against 65 s as written (0.83 s against
-14 s at K = 10, 1.15 s against 34 s at K = 20; medians of 3, interleaved), IPOPT 2.6 s.
-Measured against it on the same Jacobian: AMD of the whole ring 9.9 million, 6-8 s
-(minimum degree orders a long ring badly: from K = 20 to 40 its fill grows 3.5-fold, its
-operations 9-fold); a band (intervals folded 0, K-1, 1, K-2, ..., state by state inside
-each in the mechanism's AMD order, as harmonic balance orders its coefficients) 15 million,
-2.1 s; chains of at most 5 or 20 intervals 0.65 or 1.75 s at K = 40 and 2.2 or 1.9 s at
-K = 80; MUMPS as CasADi's ``linear_solver`` 1.1-1.6 s on the system as written (and it
-prints a banner on stdout when the process ends); CasADi's ``qr`` 190-240 s at K = 20. The
-order costs 0.15-0.45 s once per system, and the answer is that of the system as written
-to rounding (fairlead tension within 1e-15 of its range, the same 3 iterations).
+With it L + U is about a tenth as large, the factorisation's cost is linear in K, and a
+whole ``solve_periodic`` is an order of magnitude faster than as written, on a par with
+IPOPT. The orders tried beside it on the same Jacobian factorise more slowly: AMD of the
+whole ring (minimum degree orders a long ring badly: its fill grows much faster than K), a
+band (intervals folded 0, K-1, 1, K-2, ..., state by state inside each in the mechanism's
+AMD order, as harmonic balance orders its coefficients), shorter or longer chains, MUMPS as
+CasADi's ``linear_solver`` on the system as written (which also prints a banner on stdout
+when the process ends) and CasADi's ``qr``. The order costs a fraction of a second once per
+system, and the answer is that of the system as written to rounding (the same iterations).
 
 Start
 -----
@@ -103,8 +97,8 @@ from .periodic_common import (PERIODIC_CACHE, Scaling, SquareSystem, StartFn, ch
 __all__ = ["CollocationSystem", "solve_collocation"]
 
 #: the longest chain of intervals the Newton order leaves to one AMD (module docstring):
-#: chains of 10 factorised fastest of 5, 10 and 20 at K = 20, 40 and 80 (seed 001, d = 3),
-#: and filled least also at d = 2 and 4 and on the same line with 20 and 100 segments
+#: of 5, 10 and 20, the fastest to factorise over K = 20 to 80, and the least fill over
+#: degrees d = 2 to 4 and line lengths
 _LEAF = 10
 
 

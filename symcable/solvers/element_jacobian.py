@@ -14,13 +14,12 @@ gamma h), the momentum rows' Jacobian is c_y dR/dq, c_y dR/dv + c_m dR/dv' on th
 columns; the kernel returns that block per element, (dim k) x (2 dim k), with c_y and c_m
 as inputs.
 
-On MoorDyn's WD0600 chain (170 elements, 1014 states) the straight-line SX Jacobian of the
-first-order generalized-alpha step is 344k instructions (3.6 MB of C); this one is a loop
-of 170 calls of a 6 x 12 block (916 instructions with common subexpressions eliminated,
-1319 without) and a rest of about 20k instructions (studies/performance/step_profile.py has
-both, timed). The seabed as a second loop of node kernels (each node reading its
-neighbours) was measured slower than its straight-line rest (398 against 377 us per step of
-WD0600 A1 at 0.1 s): not kept.
+On a long chain (a hundred or more elements) the straight-line SX Jacobian of the
+first-order generalized-alpha step is hundreds of thousands of instructions (megabytes of
+C); this one is a loop of one call per element of a 6 x 12 block (about a thousand
+instructions) and a rest of a small fraction of the straight-line size. The seabed as a
+second loop of node kernels (each node reading its neighbours) is slightly slower than its
+straight-line rest: not done.
 """
 from __future__ import annotations
 

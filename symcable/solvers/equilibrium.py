@@ -96,8 +96,8 @@ def _ptc(F, mech, x0, p, tol, max_steps: int = PTC_MAX_STEPS, dtau0: float = PTC
     saddle; the robust form of the dynamic relaxation MoorDyn uses. The pseudo-time step
     doubles after every accepted step (so the end is Newton's quadratic convergence) and is
     cut by 4 when the residual jumps: not switched evolution relaxation, whose step shrinks
-    while the residual grows, as it does for a while along a buckling path (measured: SER
-    stalled on compressed chains under gravity at steps of 3e-5 m). At most ``max_steps``
+    while the residual grows, as it does for a while along a buckling path (SER stalls on
+    compressed chains under gravity at vanishing steps). At most ``max_steps``
     steps from the pseudo-time step ``dtau0``. ``charts`` (optional, a Mechanism with
     anchored frames): ``charts.ok(x, p)`` False rejects a step (it turned some edge too near
     the half turn from its anchor, where the frame is singular), ``charts.renew(q, p) ->

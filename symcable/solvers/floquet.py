@@ -22,7 +22,7 @@ Which multipliers count
 The map's state u is larger than the mechanism's: second order (q, v, a, abar), first order
 (y, y') with y = (q, v). The extra entries (accelerations, rates: the integrator's memory) and
 the directions the constraints remove (2 n_z) add multipliers that the scheme damps like
-rho_inf^steps (measured below 1e-8 on the toys at 100 steps); they are identified as the
+rho_inf^steps (negligible at the usual step counts); they are identified as the
 n_u - (n_q + n_v - 2 n_z) smallest in modulus, reported only as ``dropped_max`` (their
 largest modulus). The rest are the mechanism's: ``multipliers``, largest modulus first.
 
@@ -32,14 +32,14 @@ current: the drag's derivative is 0 at zero relative velocity) has |mu| = 1 up t
 integrator's numerical damping and round-off, and is called stable (neutral), not unstable;
 a multiplier beyond 1 + margin grows by that factor every period (an instability that
 doubles its amplitude within 7000 periods or fewer). The eigenvalues of the scaled monodromy
-(states at their scales) are accurate to about 1e-10 on the toys (the Newton tolerance of the
-steps), well inside the margin.
+(states at their scales) are accurate to about the Newton tolerance of the steps, well
+inside the margin.
 
 Accuracy
 --------
 The multipliers are those of the discrete map: for a linear oscillator with eigenvalues
 lambda, mu = exp(lambda T) up to generalized-alpha's second-order phase and amplitude error
-(tests/test_floquet.py: relative error 2.0e-3 at 100 steps, falling as h^2).
+(falling as h^2, of the order of 1e-3 at 100 steps per period).
 """
 from __future__ import annotations
 

@@ -30,8 +30,8 @@ alpha_m dF/dy' + alpha_f gamma h dF/dy, in one of two ways (:class:`~.options.Ne
   (:func:`symcable.linalg.sparse.sparse_solve`). A Mechanism with an element form
   (:class:`~symcable.mechanism.element_form.ElementForm`: the cable3d line) of at least
   ELEMENT_MIN_STATES unknowns has its residual and matrix from loops over its elements
-  instead (:mod:`symcable.solvers.element_jacobian`), factorised by the banded LU: on the
-  WD0600 chain the written-out matrix was 344k instructions of C. Compiled to C through
+  instead (:mod:`symcable.solvers.element_jacobian`), factorised by the banded LU (a long
+  line's written-out matrix is megabytes of C). Compiled to C through
   :mod:`symcable.mechanism.codegen` when asked (or, by default, when it pays). Its derivative with
   respect to the step's inputs is that of the iterations taken: near the exact one (the
   chord iterations contract fast) but not equal to it;
@@ -76,51 +76,47 @@ __all__ = ["CHORD_ITERATIONS", "ELEMENT_MIN_STATES", "NEWTON_DAMPING", "SXLU_MAX
 #: iterations of a step that reuse the matrix factorised at its start (chord iterations)
 CHORD_ITERATIONS = 4
 #: a chord iteration whose residual (scaled, max-norm) was not cut at least this much by
-#: the last one refactorises instead: far from the solution (a 1 s step after a violent
-#: release) the start's matrix sends chord iterations off to 1e30 times the scales, where
-#: Newton with the current matrix converges (10 iterations on seed 000's line)
+#: the last one refactorises instead: far from the solution (a long step after a violent
+#: release) the start's matrix can send chord iterations off without bound, where Newton
+#: with the current matrix converges
 CHORD_CONTRACTION = 0.5
 #: the share of its Newton correction an iteration takes when its iterate's residual (scaled,
 #: max-norm) is larger than the last one's: a Newton iteration that cycles between two
-#: iterates (a friction bristle's slip switching on and off across its smoothing speed,
-#: WD0600 A1 at t = -1.1 s: residual 0.12 / 0.20 for 25 iterations) converges in 6 with 0.5
-#: (with 0.7 it cycles on). It costs a few iterations where a growing residual would have
-#: converged anyway (the undamped snap rope of tests/test_cable3d_snap.py over 30 s: 561
-#: Newton iterations against 553, at most 10 per step against 7); the first iteration after
-#: the predictor needs it too (without it, the bristle test's step substeps again)
+#: iterates (a friction bristle's slip switching on and off across its smoothing speed)
+#: converges in a few iterations with 0.5 (with 0.7 it can cycle on). It costs a few
+#: iterations where a growing residual would have converged anyway (about 1 % more on an
+#: undamped rope jerked taut); the first iteration after the predictor needs it too
+#: (without it, a bristle's step can need substeps)
 NEWTON_DAMPING = 0.5
 #: largest state (entries of y) whose iteration matrix is factorised by the block LU written
 #: out in SX; above it, by sparse QR (fill-reducing column order, dense rows split off),
 #: whose construction is O(n)
 SXLU_MAX_STATES = 400
 #: the same with generated C asked for explicitly (``codegen=True``): the written-out LU in
-#: C is some 3.5 times faster per step than the sparse QR (200 segments, 798 states: 1.4
-#: against 5.1 ms on a loaded machine, studies/performance/compare_baseline_time.py) but its
-#: C takes minutes to compile there (280 s), which the default does not impose
-#: (studies/performance/README.md, scaling)
+#: C is several times faster per step than the sparse QR at a few hundred segments, but its
+#: C takes minutes to compile there, which the default does not impose (the performance
+#: study, in the docs)
 SXLU_MAX_STATES_C = 1000
 #: largest state whose SX Functions (residual, iteration matrix) are built with common
-#: subexpressions eliminated: 9 % fewer instructions, and a step 9 % faster in the virtual
-#: machine at 200 segments (798 states, 0.7 s more to build), but CasADi's elimination grows
-#: faster than the graph (8 s for 8,000 states)
+#: subexpressions eliminated: fewer instructions and a faster step in the virtual machine,
+#: but CasADi's elimination grows faster than the graph (seconds at thousands of states)
 CSE_MAX_STATES = SXLU_MAX_STATES_C
 #: widest band (l + u + 1, in reverse Cuthill-McKee order) that the banded LU takes above
-#: SXLU_MAX_STATES; wider patterns go to sparse QR. On the WD0600 chain (1014 states, band
-#: 11 on the Schur complement) a step costs 0.86 of the sparse QR's, which refactorises at
-#: every solve (studies/chains, dt 0.1 s: 1803 against 2093 us per step)
+#: SXLU_MAX_STATES; wider patterns go to sparse QR. On a long chain (a narrow band on the
+#: Schur complement) a step costs less than with the sparse QR, which refactorises at
+#: every solve
 BANDED_MAX_WIDTH = 40
 #: largest difference (relative to the force scale) between a Mechanism's residual and its
 #: element form's (:func:`~symcable.mechanism.element_form.split_mismatch`) for the step to take
-#: its matrix from the form: round-off is 1e-14 on the chains
+#: its matrix from the form: far above the round-off between the two
 SPLIT_TOLERANCE = 1e-9
-#: whether the step takes its matrix from a Mechanism's element form where it has one (the
-#: studies set it False to time the written-out matrix beside it)
+#: whether the step takes its matrix from a Mechanism's element form where it has one
+#: (False: the written-out matrix, e.g. to time the two side by side)
 ELEMENT_MATRIX = True
 #: fewest states (entries of y) from which a Mechanism with an element form has its step's
 #: residual and matrix from the elements' loop, factorised by the banded LU, instead of
-#: written out with the block LU: on MoorDyn's WD0050 chain cut to 10 / 20 / 41 / 76
-#: segments (54 / 114 / 240 / 450 states) a compiled step took 1.6 / 1.05 / 0.92 / 0.73
-#: times as long that way (dt 0.2 s, A2 motion; studies/performance/step_profile.py)
+#: written out with the block LU: compiled, the loop is slower on short lines and faster
+#: from a few hundred states on (the performance study's step profile, in the docs)
 ELEMENT_MIN_STATES = 200
 #: the sparse linear solver above SXLU_MAX_STATES (CasADi's QR generates C; CSparse's LU does not)
 LINSOL = "qr"
@@ -291,8 +287,8 @@ def _banded(sp: ca.Sparsity, n_lead: int, cache: dict):
     leading rows as form 1 x 1 or 2 x 2 diagonal blocks (:func:`~symcable.linalg.schur.
     lead_blocks`: the kinematic rows, and a friction bristle's two coupled first-order
     states per node) where that elimination costs less than the whole matrix's
-    (n (l + 1) (u + 1) of each: on WD0600 507 unknowns of half-band 5 against 1014 of 13,
-    with bristles the same 507 of 5 against 1356 of 14 / 15)."""
+    (n (l + 1) (u + 1) of each: for a cable's nodes half the unknowns at half-band 5 against
+    all of them at 13, with friction bristles all at 14 or 15)."""
     key = ("banded", n_lead, sp.size1(), sp.nnz())
     if key not in cache:
         k = sum(len(b) for b in lead_blocks(sp, n_lead))
@@ -366,19 +362,18 @@ def _predictor(res, x, ny: int, nq: int, gamma, residual=None, symbols=None, tay
     q0 + h q'0, v1 = v0) and rest (y1 = y0), the one whose scaled residual ``res(w)``
     (max-norm) is smallest (the first on a tie; a residual that is not finite is never
     chosen). The Taylor step and the constant rate are both evaluated and the better stands
-    first. The constant rate moves q by h q'0 only: on the MoorDyn chains (WD0050, 0.2 s
-    steps) its missing h^2 a / 2 of a fairlead heaving at 2 m/s^2 (4 cm) leaves the top
-    segment (9 mm stretched) slack at Newton's start, and the first iterate overshoots to 15
-    times that stretch; from the Taylor step the A1 runs take 0.5 times the factorisations
-    (studies/performance/README.md). The constant rate is exact on a steady tow, where the
-    Taylor step carries the start's round-off accelerations (1e-8 m/s^2) into the positions.
-    After a violent start (a line released from a kink, v' ~ 200 m/s^2) both put v1 = h v'0
-    ~ 200 m/s into the drag at h = 1 s, and Newton runs off (to 1e30 times the scales) from
-    there. Rest is y'1 = (1 - 1 / gamma) y'0 (the update y1 = y0 + h y'0 + gamma h (y'1 -
-    y'0) = y0). The others are tried only where the first's residual exceeds
-    PREDICTOR_TRUST (:func:`~symcable.solvers.newton.best_start`). With ``residual`` (w ->
-    the residual vector, whose scaled norm is ``res``) and ``symbols`` (the MX inputs the
-    expressions are of), ``(start, residual(start), res(residual(start)))``."""
+    first. The constant rate moves q by h q'0 only: on a stiff chain its missing h^2 a / 2 of
+    a heaving fairlead can exceed the top segment's stretch, which leaves the segment slack
+    at Newton's start, and the first iterate overshoots; from the Taylor step such runs need
+    about half the factorisations. The constant rate is exact on a steady tow, where the
+    Taylor step carries the start's round-off accelerations into the positions. After a
+    violent start (a line released from a kink) both put v1 = h v'0, hundreds of m/s at a
+    1 s step, into the drag, and Newton runs off from there. Rest is y'1 = (1 - 1 / gamma)
+    y'0 (the update y1 = y0 + h y'0 + gamma h (y'1 - y'0) = y0). The others are tried only
+    where the first's residual exceeds PREDICTOR_TRUST
+    (:func:`~symcable.solvers.newton.best_start`). With ``residual`` (w -> the residual
+    vector, whose scaled norm is ``res``) and ``symbols`` (the MX inputs the expressions are
+    of), ``(start, residual(start), res(residual(start)))``."""
     yd0 = x[ny:]
     stay = (1 - 1 / gamma) * yd0
     cands = ([] if taylor is None else [taylor]) + [yd0, ca.vertcat(yd0[:nq], stay[nq:]), stay]
@@ -437,8 +432,8 @@ def _unrolled(mech: Mechanism, max_iter: int, with_lte: bool, lu: bool) -> ca.Fu
     # previous scaled residual; then the step's inputs. Every branch is a Function of values
     # computed once (``Function.if_else``): CasADi's short-circuiting ``if_else`` of
     # expressions builds its branches from the symbols and computes again, inside each,
-    # what the expression shares with the rest of the graph (on the WD0050 chain the
-    # matrix was factorised twice per refactorisation and the residual's norm 5 times)
+    # what the expression shares with the rest of the graph (the matrix would be factorised
+    # twice per refactorisation and the residual's norm taken several times)
     z, rz, res = ca.MX.sym("z", ny), ca.MX.sym("rz", ny), ca.MX.sym("res")
     done, it, meas = ca.MX.sym("done"), ca.MX.sym("it"), ca.MX.sym("measure")
     f, prev = ca.MX.sym("f", n_f), ca.MX.sym("previous")

@@ -178,8 +178,8 @@ def _state_order(dae: ca.Function, n: int) -> np.ndarray:
     states ordered so that the sparse LU, which factorises in the given order, meets the
     mechanism's couplings as a narrow band and its dense rows (a global constraint, such as
     the planar cable's closure stabilisation) last. In the order q, v, z a momentum row sits
-    a whole q-block from the coordinates it couples to; on the planar cable (50 segments,
-    H = 10) the LU was then several times slower."""
+    a whole q-block from the coordinates it couples to, and the LU is several times slower
+    (the planar cable, tens of segments, ten harmonics)."""
     sp = dae.sparsity_jac(0, 0) + dae.sparsity_jac(1, 0)
     sym = sp + sp.T + ca.Sparsity.diag(n)
     return np.asarray(sym.amd(), dtype=int)

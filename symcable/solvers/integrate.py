@@ -10,7 +10,7 @@ steps into one call, so a long run pays the Python interpreter once per batch of
 samples, never once per step. The first-order generalized-alpha step and RK4 run in
 generated C when ``codegen`` resolves to True (:func:`symcable.mechanism.codegen.use_codegen`).
 Generalized-alpha runs estimate their own time-stepping error and warn when it exceeds 1 %
-(``stats["error_estimate"]``, see :func:`integrate`; studies/time_error).
+(``stats["error_estimate"]``, see :func:`integrate`).
 """
 from __future__ import annotations
 
@@ -101,8 +101,7 @@ def _initial_state(mech, F, method, q0, v0, z_guess, t0, p):
     a0, z0 = (np.asarray(x).ravel() for x in F.consistent_acceleration(q0, v0, z_guess, t0, p))
     if mech.n_z and method.rho_inf >= 1.0:
         # without numerical damping the multipliers of position constraints (index 3)
-        # are not damped and grow: on the toy pendulum z reached 1e6 times its value in
-        # 1900 steps at T/800
+        # are not damped and grow without bound
         raise SymcableError(f"rho_inf = {method.rho_inf}: a mechanism with constraints "
                             "needs rho_inf < 1 (e.g. 0.9) for its constraint forces to stay "
                             "bounded")
@@ -185,10 +184,10 @@ def integrate(mech: Mechanism, duration: float, dt: float | None = None, *, meth
         * ``error_estimate``: the estimated largest error of the state over the run from
           the time discretisation, relative to the range of the motion (the largest range
           of a state entry over its scale): about the error of an output that follows the
-          state (a tension, a position) relative to its range over the run
-          (studies/time_error: 1.0 to 1.5 times the true error of the planar fairlead
-          tension on the built-in scene from T/400 to T/4; low by about the resonant gain
-          for a lightly damped linear resonance, e.g. 3 to 6 times at damping ratio 0.1);
+          state (a tension, a position) relative to its range over the run (at or somewhat
+          above the true error on a damped periodic response over a wide range of steps;
+          low by about the resonant gain for a lightly damped linear resonance: the
+          time-error study, in the docs);
         * ``error_estimate_scaled``: the same error relative to the state's scales;
         * ``motion_range``: that largest range over its scale;
         * ``error_memory``: period / (2 pi), s;
@@ -201,7 +200,7 @@ def integrate(mech: Mechanism, duration: float, dt: float | None = None, *, meth
         |beta - 1/6| h^2 |a_{n+1} - a_n| on q) is summed with a memory of one radian of the
         motion, E_{n+1} = exp(-h / error_memory) E_n + d_n: local error times steps per
         radian, the error of a harmonic response. Computed in NumPy on the states the
-        batched steps return, nothing added to the step (about 3 % of the step time in
+        batched steps return, nothing added to the step (a few per cent of the step time in
         generated C). A warning says how far off the run likely is and which dt would do
         when ``error_estimate`` exceeds ERROR_TARGET; the status stays "converged".
 
@@ -350,10 +349,9 @@ def _message(failure, label, method, stats) -> str:
 
 def accurate_dt(dt: float | None, estimate: float, target: float = ERROR_TARGET) -> float | None:
     """The step (s) that should bring a fixed-step run's ``estimate`` to ``target``:
-    ``DT_SAFETY dt sqrt(target / estimate)``, from the scheme's order 2 (measured: the error
-    falls 4 times per halving of dt below T/25; between T/4 and T/25 only about 2.8 times,
-    order 1.5, which DT_SAFETY covers: studies/time_error). None for adapted steps or a
-    zero estimate."""
+    ``DT_SAFETY dt sqrt(target / estimate)``, from the scheme's order 2 (on coarse steps, a
+    few per period, the error falls more slowly, about as order 1.5, which DT_SAFETY
+    covers). None for adapted steps or a zero estimate."""
     if dt is None or not estimate > 0:
         return None
     return DT_SAFETY * dt * math.sqrt(target / estimate) if math.isfinite(estimate) else 0.0

@@ -18,7 +18,7 @@ kinematics and output expressions: no finite differences.
   symmetric generalized problem ``K G phi = omega^2 M phi`` on the velocities that keep the
   constraints (``B G u = 0``). That is the choice wherever it exists: half the size of the
   state matrix and symmetric, so about 10 times faster than the nonsymmetric eigenproblem
-  it replaced (``modal_analysis`` of a 200-segment planar line: 0.12 against 1.19 s), with
+  of the state matrix, with
   real frequencies and shapes by construction, and none of the state matrix's zero
   eigenvalues (the invariants: directions of q that no velocity reaches) to sort out. A
   symmetric eigensolver on K G itself would lose the lowest frequencies' digits (error

@@ -39,22 +39,19 @@ StepFn = Callable[[np.ndarray, np.ndarray], tuple]
 
 #: a time step's first predictor whose scaled residual (max-norm) is at most this is taken
 #: as Newton's start without trying the others (:func:`best_start`): an accurate step pays
-#: one residual, a large one three more. Not larger: near rest on seed 000's hybrid (80
-#: segments, t = 41 s) the constant-acceleration start of a 1 s step has a residual of 0.6
-#: force scales where rest has 5e-11, and Newton from the former runs off (1e7): the
-#: accelerations at rest are the round-off of the forces (7e-11 N on nodes of 2e-5 kg:
-#: 4e-6 m/s^2), and h^2 a of them along a segment of EA / ds = 1.6e5 N/m is 0.6 N; after
-#: a release the former is 1e7. Not smaller: it was 1e-3, and the MoorDyn chains' first
-#: residuals (1e-3 to 1e-1 at 0.2 s steps) paid three residuals more in nearly every step
-#: for starts that were never chosen (a tenth of the step's time: WD0050 A1 at 0.2 s, 20.1
-#: against 16.7 ms)
+#: one residual, a large one three more. Not larger: near rest the accelerations are the
+#: round-off of the forces, which on light nodes and stiff segments h^2 a turns into a
+#: residual of the order of a force scale in the constant-acceleration start of a long
+#: step, where rest has round-off, and Newton from the former can run off; after a release
+#: the former is far worse. Not smaller: a chain's first residuals at coarse steps (up to
+#: 1e-1) would pay three residuals more in nearly every step for starts that are never
+#: chosen (a tenth of the step's time)
 PREDICTOR_TRUST = 1e-1
 #: another predictor replaces the first only where its residual is below this fraction of
 #: the first's: a residual dominated by a stiff (axial) row is a poor distance, and on a
-#: smooth periodic rod (shooting at T/100) a start at rest with a 10 times smaller
-#: residual took more iterations than the constant acceleration (a period map 1.7 times
-#: slower); the starts it is for are 1e9 (release, 2.4e7 against 0.046) and 1e10 (rest,
-#: 0.6 against 5e-11) times better
+#: smooth periodic rod a start at rest with a 10 times smaller residual can take more
+#: iterations than the constant acceleration; the starts it is for (after a release, near
+#: rest) are many orders of magnitude better
 PREDICTOR_MARGIN = 1e-3
 
 

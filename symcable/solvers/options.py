@@ -159,7 +159,7 @@ class HarmonicBalance:
     """Harmonic balance with ``harmonics`` harmonics, ``samples`` time samples per period
     (default 4 harmonics + 4, enough to resolve cubic nonlinearities without aliasing).
     Default 10 harmonics: the response to quadratic drag |v| v decays like 1/h^3, and 10
-    put the fairlead tension of the seed-001 line within 0.1 % of its range of collocation."""
+    put a drag-dominated line's fairlead tension within 0.1 % of its range of collocation's."""
 
     harmonics: int = 10
     samples: int | None = None

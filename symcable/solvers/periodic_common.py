@@ -128,8 +128,7 @@ class SquareSystem:
     fallback) see the system permuted by ``order``, IPOPT the system as written (MUMPS
     orders it itself). Their Jacobian is that of the system as written, permuted
     (:meth:`_jacobian`, the rootfinder's ``jacobian_function``): CasADi differentiating
-    the permuted residual itself took 0.2-0.3 s longer to build and 0.14 s against 0.10 s
-    per evaluation (collocation, seed 001, K = 40)."""
+    the permuted residual itself takes longer to build and to evaluate."""
 
     def __init__(self, name: str, residual: ca.Function, compiled: bool = False,
                  order: Callable[[], tuple] | None = None):

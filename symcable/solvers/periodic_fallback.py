@@ -6,7 +6,7 @@ Why
 Every periodic method needs a start near the periodic response. Its own (a short time run
 from the static state, or for shooting the static state at rest) can be far from it when
 the motion is large against what the line takes: an end held at its full displacement from
-t = 0 jerks a stiff line (studies/stability, cable3d rows); a slack-and-snap or a landing
+t = 0 jerks a stiff line; a slack-and-snap or a landing
 response is far from the static state; a line held by friction creeps towards its periodic
 position over many periods. From the static state the response at a small amplitude is
 close (the static state itself is its limit), and each periodic response is a good start
@@ -34,7 +34,7 @@ Where it applies (:func:`continuation_applies`)
   block named ``ramp``, ``RAMP_BLOCK``) that ``p`` holds at full amplitude from t = 0
   (ramp 0) needs ``start_p``, the parameters of a ramped first period for the start's time
   run; from the static state its first solve would meet the end displaced by s A at t = 0
-  (on a stiff line still a jerk at s = 1/32: studies/stability, EA x100). The cable3d API
+  (on a stiff line still a jerk at small s). The cable3d API
   solves again with ``start_p`` when the direct solve fails, so that there the order is the
   direct solve, the solve from the ramped start, then this continuation from that start.
 """

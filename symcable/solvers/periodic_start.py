@@ -60,7 +60,7 @@ def transient_start(mech: Mechanism, period: float, p, q0, z0, *,
     q0, z0 = np.asarray(q0, float), np.asarray(z0, float)
     # the rates at t = 0 from the first period's parameters: from the full motion's (an end
     # displaced by its amplitude at t = 0) the start's acceleration is the jerk the ramp is
-    # there to avoid (EA x100 line of studies/stability: the first step failed)
+    # there to avoid (on a stiff line the first step can fail)
     x, _ = pm.initial_state(q0, np.zeros(nv), z0, 0.0, p if p_first is None else p_first)
     substepped, samples = 0, None
     for k in range(periods):

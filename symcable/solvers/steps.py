@@ -18,19 +18,18 @@ q' = v (no ``kinematics``).
 The Newton unknowns are the step's displacement d = q1 - q0, scaled to d / (beta h^2)
 (an acceleration, so that abstolStep means what it did for a1), and z1 (a1, abar1 and v1
 follow from d): q1 = q0 + d is then exact to the round-off of q, where q0 + h^2 (...) from
-accelerations loses |h^2 abar| eps to cancellation (at h = 1 s after a release, abar ~ 200
-m/s^2: 4e-14 m, which a stiff axial law turns into 1e-9 N of residual, above the
-tolerance). Newton starts from the best of three predictors (:func:`_predictor`): constant
-acceleration (a1 = a0, exact for small h), constant velocity (q1 = q0 + h v0) and rest
-(q1 = q0), the latter two only where the first's residual exceeds PREDICTOR_TRUST force
-scales and theirs is far smaller: where a large step follows a violent start (a line
-released from a kink accelerates at 200 m/s^2) the first would move the nodes by
-h^2 a0 / 2 ~ 100 m, whose residual (the axial law stretched) is 1e7 N, and Newton never
-recovers. It iterates with CasADi's backtracking line search, and where that fails, again
-from the same predictor without it (full Newton steps: on a line the residual's norm has
-narrow valleys along its stiff axial rows, where the line search's steps shrink to
-nothing, 5 N of residual left after 50 iterations; on smooth steps the line search's
-Newton is the cheaper, a rod's period map 1.4 times).
+accelerations loses |h^2 abar| eps to cancellation (on a long step after a release enough
+for a stiff axial law to turn it into a residual above the tolerance). Newton starts from
+the best of three predictors (:func:`_predictor`): constant acceleration (a1 = a0, exact for
+small h), constant velocity (q1 = q0 + h v0) and rest (q1 = q0), the latter two only where
+the first's residual exceeds PREDICTOR_TRUST force scales and theirs is far smaller: where a
+large step follows a violent start (a line released from a kink accelerates at 200 m/s^2)
+the first would move the nodes by h^2 a0 / 2 ~ 100 m, whose residual (the axial law
+stretched) is 1e7 N, and Newton never recovers. It iterates with CasADi's backtracking line
+search, and where that fails, again from the same predictor without it (full Newton steps:
+on a line the residual's norm has narrow valleys along its stiff axial rows, where the line
+search's steps shrink to nothing and leave a residual; on smooth steps the line search's
+Newton is the cheaper).
 """
 from __future__ import annotations
 

@@ -20,15 +20,14 @@ result saved as it arrives, so that an interrupted sweep resumes where it stoppe
   rather than compile on a worker. What changes the graph: another ``dt``, number of
   segments or line type, a cable3d motion's period or amplitude, and on a cable3d line
   pulled taut its reach (its force scale, a constant of the graph, grows with it). Compiling
-  took 2.4 s for the static solve of a 5-segment cable3d line, 6 s for 10 segments, 28 s
-  for its static solve and time step, against tenths of a second of virtual machine for a
-  short case. ``codegen = true`` in the sweep file compiles every structure where it first
-  runs (long cases of many structures), ``false`` compiles nothing. Remote workers with
-  their own disk find an empty cache: give them ``codegen = true``. Each case records what
-  it loaded (``CaseResult.builds``) and the summary says how many ran in the virtual
-  machine.
+  takes seconds to tens of seconds per structure, against tenths of a second of virtual
+  machine for a short case. ``codegen = true`` in the sweep file compiles every structure
+  where it first runs (long cases of many structures), ``false`` compiles nothing. Remote
+  workers with their own disk find an empty cache: give them ``codegen = true``. Each case
+  records what it loaded (``CaseResult.builds``) and the summary says how many ran in the
+  virtual machine.
 * Each case builds its scene's Mechanism and Functions (symcable keeps them per scene
-  content): 0.1-0.3 s of a case on a 3- to 10-segment line, whatever its analysis.
+  content): a few tenths of a second of a short case, whatever its analysis.
 * Files: ``<out>/<case name>-<hash>.json``, one per case, written (atomically) by the client
   as each case finishes; then ``<out>/results.csv`` and ``results.json``, the table. A case
   whose file exists with the same hash is not run again (a failed one neither, unless

@@ -13,11 +13,11 @@ body turns through that), it costs one coordinate more than the rotations, and t
 solvers carry that coordinate without knowing it is one: in statics its ``rest`` row
 ``|e|^2 - 1 = 0`` (times the force scale, N) makes the static system square; in time
 q' = G(q) v keeps |e| to the integrator's error, and every expression reads the rotation of
-e / |e| (:func:`rotation`), so the drift of |e| changes nothing. Incremental rotations (seed
-000's rod frames) would need the solvers to re-base the reference orientation between
-steps. Why O and body-axis w: lines attach at body points relative to O, a scene places O,
-and MoorPy and MoorDyn give a body's stiffness and forces about it; with w in body axes the
-inertia is constant.
+e / |e| (:func:`rotation`), so the drift of |e| changes nothing. Incremental rotations (as
+in Goyal & Perkins' rod frames) would need the solvers to re-base the reference orientation
+between steps. Why O and body-axis w: lines attach at body points relative to O, a scene
+places O, and MoorPy and MoorDyn give a body's stiffness and forces about it; with w in body
+axes the inertia is constant.
 
 Equations (virtual work, M(q) v' = f), R = R(e / |e|) body to global, c the centre of
 gravity and b the centre of buoyancy (body axes, from O), [a] the cross-product matrix:

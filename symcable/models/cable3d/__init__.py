@@ -1,2 +1,2 @@
-"""The 3D cable of seed 003: two-node elements with node positions as unknowns
+"""The 3D cable of Sun, Zhu & LaRosa: two-node elements with node positions as unknowns
 (:mod:`.line`), and its element form for the solvers (:mod:`.elements`)."""

@@ -1,7 +1,7 @@
 """The cable3d line's momentum rows as element kernels (:class:`~.element_form.ElementForm`):
 each element's forces on its two nodes (:func:`~symcable.models.common.elements.element_kernel`: axial, material
-damping, drag, weight and buoyancy) and its share of the mass (structural and added,
-lumped or seed 003's consistent), so that a solver may evaluate the iteration matrix as a
+damping, drag, weight and buoyancy) and its share of the mass (structural and added, lumped
+or Sun, Zhu & LaRosa's consistent), so that a solver may evaluate the iteration matrix as a
 loop over elements of the kernel's own 6 x 18 Jacobian. Contact, friction, bending and end
 forces stay in the rest. Given only where the elements' inputs are the nodes' own: not
 with a depth profile of current (the water speed of an element then depends on its depth).
@@ -51,7 +51,7 @@ def element_form(base: ca.Function, columns: dict, law, shared, node_index: np.n
     ``columns``: name -> array (N,) for every entry of CONSTANTS but ``self`` and ``other``;
     ``law``: the drag's loading functions (n_law, N) or None; ``shared``: (5, 1) of (t, p);
     ``held``: (9, N+1) positions, velocities and accelerations of the held ends (m, m/s,
-    m/s^2); ``force_rest`` (n_v, 1); ``consistent``: seed 003's consistent mass, else
+    m/s^2); ``force_rest`` (n_v, 1); ``consistent``: Sun, Zhu & LaRosa's consistent mass, else
     lumped."""
     N = len(columns["L0"])
     weights = (2.0 / 3.0, 1.0 / 3.0) if consistent else (1.0, 0.0)

@@ -8,8 +8,8 @@ At a node between edges e1 = x_i - x_{i-1} and e2 = x_{i+1} - x_i, with turning 
 
 lbar_i the mean of the two rest lengths. The factor 1/2 makes it the continuum energy
 0.5 EI kappa^2 over the node's cell: kappa = phi / lbar, so E_i = 0.5 EI kappa^2 lbar + O(phi^4)
-(design.md writes EI |kb|^2 / lbar, which with lbar the MEAN of the rest lengths is twice
-that: it is DER's form with lbar their SUM). The forces are -grad E_i on the three nodes
+(EI |kb|^2 / lbar with lbar the MEAN of the rest lengths would be twice that: that is
+DER's form with lbar their SUM). The forces are -grad E_i on the three nodes
 (CasADi differentiates exactly), and the moment output is the vector
 EI kb (1 + |kb|^2 / 4) / lbar = dE/dphi along the binormal (N m).
 

@@ -1,4 +1,4 @@
-"""The drag loading functions of seed 003 in the cable3d element (``drag_law =
+"""The drag loading functions of Sun, Zhu & LaRosa in the cable3d element (``drag_law =
 "loading-functions"``; the law and its keys: :mod:`symcable.scene.loading`).
 
 Written in the tangential and normal relative speeds, never in the angle itself: with u the

@@ -1,6 +1,6 @@
-"""The two-node cable element of the 3D formulations (seed 003): its kernel (axial force,
-material damping, Morison drag, weight and buoyancy on its two nodes) and the prescribed
-motion of a held node."""
+"""The two-node cable element of the 3D formulations (Sun, Zhu & LaRosa): its kernel (axial
+force, material damping, Morison drag, weight and buoyancy on its two nodes) and the
+prescribed motion of a held node."""
 from __future__ import annotations
 
 import hashlib
@@ -68,8 +68,8 @@ def _table_lookup(samples):
     """``(disp, vel)``: functions of t (SX) giving a table's displacement (3,) and velocity
     (3,) as :func:`held_end` describes them, each a CasADi linear interpolant (a binary search
     per call in the graph and in its C, where the table written as a sum of ramps over its
-    rows cost some ten operations per row: 4,500 of the 16,300 of a WD0050 chain residual
-    with its 400 rows) of the clamped time. The velocity is an interpolant through the slopes
+    rows costs some ten operations per row, a large share of the residual for a long table)
+    of the clamped time. The velocity is an interpolant through the slopes
     held over each interval and ramped over TABLE_VELOCITY_WIDTH of the smallest row
     spacing about each row (from zero before the first row to zero after the last)."""
     r = np.asarray(samples, float)
@@ -103,9 +103,9 @@ def held_end(end, pos_p, motion_scale, t, ramp_on=1.0):
       changing linearly over :data:`TABLE_VELOCITY_WIDTH` of the smallest row spacing about
       each row: continuous in t, so a time step that ends on a row (up to round-off in t)
       sees one velocity, not the slope of whichever side the rounding of t falls on (with
-      the derivative of the interpolant, a step of 0.05 s on the MoorDyn chain tables saw
-      the left slope, the right one or their mean depending on how the run was batched:
-      runs differed by up to 25 kN);
+      the derivative of the interpolant, a step ending on a row sees the left slope, the
+      right one or their mean depending on how the run is batched, so that runs of one
+      scene batched differently disagree);
     - or x_i = r(t) A_i cos(2 pi t / period + phase_i), ramped in over the first period by
       r = (1 - cos(pi t / period)) / 2 (0 before t = 0, 1 after one period), so that a run
       from the static state at any t <= 0 starts without a jump in the end's position or

@@ -97,10 +97,10 @@ def power(s2):
     """|zeta|^m of the slip rate up to the limit (|zeta| = 1), continued beyond it by
     1 + m x + A x^2 / (1 + A x / m), x = |zeta| - 1, A = m (m - 1) / 2: C^2 at the limit and
     asymptotically linear (slope 2 m). Newton's iterates in a step that crosses many
-    mobilisation lengths start far outside the limit: the bare power sent them to 1e12 times
-    the slip rate (the run blew up), a saturated one (bounded beyond the limit) left them a
-    flat residual to cycle on (2-cycles on the chain decks' touchdown node); the linear
-    continuation brings them back in one step."""
+    mobilisation lengths start far outside the limit: the bare power sends them to huge slip
+    rates (the run blows up), a saturated one (bounded beyond the limit) leaves them a flat
+    residual to cycle on (2-cycles at a chain's touchdown node); the linear continuation
+    brings them back in one step."""
     m = BRISTLE_EXPONENT
     A = 0.5 * m * (m - 1)
     x = ca.sqrt(ca.fmax(s2, 1.0)) - 1.0
@@ -144,8 +144,8 @@ def friction(sb, Xm, Vm, contact, area, weight, state=None, laid=None, gate=None
         vh = Vm[0:2, :]
         speed = ca.sqrt(ca.sum1(vh * vh) + sb.friction_velocity ** 2)
         if mu_a == mu_l:  # isotropic: mu (v_a tau + v_l n) = mu v_h, without the frame
-            # (whose derivatives by the neighbours' positions vanish only numerically: on
-            # the WD0600 chain 44k of the 56k instructions of the step matrix's rest)
+            # (whose derivatives by the neighbours' positions vanish only numerically, yet
+            # are written out: most of the instructions of a long chain's step matrix rest)
             f = -ca.repmat(mu_a * contact / speed, 2, 1) * vh
         else:
             v_a, v_l = along(vh)

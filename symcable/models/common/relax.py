@@ -37,8 +37,8 @@ RELAX_MAX_ITER, RELAX_TOL = 3000, 1e-10
 #: the minimised energy's slack law is this much stiffer in compression and smoother at its
 #: corner than the equations' (1e-4 of the force scale per unit strain; the corner where
 #: the tension is 1e-3 of it): with the equations' own law the energy is nearly flat along a
-#: slack pile, and IPOPT's Newton steps along it (hundreds of line lengths) fail
-#: (measured: "Error in step computation" on a 450 m pile). A pile's shape hardly depends
+#: slack pile, and IPOPT's Newton steps along it (hundreds of line lengths) fail ("Error in
+#: step computation"). A pile's shape hardly depends
 #: on how little it resists, and Newton on the equations polishes the rest
 RELAX_WIDER = 1e3
 #: minimisations with the drag frozen at the last shape (then one with the exact law)

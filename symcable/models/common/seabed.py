@@ -34,14 +34,12 @@ from .friction import Friction, friction
 #: weight (:func:`~symcable.models.common.terms.contact_smoothing`). The planar line keeps 1 %: its
 #: linearised dynamics accept a grounded length up to 1 % of a segment, which the wider
 #: ramp's tail exceeds. So do free points
-#: (:data:`~symcable.models.system.POINT_CONTACT_SMOOTHING`). At 1 % Newton cycled
-#: on the touchdown node of the MoorDyn chains, between 15 mm above the bed and 22 mm into
-#: it across the 1.3 mm smoothing (WD0200 A2 at 0.2 s steps: 6 of 150 steps, each then
-#: retried as substeps; 1-3 on WD0050 A2 and WD0600 A2); at 10 % none does and WD0200 A2
-#: runs in 0.6 times the time. The chains' max errors against OrcaFlex move by at most 0.6
-#: % of the range, their tension series by up to 2.1 % of it (studies/chains/README.md);
-#: OC3's static fairlead tension by 2.3e-5. Its cost: a node at a height g above the bed
-#: carries k b delta^2 / 4 g (the ramp's tail), 1e-4 of its weight on these chains at 3 m
+#: (:data:`~symcable.models.system.POINT_CONTACT_SMOOTHING`). At 1 % Newton can cycle on a
+#: heavy chain's touchdown node across the narrow smoothing (a step then retried as
+#: substeps); at 10 % it does not and runs are faster, while the chains' answers against a
+#: reference code and the static fairlead tension move little (the chain study, in the
+#: docs). Its cost: a node at a height g above the bed carries k b delta^2 / 4 g (the
+#: ramp's tail), a small fraction of its weight a few metres above the bed
 CONTACT_SMOOTHING = 0.1
 
 __all__ = ["CONTACT_SMOOTHING", "SeabedTerms", "bristle_scale", "friction_setup", "lumped",

@@ -79,7 +79,7 @@ CABLE_COMPRESSION = 1e-4
 #: ... or, where more, this fraction of the segment's own weight: a vertical line that folds
 #: inside one segment (two strands side by side) bunches that segment nearly shut, and the
 #: slack law's wall holds it open with a push of about SLACK_WALL times the local tension
-#: (measured 0.5-2.3 % of the segment's weight). The discrete line is uncertain there by
+#: (up to a few per cent of the segment's weight). The discrete line is uncertain there by
 #: about a segment's weight anyway (the bunching warning says so); a compressed strut
 #: pushes with many segments' weight
 FOLD_PUSH = 0.05

@@ -22,7 +22,7 @@ an element, d(T t)/ds + f = 0 with dt/ds = phi' n, along t and n:
     x' = (1 + e) cos phi,   z' = (1 + e) sin phi.
 
 With Morison's law (f_n = Cdn sin^2 psi, f_t = Cdt cos^2 psi, cd = 1) and R = q d Cdn,
-F_t = q d Cdt these are the issue's T' = w sin phi + F_t cos^2 phi, T phi' = w cos phi -
+F_t = q d Cdt these are the classical T' = w sin phi + F_t cos^2 phi, T phi' = w cos phi -
 R sin^2 phi (inextensible). At the body the cable's pull T(0) t(0) balances the body's
 submerged weight W_b (down) and its drag D_b (along the flow, -x): T(0) cos phi(0) = D_b,
 T(0) sin phi(0) = W_b. The top tension is T(L), the layback x(L) (how far the body trails

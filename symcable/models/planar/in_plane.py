@@ -1,11 +1,12 @@
 """The planar line as the nonlinear 3D cable in its plane: the stand-in for dynamics the
 linearised planar model cannot represent.
 
-The planar dynamics are seed 001's model, linearised about the static state, with no
-seabed contact. A planar scene whose static line rests on the seabed still has dynamics:
-the same line as a ``model = "cable3d"`` scene in the x-z plane (y = 0), whose element is
-nonlinear and carries seabed contact and friction. Its statics agree with the planar
-solve's to the discretisation (both are the same elastic catenary on the same segments).
+The planar dynamics are the model of Boral, Hickey & Basu, linearised about the static
+state, with no seabed contact. A planar scene whose static line rests on the seabed still
+has dynamics: the same line as a ``model = "cable3d"`` scene in the x-z plane (y = 0), whose
+element is nonlinear and carries seabed contact and friction. Its statics agree with the
+planar solve's to the discretisation (both are the same elastic catenary on the same
+segments).
 """
 from __future__ import annotations
 

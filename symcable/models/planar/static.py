@@ -6,11 +6,12 @@ part beyond minus that of the part before, plus the load), which is f; its compa
 derive is then the model's own expression, operation for operation (no negation in the graph
 that the fused Newton solve and its generated C are built from).
 
-The planar model of seed 001 is written in angles and strains, whose residual rows mix force
-balances and geometric compatibility; as a Mechanism it gives the generic static solver,
-the exact sensitivities of its outputs (the end stiffness) and the derived Functions. Its
-residual is not the gradient of an energy, so no stability is read from its tangent; its
-dynamics (linearised about the static state) carry their own mass and stiffness.
+The planar model of Boral, Hickey & Basu is written in angles and strains, whose residual
+rows mix force balances and geometric compatibility; as a Mechanism it gives the generic
+static solver, the exact sensitivities of its outputs (the end stiffness) and the derived
+Functions. Its residual is not the gradient of an energy, so no stability is read from its
+tangent; its dynamics (linearised about the static state) carry their own mass and
+stiffness.
 """
 from __future__ import annotations
 

@@ -1,2 +1,2 @@
-"""The Kirchhoff rod of seed 000 as a discrete elastic rod (:mod:`.rod`: bending, torsion,
-frames, loads) and the hybrid rod-catenary line built on it (:mod:`.hybrid`)."""
+"""The Kirchhoff rod of Goyal & Perkins as a discrete elastic rod (:mod:`.rod`: bending,
+torsion, frames, loads) and the hybrid rod-catenary line built on it (:mod:`.hybrid`)."""

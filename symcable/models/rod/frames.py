@@ -1,7 +1,7 @@
 """Frames and the elastic kernel of the discrete elastic rod (``model = "rod"``,
 :mod:`symcable.models.rod.rod`): Bergou et al. 2008 ("Discrete elastic rods"), with the
 reference frame carried as a smooth function of the positions (the choice is argued in
-:mod:`symcable.models.rod.rod` and studies/rod_notes/rod14.md).
+:mod:`symcable.models.rod.rod`).
 
 Edge j (nodes j, j+1) has the unit tangent t_j, an *anchor* (t0_j, u0_j) stored as data (the
 parameter block ``frame``: a unit tangent and a unit director perpendicular to it), and a
@@ -76,9 +76,8 @@ def reference_twist(t1, t2, t0p, u0p, t0n, u0n):
 
         ref = c0 - Omega(t0p, t1, t2) - Omega(t0p, t2, t0n)
 
-    (checked against the transports to 4e-16 on random frames; tests/test_rod_statics.py).
-    The same value as the transports', at a third of the cost of the tangent; like them,
-    smooth while the loop stays well inside a hemisphere."""
+    The same value as the transports' (to round-off), at a third of the cost of the tangent;
+    like them, smooth while the loop stays well inside a hemisphere."""
     moved = transport(t0p, t0n, u0p)
     c0 = ca.atan2(ca.dot(ca.cross(moved, u0n), t0n), ca.dot(moved, u0n))
     return c0 - _solid_angle(t0p, t1, t2) - _solid_angle(t0p, t2, t0n)
@@ -95,13 +94,11 @@ def _frame(e, theta, t0, u0):
 
 #: a rod with at least this many vertices gets the vertex kernel as a call
 #: (:func:`vertex_kernel`'s ``call``; ``vertices`` given). Default: never (the straight-line
-#: step is faster in the virtual machine, which runs large steps by default, and other
-#: studies time it). Measured (studies/rod_notes/rodc14.md, anisotropic rod with the frames' spin, one
-#: generalized-alpha step, 3 Newton iterations): 20 segments C 0.39 against 0.97 ms, VM
-#: 7.0 against 2.7 ms; 40 segments C 0.96 against 4.3 ms, VM 14 against 9.3 ms, compile
-#: 52 s (-O1) against 53 s (-O0). Set it (e.g. to 16) before the scene's Mechanism is
-#: first built (:func:`symcable.api.rod_static.rod_mechanism` keeps it per scene content) for
-#: runs in generated C (``codegen=True``) of long rods.
+#: step is faster in the virtual machine, which runs large steps by default); in generated C
+#: the call makes the step faster, the more so the longer the rod. Set it (e.g. to 16)
+#: before the scene's Mechanism is first built
+#: (:func:`symcable.api.rod_static.rod_mechanism` keeps it per scene content) for runs in
+#: generated C (``codegen=True``) of long rods.
 CALL_MIN_VERTICES: float = math.inf
 
 
@@ -135,7 +132,7 @@ def vertex_kernel(isotropic: bool = False, coupled: bool = False,
     ``call``: a Function that is never inlined: an SX expression that calls it (mapped over
     the vertices) holds one call node per vertex, its derivatives calls of the kernel's
     forward derivative (one per direction: 11 per vertex), so generated C holds the kernel
-    and its derivative once, at some cost per evaluation (studies/rod_notes/rodc14.md). The same values."""
+    and its derivative once, at some cost per evaluation. The same values."""
     call = _call(call, vertices)
     xp, x, xn, t0p, u0p, t0n, u0n = (ca.SX.sym(n, 3) for n in
                                      ("xp", "x", "xn", "t0p", "u0p", "t0n", "u0n"))

@@ -1,6 +1,6 @@
-"""The hybrid rod-catenary line (seed 000), ``model = "hybrid"``, as a Mechanism: one line
-whose sections are ``rod`` (:mod:`.rod`) or ``cable3d`` (:mod:`.cable3d`), joined at each
-interface by the seed's moment-free spherical joint (its Eqs. 12-14).
+"""The hybrid rod-catenary line (Goyal & Perkins), ``model = "hybrid"``, as a Mechanism: one
+line whose sections are ``rod`` (:mod:`.rod`) or ``cable3d`` (:mod:`.cable3d`), joined at
+each interface by Goyal & Perkins' moment-free spherical joint (their Eqs. 12-14).
 
 In the discrete elastic rod this is the rod Mechanism with a per-segment mask
 (:func:`~symcable.models.rod.rod.build_rod` with ``rod``; what changes is in

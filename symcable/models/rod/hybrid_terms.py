@@ -7,8 +7,8 @@ Mechanism (:func:`symcable.models.rod.rod.build_rod`, which takes a per-segment 
   the run reaches a clamped end;
 - which nodes carry the rod's bending-and-twisting vertex (:func:`rod_vertices`): nodes
   inside a run (both edges rod), and a clamped or guided end whose edge is rod. A node
-  between a rod edge and a cable3d edge has *no* vertex term: the seed's moment-free
-  spherical joint (seed 000, Eqs. 12-14): shared position (so velocity continuous), the
+  between a rod edge and a cable3d edge has *no* vertex term: the moment-free spherical
+  joint of Goyal & Perkins (their Eqs. 12-14): shared position (so velocity continuous), the
   element forces of both sides meet there (force transmitted), no bending or twisting
   moment, and the tangent may jump;
 - which nodes carry cable3d's own bending (:func:`cable_vertices`,

@@ -1,5 +1,5 @@
 """The spin of the rod's anchored reference frames in the twist's kinetic energy
-(:mod:`symcable.models.rod.rod`, studies/rod_notes/rod14.md section 1, studies/rod_notes/wire14.md).
+(:mod:`symcable.models.rod.rod`).
 
 The rod's twist theta_j is measured from the reference director d1_j = P(t0_j -> t_j) u0_j,
 a function of the edge's tangent and its anchor. As the edge turns, d1_j spins about t_j at
@@ -18,11 +18,11 @@ s_j = c_j . e_j' in closed form (:func:`spin_coefficient`: e_j the edge vector, 
 function of e_j and the anchor's tangent only), and its Lagrange equations: the mass
 M + d^2 T_s / dv^2 (coupling each twist with its edge's two nodes; still a function of
 (q, t, p)) and the force f - (d p_s / dq) v - d p_s / dt + dT_s/dq (p_s = dT_s/dv), written
-out per edge (:func:`with_reference_spin`; by CasADi over the whole Mechanism they made the
-step's Jacobian 4 times larger, studies/rod_notes/rodc14.md). T is then I_j (theta_j' + s_j)^2 / 2 per edge plus the rest:
-the material frame's own spin, the same in every chart, so a run no longer depends on when
-it re-anchors (tests/test_rod_api_reanchor.py). Statics are unchanged (T_s = 0 at rest with
-the ends still); the output ``kinetic_energy`` is T.
+out per edge (:func:`with_reference_spin`; by CasADi over the whole Mechanism they make the
+step's Jacobian several times larger). T is then I_j (theta_j' + s_j)^2 / 2 per edge plus
+the rest: the material frame's own spin, the same in every chart, so a run no longer depends
+on when it re-anchors. Statics are unchanged (T_s = 0 at rest with the ends still); the
+output ``kinetic_energy`` is T.
 """
 from __future__ import annotations
 
@@ -115,8 +115,8 @@ def _edge_kernel() -> ca.Function:
     and the spin's generalized forces on its twist and on its edge vector
     (:func:`with_reference_spin`; e' the edge's rate, de'/dt its explicit time derivative:
     a held end's acceleration). Inlined: as a call (never_inline, like the vertex kernel's
-    option) the 20-segment step grew (J 37 k -> 51 k instructions, C 0.39 -> 0.60 ms): its
-    forward calls, one per direction, cost more than its few hundred operations."""
+    option) the step grows (more instructions, a slower step in C): its forward calls, one
+    per direction, cost more than its few hundred operations."""
     e, ed, edd, a = (ca.SX.sym(k, 3) for k in ("e", "ed", "edd", "a"))
     I, thd = ca.SX.sym("I"), ca.SX.sym("thd")
     c = spin_coefficient(e, a)
@@ -156,8 +156,8 @@ def with_reference_spin(mech: Mechanism) -> Mechanism:
     I (g g^T - e_th e_th^T) with g = e_th + S^T c, and the force
     -(e_th + S^T c) I s_p - S^T P [(dc/de) e' - (dc/de)^T e'] with s_p = ds/dt at zero
     acceleration; the bracket is (e' x e) / |e|^3 (the curl of c). The same equations as
-    CasADi's of T_s (:func:`with_reference_spin_ad`; to round-off, tests/test_rod_codegen.py),
-    with a quarter of the operations in the step's Jacobian (studies/rod_notes/rodc14.md)."""
+    CasADi's of T_s (:func:`with_reference_spin_ad`; to round-off), with far fewer operations
+    in the step's Jacobian."""
     out = _CACHE.get(mech)
     if out is not None:
         return out

@@ -467,7 +467,12 @@ def end_stiffness(scene, end: str = "b", *, static=None) -> np.ndarray:
     if end not in ("a", "b"):
         raise SymcableError(f"end = {end!r}: must be 'a' or 'b'")
     scene = load_scene(scene)
-    cond = getattr(scene, f"end_{end}").condition
+    held = getattr(scene, f"end_{end}")
+    if held is None:
+        raise SymcableError(f"end = {end!r}: scene {scene.name!r} has several lines, points or "
+                            "bodies and no end_a/end_b of its own: its stiffness at each fixed "
+                            "or vessel point is sc.linearize(scene).end_stiffness[point name]")
+    cond = held.condition
     if str(getattr(cond, "value", cond)) != "pinned":
         raise SymcableError(f"end_{end}.condition = {getattr(cond, 'value', cond)!r}: the end "
                             "stiffness is defined for a pinned end (a prescribed position)")

@@ -39,11 +39,8 @@ def main(args) -> int:
     if args.save:
         res.save(args.save)
     if args.plot:
-        import matplotlib.pyplot as plt
-
-        fig = res.plot(dof=args.dof)
-        fig.savefig(args.plot, dpi=120)
-        plt.close(fig)
+        from ..plotting.profiles import close
+        close(res.plot(args.plot, dof=args.dof))
         if not args.json:
             print(f"plot              {args.plot}")
     return 0 if res.converged.all() else 3

@@ -315,12 +315,6 @@ class SystemTrajectory(Exportable):
         out += [f"warning           {w}" for w in self.warnings]
         return "\n".join(out)
 
-    def save(self, path):
-        """``.json`` only (the outputs are a dict of arrays)."""
-        if Path(path).suffix != ".json":
-            raise SymcableError(f"save path = '{path}': a SystemTrajectory saves as .json")
-        return super().save(path)
-
     @classmethod
     def load(cls, path):
         obj = super().load(path)

@@ -130,33 +130,12 @@ class OffsetSweep(Exportable):
                    f"(tolerance {st.get('tolerance', float('nan')):.3g} N)")
         return "\n".join(out)
 
-    def plot(self, *, dof: int | str | None = None, ax=None):
+    def plot(self, path=None, *, dof: int | str | None = None, ax=None):
         """Force and moment against the offset along ``dof`` (name or column; default the
         one that varies most), six panels, with the tangent of ``stiffness`` at the
-        origin dashed; returns the figure."""
-        import matplotlib.pyplot as plt
-
+        origin dashed (:func:`symcable.plotting.offsets.plot_offsets`); saved to ``path``
+        when given; returns the figure."""
+        from ..plotting.offsets import plot_offsets
         j = self.dof() if dof is None else (DOF_NAMES.index(dof) if isinstance(dof, str)
                                             else int(dof))
-        if ax is None:
-            fig, ax = plt.subplots(2, 3, figsize=(12, 6.5), sharex=True)
-        fig = np.ravel(ax)[0].figure
-        x = self.offsets[:, j]
-        order = np.argsort(x)
-        tan = self.tangent + self.force[np.argmin(np.linalg.norm(self.offsets, axis=1))]
-        have_k = np.all(np.isfinite(self.stiffness))
-        for k, a in enumerate(np.ravel(ax)):
-            scale = 1e3 if k < 3 else 1e6
-            a.plot(x[order], self.force[order, k] / scale, "o-", ms=3, label="static solves")
-            if have_k:
-                a.plot(x[order], tan[order, k] / scale, "--", color="0.4",
-                       label="linear stiffness")
-            a.set_title(_FORCE[k])
-            a.set_ylabel("kN" if k < 3 else "MN m")
-            a.grid(alpha=0.3)
-            if k >= 3:
-                a.set_xlabel(f"{DOF_NAMES[j]} offset ({_UNITS[j]})")
-        np.ravel(ax)[0].legend(fontsize=8)
-        fig.suptitle(f"{self.scene_name}: restoring force on {self.body}")
-        fig.tight_layout()
-        return fig
+        return plot_offsets(self, j, path, ax=ax)

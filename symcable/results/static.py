@@ -10,6 +10,7 @@ from types import MappingProxyType
 import numpy as np
 
 from ..errors import SymcableError
+from .io import read_tree, write_tree
 
 __all__ = ["Exportable", "ModalSolution", "OneLine", "PointState", "StaticSolution",
            "SystemStaticSolution"]
@@ -67,22 +68,9 @@ class Exportable:
         return text
 
     def save(self, path: str | Path) -> Path:
-        """Save to ``.npz`` (arrays, with stats as JSON inside) or ``.json``, by suffix."""
-        path = Path(path)
-        if path.suffix == ".json":
-            self.to_json(path)
-        elif path.suffix == ".npz":
-            arrays, meta = {}, {}
-            for f in fields(self):
-                v = getattr(self, f.name)
-                if isinstance(v, np.ndarray):
-                    arrays[f.name] = v
-                else:
-                    meta[f.name] = _jsonable(v)
-            np.savez(path, __meta__=np.array(json.dumps(meta)), **arrays)
-        else:
-            raise SymcableError(f"save path = '{path}': suffix must be .npz or .json")
-        return path
+        """Save to ``.npz`` or ``.json`` by suffix (:mod:`symcable.results.io`):
+        :meth:`load` reads either back equal, every array and number exactly."""
+        return write_tree(path, {f.name: getattr(self, f.name) for f in fields(self)})
 
     @classmethod
     def _decode(cls, d: dict) -> dict:
@@ -92,16 +80,7 @@ class Exportable:
     @classmethod
     def load(cls, path: str | Path):
         """Read a solution written by :meth:`save`."""
-        path = Path(path)
-        if path.suffix == ".json":
-            d = json.loads(path.read_text())
-        elif path.suffix == ".npz":
-            with np.load(path, allow_pickle=False) as z:
-                d = json.loads(str(z["__meta__"]))
-                d.update({k: z[k] for k in z.files if k != "__meta__"})
-        else:
-            raise SymcableError(f"load path = '{path}': suffix must be .npz or .json")
-        return cls.from_dict(d)
+        return cls.from_dict(read_tree(path))
 
     @classmethod
     def from_dict(cls, d: dict):
@@ -112,7 +91,7 @@ class Exportable:
             v = d.get(f.name)
             if f.type in ("tuple", "tuple[str, ...]") or f.name == "warnings":
                 v = tuple(v or ())
-            elif isinstance(v, (list, np.ndarray)):
+            elif isinstance(v, list):  # a plain-JSON array (to_dict, or an earlier file)
                 v = np.asarray(v, dtype=float)
             kw[f.name] = v
         return cls(**kw)
@@ -476,45 +455,21 @@ class SystemStaticSolution:
         return _plot_3d(self, path, scene)
 
     def save(self, path: str | Path) -> Path:
-        """Save to ``.json`` (:meth:`to_dict`) or ``.npz`` (each line's arrays under
-        ``lines/<name>/<field>``, the rest as JSON inside), by suffix; :meth:`load` reads
-        either back, every number exactly."""
-        path = Path(path)
-        if path.suffix == ".json":
-            self.to_json(path)
-            return path
-        if path.suffix != ".npz":
-            raise SymcableError(f"save path = '{path}': suffix must be .npz or .json")
-        meta, arrays = self.to_dict(), {}
-        for name, ln in self.lines.items():
-            for f in fields(ln):
-                v = getattr(ln, f.name)
-                if isinstance(v, np.ndarray):
-                    arrays[f"lines/{name}/{f.name}"] = v
-                    meta["lines"][name].pop(f.name)
-        if self.unknowns is not None:
-            arrays["unknowns"] = np.asarray(self.unknowns)
-            meta.pop("unknowns")
-        np.savez(path, __meta__=np.array(json.dumps(meta)), **arrays)
-        return path
+        """Save to ``.npz`` or ``.json`` by suffix (:mod:`symcable.results.io`): every
+        line's, point's and body's fields, the status, stats and warnings; :meth:`load` reads
+        either back equal, every number exactly."""
+        def part(v):
+            return {f.name: getattr(v, f.name) for f in fields(v)}
+        return write_tree(path, {
+            "scene_name": self.scene_name, "lines": {k: part(v) for k, v in self.lines.items()},
+            "points": {k: part(v) for k, v in self.points.items()},
+            "bodies": {k: part(v) for k, v in self.bodies.items()}, "status": self.status,
+            "stats": self.stats, "warnings": tuple(self.warnings), "unknowns": self.unknowns})
 
     @classmethod
     def load(cls, path: str | Path) -> "SystemStaticSolution":
         """Read a solution written by :meth:`save`."""
-        path = Path(path)
-        if path.suffix == ".json":
-            d = json.loads(path.read_text())
-        elif path.suffix == ".npz":
-            with np.load(path, allow_pickle=False) as z:
-                d = json.loads(str(z["__meta__"]))
-                for key in z.files:
-                    if key.startswith("lines/"):
-                        _, name, field_name = key.split("/", 2)
-                        d["lines"][name][field_name] = z[key]
-                    elif key == "unknowns":
-                        d["unknowns"] = z[key]
-        else:
-            raise SymcableError(f"load path = '{path}': suffix must be .npz or .json")
+        d = read_tree(path)
 
         def state(kind, v):
             return kind(**{f.name: (np.asarray(v[f.name], dtype=float)

@@ -245,9 +245,9 @@ def solve_periodic(scene, method="shooting", *, model: DynamicModel | None = Non
     method : {"shooting", "collocation", "harmonic-balance"} or an options object
         Shooting (default): the fixed point of the first-order generalized-alpha period map
         (the scheme of ``simulate``), Anderson-accelerated, with Newton on the exact monodromy
-        as fallback; its answer carries the integrator's error at ``steps`` (1.4e-3 of the
-        tension range at the default 100 on seed 001). The fastest to 1e-3 of the tension
-        range on seed 001 (studies/work_precision). Collocation (Radau IIA, the most
+        as fallback; its answer carries the integrator's error at ``steps`` (about 1e-3 of
+        the tension range at the default 100 on the built-in seed001 scene), and it is the
+        fastest to that accuracy (the work-precision study in the docs). Collocation (Radau IIA, the most
         accurate), harmonic balance. Or :class:`~symcable.solvers.options.Collocation`,
         :class:`~symcable.solvers.options.HarmonicBalance`,
         :class:`~symcable.solvers.options.Shooting` with its options.

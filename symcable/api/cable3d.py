@@ -41,28 +41,21 @@ __all__ = ["linearize_3d", "modal_analysis_3d", "simulate_3d"]
 STEPS_PER_PERIOD = 100
 #: generalized-alpha's default spectral radius at infinite step for cable3d: the axial modes
 #: of a stiff line sit far above any step that resolves its motion, and a kinked motion table,
-#: a seabed landing or a snap excites them; rho_inf = 0 removes them in one step. Measured
-#: (first-order scheme), max fairlead error against the reference: the live-MoorDyn 3D case
-#: 5.8 against 26.6 % at T/240; MoorDyn's chain decks at dt = 0.1 s against OrcaFlex 8.4 /
-#: 7.0 / 8.0 / 8.4 against 10.9 / 14.0 / 9.0 / 8.3 % (WD0050, WD0200 x A1, A2; MoorDyn
-#: itself 14.1 / 11.1 / 10.0 / 9.5); the line of tests/test_cable3d_api.py 35 against 45 %
-#: at T/100 but 19 against 12 % at T/200
+#: a seabed landing or a snap excites them; rho_inf = 0 removes them in one step (against
+#: 0.5: smaller fairlead errors against MoorDyn run live and against the OrcaFlex series of
+#: the chain decks at their default steps; the numbers in studies/README.md)
 RHO_INF = 0.0
 #: generalized-alpha's Newton tolerance on a cable3d run (``newton_tol``; the scaled step
-#: residual, see :class:`~symcable.solvers.options.GeneralizedAlphaFirstOrder`): on the
-#: chain decks at dt = 0.1 s the top segment's tension moves by 1.2e-6 (WD0600 A2) to
-#: 1.9e-5 (WD0600 A1) of its range from 1e-10's, four orders below the step's own error
-#: there, and the run takes 0.70-0.94 of the time (fewer chord iterations; medians of 5
-#: interleaved runs)
+#: residual, see :class:`~symcable.solvers.options.GeneralizedAlphaFirstOrder`): the
+#: tensions then move by orders of magnitude less than the step's own error from a
+#: tolerance of 1e-10, in less time (fewer chord iterations)
 NEWTON_TOL = 1e-8
-#: the end tensions' error estimate (:func:`tension_error_estimate`) times this: measured
-#: 0.49, 0.51 and 0.54 of the true error at T/200, T/400 and T/800 on a 10-segment line with
-#: seabed contact at rho_inf = 0.5 (true errors 12, 3.2 and 0.76 % of the range, against
-#: dt = T/3200); with the factor, 1.3 to 1.4 times the true error at rho_inf = 0
+#: the end tensions' error estimate (:func:`tension_error_estimate`) times this: the raw
+#: estimate is about half the true error, so the factor makes it a slight overestimate
 TENSION_ESTIMATE_FACTOR = 2.0
 #: the least range an end tension's error is relative to, as a fraction of the largest end
 #: tension of the run: a steady tow's tensions vary by round-off only (a free end's is zero
-#: to 2e-4 N), and measured against that the estimate said 66-219 %
+#: to 2e-4 N), against which any estimate is a large fraction
 TENSION_RANGE_FLOOR = 1e-3
 #: rad, a tow's default step turns it through at most this on its tightest turn (a 90 degree
 #: turn in 31 steps)
@@ -73,17 +66,10 @@ TOW_TURN_STEP = 0.05
 #: which moves every node along its velocity; a line turning at Omega is then stretched by
 #: the chord's strain (Omega h)^2 / 2, a spurious tension EA (Omega h)^2 / 2, and once that
 #: is a fair part of the line's own tension the chord iterations (the matrix of the step's
-#: start) diverge and the step substeps or fails. Measured (the largest step without
-#: substeps in the steady turn): Pode's 50 m cable on a 60 m circle at 1.5 m/s
-#: (tests/test_cable3d_tow.py) with 2 kN on its end 0.04-0.05 s at EA = 1e9 N, 0.08-0.15 s
-#: at 1e8, 0.4-0.8 s at 1e7 (the sqrt(EA) scaling: 0.63-0.78 sqrt(T/EA)/Omega), without the
-#: end weight 0.01-0.04 s at 1e9; with a 400 kg body at EA 1e7 (T = 3.7 kN) 0.2-0.39 s on 40
-#: segments, >= 0.39 s on 20, < 0.8 s on 10 (tests/test_cable3d_tow_body.py); seed 003's
-#: towed body on its 300 m turn (symcable/data/towed_body.toml) 0.5-1.08 s (0.35-0.75):
-#: 0.25 keeps the spurious tension under T / 32 (0.54 s there, whose time-stepping error
-#: estimate is then about 1 %). A default-step problem, not the turn's geometry: the
-#: straight tow, whose predictor is exact, takes any step; TOW_TURN_STEP alone gave 2.4 s
-#: there, half the steps substepped
+#: start) diverge and the step substeps or fails. The largest steps without substeps in
+#: steady turns scale as sqrt(T / EA) / Omega; 0.25 keeps the spurious tension under T / 32
+#: (the measured steps: studies/README.md). The straight tow, whose predictor is exact,
+#: takes any step
 TOW_STRETCH_STEP = 0.25
 
 
@@ -252,10 +238,9 @@ def simulate_3d(scene: Scene, duration: float, dt: float | None = None,
     ``"rest"`` (:func:`~symcable.api.cable3d_static.run_start_state`); ``stats["start"]`` says
     which was used (``"steady tow"`` or ``"rest"``), ``stats["tow_velocity"]`` the tow's
     velocity at the start (m/s).
-    ``rho_inf`` (default :data:`RHO_INF` = 0) is generalized-alpha's numerical damping: on a
-    slack rope jerked taut (tests/test_cable3d_snap.py) rho_inf = 0.8 at dt = 0.05 s returned
-    a snap peak 500 times the converged one, 0.5 within 20 %, 0 within 5 % (second-order
-    scheme): high-frequency axial waves released by a snap need the damping. Returns a :class:`LineTrajectory` (a scene of
+    ``rho_inf`` (default :data:`RHO_INF` = 0) is generalized-alpha's numerical damping: the
+    high-frequency axial waves a snap releases need it (with little damping, rho_inf near 1,
+    a snap's peak can come out many times the converged one). Returns a :class:`LineTrajectory` (a scene of
     several lines and points: a :class:`SystemTrajectory`, ``.lines[name]`` each line's);
     a failed step raises ConvergenceError whose ``partial`` is one too.
     """

@@ -79,8 +79,8 @@ def _solve_3d(scene: Scene, method, codegen, stability, start, options) -> tuple
     # took minutes, longer than the solve (a few seconds) it would speed up. If the solve
     # from the method's own start fails, again from a short run whose first period ramps the
     # motion in (at full amplitude from t = 0 a fairlead moved by its amplitude jerked a 3D
-    # line with seabed friction to 78 times its static tension at the first step, and the
-    # start-up run or shooting failed there; studies/stability, cable3d rows)
+    # line with seabed friction to many times its static tension at the first step, and the
+    # start-up run or shooting can fail there)
     kw = dict(p=p, start=eq, codegen=False if codegen is None else codegen,
               **({} if tol is None else {"tol": float(tol)}))
     res = None

@@ -1,4 +1,4 @@
-"""Offset-restoring curves of a moored body (issue 13, item 6): the force and moment of its
+"""Offset-restoring curves of a moored body: the force and moment of its
 lines (and its own weight, buoyancy and drag) on the body held at each of a sweep of
 prescribed offsets, the lines in static equilibrium at each, in one batched call.
 

@@ -5,8 +5,7 @@ diameter.
 symcable's rod (``model = "rod"``, ``"hybrid"``) has no contact between its own segments: a
 loop that closes passes through itself and the solvers do not notice. This module only tells
 when a solution has done so (or come within ``diameter`` of it), so that a looped shape is
-read for what it is: valid up to first contact. What contact would still need (the closing
-note of issue 14): detection between segment pairs (the closest points below, with a
+read for what it is: valid up to first contact. What contact would still need: detection between segment pairs (the closest points below, with a
 spatial hash or bounding boxes beyond a few hundred segments), a force (a penalty energy
 k/2 (d - g)^2 for g < d, or a unilateral constraint g >= d with a multiplier carried in z
 and a complementarity solver), friction between the strands (the seabed's regularised or

@@ -1,4 +1,4 @@
-"""The field variables of seed 000's rod (its Sec. 2.2) on a discrete ``model = "rod"``
+"""The field variables of Goyal & Perkins' rod (their Sec. 2.2) on a discrete ``model = "rod"``
 solution, and the residuals of its field equations (7)-(10) by finite differences.
 
 Seed 000 writes the rod in its body frames; in world components (the body-frame

@@ -89,12 +89,12 @@ def _rod_forces(sol: StaticSolution, out) -> StaticSolution:
 
 #: ``zones = "auto"``: a segment is a rod where the bending length sqrt(EI / T) of the
 #: static line with every section cable3d exceeds this fraction of the line's length
-#: (studies/rod_notes/hybrid14.md: on the seed's benchmark sqrt(EI / T) is 0.087-0.112 L away from the
-#: tension-free end, so 0.15 marks only the end's low-tension zone)
+#: (on Goyal & Perkins' benchmark the bending length away from the tension-free end is about
+#: a tenth of L, so 0.15 marks only the end's low-tension zone; studies/README.md)
 ZONE_THRESHOLD = 0.15
 #: ... and each rod zone is grown on both sides by this many bending lengths at its edge
 #: (threshold x L): the moment there, which the moment-free joint sets to zero, has decayed
-#: by about exp(-1.5) = 0.22 from the zone's edge (studies/rod_notes/hybrid14.md)
+#: by about exp(-1.5) = 0.22 from the zone's edge
 ZONE_GROW = 1.5
 
 

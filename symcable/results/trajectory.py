@@ -60,8 +60,7 @@ class Trajectory(OneLine, Exportable):
         ``rho_inf``, ``alpha_m``, ``alpha_f``, ``gamma`` (generalized-α), and generalized-α's
         estimate of its own time-stepping error: ``error_estimate``, the largest error of
         the response over the run relative to its range (of the states; the fairlead tension's
-        error relative to its range is about the same: 1.0 to 1.5 times on the built-in scene
-        from T/400 to T/4, studies/time_error), ``error_estimate_scaled`` (relative to the
+        error relative to its range is about the same), ``error_estimate_scaled`` (relative to the
         state's scales), ``motion_range``, ``error_memory`` (s, period / 2 pi) and
         ``dt_accurate`` (s, the dt that should bring it to 1 %); see
         :func:`symcable.solvers.integrate.integrate`.

@@ -270,6 +270,16 @@ def _modes(args) -> int:
     return 0
 
 
+def _linearize(args) -> int:
+    from ..api.analyses import linearize
+
+    lin = linearize(args.scene, undamped=args.undamped)
+    print(json.dumps(lin.to_dict(), indent=1) if args.json else lin.summary())
+    if args.save:
+        lin.save(args.save)
+    return 0
+
+
 def _demo(args) -> int:
     from .. import demo_scene_path
     from ..api.analyses import solve_periodic
@@ -299,7 +309,7 @@ def _codegen(args) -> int:
     from ..scene import load_scene
 
     scene = load_scene(args.scene)
-    for path in export_scene(scene, args.out):
+    for path in export_scene(scene, args.out, stem=args.stem):
         print(path)
     return 0
 
@@ -351,9 +361,20 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--max-dense", type=int, default=None, metavar="N", help="largest dense "
                    "eigenproblem (default 3000; a larger symmetric one is solved sparse for a "
                    "few modes)")
-    p = sub.add_parser("codegen", help="write standalone C sources for a scene (with README and main.c)")
+    p = sub.add_parser("linearize", help="exact stiffness, damping and mass about the static "
+                       "state; each held end's stiffness and each free body's")
+    p.add_argument("scene")
+    p.add_argument("--json", action="store_true", help="print the linearisation as JSON (SI "
+                   "units)")
+    p.add_argument("--save", metavar="FILE", help="save the linearisation (.npz or .json)")
+    p.add_argument("--undamped", action="store_true", help="current, excitation and the "
+                   "closure stabilisation off (as modes has them)")
+    p = sub.add_parser("codegen", help="write standalone C sources for a scene: its static "
+                       "solve and (when it moves) its time step, with README and main.c")
     p.add_argument("scene")
     p.add_argument("--out", required=True, metavar="DIR", help="folder to write into (created)")
+    p.add_argument("--stem", default="symcable_scene", help="name of the C files (a letter, "
+                   "then letters, digits or underscores; default symcable_scene)")
     p = sub.add_parser("cache", help="the build cache of generated C (SYMCABLE_CACHE_DIR)")
     p.add_argument("action", choices=["info", "clear"])
     p = sub.add_parser("demo", help="the built-in scenes: OC3 statics, seed-001 periodic response")
@@ -473,6 +494,7 @@ def _run(args) -> int:
         args.scene = resolve(args.scene)
     commands = {"check": _check, "static": lambda a: _static(a.scene, a), "demo": _demo,
                 "simulate": _simulate, "periodic": _periodic, "modes": _modes,
+                "linearize": _linearize,
                 "codegen": _codegen, "cache": _cache}
     if args.command in commands:
         return commands[args.command](args)

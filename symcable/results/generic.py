@@ -240,6 +240,24 @@ class SceneLinearization(Exportable):
     undamped: bool = False
     body_stiffness: dict = field(default_factory=dict)
 
+    def summary(self) -> str:
+        """The sizes, each held end's or point's stiffness matrix (kN/m, rows as printed)
+        and each free body's 6 x 6 mooring stiffness diagonal."""
+        out = [f"scene             {self.scene_name}",
+               f"linearisation     n_q = {self.K.shape[1]}, n_v = {self.K.shape[0]}"
+               + (" (undamped: current, excitation and stabilisation off)" if self.undamped
+                  else "")]
+        for name, k in self.end_stiffness.items():
+            k = np.atleast_2d(np.asarray(k, float)) / 1e3
+            label = f"end {name}" if name in ("a", "b") else f"point {name}"
+            rows = "; ".join(" ".join(f"{v:.5g}" for v in r) for r in k)
+            out.append(f"stiffness {label:8s} [{rows}] kN/m")
+        for name, k in self.body_stiffness.items():
+            d = np.diag(np.asarray(k, float))
+            out.append(f"body {name:12s} diagonal {' '.join(f'{v:.5g}' for v in d[:3] / 1e3)} "
+                       f"kN/m, {' '.join(f'{v:.5g}' for v in d[3:] / 1e3)} kN m/rad")
+        return "\n".join(out)
+
     def state_matrix(self) -> np.ndarray:
         """A (n_q + n_v, n_q + n_v): d(q, v)/dt = A (q, v), 1/s."""
         Minv = np.linalg.inv(self.M)

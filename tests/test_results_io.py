@@ -53,3 +53,4 @@ def test_a_system_trajectory_saves_to_npz_and_json(tmp_path):
 def test_an_unknown_suffix_is_refused(tmp_path):
     with pytest.raises(sc.SymcableError, match=r"suffix must be \.npz or \.json"):
         write_tree(tmp_path / "t.csv", TREE)
+

@@ -264,7 +264,9 @@ def _modes(args) -> int:
                                              if args.max_dense is not None else {}))
     if modal.positions.shape[-1] == 3:
         from ..plotting.line3d import plot_modes_3d
-        _emit(modal, args, lambda path: plot_modes_3d(modal, path))
+        depth = scene.environment.depth
+        _emit(modal, args, lambda path: plot_modes_3d(
+            modal, path, seabed=None if depth is None else -float(depth)))
         return 0
     _emit(modal, args, lambda path: plot_modes(modal, modal.positions, path))
     return 0

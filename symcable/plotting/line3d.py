@@ -176,31 +176,47 @@ def animate(tr, path, *, frames: int = 60, fps: int = 15, title: str | None = No
     return path
 
 
-def plot_modes_3d(modal, path=None, *, modes: int = 4, scale: float | None = None,
-                  title: str | None = None):
-    """The lowest ``modes`` mode shapes of a 3D line (a :class:`~symcable.results.static.ModalSolution`
-    of a cable3d scene): for each, plan (x-y) and elevation (x-z) of the static line (grey)
-    and the line displaced by +/- the shape times ``scale`` m (default a tenth of the line's
-    extent), true scale; frequencies in the titles."""
+#: the most modes :func:`plot_modes_3d` draws by default (the lowest, when there are more)
+MAX_MODES_DRAWN = 12
+#: the three views of a 3D mode: (axes drawn, name)
+_VIEWS = (((0, 1), "plan"), ((0, 2), "elevation"), ((1, 2), "end view"))
+
+
+def plot_modes_3d(modal, path=None, *, modes: int | None = None, scale: float | None = None,
+                  title: str | None = None, seabed: float | None = None):
+    """The mode shapes of a 3D scene (a :class:`~symcable.results.static.ModalSolution` of
+    a cable3d, rod or hybrid scene, or a scene of several lines): for each of the lowest
+    ``modes`` (default every mode of the solution, at most :data:`MAX_MODES_DRAWN`), plan
+    (x-y), elevation (x-z) and end view (y-z) of the static lines (grey) and the lines
+    displaced by +/- the shape times ``scale`` m (default a tenth of the scene's extent),
+    true scale, each line drawn on its own (``stats["lines"]``: its rows); the seabed at
+    z = ``seabed`` m dashed when given; frequencies in the titles."""
     plt = _plt()
-    k = min(int(modes), len(modal.frequencies))
+    n_all = len(modal.frequencies)
+    k = min(MAX_MODES_DRAWN, n_all) if modes is None else min(int(modes), n_all)
     if k < 1:
-        raise SymcableError(f"modes = {modes!r}: must be >= 1 (the solution has "
-                            f"{len(modal.frequencies)})")
+        raise SymcableError(f"modes = {modes!r}: must be >= 1 (the solution has {n_all})")
     P = np.asarray(modal.positions, float)
     if P.ndim != 2 or P.shape[1] != 3:
         raise SymcableError("plot_modes_3d draws 3D modes (positions (n, 3)); planar modes: "
                             "symcable.plotting.profiles.plot_modes")
+    rows = [tuple(r) for r in (modal.stats.get("lines") or {"line": [0, len(P)]}).values()]
     a = 0.1 * float(np.max(np.ptp(P, axis=0))) if scale is None else float(scale)
-    fig, axes = plt.subplots(k, 2, figsize=(11.0, 2.6 * k), squeeze=False)
+    fig, axes = plt.subplots(k, 3, figsize=(14.0, 2.7 * k), squeeze=False)
     for m in range(k):
         U = np.asarray(modal.shapes[m], float)
-        for ax, (i, j), name in ((axes[m, 0], (0, 1), "plan"), (axes[m, 1], (0, 2), "elevation")):
-            ax.plot(P[:, i], P[:, j], color="0.6", lw=1.2, label="static")
-            for sgn, style in ((1, "-"), (-1, "--")):
-                Q = P + sgn * a * U
-                ax.plot(Q[:, i], Q[:, j], style, color="tab:blue", lw=1.3,
-                        label=f"{'+' if sgn > 0 else '-'}{a:.3g} m x shape")
+        for ax, ((i, j), name) in zip(axes[m], _VIEWS):
+            for r, (r0, r1) in enumerate(rows):
+                first = r == 0
+                ax.plot(P[r0:r1, i], P[r0:r1, j], color="0.6", lw=1.2,
+                        label="static" if first else None)
+                for sgn, style in ((1, "-"), (-1, "--")):
+                    Q = P[r0:r1] + sgn * a * U[r0:r1]
+                    ax.plot(Q[:, i], Q[:, j], style, color="tab:blue", lw=1.3,
+                            label=f"{'+' if sgn > 0 else '-'}{a:.3g} m x shape" if first
+                            else None)
+            if seabed is not None and j == 2:
+                ax.axhline(seabed, color="tab:brown", ls=":", lw=1.2, label="seabed")
             ax.set_aspect("equal", adjustable="datalim")
             ax.set_xlabel(f"{'xyz'[i]} (m)")
             ax.set_ylabel(f"{'xyz'[j]} (m)")

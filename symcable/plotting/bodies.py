@@ -156,8 +156,9 @@ def plot_system(result, path: str | Path | None = None, *, scene=None, snapshots
     elevation (x-z); lines in colour, points as dots, bodies as :func:`draw_bodies` draws
     them (their attachment points from ``scene`` when given, a scene or anything
     :func:`symcable.load_scene` takes). A trajectory: ``snapshots`` evenly spaced samples,
-    earlier ones fainter. ``seabed``: its z (m), a dashed line in the elevation. Saved to
-    ``path`` when given; returns the Figure."""
+    earlier ones fainter. ``seabed``: its z (m), a dashed line in the elevation and a pale
+    plane in the 3D view. A static solution also gets each line's tension along its
+    unstretched length (kN). Saved to ``path`` when given; returns the Figure."""
     import matplotlib.pyplot as plt
 
     if not hasattr(result, "lines") or not hasattr(result, "points"):
@@ -177,10 +178,12 @@ def plot_system(result, path: str | Path | None = None, *, scene=None, snapshots
                       + [X for X, _ in poses.values()])
     lo, hi = every.min(axis=0), every.max(axis=0)
     extent = max(float(np.max(hi - lo)), 1e-9)
-    fig = plt.figure(figsize=(12.0, 6.4))
-    gs = fig.add_gridspec(2, 2, width_ratios=(1.15, 1.0), left=0.02, right=0.80, bottom=0.09,
-                          top=0.87, wspace=0.18, hspace=0.35)
-    ax3 = fig.add_subplot(gs[:, 0], projection="3d")
+    static = t is None
+    fig = plt.figure(figsize=(12.0, 8.4 if static else 6.4))
+    gs = fig.add_gridspec(3 if static else 2, 2, width_ratios=(1.15, 1.0), left=0.07,
+                          right=0.80, bottom=0.07, top=0.9, wspace=0.18, hspace=0.45,
+                          height_ratios=(1.0, 1.0, 0.8) if static else None)
+    ax3 = fig.add_subplot(gs[:2, 0] if static else gs[:, 0], projection="3d")
     plan, elev = fig.add_subplot(gs[0, 1]), fig.add_subplot(gs[1, 1])
     views = [(plan, (0, 1)), (elev, (0, 2))]
     handles = []
@@ -202,13 +205,16 @@ def plot_system(result, path: str | Path | None = None, *, scene=None, snapshots
                 ax.scatter(P[i, a], P[i, b], color="black", s=12, alpha=alpha)
         handles += draw_bodies(ax3, views, poses, attach, extent, index=i, alpha=alpha,
                                label=last)
+    centre, half = 0.5 * (lo + hi), 0.5 * extent * 1.05
     if seabed is not None:
+        gx, gy = np.meshgrid(*(np.array([centre[j] - half, centre[j] + half]) for j in (0, 1)))
+        ax3.plot_surface(gx, gy, np.full_like(gx, seabed), color="saddlebrown", alpha=0.12,
+                         linewidth=0)
         elev.axhline(seabed, color="saddlebrown", lw=1.2, ls="--")
         handles.append(Line2D([], [], color="saddlebrown", lw=1.2, ls="--",
                               label=f"seabed, z = {seabed:g} m"))
     if points:
         handles.append(Line2D([], [], ls="", marker="o", ms=4, color="black", label="point"))
-    centre, half = 0.5 * (lo + hi), 0.5 * extent * 1.05
     for setter, j in ((ax3.set_xlim, 0), (ax3.set_ylim, 1), (ax3.set_zlim, 2)):
         setter(centre[j] - half, centre[j] + half)
     ax3.set_box_aspect((1, 1, 1))
@@ -227,6 +233,8 @@ def plot_system(result, path: str | Path | None = None, *, scene=None, snapshots
         ax.set_ylabel(f"{'xyz'[b]} (m)")
         ax.grid(True, lw=0.4, alpha=0.5)
         ax.set_title("plan (x-y)" if b == 1 else "elevation (x-z)")
+    if static:
+        _tension_panel(fig.add_subplot(gs[2, :]), result)
     if t is not None and len(picks) > 1:
         handles.append(Line2D([], [], color="grey", alpha=0.4, lw=1.0, label="earlier: t = "
                               + ", ".join(f"{t[i]:.3g}" for i in picks[:-1]) + " s"))
@@ -237,3 +245,23 @@ def plot_system(result, path: str | Path | None = None, *, scene=None, snapshots
                  fontsize=11)
     from .profiles import finish
     return finish(fig, path)
+
+
+def _tension_panel(ax, result) -> None:
+    """Each line's tension (kN, or N when every tension is below 1 kN) against its
+    unstretched length from end A (m)."""
+    curves = []
+    for name, ln in result.lines.items():
+        s, T = np.ravel(np.asarray(ln.s, float)), np.ravel(np.asarray(ln.tension, float))
+        if T.size == s.size - 1:  # per segment: at the segment midpoints
+            s = 0.5 * (s[:-1] + s[1:])
+        if T.size == s.size:
+            curves.append((name, s, T))
+    top = max((float(np.nanmax(np.abs(T))) for _, _, T in curves if T.size), default=0.0)
+    unit, scale = ("kN", 1e3) if top >= 1e3 else ("N", 1.0)
+    for c, (name, s, T) in enumerate(curves):
+        ax.plot(s, T / scale, color=f"C{c % 10}", lw=1.4, label=name)
+    ax.set_xlabel("unstretched length from end A (m)")
+    ax.set_ylabel(f"tension ({unit})")
+    ax.set_title("tension along each line")
+    ax.grid(True, lw=0.4, alpha=0.5)

@@ -5,6 +5,8 @@ PDF or SVG by suffix, at 150 dpi); release it with :func:`close`.
 """
 from __future__ import annotations
 
+import logging
+
 import math
 import re
 from pathlib import Path
@@ -43,7 +45,14 @@ def finish(fig, path: str | Path | None = None, *, tight: bool = False):
         if id(text) not in ticks and "$" in text.get_text():
             text.set_parse_math(False)
     if path is not None:
-        fig.savefig(path, dpi=DPI, **({"bbox_inches": "tight"} if tight else {}))
+        # equal-aspect views widen their fixed limits on purpose: not worth a log line
+        log = logging.getLogger("matplotlib.axes._base")
+        level = log.level
+        log.setLevel(logging.ERROR)
+        try:
+            fig.savefig(path, dpi=DPI, **({"bbox_inches": "tight"} if tight else {}))
+        finally:
+            log.setLevel(level)
     return fig
 
 

@@ -129,3 +129,20 @@ def test_cli_offsets(tmp_path, capsys):
     assert sc.OffsetSweep.load(tmp_path / "s.json").force.shape == (5, 6)
     assert main(["offsets", str(p), "--body", "hull"]) == 2
     assert "body = 'hull'" in capsys.readouterr().err
+
+
+def test_no_casadi_notice_and_round_off_drawn_flat(tmp_path):
+    """The sweep hands NumPy only NumPy arrays (no CasADi FutureWarning reaches the user),
+    and a panel whose force varies by round-off only (a surge sweep's Fy, Mx, Mz) spans at
+    least 1e-3 of the sweep's largest force or moment instead of magnifying the noise."""
+    import warnings
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", FutureWarning)
+        res = sc.offset_sweep(_moored(6), "spar", offsets_along("surge", -5.0, 5.0, 5))
+    fig = res.plot(tmp_path / "o.png")
+    fy, mx = fig.axes[1], fig.axes[3]
+    assert np.ptp(res.force[:, 1]) < 1e-6 * np.max(np.abs(res.force[:, :3]))  # round-off
+    lo, hi = fy.get_ylim()
+    assert hi - lo >= 1e-3 * np.max(np.abs(res.force[:, :3])) / 1e3  # kN
+    lo, hi = mx.get_ylim()
+    assert hi - lo >= 1e-3 * np.max(np.abs(res.force[:, 3:])) / 1e6  # MN m

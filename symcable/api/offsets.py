@@ -356,7 +356,8 @@ def _walk(mech, F, eq, off, order, reset, batch, pose_p, tol, codegen) -> tuple:
     reset). Returns X (n, n_x), outputs (None where failed), status, path, iterations,
     residual norms (N) and the number of fallbacks."""
     acc, its, nr, packed = batch
-    acc, packed, its, nr = np.asarray(acc), np.asarray(packed), np.ravel(its), np.ravel(nr)
+    acc, packed = np.asarray(acc, float), np.asarray(packed, float)
+    its, nr = np.asarray(its, float).ravel(), np.asarray(nr, float).ravel()
     x_base = np.concatenate([eq.q, eq.z])
     n, n_x = len(off), len(x_base)
     X = np.full((n, n_x), np.nan)
@@ -372,12 +373,13 @@ def _walk(mech, F, eq, off, order, reset, batch, pose_p, tol, codegen) -> tuple:
         else:
             fallbacks += 1
             nb = x_base if (prev is None or reset[j]) else X[prev]
-            p_nb = eq.p if (prev is None or reset[j]) else np.ravel(pose_p(off[prev]))
+            p_nb = eq.p if (prev is None or reset[j]) else \
+                np.asarray(pose_p(off[prev]), float).ravel()
             start = Start(nb[:mech.n_q], nb[mech.n_q:], p_nb, "the neighbouring offset's "
                           "solution", homotopy="the offset")
             try:
-                e_k = solve_equilibrium(mech, np.ravel(pose_p(off[k])), tol=tol, starts=[start],
-                                        codegen=codegen)
+                e_k = solve_equilibrium(mech, np.asarray(pose_p(off[k]), float).ravel(),
+                                        tol=tol, starts=[start], codegen=codegen)
             except ConvergenceError as exc:
                 path[k] = str(exc).splitlines()[0][:300]
                 continue
@@ -403,7 +405,7 @@ def _forces(outs, off, body: str, lines, own, weights) -> tuple:
             continue
         f = np.ravel(o[f"{body}.force"])  # (the output's moment is about the base point)
         line_force[k] = np.r_[f, np.ravel(o[f"{body}.moment"]) - np.cross(off[k, :3], f)]
-        force[k] = line_force[k] + np.ravel(own(off[k]))
+        force[k] = line_force[k] + np.asarray(own(off[k]), float).ravel()
         for i, line in enumerate(lines):
             ta[k, i] = np.linalg.norm(np.ravel(o[f"{line.name}.end_force_a"]))
             tb_[k, i] = np.linalg.norm(np.ravel(o[f"{line.name}.end_force_b"]))

@@ -28,11 +28,19 @@ def plot_offsets(sweep, dof: int, path: str | Path | None = None, *, ax=None):
     order = np.argsort(x)
     tan = sweep.tangent + sweep.force[np.argmin(np.linalg.norm(sweep.offsets, axis=1))]
     have_k = np.all(np.isfinite(sweep.stiffness))
+    # the least span of a panel: a force that varies by round-off only is drawn flat, not
+    # magnified into a zig-zag (1e-3 of the largest force, or moment, of the sweep)
+    floor = [1e-3 * max(float(np.nanmax(np.abs(sweep.force[:, g]), initial=0.0)), 1e-9)
+             for g in (slice(0, 3), slice(3, 6))]
     for k, a in enumerate(np.ravel(ax)):
         scale = 1e3 if k < 3 else 1e6
         a.plot(x[order], sweep.force[order, k] / scale, "o-", ms=3, label="static solves")
         if have_k:
             a.plot(x[order], tan[order, k] / scale, "--", color="0.4", label="linear stiffness")
+        y = sweep.force[:, k][np.isfinite(sweep.force[:, k])] / scale
+        if y.size:
+            mid, half = 0.5 * (y.max() + y.min()), 0.5 * max(np.ptp(y), floor[k >= 3] / scale)
+            a.set_ylim(mid - 1.1 * half, mid + 1.1 * half)
         a.set_title(_FORCE[k])
         a.set_ylabel("kN" if k < 3 else "MN m")
         a.grid(alpha=0.3)

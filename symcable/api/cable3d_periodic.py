@@ -54,10 +54,14 @@ def _solve_3d(scene: Scene, method, codegen, stability, start, options) -> tuple
     if not isinstance(stability, bool):
         raise SymcableError(f"stability = {stability!r}: must be True or False")
     period = _period(scene)
-    if period is None or any(m.kind == "table" for m in _motions(scene)):
-        raise SymcableError(f"scene {scene.name!r}: a periodic response needs a harmonic end "
-                            "motion ([end_b.motion] kind = 'harmonic'), not "
-                            + ("a table" if _motions(scene) else "none"))
+    motions = _motions(scene)
+    other = sorted({m.kind for m in motions if m.kind != "harmonic"})
+    if period is None or other:
+        where = "[end_b.motion]" if scene.version == 1 else "[points.NAME.motion] of a vessel point"
+        has = (f"its motion is {' and '.join(map(repr, other))}: run simulate instead" if other
+               else "it prescribes no motion: give one")
+        raise SymcableError(f"scene {scene.name!r}: a periodic response needs harmonic motion "
+                            f"only ({where} kind = 'harmonic'), and {has}")
     check_periodic_scene(scene)
     tol = options.pop("tol", None)
     name, opts = method_options(method, options)

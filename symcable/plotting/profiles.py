@@ -56,6 +56,16 @@ def finish(fig, path: str | Path | None = None, *, tight: bool = False):
     return fig
 
 
+
+def least_span(ax, span: float) -> None:
+    """Widen ``ax``'s y range about its data to at least ``span`` (in the data's units), so
+    that a quantity varying by round-off only is drawn flat rather than magnified into a
+    full-height zig-zag; a range already wider is kept."""
+    lo, hi = ax.get_ylim()
+    if hi - lo < span:
+        mid = 0.5 * (lo + hi)
+        ax.set_ylim(mid - 0.5 * span, mid + 0.5 * span)
+
 _save = finish
 
 

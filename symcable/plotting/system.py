@@ -55,6 +55,10 @@ def plot_system_tensions(tr, path: str | Path | None = None, *, t0: dict | None 
         ax.axvspan(a, b, color="0.88", zorder=0, label="some segment slack" if k == 0 else None)
     if normed:
         ax.axhline(1.0, color="0.4", lw=0.8, ls=":")
+    from .profiles import least_span
+    top = max((float(np.nanmax(np.abs(line.get_ydata()))) for line in ax.get_lines()
+               if len(line.get_ydata())), default=0.0)
+    least_span(ax, 0.02 * top)  # a tension steady to round-off is drawn flat
     ax.set_xlabel("time (s)")
     ax.set_ylabel("end tension / static tension T0" if normed else "end tension (kN)")
     ax.grid(alpha=0.3)

@@ -111,6 +111,9 @@ def plot_tow(tr, scene, path: str | Path | None = None, *, title: str | None = N
         cx.set_ylabel("towpoint tension (kN)")
         cx.set_title("towpoint tension", fontsize=10)
     cx.set_xlabel("time (s)")
+    from .profiles import least_span
+    top = max((float(np.max(np.abs(T))) for T in d["tension"].values()), default=0.0)
+    least_span(cx, 0.02 if steady else 0.02 * top / 1e3)  # 2 % of the tension: flat if less
     for k, (a, b) in enumerate(turn_spans(scene)):
         if b > t[0] and a < t[-1]:
             for axis in (bx, cx):

@@ -30,30 +30,39 @@ def _finish(fig, path):
 
 
 def plot_tensions(tr, path=None, *, title: str | None = None, t_from: float | None = None):
-    """Left: fairlead and anchor tension against time (kN), slack spans shaded; right: the
-    least, mean and largest tension along the line over the samples from ``t_from`` s
-    (default all) against arc length from end A (m)."""
+    """Left: the tension at end B (the fairlead of a mooring) and end A against time, spans
+    where some segment of a cable is slack shaded; right: the least, mean and largest
+    tension along the line over the samples from ``t_from`` s (default all) against arc
+    length from end A (m). Tensions in kN, or N when every one is below 1 kN."""
     plt = _plt()
     fig, (ax, bx) = plt.subplots(1, 2, figsize=(11.5, 4.2), gridspec_kw={"width_ratios": [1.4, 1]})
     t = tr.time
-    ax.plot(t, tr.fairlead_tension / 1e3, color="tab:blue", lw=1.4, label="fairlead (end B)")
-    ax.plot(t, tr.anchor_tension / 1e3, color="tab:orange", lw=1.4, label="anchor (end A)")
-    slack = (tr.strain <= 1e-7).any(axis=1)
+    env = tr.envelope(t_from)
+    top = max(float(np.max(np.abs(tr.fairlead_tension), initial=0.0)),
+              float(np.max(np.abs(tr.anchor_tension), initial=0.0)),
+              float(np.max(env["max"], initial=0.0)))
+    unit, scale = ("kN", 1e3) if top >= 1e3 else ("N", 1.0)
+    ax.plot(t, tr.fairlead_tension / scale, color="tab:blue", lw=1.4, label="end B")
+    ax.plot(t, tr.anchor_tension / scale, color="tab:orange", lw=1.4, label="end A")
+    # a cable's slack (its own report in stats); a rod carries compression and is not slack
+    slack = ((tr.strain <= 1e-7).any(axis=1) if "slack_fraction" in tr.stats
+             else np.zeros(len(t), bool))
     if slack.any():
         edges = np.flatnonzero(np.diff(np.r_[0, slack.astype(int), 0]))
         for k, (i, j) in enumerate(zip(edges[::2], edges[1::2])):
             ax.axvspan(t[i], t[min(j, len(t) - 1)], color="0.85", zorder=0,
                        label="some segment slack" if k == 0 else None)
     ax.set_xlabel("time (s)")
-    ax.set_ylabel("end tension (kN)")
+    ax.set_ylabel(f"end tension ({unit})")
     ax.grid(alpha=0.3)
     ax.legend(loc="best", fontsize=8)
-    env = tr.envelope(t_from)
-    bx.fill_between(env["s"], env["min"] / 1e3, env["max"] / 1e3, color="tab:blue", alpha=0.25,
-                    label="range")
-    bx.plot(env["s"], env["mean"] / 1e3, color="tab:blue", lw=1.4, label="mean")
+    from .profiles import least_span
+    least_span(ax, 0.02 * top / scale)
+    bx.fill_between(env["s"], env["min"] / scale, env["max"] / scale, color="tab:blue",
+                    alpha=0.25, label="range")
+    bx.plot(env["s"], env["mean"] / scale, color="tab:blue", lw=1.4, label="mean")
     bx.set_xlabel("arc length from end A (m)")
-    bx.set_ylabel("tension (kN)")
+    bx.set_ylabel(f"tension ({unit})")
     bx.grid(alpha=0.3)
     bx.legend(loc="best", fontsize=8)
     span = f" from t = {t_from:g} s" if t_from is not None else ""

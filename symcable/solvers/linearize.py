@@ -158,8 +158,11 @@ def _symmetric_modes(mech, Kv, Mr, n_wanted: int):
     Ainv = np.linalg.inv(A + shift * np.eye(A.shape[0]) if shift else A)
     mu, Y = np.linalg.eigh(0.5 * (Ainv + Ainv.T))   # 1 / (omega^2 + shift), ascending
     lam, Y = 1.0 / mu[::-1] - shift, Y[:, ::-1]
-    nonzero = lam[lam > ZERO_TOL_SQUARED * lam[-1]]
-    upper = np.flatnonzero(lam > np.sqrt(nonzero[0] * lam[-1])) if nonzero.size else []
+    # the top of the spectrum, where the inverse's eigenvalues 1/omega^2 are round-off (of
+    # either sign), is whatever comes last: the largest eigenvalue is the largest, not the last
+    top = float(np.max(lam))
+    nonzero = lam[lam > ZERO_TOL_SQUARED * top]
+    upper = np.flatnonzero(lam > np.sqrt(nonzero[0] * top)) if nonzero.size else []
     if len(upper) and upper[0] < n_wanted + lam.size - nonzero.size:
         if direct is None:
             direct = np.linalg.eigh(A)

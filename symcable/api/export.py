@@ -1,116 +1,49 @@
 """Standalone C for a whole scene (``symcable codegen SCENE``): the scene's static solve and
-time step as C sources with their data, an example ``main.c`` and a README.
+time step as C sources with their data, an example ``main.c`` and a README, for every
+formulation alike.
 
-It builds the scene's models, derives and solves them, so it sits at the top of the
-package beside :mod:`symcable.api.analyses`; writing the C itself is :func:`symcable.mechanism.codegen.export_sources`.
+What is exported is what the library itself solves and runs for the scene
+(:mod:`symcable.api.export_plan`): the static Mechanism's residual, sparse Jacobian, fused
+Newton solve and outputs (:meth:`~symcable.mechanism.functions.MechanismFunctions.static_solver`),
+and, when the scene moves, the first-order generalized-alpha step that ``simulate`` runs
+(:func:`~symcable.solvers.galpha1.galpha1_kernel`, its Newton loop unrolled: CasADi writes C
+for it, which it cannot for a rootfinder) with the dynamic outputs. Writing the C itself is
+:func:`symcable.mechanism.codegen.export_sources`; the example and the README are
+:mod:`symcable.api.export_text`.
+
+The scene's name reaches the files only as an escaped literal (:func:`_c_string` in C,
+:func:`_md_literal` in the README). The outputs' names, which hold line, point and body names,
+must be letters, digits, ``_``, ``-`` and ``.`` (as :func:`symcable.load_scene` allows them;
+anything else is refused before a file is written), and go through the same literals in the
+data header and README (CasADi writes them into the generated C as the outputs' names).
 """
 from __future__ import annotations
 
 import json
+import math
 import re
 from pathlib import Path
 
 import casadi as ca
 import numpy as np
 
-from .analyses import build_dynamic_model
-from ..mechanism.codegen import export_sources
 from ..errors import SymcableError
+from ..mechanism.codegen import export_sources
 from ..mechanism.functions import functions
-from ..models import build_model
-from ..models.planar.static import static_mechanism
-from .planar_static import solve_static
-from ..mechanism.functions import functions as mechanism_functions
-from ..models.planar.mechanism import mechanism_of, state_permutation
-from .planar_time import NEWTON_MAX_ITER, NEWTON_TOL
+from ..scene import load_scene
 from ..solvers.galpha1 import galpha1_kernel, step_scales
-from ..solvers.integrate import start_rates
-from ..solvers.options import GeneralizedAlphaFirstOrder
+from .export_plan import DynamicPlan, StaticPlan, dynamic_plan, static_plan
+from .export_text import main_c, readme
 
-__all__ = ["export_scene"]
+__all__ = ["N_STEPS", "export_scene"]
 
-
-_MAIN_C = r"""/* Example: call symcable's generated functions from C.
- * Build:  cc -O2 -Wall main.c {stem}.c -lm -o example && ./example
- * Every function has CasADi's calling convention: arrays of input and output pointers,
- * integer and real work arrays sized by <name>_work, and a memory slot from
- * <name>_checkout (see {stem}.h and README.md). */
-#include <stdio.h>
-#include <stdlib.h>
-#include "{stem}.h"
-#include "{stem}_data.h"
-
-/* Evaluate `f` (one of the generated functions) with inputs `arg`, outputs `res`. */
-#define CALL(f, arg, res) do {{ \
-    casadi_int n_arg, n_res, n_iw, n_w; \
-    f##_work(&n_arg, &n_res, &n_iw, &n_w); \
-    const casadi_real **a_ = malloc(sizeof(*a_) * (n_arg > 0 ? n_arg : 1)); \
-    casadi_real **r_ = malloc(sizeof(*r_) * (n_res > 0 ? n_res : 1)); \
-    casadi_int *iw_ = malloc(sizeof(*iw_) * (n_iw > 0 ? n_iw : 1)); \
-    casadi_real *w_ = malloc(sizeof(*w_) * (n_w > 0 ? n_w : 1)); \
-    for (casadi_int i_ = 0; i_ < f##_n_in(); ++i_) a_[i_] = (arg)[i_]; \
-    for (casadi_int i_ = 0; i_ < f##_n_out(); ++i_) r_[i_] = (res)[i_]; \
-    f##_incref(); \
-    int mem_ = f##_checkout(); \
-    int flag_ = f(a_, r_, iw_, w_, mem_); \
-    f##_release(mem_); \
-    f##_decref(); \
-    free(a_); free(r_); free(iw_); free(w_); \
-    if (flag_) {{ fprintf(stderr, #f " failed\n"); return 1; }} \
-}} while (0)
-
-int main(void) {{
-  /* static configuration: plain Newton from the catenary start */
-  static casadi_real w[N_W], iterations, residual, outputs[N_OUT];
-  casadi_real tol = STATIC_TOL;
-  const casadi_real *arg[] = {{W_START, P_STATIC, &tol}};
-  casadi_real *res[] = {{w, &iterations, &residual, outputs}};
-  CALL(static_solve, arg, res);
-  printf("scene: %s\n", SCENE_NAME);
-  printf("static: %g Newton iterations, residual %.3g N (tolerance %.3g N)\n",
-         iterations, residual, tol);
-{dynamic}  return 0;
-}}
-"""
-
-_MAIN_DYN = r"""  /* 100 generalized-alpha steps of dt = period / 100 from rest */
-  {{
-    static casadi_real x[N_X], x1[N_X];
-    casadi_real t, dt = DT, err, lte, its, failed;
-    for (int i = 0; i < N_X; ++i) x[i] = X0[i];
-    for (int n = 0; n < 100; ++n) {{
-      t = n * dt;
-      const casadi_real *a[] = {{x, &t, &dt, P_DYNAMIC, SETTINGS, SCALES}};
-      casadi_real *r[] = {{x1, &err, &lte, &its, &failed}};
-      CALL(ga_step, a, r);
-      if (failed) {{ fprintf(stderr, "step %d: Newton failed\n", n); return 1; }}
-      for (int i = 0; i < N_X; ++i) x[i] = x1[i];
-    }}
-    printf("dynamics: 100 steps done, t = %g s\n", 100 * dt);
-  }}
-"""
-
-
-def _dynamic_functions(dyn) -> tuple[list, list]:
-    """The exported ``ga_step`` and ``dyn_outputs`` of a DynamicModel's dynamics Mechanism,
-    and their data (start, parameters, settings, scales)."""
-    mech = mechanism_of(dyn)
-    opts = GeneralizedAlphaFirstOrder(rho_inf=0.5, tol=NEWTON_TOL, max_iter=NEWTON_MAX_ITER)
-    kern = galpha1_kernel(mech, opts, codegen=False)
-    args = [ca.MX.sym(kern.name_in(i), kern.sparsity_in(i)) for i in range(kern.n_in())]
-    step = ca.Function("ga_step", args, kern(*args), kern.name_in(), kern.name_out())
-    nq, ny = mech.n_q, mech.n_q + mech.n_v
-    y, t, p = ca.MX.sym("y", ny), ca.MX.sym("t"), ca.MX.sym("p", mech.params.n)
-    out = mechanism_functions(mech).outputs(y[:nq], y[nq:], ca.MX(0, 1), t, p)
-    outputs = ca.Function("dyn_outputs", [y, t, p], [out], ["y", "t", "p"], ["outputs"])
-    iq, iv = state_permutation(dyn)
-    y0 = np.asarray(dyn.y0, dtype=float)
-    qd, vd = start_rates(mech, y0[iq], y0[iv], 0.0, dyn.p_value)
-    data = [f"#define N_X {2 * ny}\n#define DT {dyn.period / 100.0!r}\n",
-            _c_array("X0", np.concatenate([y0[iq], y0[iv], qd, vd])),
-            _c_array("P_DYNAMIC", dyn.p_value), _c_array("SETTINGS", [opts.rho_inf, opts.tol]),
-            _c_array("SCALES", step_scales(mech))]
-    return [step, outputs], data
+#: time steps the example ``main.c`` takes by default (its first argument overrides it)
+N_STEPS = 100
+_STEM = re.compile(r"[A-Za-z][A-Za-z0-9_]*")
+#: what an output name may hold to be written into C (as a string literal) and Markdown:
+#: the library's names and the scene's line, point and body names (letters, digits, ``_``
+#: and ``-``), joined by dots
+_OUTPUT_NAME = re.compile(r"[A-Za-z0-9_.\-]{1,200}")
 
 
 def _c_string(text: str) -> str:
@@ -125,95 +58,188 @@ def _c_string(text: str) -> str:
 
 def _md_literal(text: str) -> str:
     """``text`` for Markdown: a JSON string (non-ASCII and control characters escaped, and
-    the backtick, ``<``, ``>`` and ``&`` as ``\\u00XX``) in a code span."""
+    the backtick, ``<``, ``>``, ``&`` and ``|`` (a table's cell) as ``\\u00XX``) in a code
+    span."""
     lit = json.dumps(text, ensure_ascii=True)
-    for ch in "`<>&":
+    for ch in "`<>&|":
         lit = lit.replace(ch, f"\\u{ord(ch):04x}")
     return f"`{lit}`"
 
 
-_STEM = re.compile(r"[A-Za-z][A-Za-z0-9_]*")
+def _c_number(v) -> str:
+    """A double as C source: its shortest round-trip decimal; infinities and NaN by
+    ``<math.h>``'s macros."""
+    v = float(v)
+    if math.isnan(v):
+        return "NAN"
+    if math.isinf(v):
+        return "HUGE_VAL" if v > 0 else "-HUGE_VAL"
+    return repr(v)
 
 
 def _c_array(name: str, values) -> str:
-    vals = ", ".join(repr(float(v)) for v in values) or "0.0"
+    vals = ", ".join(_c_number(v) for v in np.ravel(values)) or "0.0"
     return f"static const casadi_real {name}[] = {{{vals}}};\n"
+
+
+def _c_longs(name: str, values) -> str:
+    vals = ", ".join(str(int(v)) for v in values) or "0"
+    return f"static const long {name}[] = {{{vals}}};\n"
+
+
+def _output_rows(mech) -> list:
+    """(name, offset, rows, cols, unit) of each output of ``mech`` as its packed outputs
+    hold them (:meth:`~symcable.mechanism.functions.MechanismFunctions.output_slices`).
+    Raises SymcableError for a name that is not the library's (a Scene built around the
+    checks of :func:`symcable.load_scene`)."""
+    rows = []
+    for name, sl in functions(mech).output_slices().items():
+        if not _OUTPUT_NAME.fullmatch(name):
+            raise SymcableError(f"output {name!r} of mechanism {mech.name!r}: an output name "
+                                "must be letters, digits, '_', '-' and '.' to be exported "
+                                "(line, point and body names as load_scene allows them)")
+        r, c = mech.outputs[name].expr.shape
+        rows.append((name, sl.start, r, c, str(mech.outputs[name].unit)))
+    return rows
+
+
+def _output_data(prefix: str, rows: list) -> str:
+    """The data header's table of packed outputs: count, names (C literals), offsets,
+    sizes, rows."""
+    names = ", ".join(_c_string(n) for n, *_ in rows) or '""'
+    return (f"#define N_{prefix}_OUTPUTS {len(rows)}\n"
+            f"static const char *const {prefix}_OUTPUT_NAMES[] = {{{names}}};\n"
+            + _c_longs(f"{prefix}_OUTPUT_OFFSET", [o for _, o, *_ in rows])
+            + _c_longs(f"{prefix}_OUTPUT_SIZE", [r * c for _, _, r, c, _ in rows])
+            + _c_longs(f"{prefix}_OUTPUT_ROWS", [r for _, _, r, _, _ in rows]))
+
+
+def _static_functions(plan: StaticPlan) -> list:
+    """``static_residual``, ``static_jacobian``, ``static_solve``, ``static_outputs`` of the
+    static Mechanism (the virtual machine's Functions: CasADi writes their C). Where the
+    solve's Newton step evaluates J by a Function of its own (the sparse QR of a large
+    system, :mod:`symcable.mechanism.static_functions`), ``static_jacobian`` calls that one
+    and the solve's residual, so that the C holds J once: on a rod of 400 segments J is some
+    45 MB of C."""
+    st = functions(plan.mech).static_solver(codegen=False)
+    inner = {f.name(): f for f in st.solve.find_functions()}
+    jac = inner.get("static_jacobian_only")
+    jacobian = st.jacobian
+    if (jac is not None and inner.get("static_residual") is not None
+            and jac.sparsity_out(0) == st.jacobian.sparsity_out(1)):
+        x, p = ca.MX.sym("x", jac.sparsity_in(0)), ca.MX.sym("p", jac.sparsity_in(1))
+        jacobian = ca.Function("static_jacobian", [x, p],
+                               [inner["static_residual"](x, p), jac(x, p)], ["x", "p"],
+                               ["r", "J"])
+    return [st.residual, jacobian, st.solve, st.outputs]
+
+
+def _static_data(plan: StaticPlan, n_out: int, n_jac: int, rows: list) -> list:
+    # (at least 1: the arrays main.c sizes by them; one segment between held ends has no
+    # unknowns)
+    return [f"#define N_W {max(plan.start.size, 1)}\n#define N_OUT {max(n_out, 1)}\n",
+            f"#define N_JAC_NZ {max(n_jac, 1)}\n",
+            f"#define STATIC_TOL {_c_number(plan.tol)}\n",
+            f"static const char STATIC_PATH[] = {_c_string(plan.path)};\n",
+            _c_array("W_START", plan.start), _c_array("W_STATIC", plan.solution),
+            _c_array("P_STATIC", plan.p), _output_data("STATIC", rows)]
+
+
+def _dynamic_functions(plan: DynamicPlan) -> list:
+    """``ga_step`` (the generalized-alpha kernel ``simulate`` runs, its Newton loop unrolled),
+    ``dyn_outputs(y, t, p)`` and, for a Mechanism that re-anchors, ``frame_margin(y, t, p)``."""
+    mech = plan.mech
+    kern = galpha1_kernel(mech, plan.opts, codegen=False)
+    args = [ca.MX.sym(kern.name_in(i), kern.sparsity_in(i)) for i in range(kern.n_in())]
+    step = ca.Function("ga_step", args, kern(*args), kern.name_in(), kern.name_out())
+    nq, ny = mech.n_q, mech.n_q + mech.n_v
+    y, t, p = ca.MX.sym("y", ny), ca.MX.sym("t"), ca.MX.sym("p", mech.params.n)
+    out = functions(mech).outputs(y[:nq], y[nq:], ca.MX(0, 1), t, p)
+    funcs = [step, ca.Function("dyn_outputs", [y, t, p], [out], ["y", "t", "p"], ["outputs"])]
+    if plan.reanchor is not None:
+        margin = ca.Function("margin", [mech.q, mech.t, mech.p], [plan.reanchor.margin])
+        funcs.append(ca.Function("frame_margin", [y, t, p], [margin(y[:nq], t, p)],
+                                 ["y", "t", "p"], ["margin"]))
+    return funcs
+
+
+def _dynamic_data(plan: DynamicPlan, n_out: int, rows: list) -> list:
+    opts = plan.opts
+    data = [f"#define N_X {plan.x0.size}\n#define N_DYN_OUT {max(n_out, 1)}\n",
+            f"#define T0 {_c_number(plan.t0)}\n#define DT {_c_number(plan.dt)}\n",
+            f"#define N_STEPS {N_STEPS}\n",
+            _c_array("X0", plan.x0), _c_array("P_DYNAMIC", plan.p),
+            _c_array("SETTINGS", [opts.rho_inf, opts.tol]),
+            _c_array("SCALES", step_scales(plan.mech)), _output_data("DYN", rows)]
+    if plan.reanchor is not None:
+        data.append(f"#define FRAME_THRESHOLD {_c_number(plan.reanchor.threshold)}\n")
+    return data
+
+
+def _dynamics(scene) -> tuple[DynamicPlan | None, list, str]:
+    """``(plan, functions, "")`` (:func:`~symcable.api.export_plan.dynamic_plan`,
+    :func:`_dynamic_functions`), or ``(None, [], why not)`` when the scene does not move or
+    the library cannot build, start or step its dynamics (its message as a Markdown
+    literal)."""
+    try:
+        plan, why_not = dynamic_plan(scene)
+        return plan, ([] if plan is None else _dynamic_functions(plan)), why_not
+    except SymcableError as exc:
+        return None, [], ("the library did not build, start or step the scene's dynamics; "
+                          f"it said {_md_literal(str(exc))}")
+
+
+def _dynamic_facts(plan: DynamicPlan, rows: list) -> dict:
+    """What the README says of the dynamics."""
+    mech, opts = plan.mech, plan.opts
+    return {"mechanism": mech.name, "path": plan.path, "stand_in": plan.stand_in,
+            "model": plan.model, "n_y": plan.y0.size, "n_p": mech.params.n,
+            "max_iter": opts.max_iter, "rho_inf": opts.rho_inf, "tol": opts.tol,
+            "t0": plan.t0, "dt": plan.dt, "n_steps": N_STEPS, "outputs": rows,
+            "start": plan.start,
+            "margin": plan.reanchor is not None, "reanchored": plan.reanchored,
+            "threshold": getattr(plan.reanchor, "threshold", 0.0)}
 
 
 def export_scene(scene, folder, stem: str = "symcable_scene") -> list:
     """Standalone C for ``scene`` (``symcable codegen``): ``<stem>.c``/``.h`` with the static
-    residual, Jacobian and solve, and (when the scene moves and hangs free of the seabed) the
-    generalized-α step and dynamic outputs; ``<stem>_data.h`` with the scene's parameter
-    values, start and scales; ``main.c`` calling them; ``README.md``. Returns the paths.
+    residual, Jacobian, solve and outputs, and (when the scene moves and the library runs its
+    dynamics) the generalized-alpha step and dynamic outputs (and a rod's frame margin);
+    ``<stem>_data.h`` with the scene's parameter values, starts, static solution, step and
+    scales and the outputs' names and places; ``main.c`` calling them and printing every
+    result; ``README.md``. Returns the paths.
 
-    ``stem`` names the files and the C functions' prefix: a letter, then letters, digits or
-    underscores. The scene's name reaches the files only as an escaped string literal
-    (``SCENE_NAME`` in ``<stem>_data.h``, which ``main.c`` prints; a JSON string in the
-    README).
+    ``stem`` names the files: a letter, then letters, digits or underscores. The scene's
+    name reaches the files only as an escaped string literal (``SCENE_NAME`` in
+    ``<stem>_data.h``, which ``main.c`` prints; a JSON string in the README).
     """
     if not isinstance(stem, str) or not _STEM.fullmatch(stem):
         raise SymcableError(f"stem = {stem!r}: must be a letter followed by letters, digits or "
                             "underscores ([A-Za-z][A-Za-z0-9_]*)")
+    scene = load_scene(scene)
     folder = Path(folder)
-    model = build_model(scene)
-    sol = solve_static(scene, model=model, codegen=False)
-    mech = static_mechanism(model)
-    start = np.asarray(next(iter(mech.starts())).q, dtype=float)
-    st = functions(mech).static_solver(codegen=False)
-    funcs = [st.residual, st.jacobian, st.solve, st.outputs]
-    dyn, why_not = None, ""
-    if any(e.motion is not None for e in (scene.end_a, scene.end_b)):
-        try:
-            dyn = build_dynamic_model(scene, static=sol)
-        except SymcableError as exc:
-            why_not = f"the dynamic model was not built; symcable said {_md_literal(str(exc))}"
-    else:
-        why_not = "the scene prescribes no end motion"
+    splan = static_plan(scene)
+    funcs = _static_functions(splan)
+    s_rows = _output_rows(splan.mech)
     data = [f"/* Parameter values for {stem}.c (SI units); SCENE_NAME is the scene's name. */\n",
-            "#ifndef casadi_real\n#define casadi_real double\n#endif\n",
-            f"static const char SCENE_NAME[] = {_c_string(str(scene.name))};\n",
-            f"#define N_W {model.n_w}\n#define N_OUT {st.solve.nnz_out(3)}\n",
-            f"#define STATIC_TOL {sol.stats['tolerance']!r}\n",
-            _c_array("W_START", start), _c_array("P_STATIC", model.p_target)]
-    if dyn is not None:
-        dyn_funcs, dyn_data = _dynamic_functions(dyn)
+            "#include <math.h>\n#ifndef casadi_real\n#define casadi_real double\n#endif\n",
+            f"static const char SCENE_NAME[] = {_c_string(str(scene.name))};\n"]
+    data += _static_data(splan, funcs[2].nnz_out(3), funcs[1].nnz_out(1), s_rows)
+    dplan, dyn_funcs, why_not = _dynamics(scene)
+    d_rows = None
+    if dplan is not None:
+        d_rows = _output_rows(dplan.mech)
         funcs += dyn_funcs
-        data += dyn_data
+        data += _dynamic_data(dplan, dyn_funcs[1].nnz_out(0), d_rows)
     src, hdr = export_sources(funcs, folder, stem)
-    paths = [src, hdr]
-    p = folder / f"{stem}_data.h"
-    p.write_text("".join(data))
-    paths.append(p)
-    p = folder / "main.c"
-    p.write_text(_MAIN_C.format(stem=stem, dynamic=_MAIN_DYN.format() if dyn is not None else ""))
-    paths.append(p)
-    lines = ["# Generated C for a symcable scene", "",
-             f"Scene name (a JSON string; `SCENE_NAME` in `{stem}_data.h`): "
-             f"{_md_literal(str(scene.name))}", "",
-             f"Written by symcable (CasADi {ca.__version__}). Build and run the example:", "",
-             "```sh", f"cc -O2 -Wall main.c {stem}.c -lm -o example && ./example", "```", "",
-             "Functions (CasADi's calling convention: see the header; sizes in SI units):", ""]
-    for f in funcs:
-        ins = ", ".join(f"{f.name_in(i)}[{f.nnz_in(i)}]" for i in range(f.n_in()))
-        outs = ", ".join(f"{f.name_out(i)}[{f.nnz_out(i)}]" for i in range(f.n_out()))
-        lines.append(f"- `{f.name()}({ins}) -> ({outs})`")
-    lines += ["", "- `static_*`: x (the start x0, `W_START`) holds node positions (m), segment angles "
-              "(rad) and strains; p the scene parameters (`P_STATIC`); residual rows in N. "
-              "`static_solve` runs up to 12 Newton steps and packs every output of "
-              "`static_outputs`, each in column-major order, one after the other.",
-              "- `static_jacobian`: J is sparse (column-compressed; its pattern is given by "
-              "`static_jacobian_sparsity_out(1)`)."]
-    if dyn is not None:
-        lines += ["- `ga_step`: one first-order generalized-alpha step from t of size dt: x = (y, "
-                  "y'), y = (q, v) the dynamics' state (segment dynamic strain and angle, then "
-                  "node velocities, m/s); settings = [rho_inf, Newton tolerance]; scales = the "
-                  "state's scales and the residual rows' (`SCALES`); returns the next x, the "
-                  "Newton measure, NaN, the Newton iterations and a failure flag.",
-                  "- `dyn_outputs(y, t, p)`: every output of a state (tensions and forces in N, "
-                  "strains, angles in rad, positions in m), stacked."]
-    else:
-        lines += ["", f"No time-step function: {why_not}."]
-    p = folder / "README.md"
-    p.write_text("\n".join(lines) + "\n")
-    paths.append(p)
+    paths = [src, hdr, folder / f"{stem}_data.h", folder / "main.c", folder / "README.md"]
+    paths[2].write_text("".join(data))
+    paths[3].write_text(main_c(stem, dplan is not None,
+                               dplan is not None and dplan.reanchor is not None))
+    facts = {"mechanism": splan.mech.name, "n_w": splan.start.size, "n_p": splan.mech.params.n,
+             "start": splan.start_source, "tol": splan.tol, "path": splan.path,
+             "outputs": s_rows, "c_bytes": src.stat().st_size}
+    dfacts = None if dplan is None else _dynamic_facts(dplan, d_rows)
+    paths[4].write_text(readme(stem, _md_literal(str(scene.name)), funcs, facts, dfacts,
+                               why_not, _md_literal))
     return paths

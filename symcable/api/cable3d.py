@@ -26,7 +26,7 @@ from ..results.static import ModalSolution
 from ..results.line3d import LineTrajectory, SystemTrajectory, line_from_outputs
 from ..results.generic import SceneLinearization
 from ..scene import End, EndCondition, Scene
-from .cable3d_static import body_stiffness, dynamic_p, node_shapes
+from .cable3d_static import AT_REST, body_stiffness, dynamic_p, node_shapes, tows
 from ..models.rod.reanchor import reanchor_hook
 from .scene3d import (dynamics_mechanism, has_twists, rod_line, scene_equilibrium, start_state,
                       twist_names, twist_shapes)
@@ -330,7 +330,8 @@ def modal_analysis_3d(scene: Scene, n_modes: int = 10, *, max_dense: int = MAX_D
                              for n in lines]), frequencies=freq,
         periods=1.0 / freq, real_parts=np.asarray(modes.real_parts if modes.real_parts is not None
                                                   else np.zeros_like(freq), float),
-        shapes=shapes, status="converged", stats=stats, warnings=tuple(modes.warnings))
+        shapes=shapes, status="converged", stats=stats,
+        warnings=tuple(modes.warnings) + ((AT_REST,) if tows(scene) else ()))
 
 
 def end_stiffness_3d(scene: Scene, end: str = "b", *, equilibrium=None) -> np.ndarray:

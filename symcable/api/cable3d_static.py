@@ -165,7 +165,19 @@ def solve_static_3d(scene: Scene, *, tol: float | None = None, max_iter: int = 5
     warnings = list(eq.warnings)
     if _frictionless_statics(scene):
         warnings.append(FRICTIONLESS)
+    if tows(scene):
+        warnings.append(AT_REST)
     return _solution(scene, seg, eq.outputs, eq.q, "converged", stats, tuple(warnings))
+
+
+#: the warning of a static solve (or modes about it) of a scene that tows
+AT_REST = ("the scene tows (kind = 'tow'): this is its state at rest, without the tow's "
+           "speed; the steady tow is where simulate starts (start = 'steady')")
+
+
+def tows(scene: Scene) -> bool:
+    """Whether something held in ``scene`` moves on a tow (``kind = "tow"``)."""
+    return any(m is not None and m.kind == "tow" for _, m in held_motions(scene))
 
 
 #: the warning of a static solve on a seabed with friction but without static friction
@@ -222,6 +234,8 @@ def _solve_system(scene: Scene, *, tol, max_iter, continuation, codegen) -> Syst
     warnings = list(eq.warnings)
     if _frictionless_statics(scene):
         warnings.append(FRICTIONLESS)
+    if tows(scene):
+        warnings.append(AT_REST)
     return _system(scene, eq.outputs, eq.q, "converged", stats, tuple(warnings))
 
 

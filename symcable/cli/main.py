@@ -279,6 +279,11 @@ def _linearize(args) -> int:
     print(json.dumps(lin.to_dict(), indent=1) if args.json else lin.summary())
     if args.save:
         lin.save(args.save)
+    if args.plot:
+        from ..plotting.profiles import close
+        close(lin.plot(args.plot))
+        if not args.json:
+            print(f"plot              {args.plot}")
     return 0
 
 
@@ -369,6 +374,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--json", action="store_true", help="print the linearisation as JSON (SI "
                    "units)")
     p.add_argument("--save", metavar="FILE", help="save the linearisation (.npz or .json)")
+    p.add_argument("--plot", metavar="FILE", help="save a map of K, C and M (PNG, PDF or SVG)")
     p.add_argument("--undamped", action="store_true", help="current, excitation and the "
                    "closure stabilisation off (as modes has them)")
     p = sub.add_parser("codegen", help="write standalone C sources for a scene: its static "

@@ -258,6 +258,13 @@ class SceneLinearization(Exportable):
                        f"kN/m, {' '.join(f'{v:.5g}' for v in d[3:] / 1e3)} kN m/rad")
         return "\n".join(out)
 
+    def plot(self, path: str | Path | None = None):
+        """K, C and M as maps of their entries' magnitudes
+        (:func:`symcable.plotting.matrices.plot_matrices`); saved to ``path`` when given;
+        returns the Figure."""
+        from ..plotting.matrices import plot_matrices
+        return plot_matrices(self, path)
+
     def state_matrix(self) -> np.ndarray:
         """A (n_q + n_v, n_q + n_v): d(q, v)/dt = A (q, v), 1/s."""
         Minv = np.linalg.inv(self.M)

@@ -7,6 +7,7 @@ phase) rather than complex numbers so that every export format keeps them.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
 
@@ -160,6 +161,13 @@ class PeriodicSolution(OneLine, Exportable):
     def fairlead_tension_amplitude(self) -> float:
         """First-harmonic amplitude of the fairlead tension, N."""
         return float(self.fairlead_tension_harmonics_amplitude[1])
+
+    def plot(self, path: str | Path | None = None):
+        """The fairlead tension over the period above the tension envelope along the line
+        (:func:`symcable.plotting.profiles.plot_periodic`); saved to ``path`` when given;
+        returns the Figure."""
+        from ..plotting.profiles import plot_periodic
+        return plot_periodic(self, path)
 
     def summary(self) -> str:
         """A few lines a person reads: fairlead tension range and first harmonic (kN),

@@ -293,6 +293,18 @@ class ModalSolution(Exportable):
     def n_modes(self) -> int:
         return int(len(self.frequencies))
 
+    def plot(self, path: str | Path | None = None, *, seabed: float | None = None):
+        """The mode shapes on the static state: a planar line's in its plane
+        (:func:`symcable.plotting.profiles.plot_modes`), a 3D scene's in plan, elevation and
+        end view with each line apart (:func:`symcable.plotting.line3d.plot_modes_3d`; the
+        seabed at z = ``seabed`` m when given); saved to ``path`` when given; returns the
+        Figure."""
+        if np.asarray(self.positions).shape[-1] == 3:
+            from ..plotting.line3d import plot_modes_3d
+            return plot_modes_3d(self, path, seabed=seabed)
+        from ..plotting.profiles import plot_modes
+        return plot_modes(self, self.positions, path)
+
     def summary(self) -> str:
         """One line per mode: frequency (Hz), period (s), angular frequency (rad/s)."""
         st = self.stats

@@ -10,8 +10,8 @@ See the README for the scene-file contract and the CLI.
 """
 from __future__ import annotations
 
-from .api.analyses import (build_dynamic_model, end_stiffness, linearize, modal_analysis, simulate,
-                  solve_periodic, sweep_periodic)
+from .api.analyses import (build_dynamic_model, build_mechanism, end_stiffness, linearize,
+                           modal_analysis, simulate, solve_periodic, sweep_periodic)
 from .errors import ConvergenceError, LimitError, ModelNote, SceneError, SymcableError
 from .limits import Limits, limits
 from .models import build_model
@@ -72,6 +72,7 @@ __all__ = [
     "OffsetSweep",
     "analytic",
     "build_dynamic_model",
+    "build_mechanism",
     "build_model",
     "load_scene",
     "modal_analysis",

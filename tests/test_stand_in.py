@@ -79,3 +79,14 @@ def test_a_clamped_planar_end_has_no_stand_in():
     d["line_types"]["chain"]["EI"] = 1e3
     with pytest.raises(sc.SceneError, match=r"end_a\.angle_deg = 0\.0 deg.*direction"):
         as_cable3d(sc.load_scene(d))
+
+
+@pytest.mark.parametrize("name", ["seed001", "seed000_rod", "sphere", "towed_body"])
+def test_build_mechanism_for_every_formulation(name):
+    """sc.build_mechanism gives any scene's static Mechanism (planar, rod, a scene of points
+    and bodies), built once per content; the generic solver finds the same state as
+    sc.solve_static (its fairlead tension to the solve's tolerance, 1e-6 relative)."""
+    mech = sc.build_mechanism(name)
+    assert sc.build_mechanism(name) is mech
+    eq = sc.solve_equilibrium(mech)
+    assert eq.status == "converged" and eq.q.shape == (mech.n_q,)

@@ -24,7 +24,7 @@ from ..scene import Scene, load_scene
 from ..results.static import ModalSolution
 from ..errors import ModelNote, SymcableError
 from ..models import build_model, formulation_of
-from ..mechanism.mechanism import Start
+from ..mechanism.mechanism import Mechanism, Start
 from ..models.planar.static import static_mechanism
 from ..solvers.equilibrium import solve_equilibrium
 from ..solvers.linearize import MAX_DENSE, mechanism_modes, output_sensitivity
@@ -35,9 +35,10 @@ from .planar_periodic import solve_model, sweep_model
 from ..results.generic import Equilibrium, SceneLinearization
 from .planar_static import solve_static
 from . import cable3d as _c3
+from .scene3d import scene_mechanism
 from . import cable3d_periodic as _c3p
 
-__all__ = ["build_dynamic_model", "dynamics_scene", "modal_analysis", "runs_on_mechanism",
+__all__ = ["build_dynamic_model", "build_mechanism", "dynamics_scene", "modal_analysis", "runs_on_mechanism",
            "simulate", "solve_periodic", "sweep_periodic"]
 
 
@@ -103,6 +104,17 @@ def _nonlinear(scene, **linearised_only):
                             f"{scene.model.value} scene (its analyses build their own "
                             "Mechanism from the scene)")
     return scene
+
+
+def build_mechanism(scene) -> Mechanism:
+    """The scene's statics as a Mechanism, for any formulation (planar, cable3d, rod, hybrid,
+    a scene of several lines, points and bodies), built once per scene content: the object
+    the generic solvers take (:func:`symcable.solve_equilibrium`,
+    :func:`symcable.linearize_mechanism`, :func:`symcable.mechanism_modes`, ...). A hybrid
+    with ``zones = "auto"`` has its zones chosen first (a static solve)."""
+    scene = load_scene(scene)
+    form = formulation_of(scene)
+    return form.build(scene) if form.linearised else scene_mechanism(scene)
 
 
 def build_dynamic_model(scene, static=None) -> DynamicModel:

@@ -35,6 +35,7 @@ none).
 from __future__ import annotations
 
 import dataclasses
+import functools
 from dataclasses import dataclass
 from typing import Callable, Iterable, Sequence
 
@@ -138,19 +139,121 @@ def assemble(parts: Iterable[Mechanism], joints: Iterable = (), *, name: str = "
         Static starts of the whole; by default the parts' first starts, put together.
     """
     parts = list(parts)
+    by_name, dim, kind = _check_parts(parts)
+    joints = list(joints)
+    num = _number(parts, by_name, joints)
+    n_v, n_q = num.n_v, num.n_q
+    presc_joints = [j for j in joints if isinstance(j, Prescribed)]
+    params = _param_blocks(parts, presc_joints, dim)
+
+    q = _sym(kind, "q", n_q)
+    v = _sym(kind, "v", n_v)
+    t = _sym(kind, "t", 1)
+    p = _sym(kind, "p", params.n)
+    n_z_total = sum(m.n_z for m in parts)
+    z = _sym(kind, "z", n_z_total)
+    z_at, p_at, off_z, off_p = {}, {}, 0, 0
+    for m in parts:
+        z_at[m.name] = z[off_z:off_z + m.n_z]
+        p_at[m.name] = p[off_p:off_p + m.params.n]
+        off_z += m.n_z
+        off_p += m.params.n
+
+    motion = _prescribed_motion(presc_joints, params, p, t)
+    kinematic = [m for m in parts if m.kinematics is not None]
+    qdot, rest_rows = _kinematics(kinematic, num, kind, q, v, z_at, p_at, t)
+    # a node on a body: its position, velocity and the acceleration at v' = 0
+    for j in joints:
+        if isinstance(j, Attached):
+            qb, vb = _free_of(by_name[j.body], num, q, v)
+            xd = j.velocity(qb, vb)
+            motion[j.name] = (j.position(qb), xd, ca.jtimes(xd, q, qdot))
+
+    M = kind(n_v, n_v)  # structurally zero: each part adds its own (sparse) block
+    f = kind.zeros(n_v, 1)
+    g_rows, outputs, bounds, when = [], {}, {}, []
+    part_layouts = {}
+    q_scale = np.zeros(n_q)
+    v_scale = np.zeros(n_v)
+    joint_force = {j.name: [kind(0)] * dim for j in presc_joints}
+    for m in parts:
+        q_loc, v_loc, a_pres, rows_free, cols_free, rows_att = _part_coords(
+            m, num, motion, kind, q, v, q_scale, v_scale)
+        local = (q_loc, v_loc, z_at[m.name], t, p_at[m.name])
+        fn = ca.Function(f"part_{m.fname}", [m.q, m.v, m.z, m.t, m.p],
+                         [m.mass, m.force, m.constraint])
+        Mp, fp, gp = fn(*local)
+        fp_eff = fp - ca.mtimes(Mp, a_pres)  # prescribed and attached accelerations' inertia
+        T = ca.DM(ca.Sparsity.triplet(m.n_v, n_v, rows_free, cols_free), 1.0)
+        if rows_att:  # v_part = T(q) v: the selection plus the attached nodes' J
+            S = ca.DM(ca.Sparsity.triplet(m.n_v, len(rows_att), rows_att,
+                                          list(range(len(rows_att)))), 1.0)
+            T = T + ca.mtimes(S, ca.jacobian(ca.vertcat(*[v_loc[i] for i in rows_att]), v))
+        M = M + ca.mtimes([T.T, Mp, T])
+        f = f + ca.mtimes(T.T, fp_eff)
+        g_rows.append(gp)
+        _add_joint_force(m, num, fp_eff, joint_force)
+        outputs.update(_part_outputs(m, local))
+        _part_bounds(m, local, bounds, when)
+        part_layouts.update(_part_layouts(m, num))
+    for j in presc_joints:
+        outputs[f"{j.name}.force"] = Output(ca.vertcat(*joint_force[j.name]), "N", j.name,
+                                            f"force the parts exert on {j.name}")
+    for j in joints:
+        if isinstance(j, (Prescribed, Attached)):
+            outputs[f"{j.name}.position"] = Output(motion[j.name][0], "m", j.name,
+                                                   f"position of {j.name}")
+    g = ca.vertcat(*g_rows) if g_rows else kind.zeros(0, 1)
+    if n_z_total == 0:
+        g = kind.zeros(0, 1)
+
+    scales = _scales(parts, q_scale, v_scale, n_z_total)
+    static_params = {f"{m.name}.{k}": val for m in parts for k, val in m.static_params.items()}
+    terms = tuple(dict.fromkeys(t_ for m in parts for t_ in m.terms))
+    default_starts = functools.partial(_default_starts, parts, num, params, static_params)
+    return Mechanism(name=name, q=q, v=v, z=z, t=t, p=p, params=params, mass=M, force=f,
+                     constraint=g, scales=scales, starts=starts or default_starts,
+                     outputs=outputs, layout=Layout(dim, part_layouts, _states(parts)),
+                     terms=terms, static_params=static_params, bounds=bounds,
+                     stability_when=_least(when) if len(when) == len(parts) else None,
+                     kinematics=qdot if kinematic else None,
+                     rest=ca.vertcat(*rest_rows) if rest_rows else None)
+
+
+def _check_parts(parts: list) -> tuple[dict, int, type]:
+    """The parts by name (unique), their common dimension (2 or 3) and the symbol kind of
+    the whole (``ca.MX`` when any part is MX, else ``ca.SX``)."""
     by_name: dict[str, Mechanism] = {}
     for m in parts:
         if m.name in by_name:
             raise SymcableError(f"assemble: two parts are named {m.name!r}")
         by_name[m.name] = m
-    joints = list(joints)
     dims = {m.layout.dim for m in parts}
     if len(dims) != 1:
         raise SymcableError(f"assemble: parts of different dimensions {sorted(dims)}")
-    dim = dims.pop()
-    kind = ca.MX if any(isinstance(m.q, ca.MX) for m in parts) else ca.SX
+    return by_name, dims.pop(), ca.MX if any(isinstance(m.q, ca.MX) for m in parts) else ca.SX
 
-    # which local coordinates are one, which are prescribed or attached to a body
+
+@dataclass
+class _Numbering:
+    """Where each part's local coordinates go in the assembled ``q`` (n_q,) and ``v`` (n_v,).
+
+    ``dof`` joins shared coordinates; ``roots_prescribed`` maps a joined coordinate's root
+    to the (Prescribed or Attached joint, its component k) that moves it; ``global_index``
+    maps every other root to its index in q and v (< n_v); ``tail_index`` maps a part's
+    entries past its n_v, ``(part, j)``, to their index in q (>= n_v)."""
+
+    dof: _DofMap
+    roots_prescribed: dict
+    global_index: dict
+    tail_index: dict
+    n_v: int
+    n_q: int
+
+
+def _number(parts: list, by_name: dict, joints: list) -> _Numbering:
+    """The joints read into a :class:`_Numbering` of the parts' coordinates (checked: known
+    parts and nodes, no node moved by two joints, no body that is itself moved)."""
     dof = _DofMap(by_name)
     prescribed: dict = {}
     for j in joints:
@@ -191,15 +294,19 @@ def assemble(parts: Iterable[Mechanism], joints: Iterable = (), *, name: str = "
                                            for i in range(by_name[j.body].n_v)):
             raise SymcableError(f"Attached({j.name!r}): its body {j.body!r} is itself "
                                 "prescribed or attached")
+    return _Numbering(dof, roots_prescribed, global_index, tail_index, n_v, n_q)
 
-    # parameters: the parts' blocks, then the joints'
+
+def _param_blocks(parts: list, presc_joints: list, dim: int) -> ParamBlocks:
+    """The assembled parameters: the parts' blocks (``part.name``), then each Prescribed
+    joint's ``NAME.position``, ``.amplitude`` (dim each, m), ``.phase`` (dim, rad) and
+    ``.omega`` (1, rad/s)."""
     names, sizes, values = [], [], []
     for m in parts:
         for bn, bs in zip(m.params.names, m.params.sizes):
             names.append(f"{m.name}.{bn}")
             sizes.append(bs)
         values.append(m.params.values)
-    presc_joints = [j for j in joints if isinstance(j, Prescribed)]
     for j in presc_joints:
         pos = np.asarray(j.position, dtype=float).ravel()
         if pos.size != dim:
@@ -213,22 +320,12 @@ def assemble(parts: Iterable[Mechanism], joints: Iterable = (), *, name: str = "
             names.append(f"{j.name}.{bn}")
             sizes.append(val.size)
             values.append(val)
-    params = ParamBlocks(tuple(names), tuple(sizes), np.concatenate(values) if values else np.zeros(0))
+    return ParamBlocks(tuple(names), tuple(sizes), np.concatenate(values) if values else np.zeros(0))
 
-    q = _sym(kind, "q", n_q)
-    v = _sym(kind, "v", n_v)
-    t = _sym(kind, "t", 1)
-    p = _sym(kind, "p", params.n)
-    n_z_total = sum(m.n_z for m in parts)
-    z = _sym(kind, "z", n_z_total)
-    z_at, p_at, off_z, off_p = {}, {}, 0, 0
-    for m in parts:
-        z_at[m.name] = z[off_z:off_z + m.n_z]
-        p_at[m.name] = p[off_p:off_p + m.params.n]
-        off_z += m.n_z
-        off_p += m.params.n
 
-    # prescribed motion: x, x', x'' per joint
+def _prescribed_motion(presc_joints: list, params: ParamBlocks, p, t) -> dict:
+    """``{joint name: (x, x', x'')}``, each (dim, 1): the Prescribed joints' harmonic
+    motions (m, m/s, m/s^2) as expressions of ``t`` and ``p``."""
     motion = {}
     for j in presc_joints:
         P = {bn: p[params.slice(f"{j.name}.{bn}")] for bn in ("position", "amplitude", "phase", "omega")}
@@ -237,168 +334,164 @@ def assemble(parts: Iterable[Mechanism], joints: Iterable = (), *, name: str = "
         xd = -P["amplitude"] * P["omega"] * ca.sin(arg)
         xdd = -P["amplitude"] * P["omega"] ** 2 * ca.cos(arg)
         motion[j.name] = (x, xd, xdd)
+    return motion
 
-    def free_of(m):
-        """The part's own q and v in the assembled symbols, where its entries are free."""
-        return (ca.vertcat(*[q[global_index[dof.find((m.name, j))]] for j in range(m.n_v)],
-                           *[q[tail_index[(m.name, j)]] for j in range(m.n_v, m.n_q)]),
-                ca.vertcat(*[v[global_index[dof.find((m.name, j))]] for j in range(m.n_v)]))
 
-    # the kinematics of the whole, q' = G(q) v: each part's rows, v where it has none
-    kinematic = [m for m in parts if m.kinematics is not None]
-    qdot = ca.vertcat(v, kind.zeros(n_q - n_v, 1))
+def _free_of(m: Mechanism, num: _Numbering, q, v):
+    """The part's own q (m.n_q,) and v (m.n_v,) in the assembled symbols, where its entries
+    are free."""
+    return (ca.vertcat(*[q[num.global_index[num.dof.find((m.name, j))]] for j in range(m.n_v)],
+                       *[q[num.tail_index[(m.name, j)]] for j in range(m.n_v, m.n_q)]),
+            ca.vertcat(*[v[num.global_index[num.dof.find((m.name, j))]] for j in range(m.n_v)]))
+
+
+def _kinematics(kinematic: list, num: _Numbering, kind, q, v, z_at, p_at, t):
+    """The kinematics of the whole, q' = G(q) v (n_q, 1): each part's rows of those with
+    kinematics (``kinematic``), v where it has none; and those parts' rest rows (a list)."""
+    qdot = ca.vertcat(v, kind.zeros(num.n_q - num.n_v, 1))
     rest_rows = []
     for m in kinematic:
-        qb, vb = free_of(m)
+        qb, vb = _free_of(m, num, q, v)
         fn = ca.Function(f"part_{m.fname}_kin", [m.q, m.v, m.z, m.t, m.p],
                          [m.kinematics] + ([] if m.rest is None else [m.rest]))
         out = fn(qb, vb, z_at[m.name], t, p_at[m.name])
         out = list(out) if isinstance(out, (list, tuple)) else [out]
         for jloc in range(m.n_q):
-            gi = (global_index[dof.find((m.name, jloc))] if jloc < m.n_v
-                  else tail_index[(m.name, jloc)])
+            gi = (num.global_index[num.dof.find((m.name, jloc))] if jloc < m.n_v
+                  else num.tail_index[(m.name, jloc)])
             qdot[gi] = out[0][jloc]
         if m.rest is not None:
             rest_rows.append(out[1])
-    # a node on a body: its position, velocity and the acceleration at v' = 0
-    for j in joints:
-        if isinstance(j, Attached):
-            qb, vb = free_of(by_name[j.body])
-            xd = j.velocity(qb, vb)
-            motion[j.name] = (j.position(qb), xd, ca.jtimes(xd, q, qdot))
+    return qdot, rest_rows
 
-    M = kind(n_v, n_v)  # structurally zero: each part adds its own (sparse) block
-    f = kind.zeros(n_v, 1)
-    g_rows, outputs, bounds, when = [], {}, {}, []
+
+def _part_coords(m: Mechanism, num: _Numbering, motion: dict, kind, q, v, q_scale, v_scale):
+    """The part's q (m.n_q,), v (m.n_v,) and prescribed acceleration (m.n_v,) in the
+    assembled symbols and motions; its local rows that are free and their global columns,
+    and its rows attached to a body. Raises ``q_scale``, ``v_scale`` (assembled, in place)
+    to the part's own scales where its entries are free."""
+    rows_free, cols_free, rows_att = [], [], []  # local -> global for free entries
+    qp, vp, ap = [], [], []
+    for jloc in range(m.n_v):
+        r = num.dof.find((m.name, jloc))
+        if r in num.roots_prescribed:
+            jt, k = num.roots_prescribed[r]
+            x, xd, xdd = motion[jt.name]
+            qp.append(x[k]); vp.append(xd[k]); ap.append(xdd[k])
+            if isinstance(jt, Attached):
+                rows_att.append(jloc)
+        else:
+            gi = num.global_index[r]
+            rows_free.append(jloc); cols_free.append(gi)
+            qp.append(q[gi]); vp.append(v[gi]); ap.append(kind(0))
+            q_scale[gi] = max(q_scale[gi], m.scales.q[jloc])
+            v_scale[gi] = max(v_scale[gi], m.scales.v[jloc])
+    for jloc in range(m.n_v, m.n_q):
+        qp.append(q[num.tail_index[(m.name, jloc)]])
+        q_scale[num.tail_index[(m.name, jloc)]] = m.scales.q[jloc]
+    return (ca.vertcat(*qp), ca.vertcat(*vp), ca.vertcat(*ap), rows_free, cols_free,
+            rows_att)
+
+
+def _add_joint_force(m: Mechanism, num: _Numbering, fp_eff, joint_force: dict) -> None:
+    """Adds to ``joint_force`` (joint name -> dim entries, N, in place) the force this part
+    exerts on each prescribed node, ``fp_eff`` = f_part - M_part a_part at its rows, with the
+    prescribed accelerations only: exact in statics, and in dynamics for a mass matrix that
+    does not couple the node to free ones (lumped mass)."""
+    for jloc in range(m.n_v):
+        r = num.dof.find((m.name, jloc))
+        if r in num.roots_prescribed and isinstance(num.roots_prescribed[r][0], Prescribed):
+            jt, k = num.roots_prescribed[r]
+            joint_force[jt.name][k] = joint_force[jt.name][k] + fp_eff[jloc]
+
+
+def _part_outputs(m: Mechanism, local: tuple) -> dict:
+    """The part's outputs, namespaced ``part.name``, at ``local`` = its (q, v, z, t, p) in
+    the assembled symbols."""
+    outputs = {}
+    if m.outputs:
+        names_o = list(m.outputs)
+        fo = ca.Function(f"part_{m.fname}_out", [m.q, m.v, m.z, m.t, m.p],
+                         [m.outputs[k].expr for k in names_o])
+        vals = fo(*local)
+        vals = vals if isinstance(vals, (list, tuple)) else [vals]
+        for k, val in zip(names_o, vals):
+            o = m.outputs[k]
+            outputs[f"{m.name}.{k}"] = Output(val, o.unit, o.owner or m.name, o.description)
+    return outputs
+
+
+def _part_bounds(m: Mechanism, local: tuple, bounds: dict, when: list) -> None:
+    """Adds the part's admissibility bounds, namespaced, to ``bounds`` and its
+    ``stability_when`` to ``when`` (in place), at ``local`` = its (q, v, z, t, p) in the
+    assembled symbols."""
+    if m.bounds or m.stability_when is not None:
+        names_b = list(m.bounds)
+        exprs = [m.bounds[k].expr for k in names_b]
+        if m.stability_when is not None:
+            exprs.append(m.stability_when)
+        vals = ca.Function(f"part_{m.fname}_bounds", [m.q, m.v, m.z, m.t, m.p], exprs)(*local)
+        vals = list(vals) if isinstance(vals, (list, tuple)) else [vals]
+        for k, val in zip(names_b, vals):
+            bounds[f"{m.name}.{k}"] = dataclasses.replace(m.bounds[k], expr=val)
+        if m.stability_when is not None:
+            when.append(vals[-1])
+
+
+def _part_layouts(m: Mechanism, num: _Numbering) -> dict:
+    """The part's layout parts in assembled indices (-1 where a node is prescribed or
+    attached; ``moved_by`` names the joint or the part's own prescribed motion)."""
     part_layouts = {}
-    q_scale = np.zeros(n_q)
-    v_scale = np.zeros(n_v)
-    joint_force = {j.name: [kind(0)] * dim for j in presc_joints}
-    for m in parts:
-        rows_free, cols_free, rows_att = [], [], []  # local -> global for free entries
-        qp, vp, ap = [], [], []
-        for jloc in range(m.n_v):
-            r = dof.find((m.name, jloc))
-            if r in roots_prescribed:
-                jt, k = roots_prescribed[r]
-                x, xd, xdd = motion[jt.name]
-                qp.append(x[k]); vp.append(xd[k]); ap.append(xdd[k])
-                if isinstance(jt, Attached):
-                    rows_att.append(jloc)
-            else:
-                gi = global_index[r]
-                rows_free.append(jloc); cols_free.append(gi)
-                qp.append(q[gi]); vp.append(v[gi]); ap.append(kind(0))
-                q_scale[gi] = max(q_scale[gi], m.scales.q[jloc])
-                v_scale[gi] = max(v_scale[gi], m.scales.v[jloc])
-        for jloc in range(m.n_v, m.n_q):
-            qp.append(q[tail_index[(m.name, jloc)]])
-            q_scale[tail_index[(m.name, jloc)]] = m.scales.q[jloc]
-        q_loc, v_loc, a_pres = ca.vertcat(*qp), ca.vertcat(*vp), ca.vertcat(*ap)
-        z_loc, p_loc = z_at[m.name], p_at[m.name]
-        args = [m.q, m.v, m.z, m.t, m.p]
-        fn = ca.Function(f"part_{m.fname}", args, [m.mass, m.force, m.constraint])
-        Mp, fp, gp = fn(q_loc, v_loc, z_loc, t, p_loc)
-        fp_eff = fp - ca.mtimes(Mp, a_pres)  # prescribed and attached accelerations' inertia
-        T = ca.DM(ca.Sparsity.triplet(m.n_v, n_v, rows_free, cols_free), 1.0)
-        if rows_att:  # v_part = T(q) v: the selection plus the attached nodes' J
-            S = ca.DM(ca.Sparsity.triplet(m.n_v, len(rows_att), rows_att,
-                                          list(range(len(rows_att)))), 1.0)
-            T = T + ca.mtimes(S, ca.jacobian(ca.vertcat(*[v_loc[i] for i in rows_att]), v))
-        M = M + ca.mtimes([T.T, Mp, T])
-        f = f + ca.mtimes(T.T, fp_eff)
-        g_rows.append(gp)
-        # the force this part exerts on each prescribed node, f_part - M_part a_part at its
-        # rows, with the prescribed accelerations only: exact in statics, and in dynamics for
-        # a mass matrix that does not couple the node to free ones (lumped mass)
-        for jloc in range(m.n_v):
-            r = dof.find((m.name, jloc))
-            if r in roots_prescribed and isinstance(roots_prescribed[r][0], Prescribed):
-                jt, k = roots_prescribed[r]
-                joint_force[jt.name][k] = joint_force[jt.name][k] + fp_eff[jloc]
-        # outputs, namespaced
-        if m.outputs:
-            names_o = list(m.outputs)
-            fo = ca.Function(f"part_{m.fname}_out", args, [m.outputs[k].expr for k in names_o])
-            vals = fo(q_loc, v_loc, z_loc, t, p_loc)
-            vals = vals if isinstance(vals, (list, tuple)) else [vals]
-            for k, val in zip(names_o, vals):
-                o = m.outputs[k]
-                outputs[f"{m.name}.{k}"] = Output(val, o.unit, o.owner or m.name, o.description)
-        # admissibility bounds and where stability is judged, namespaced
-        if m.bounds or m.stability_when is not None:
-            names_b = list(m.bounds)
-            exprs = [m.bounds[k].expr for k in names_b]
-            if m.stability_when is not None:
-                exprs.append(m.stability_when)
-            vals = ca.Function(f"part_{m.fname}_bounds", args, exprs)(q_loc, v_loc, z_loc, t, p_loc)
-            vals = list(vals) if isinstance(vals, (list, tuple)) else [vals]
-            for k, val in zip(names_b, vals):
-                bounds[f"{m.name}.{k}"] = dataclasses.replace(m.bounds[k], expr=val)
-            if m.stability_when is not None:
-                when.append(vals[-1])
-        # layout, in global indices
-        for pname, lay in m.layout.parts.items():
-            node_q = np.full(lay.node_q.shape, -1, dtype=int)
-            moved_by = {i: f"{m.name}.{j}" for i, j in lay.prescribed.items()}
-            for ii in np.ndindex(lay.node_q.shape):
-                jloc = int(lay.node_q[ii])
-                if jloc >= 0:
-                    r = dof.find((m.name, jloc))
-                    if r in roots_prescribed:
-                        moved_by[int(ii[0])] = roots_prescribed[r][0].name
-                    else:
-                        node_q[ii] = global_index[r]
-            part_layouts[pname] = PartLayout(lay.kind, lay.s, node_q, node_q.copy(), moved_by)
-    for j in presc_joints:
-        outputs[f"{j.name}.force"] = Output(ca.vertcat(*joint_force[j.name]), "N", j.name,
-                                            f"force the parts exert on {j.name}")
-    for j in joints:
-        if isinstance(j, (Prescribed, Attached)):
-            outputs[f"{j.name}.position"] = Output(motion[j.name][0], "m", j.name,
-                                                   f"position of {j.name}")
-    g = ca.vertcat(*g_rows) if g_rows else kind.zeros(0, 1)
-    if n_z_total == 0:
-        g = kind.zeros(0, 1)
+    for pname, lay in m.layout.parts.items():
+        node_q = np.full(lay.node_q.shape, -1, dtype=int)
+        moved_by = {i: f"{m.name}.{j}" for i, j in lay.prescribed.items()}
+        for ii in np.ndindex(lay.node_q.shape):
+            jloc = int(lay.node_q[ii])
+            if jloc >= 0:
+                r = num.dof.find((m.name, jloc))
+                if r in num.roots_prescribed:
+                    moved_by[int(ii[0])] = num.roots_prescribed[r][0].name
+                else:
+                    node_q[ii] = num.global_index[r]
+        part_layouts[pname] = PartLayout(lay.kind, lay.s, node_q, node_q.copy(), moved_by)
+    return part_layouts
 
+
+def _scales(parts: list, q_scale: np.ndarray, v_scale: np.ndarray, n_z_total: int) -> Scales:
+    """The assembled scales: ``q_scale`` (n_q,) and ``v_scale`` (n_v,) with non-positive
+    entries set to 1 (in place), the parts' z scales in order, the largest of their force
+    (N), mass (kg) and residual floor (N)."""
     q_scale[q_scale <= 0] = 1.0
     v_scale[v_scale <= 0] = 1.0
-    scales = Scales(q=q_scale, v=v_scale,
-                    z=np.concatenate([m.scales.z for m in parts]) if n_z_total else np.zeros(0),
-                    force=max(m.scales.force for m in parts),
-                    mass=max(m.scales.mass for m in parts),
-                    residual_floor=max(m.scales.residual_floor for m in parts))
-    static_params = {f"{m.name}.{k}": val for m in parts for k, val in m.static_params.items()}
-    terms = tuple(dict.fromkeys(t_ for m in parts for t_ in m.terms))
+    return Scales(q=q_scale, v=v_scale,
+                  z=np.concatenate([m.scales.z for m in parts]) if n_z_total else np.zeros(0),
+                  force=max(m.scales.force for m in parts),
+                  mass=max(m.scales.mass for m in parts),
+                  residual_floor=max(m.scales.residual_floor for m in parts))
 
-    def default_starts():
-        q0 = np.zeros(n_q)
-        seen = np.zeros(n_q, dtype=bool)
-        z0 = []
-        for m in parts:
-            st = next(iter(m.starts()), None)
-            ql = np.zeros(m.n_q) if st is None else np.asarray(st.q, float)
-            z0.append(np.zeros(m.n_z) if st is None else np.asarray(st.z, float))
-            for jloc in range(m.n_q):
-                if jloc >= m.n_v:
-                    q0[tail_index[(m.name, jloc)]] = ql[jloc]
-                    continue
-                r = dof.find((m.name, jloc))
-                if r in roots_prescribed:
-                    continue
-                gi = global_index[r]
-                if not seen[gi]:
-                    q0[gi], seen[gi] = ql[jloc], True
-        zz = np.concatenate(z0) if z0 else np.zeros(0)
-        yield Start(q0, zz, params.with_values(**static_params), "parts' own starts")
 
-    return Mechanism(name=name, q=q, v=v, z=z, t=t, p=p, params=params, mass=M, force=f,
-                     constraint=g, scales=scales, starts=starts or default_starts,
-                     outputs=outputs, layout=Layout(dim, part_layouts, _states(parts)),
-                     terms=terms, static_params=static_params, bounds=bounds,
-                     stability_when=_least(when) if len(when) == len(parts) else None,
-                     kinematics=qdot if kinematic else None,
-                     rest=ca.vertcat(*rest_rows) if rest_rows else None)
+def _default_starts(parts: list, num: _Numbering, params: ParamBlocks, static_params: dict):
+    """The default static start of the whole (a generator of one Start): each part's first
+    start, a shared coordinate taken from the first part that has it."""
+    q0 = np.zeros(num.n_q)
+    seen = np.zeros(num.n_q, dtype=bool)
+    z0 = []
+    for m in parts:
+        st = next(iter(m.starts()), None)
+        ql = np.zeros(m.n_q) if st is None else np.asarray(st.q, float)
+        z0.append(np.zeros(m.n_z) if st is None else np.asarray(st.z, float))
+        for jloc in range(m.n_q):
+            if jloc >= m.n_v:
+                q0[num.tail_index[(m.name, jloc)]] = ql[jloc]
+                continue
+            r = num.dof.find((m.name, jloc))
+            if r in num.roots_prescribed:
+                continue
+            gi = num.global_index[r]
+            if not seen[gi]:
+                q0[gi], seen[gi] = ql[jloc], True
+    zz = np.concatenate(z0) if z0 else np.zeros(0)
+    yield Start(q0, zz, params.with_values(**static_params), "parts' own starts")
 
 
 def _states(parts) -> StateNames | None:

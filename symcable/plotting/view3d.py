@@ -176,9 +176,8 @@ def plot_mechanism(result, layout, path: str | Path | None = None, *, times=None
     matplotlib.figure.Figure
     """
     import matplotlib.pyplot as plt
-    from matplotlib.lines import Line2D
 
-    from .bodies import body_poses, draw_bodies
+    from .bodies import body_poses
 
     lay = _layout_of(layout)
     # a body part's "nodes" are its position and quaternion: drawn as a body instead
@@ -193,8 +192,6 @@ def plot_mechanism(result, layout, path: str | Path | None = None, *, times=None
                             "is one state)")
     picks = np.array([n_t - 1]) if envelope else _snapshot_indices(n_t, times, t, snapshots)
     colours = _colours(lay, list(pos))
-    # points last, on top of the lines and elements that meet at them
-    order = sorted(pos, key=lambda n: lay.parts[n].kind == "point")
 
     if dim == 3:
         fig = plt.figure(figsize=(12.0, 6.4))
@@ -210,6 +207,38 @@ def plot_mechanism(result, layout, path: str | Path | None = None, *, times=None
     every = np.concatenate([p.reshape(-1, dim) for p in pos.values()]
                            + [X for X, _ in poses.values()])
     every = every[np.all(np.isfinite(every), axis=1)]
+    body_handles = _draw_snapshots(ax3, axes2, lay, pos, poses, bodies, picks, colours, every)
+    if envelope:
+        _draw_envelope(ax3, axes2, lay, pos, colours)
+    levels = _draw_levels(ax3, axes2, dim, every, seabed, surface)
+    handles = _legend_handles(lay, pos, colours, body_handles, levels, t, picks,
+                              is_traj and not envelope and len(picks) > 1, envelope)
+    fig.legend(handles=handles, loc="upper left", bbox_to_anchor=(0.81 if dim == 3 else 0.79, 0.87),
+               fontsize=8, frameon=False)
+    if title is None:
+        if not is_traj:
+            when = "equilibrium"
+        elif envelope:
+            when = f"node paths over t = {t[0]:.4g}-{t[-1]:.4g} s, the state at {t[-1]:.4g} s solid"
+        else:
+            when = f"t = {t[picks[-1]]:.4g} s" + (f" (and {len(picks) - 1} earlier, fainter)"
+                                                  if len(picks) > 1 else "")
+        title = f"{result.mechanism}: {when}; {result.status}; true scale, m"
+    fig.suptitle(title, fontsize=11)
+    from .profiles import finish
+    return finish(fig, path)
+
+
+def _draw_snapshots(ax3, axes2: dict, lay, pos: dict, poses: dict, bodies: dict | None,
+                    picks: np.ndarray, colours: dict, every: np.ndarray) -> list:
+    """Draws each part at the sample indices ``picks`` (earlier ones fainter; points last,
+    on top of the lines that meet at them; prescribed nodes of the last as open squares)
+    on the 3D axes ``ax3`` (None in 2D) and the 2D views ``axes2``, and the bodies
+    ``poses``; returns the bodies' legend handles. ``every``: all drawn points (k, dim), m."""
+    from .bodies import draw_bodies
+
+    dim = lay.dim
+    order = sorted(pos, key=lambda n: lay.parts[n].kind == "point")
     body_handles = []
     for k_snap, i in enumerate(picks):
         last = k_snap == len(picks) - 1
@@ -239,24 +268,34 @@ def plot_mechanism(result, layout, path: str | Path | None = None, *, times=None
                 ax3, [(axes2[key], ab) for key, ab, _ in _views(dim)], poses, bodies,
                 float(np.max(np.ptp(every, axis=0))), index=min(i, len(next(iter(
                     poses.values()))[0]) - 1), alpha=alpha, label=last)
-    if envelope:                      # each distinct node once (parts share nodes)
-        seen = set()
-        for name, p in pos.items():
-            colour, _ = colours[name]
-            part = lay.parts[name]
-            for node in range(p.shape[1]):
-                key = (tuple(part.node_q[node]) if np.all(part.node_q[node] >= 0)
-                       else part.prescribed.get(node, (name, node)))
-                if key in seen:
-                    continue
-                seen.add(key)
-                path_ = p[:, node]
-                if ax3 is not None:
-                    ax3.plot(*path_.T, color=colour, lw=0.6, alpha=0.35)
-                for key, (a, b), _ in _views(dim):
-                    axes2[key].plot(path_[:, a], path_[:, b], color=colour, lw=0.6, alpha=0.35)
+    return body_handles
 
-    # seabed and free surface
+
+def _draw_envelope(ax3, axes2: dict, lay, pos: dict, colours: dict) -> None:
+    """Draws every node's path over the whole run, each distinct node once (parts share
+    nodes), as thin lines."""
+    seen = set()
+    for name, p in pos.items():
+        colour, _ = colours[name]
+        part = lay.parts[name]
+        for node in range(p.shape[1]):
+            key = (tuple(part.node_q[node]) if np.all(part.node_q[node] >= 0)
+                   else part.prescribed.get(node, (name, node)))
+            if key in seen:
+                continue
+            seen.add(key)
+            path_ = p[:, node]
+            if ax3 is not None:
+                ax3.plot(*path_.T, color=colour, lw=0.6, alpha=0.35)
+            for key, (a, b), _ in _views(lay.dim):
+                axes2[key].plot(path_[:, a], path_[:, b], color=colour, lw=0.6, alpha=0.35)
+
+
+def _draw_levels(ax3, axes2: dict, dim: int, every: np.ndarray, seabed: float | None,
+                 surface: bool) -> list:
+    """Draws the seabed and free surface (planes in 3D, lines in the elevation), sets the
+    axes' labels, titles and true-scale limits around ``every`` (k, dim) and the levels;
+    returns the levels drawn, [(z (m), colour, label)]."""
     lo, hi = every.min(axis=0), every.max(axis=0)
     levels = [(z, c, lab) for z, c, lab in ((seabed, SEABED_COLOR, f"seabed, z = {seabed:g} m"
                                              if seabed is not None else ""),
@@ -288,8 +327,16 @@ def plot_mechanism(result, layout, path: str | Path | None = None, *, times=None
             zs = [z for z, _, _ in levels]
             ax.update_datalim([[lo[0], min(zs)], [hi[0], max(zs)]])
             ax.autoscale_view()
+    return levels
 
-    # legend: parts, node markers, levels, snapshot times
+
+def _legend_handles(lay, pos: dict, colours: dict, body_handles: list, levels: list,
+                    t: np.ndarray, picks: np.ndarray, earlier: bool, envelope: bool) -> list:
+    """The legend's handles: parts, the prescribed-node marker, bodies, levels and, with
+    ``earlier``, the earlier snapshots' times or, with ``envelope``, the node paths' (``t``
+    the samples' times, s; ``picks`` the snapshots' sample indices)."""
+    from matplotlib.lines import Line2D
+
     handles = [Line2D([], [], color=colours[n][0], label=colours[n][1], marker="o",
                       **(dict(ls="", ms=5.5) if lay.parts[n].kind == "point" else dict(lw=1.8, ms=2.5)))
                for n in pos if colours[n][1] is not None]
@@ -298,24 +345,11 @@ def plot_mechanism(result, layout, path: str | Path | None = None, *, times=None
                               label="prescribed node"))
     handles += body_handles
     handles += [Line2D([], [], color=c, lw=1.2, ls="--", label=lab) for _, c, lab in levels]
-    if is_traj and not envelope and len(picks) > 1:
+    if earlier:
         handles.append(Line2D([], [], color="grey", alpha=0.4, lw=1.0,
                               label="earlier: t = " + ", ".join(f"{t[i]:.3g}" for i in picks[:-1])
                               + " s"))
     if envelope:
         handles.append(Line2D([], [], color="grey", alpha=0.4, lw=0.6,
                               label=f"node paths, t = {t[0]:.3g}-{t[-1]:.3g} s"))
-    fig.legend(handles=handles, loc="upper left", bbox_to_anchor=(0.81 if dim == 3 else 0.79, 0.87),
-               fontsize=8, frameon=False)
-    if title is None:
-        if not is_traj:
-            when = "equilibrium"
-        elif envelope:
-            when = f"node paths over t = {t[0]:.4g}-{t[-1]:.4g} s, the state at {t[-1]:.4g} s solid"
-        else:
-            when = f"t = {t[picks[-1]]:.4g} s" + (f" (and {len(picks) - 1} earlier, fainter)"
-                                                  if len(picks) > 1 else "")
-        title = f"{result.mechanism}: {when}; {result.status}; true scale, m"
-    fig.suptitle(title, fontsize=11)
-    from .profiles import finish
-    return finish(fig, path)
+    return handles

@@ -249,31 +249,65 @@ def trace_branch(mech: Mechanism, block: str, values, *, component: int | None =
     """
     t0 = time.perf_counter()
     path = _path(mech, block, values, component)
-    sl = mech.params.slice(block)
     p = np.array(mech.static_p if p is None else p, dtype=float).ravel()
     if p.size != mech.params.n:
         raise SymcableError(f"p has {p.size} entries, the mechanism {mech.name!r} {mech.params.n}")
-
-    def at(v, base):
-        out = base.copy()
-        if component is None:
-            out[sl] = np.ravel(v)
-        else:
-            out[sl.start + component] = float(np.ravel(v)[0])
-        return out
-
     charts = _Charts(mech, reanchor)
     F = functions(mech)
     S = F.static_solver(codegen)
     if tol is None:
         tol = max(1e-9 * mech.scales.force, 10 * mech.scales.residual_floor)
     opts = dict(tol=tol, max_iter=max_iter, x_scale=_x_scale(F), merit_weights=mech.scales.merit)
-    step = S.fast("step")
     branch = Branch(mech.name, block, component,
                     stats={"reanchored": [], "halvings": 0, "snaps": []})
+    tr = _Tracer(mech, F, S, S.fast("step"), opts, tol, charts,
+                 mech.params.slice(block), component, leave_unstable, block, path,
+                 max_halvings, branch, t0)
+    branch.points.append(tr.first(p, start, codegen))
+    prev = None  # (value, x) of the point before the last, for the secant
+    for k in range(1, len(path)):
+        pt, prev = tr.advance(k, prev)
+        branch.points.append(pt)
+    branch.stats["wall_time"] = time.perf_counter() - t0
+    return branch
 
-    def point(x, pp, v, left, its):
-        ok, why, info = _check(S, F, mech, x, pp, tol, False)
+
+@dataclass
+class _Tracer:
+    """One continuation's working set: the mechanism, its Functions ``F`` and static solver
+    ``S`` (``step`` its Newton step), the Newton options, the tolerance (N), the charts,
+    where the block sits in p (``sl``, ``component``), the path (K, size) in the block's
+    units, and the Branch being built (``t0`` its start, ``time.perf_counter``, s)."""
+
+    mech: Mechanism
+    F: object
+    S: object
+    step: object
+    opts: dict
+    tol: float
+    charts: _Charts
+    sl: slice
+    component: int | None
+    leave_unstable: bool
+    block: str
+    path: np.ndarray
+    max_halvings: int
+    branch: Branch
+    t0: float
+
+    def at(self, v, base):
+        """The parameters ``base`` (n_p,) with the block (or its component) set to ``v``."""
+        out = base.copy()
+        if self.component is None:
+            out[self.sl] = np.ravel(v)
+        else:
+            out[self.sl.start + self.component] = float(np.ravel(v)[0])
+        return out
+
+    def point(self, x, pp, v, left, its):
+        """(BranchPoint or None, why): the point at x (q, z) converged at pp, checked."""
+        mech, F, S = self.mech, self.F, self.S
+        ok, why, info = _check(S, F, mech, x, pp, self.tol, False)
         if not ok:
             return None, why
         out = F.unpack(S.packed_outputs(x, pp))
@@ -281,41 +315,49 @@ def trace_branch(mech: Mechanism, block: str, values, *, component: int | None =
                            x[mech.n_q:].copy(), out, info["stable"],
                            float(info["min_stiffness"]), left, its), ""
 
-    def settle(x, pp, v, its, left=False):
+    def settle(self, x, pp, v, its, left=False):
         """(point, why): the point at x (converged at pp), left along its unstable mode to
         a stable equilibrium where asked and found."""
-        pt, why = point(x, pp, v, left, its)
-        if pt is None or pt.stable is not False or not leave_unstable:
+        pt, why = self.point(x, pp, v, left, its)
+        if pt is None or pt.stable is not False or not self.leave_unstable:
             return pt, why
-        out = _escape(F, mech, x, pp, tol, charts)
+        out = _escape(self.F, self.mech, x, pp, self.tol, self.charts)
         if out is not None:
-            new, _ = point(out[0].x, out[1], v, True, its + out[0].iterations)
+            new, _ = self.point(out[0].x, out[1], v, True, its + out[0].iterations)
             if new is not None and new.stable:
                 return new, ""
         return pt, why  # no stable state found from it: the unstable one, flagged
 
-    p_cur = at(path[0], p)
-    if start is None:
-        eq = solve_equilibrium(mech, p_cur, tol=tol, codegen=codegen)
-        x0, its = np.concatenate([eq.q, eq.z]), int(eq.stats.get("iterations", 0))
-    else:
-        x0, its = np.concatenate([np.asarray(start.q, float), np.asarray(start.z, float)]), 0
-        if start.p is not None:
-            p_cur = at(path[0], np.asarray(start.p, float))
-        res = newton(step, x0, p_cur, **opts)
-        if not res.converged:
-            raise ConvergenceError(f"the start is not an equilibrium at {block} = {path[0]}: "
-                                   f"{res.message}", partial=branch)
-        x0, its = res.x, res.iterations
-    pt, why = settle(x0, p_cur, path[0], its)
-    if pt is None:
-        raise ConvergenceError(f"the start at {block} = {path[0]} failed its check: {why}",
-                               partial=branch)
-    branch.points.append(pt)
-    prev = None  # (value, x) of the point before the last, for the secant
-    for k in range(1, len(path)):
+    def first(self, p, start, codegen) -> BranchPoint:
+        """The point at the path's first value: ``start`` (an equilibrium there) corrected
+        by Newton, or solved by :func:`~symcable.solvers.equilibrium.solve_equilibrium`."""
+        path, block = self.path, self.block
+        p_cur = self.at(path[0], p)
+        if start is None:
+            eq = solve_equilibrium(self.mech, p_cur, tol=self.tol, codegen=codegen)
+            x0, its = np.concatenate([eq.q, eq.z]), int(eq.stats.get("iterations", 0))
+        else:
+            x0, its = np.concatenate([np.asarray(start.q, float), np.asarray(start.z, float)]), 0
+            if start.p is not None:
+                p_cur = self.at(path[0], np.asarray(start.p, float))
+            res = newton(self.step, x0, p_cur, **self.opts)
+            if not res.converged:
+                raise ConvergenceError(f"the start is not an equilibrium at {block} = {path[0]}: "
+                                       f"{res.message}", partial=self.branch)
+            x0, its = res.x, res.iterations
+        pt, why = self.settle(x0, p_cur, path[0], its)
+        if pt is None:
+            raise ConvergenceError(f"the start at {block} = {path[0]} failed its check: {why}",
+                                   partial=self.branch)
+        return pt
+
+    def advance(self, k: int, prev):
+        """(point at path[k], prev): the step from the last point to value k, by secant
+        predictor (from ``prev``, the (value, x) before the last point, or None) and Newton,
+        halved where it fails, a fold's snap relaxed; ``prev`` for the next step."""
+        branch, path, block, opts, at = self.branch, self.path, self.block, self.opts, self.at
         last = branch.points[-1]
-        p_base, renewed, q_last = charts.renew(last.q, last.p)
+        p_base, renewed, q_last = self.charts.renew(last.q, last.p)
         x_last = np.concatenate([q_last, last.z])
         if renewed:
             branch.stats["reanchored"].append(k - 1)
@@ -335,9 +377,9 @@ def trace_branch(mech: Mechanism, block: str, values, *, component: int | None =
                 den = float(dv @ dv)
                 if den > 0:
                     pred = x_cur + (x_cur - prev[1]) * float((v_new - v_cur) @ dv) / den
-            res = newton(step, pred, at(v_new, p_base), **opts)
+            res = newton(self.step, pred, at(v_new, p_base), **opts)
             if not res.converged and pred is not x_cur:
-                res = newton(step, x_cur, at(v_new, p_base), **opts)
+                res = newton(self.step, x_cur, at(v_new, p_base), **opts)
             its += res.iterations
             if res.converged:
                 prev, x_cur, v_cur, frac = (v_cur, x_cur), res.x, v_new, f_new
@@ -346,28 +388,27 @@ def trace_branch(mech: Mechanism, block: str, values, *, component: int | None =
                 halvings += 1
                 branch.stats["halvings"] += 1
                 h *= 0.5
-                if halvings > max_halvings:
-                    if leave_unstable:  # a fold: the branch ends; snap to where it relaxes
-                        snap, p_snap = _relax(F, mech, x_cur, at(v1, p_base), tol, charts)
+                if halvings > self.max_halvings:
+                    if self.leave_unstable:  # a fold: the branch ends; snap to where it relaxes
+                        snap, p_snap = _relax(self.F, self.mech, x_cur, at(v1, p_base), self.tol,
+                                              self.charts)
                         its += snap.iterations
                         if snap.converged:
                             branch.stats["snaps"].append((k, np.array(v_cur)))
                             x_cur, v_cur, frac, jumped = snap.x, v1, 1.0, True
                             p_base = p_snap
                             break
-                    branch.stats["wall_time"] = time.perf_counter() - t0
+                    branch.stats["wall_time"] = time.perf_counter() - self.t0
                     branch.stats["reached"] = v_cur
                     raise ConvergenceError(
                         f"continuation in {block} stalled between {path[k - 1]} and "
-                        f"{path[k]} after {max_halvings} halvings, at {v_cur} ({res.message})",
+                        f"{path[k]} after {self.max_halvings} halvings, at {v_cur} ({res.message})",
                         partial=branch, diagnostics={"reached": v_cur, "x": x_cur})
-        pt, why = settle(x_cur, at(v1, p_base), path[k], its, jumped)
+        pt, why = self.settle(x_cur, at(v1, p_base), path[k], its, jumped)
         if pt is None:
-            branch.stats["wall_time"] = time.perf_counter() - t0
+            branch.stats["wall_time"] = time.perf_counter() - self.t0
             raise ConvergenceError(f"the point at {block} = {path[k]} failed its check: {why}",
                                    partial=branch)
         if pt.left:
             prev = None
-        branch.points.append(pt)
-    branch.stats["wall_time"] = time.perf_counter() - t0
-    return branch
+        return pt, prev

@@ -257,16 +257,36 @@ def run_fixed(stepper, x, t0, h, p, idx, scale, progress, label, tau, reanchor=N
                 break
     finally:
         bar.close()
+    ks, Xs = _saved_samples(saved_k, saved_x, wanted, failure is not None, x, k, keep_cols,
+                            reanchor)
+    if failure is not None:
+        failure["dt"] = h
+        _residual_of_failure(stepper, failure, h, p)
+    extra = _run_stats(stepper, k, iters, iters_max, worst, lte_max, step_time, ks.size, sub,
+                       track)
+    return ks.astype(float), Xs, failure, extra
+
+
+def _saved_samples(saved_k: list, saved_x: list, wanted, failed: bool, x: np.ndarray, k: int,
+                   keep_cols: slice, reanchor) -> tuple[np.ndarray, np.ndarray]:
+    """(ks (n,), Xs (n, n_keep)): the saved steps (``saved_k``, ``saved_x``: lists of
+    arrays) that were asked for (``wanted``) and, after a failure, the last good state
+    ``x`` at step ``k`` (in its chart), saved or not."""
     ks = np.concatenate(saved_k) if saved_k else np.zeros(0, int)
     Xs = np.concatenate(saved_x) if saved_x else np.zeros((0, x[keep_cols].size))
     chosen = np.isin(ks, wanted)
     ks, Xs = ks[chosen], Xs[chosen]
-    if failure is not None:
-        failure["dt"] = h
-        if not ks.size or ks[-1] != k:  # the last good state, saved or not (in its chart)
-            last = x if reanchor is None else reanchor.state_at(k, x)
-            ks, Xs = np.append(ks, k), np.vstack([Xs, last[None, keep_cols]])
-        _residual_of_failure(stepper, failure, h, p)
+    if failed and (not ks.size or ks[-1] != k):
+        last = x if reanchor is None else reanchor.state_at(k, x)
+        ks, Xs = np.append(ks, k), np.vstack([Xs, last[None, keep_cols]])
+    return ks, Xs
+
+
+def _run_stats(stepper, k: int, iters: float, iters_max: float, worst: float, lte_max: float,
+               step_time: float, samples: int, sub: dict, track) -> dict:
+    """The fixed-step run's stats: steps, Newton iterations (None where a rootfinder reports
+    none), the largest step residual (N) and error estimate, the stepping time (s, and us per
+    step), the samples, the substeps' (``sub``) and the running estimate's (``track``)."""
     full = stepper.full
     # (a rootfinder Newton reports no iteration counts: NaN)
     counted = full and math.isfinite(iters) and math.isfinite(iters_max)
@@ -275,9 +295,9 @@ def run_fixed(stepper, x, t0, h, p, idx, scale, progress, label, tau, reanchor=N
              "max_step_residual": worst if isinstance(stepper.method, IMPLICIT) else None,
              "max_error_estimate": lte_max if np.isfinite(lte_max) else None,
              "step_time": step_time, "us_per_step": 1e6 * step_time / max(k, 1),
-             "samples": int(ks.size), **sub}
+             "samples": int(samples), **sub}
     extra.update(track.stats())
-    return ks.astype(float), Xs, failure, extra
+    return extra
 
 
 def _replay(stepper, x, k, t0, h, p, n_max, save_set, inv_scale, track, sub, S=None,

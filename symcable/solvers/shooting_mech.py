@@ -324,98 +324,16 @@ def solve_shooting(mech: Mechanism, period: float, opts: Shooting, p, start: Sta
         q0, v0, z0 = (np.asarray(a, float)[0] for a in start(np.zeros(1)))
         x0, z = pm.initial_state(q0, v0, z0, 0.0, p)
         u = x0[:nu]
-    step_tol = pm.method.tol
-    budget = anderson_budget(nu)
-    depth = anderson_depth(nu)
-
-    march = FastCall(pm.march)  # NumPy in and out: a DM of N states costs ms to convert
-    n_x = pm.march.size1_out(0)
-
-    def evaluate(u_, z_, jac):
-        if jac:
-            out = pm.with_jacobian(np.concatenate([u_, z_]), period, p)
-            X, E = np.asarray(out[0]), np.asarray(out[1]).ravel()
-        else:
-            out = march(np.concatenate([u_, z_]), float(period), p)
-            X, E = out[0].reshape(-1, n_x).T.copy(), out[1].copy()
-        if not (np.all(E <= step_tol) and np.all(np.isfinite(X))):
-            return X, np.inf, None, None
-        r = (X[:nu, -1] - u_) / su
-        J = np.asarray(out[2]) if jac else None
-        return X, float(np.max(np.abs(r))), r, J
-
-    def z_of(X):
-        return X[nu:, -1] if (nz and not pm.first_order) else z
-
+    # NumPy in and out: a DM of N states costs ms to convert
+    sh = _Shots(pm, FastCall(pm.march), period, p, su, z, nz, pm.march.size1_out(0),
+                pm.method.tol)
     # phase 1: Anderson acceleration of the plain march (cheap periods, no Jacobian)
-    X, res, r, _ = evaluate(u, z, False)
-    history = [res]
-    periods, why, best = 1, "", (res, u, X)
-    Fs, Gs = [], []
-    while res > tol and r is not None and periods < budget:
-        g = X[:nu, -1] / su
-        f = r
-        Fs, Gs = (Fs + [f])[-depth - 1:], (Gs + [g])[-depth - 1:]
-        u_next = g
-        if len(Fs) > 1:
-            dF = np.diff(np.array(Fs), axis=0).T
-            dG = np.diff(np.array(Gs), axis=0).T
-            gam = np.linalg.lstsq(dF, f, rcond=None)[0]
-            u_next = g - dG @ gam
-        z = z_of(X)
-        X_t, res_t, r_t, _ = evaluate(u_next * su, z, False)
-        periods += 1
-        if r_t is None or res_t > 10 * best[0]:
-            # a bad accelerated iterate: restart the memory from the plain march of the best
-            Fs, Gs = [], []
-            X_t, res_t, r_t, _ = evaluate(best[2][:nu, -1], z, False)
-            periods += 1
-            if r_t is None:
-                break
-            u_next = best[2][:nu, -1] / su
-        u, X, res, r = u_next * su, X_t, res_t, r_t
-        history.append(res)
-        if res < best[0]:
-            best = (res, u, X)
-        if not pm.compiled and stalled(history):
-            break  # (a plain period in generated C costs ~1/2000 of a monodromy: go on)
+    res, u, X, r, history, periods = _anderson(sh, u, z, tol, anderson_budget(nu),
+                                               anderson_depth(nu))
     anderson_periods = periods
-    res, u, X = best
-    iters, J = 0, None
     # phase 2: Newton with the exact monodromy, where Anderson did not get there
-    if res > tol and np.isfinite(res):
-        z = z_of(X)
-        X, res, r, J = evaluate(u, z, True)
-        periods += 1
-    while res > tol and iters < max_iter:
-        if r is None:
-            why = "a generalized-alpha step failed inside the period"
-            break
-        Jr = (J - np.eye(nu)) * su[None, :] / su[:, None]
-        try:
-            du = -np.linalg.solve(Jr, r) * su
-        except np.linalg.LinAlgError:
-            why = "singular I - monodromy (a neutral Floquet multiplier)"
-            break
-        lam, accepted = 1.0, False
-        for _ in range(MAX_HALVINGS + 1):
-            u_try = u + lam * du
-            X_t, res_t, r_t, _ = evaluate(u_try, z_of(X), False)
-            periods += 1
-            if res_t < res:
-                accepted = True
-                break
-            lam /= 2
-        iters += 1
-        if not accepted:
-            why = f"Newton step not reducing the residual {res:.3g}"
-            break
-        u, X, res, r = u_try, X_t, res_t, r_t
-        z = z_of(X)
-        history.append(res)
-        if res > tol:  # the monodromy at the new iterate for the next step
-            _, _, _, J = evaluate(u, z, True)
-            periods += 1
+    u, X, res, J, iters, periods, why = _newton_phase(sh, u, X, res, r, tol, max_iter, history,
+                                                      periods)
     solved = res <= tol
     if not solved and not why:
         why = (f"{anderson_periods} Anderson periods and {iters} Newton iterations: residual "
@@ -436,10 +354,134 @@ def solve_shooting(mech: Mechanism, period: float, opts: Shooting, p, start: Sta
                   "history": history, "steps": N, "rho_inf": pm.method.rho_inf,
                   "tolerance": tol, "unknowns": nu, "wall_time": time.perf_counter() - t0,
                   "compiled": pm.compiled,
-                  "state0": np.concatenate([X[:nu, -1], z_of(X)])})
+                  "state0": np.concatenate([X[:nu, -1], sh.z_of(X)])})
     if J is not None:
         mult = np.linalg.eigvals(J)
         stats["floquet_max"] = float(np.max(np.abs(mult))) if mult.size else 0.0
     return check_and_wrap(mech, period, p, q, v, zf, method="shooting", solved=solved, tol=tol,
                           defect_tol=defect_tol, stats=stats, why=why,
                           codegen=codegen)
+
+
+@dataclasses.dataclass
+class _Shots:
+    """The period map evaluated at one period (s) and parameters ``p`` (n_p,): ``march`` its
+    plain march (NumPy in and out), ``su`` (n_u,) the scales of the shooting unknowns u,
+    ``z0`` the start's constraint forces (kept where the marched state carries none),
+    ``n_x`` the integrator's state size, ``step_tol`` a step's largest accepted residual."""
+
+    pm: PeriodMap
+    march: FastCall
+    period: float
+    p: np.ndarray
+    su: np.ndarray
+    z0: np.ndarray
+    nz: int
+    n_x: int
+    step_tol: float
+
+    def evaluate(self, u_, z_, jac):
+        """(X (n_x, N+1) the states over the period, residual max |r|, r (n_u,) the scaled
+        periodicity defect, J (n_u, n_u) the monodromy with ``jac``, else None); residual inf
+        and r None where a step failed."""
+        pm, nu = self.pm, self.pm.n_u
+        if jac:
+            out = pm.with_jacobian(np.concatenate([u_, z_]), self.period, self.p)
+            X, E = np.asarray(out[0]), np.asarray(out[1]).ravel()
+        else:
+            out = self.march(np.concatenate([u_, z_]), float(self.period), self.p)
+            X, E = out[0].reshape(-1, self.n_x).T.copy(), out[1].copy()
+        if not (np.all(E <= self.step_tol) and np.all(np.isfinite(X))):
+            return X, np.inf, None, None
+        r = (X[:nu, -1] - u_) / self.su
+        J = np.asarray(out[2]) if jac else None
+        return X, float(np.max(np.abs(r))), r, J
+
+    def z_of(self, X):
+        """The constraint forces to start the next period from: the last state's, where the
+        marched state carries them, else the start's."""
+        return X[self.pm.n_u:, -1] if (self.nz and not self.pm.first_order) else self.z0
+
+
+def _anderson(sh: _Shots, u, z, tol: float, budget: int, depth: int):
+    """Phase 1: Anderson acceleration of the plain march from u (n_u,), up to ``budget``
+    periods with memory ``depth``: (the best iterate's residual, u and X; the last r; the
+    residual history; the periods marched)."""
+    nu, su = sh.pm.n_u, sh.su
+    X, res, r, _ = sh.evaluate(u, z, False)
+    history = [res]
+    periods, best = 1, (res, u, X)
+    Fs, Gs = [], []
+    while res > tol and r is not None and periods < budget:
+        g = X[:nu, -1] / su
+        f = r
+        Fs, Gs = (Fs + [f])[-depth - 1:], (Gs + [g])[-depth - 1:]
+        u_next = g
+        if len(Fs) > 1:
+            dF = np.diff(np.array(Fs), axis=0).T
+            dG = np.diff(np.array(Gs), axis=0).T
+            gam = np.linalg.lstsq(dF, f, rcond=None)[0]
+            u_next = g - dG @ gam
+        z = sh.z_of(X)
+        X_t, res_t, r_t, _ = sh.evaluate(u_next * su, z, False)
+        periods += 1
+        if r_t is None or res_t > 10 * best[0]:
+            # a bad accelerated iterate: restart the memory from the plain march of the best
+            Fs, Gs = [], []
+            X_t, res_t, r_t, _ = sh.evaluate(best[2][:nu, -1], z, False)
+            periods += 1
+            if r_t is None:
+                break
+            u_next = best[2][:nu, -1] / su
+        u, X, res, r = u_next * su, X_t, res_t, r_t
+        history.append(res)
+        if res < best[0]:
+            best = (res, u, X)
+        if not sh.pm.compiled and stalled(history):
+            break  # (a plain period in generated C costs ~1/2000 of a monodromy: go on)
+    res, u, X = best
+    return res, u, X, r, history, periods
+
+
+def _newton_phase(sh: _Shots, u, X, res: float, r, tol: float, max_iter: int, history: list,
+                  periods: int):
+    """Phase 2: Newton with the exact monodromy from u (n_u,), where Anderson did not get
+    there, each step halved until it reduces the residual; appends to ``history``: (u, X,
+    residual, the last monodromy J or None, Newton iterations, periods marched, why it
+    stopped short or "")."""
+    nu, su = sh.pm.n_u, sh.su
+    iters, J, why = 0, None, ""
+    if res > tol and np.isfinite(res):
+        z = sh.z_of(X)
+        X, res, r, J = sh.evaluate(u, z, True)
+        periods += 1
+    while res > tol and iters < max_iter:
+        if r is None:
+            why = "a generalized-alpha step failed inside the period"
+            break
+        Jr = (J - np.eye(nu)) * su[None, :] / su[:, None]
+        try:
+            du = -np.linalg.solve(Jr, r) * su
+        except np.linalg.LinAlgError:
+            why = "singular I - monodromy (a neutral Floquet multiplier)"
+            break
+        lam, accepted = 1.0, False
+        for _ in range(MAX_HALVINGS + 1):
+            u_try = u + lam * du
+            X_t, res_t, r_t, _ = sh.evaluate(u_try, sh.z_of(X), False)
+            periods += 1
+            if res_t < res:
+                accepted = True
+                break
+            lam /= 2
+        iters += 1
+        if not accepted:
+            why = f"Newton step not reducing the residual {res:.3g}"
+            break
+        u, X, res, r = u_try, X_t, res_t, r_t
+        z = sh.z_of(X)
+        history.append(res)
+        if res > tol:  # the monodromy at the new iterate for the next step
+            _, _, _, J = sh.evaluate(u, z, True)
+            periods += 1
+    return u, X, res, J, iters, periods, why

@@ -99,28 +99,14 @@ def build_cable3d(scene: Scene, part: str | None = None,
     if all(free) and part is None:
         raise SymcableError(f"scene {scene.name!r}: both ends free; hold one end")
     rubs, bristle, laid = friction_setup(scene, seg)
-    names, sizes = P_NAMES + (("static_friction", "laid") if laid is not None else ()), \
-        P_SIZES + ((1, laid.size) if laid is not None else ())
-    params = ParamBlocks(names, sizes, np.concatenate([
-        [1.0], a.position if a.position is not None else np.zeros(3),
-        b.position if b.position is not None else np.zeros(3), env.current, [1.0], [1.0], [1.0]]
-        + ([[0.0], laid] if laid is not None else [])))
+    params = _param_blocks(scene, laid)
     p = ca.SX.sym("p", params.n)
     load, pa, pb = p[0], p[1:4], p[4:7]
     current, sigma, motion, ramp_on = p[7:10], p[10], p[11], p[12]
     t = ca.SX.sym("t")
-
-    moving = [i for i in range(N + 1) if (i == 0 and free[0]) or (i == N and free[1]) or 0 < i < N]
+    moving, q_all, v, X, V = _node_symbols(scene, N, free, bristle, pa, pb, motion, t, ramp_on)
     n_v = 3 * len(moving)
-    q_all = ca.SX.sym("q", n_v + (2 * (N + 1) if bristle else 0))
-    q, state = q_all[:n_v], q_all[n_v:]
-    v = ca.SX.sym("v", n_v)
-    X, V = [None] * (N + 1), [None] * (N + 1)
-    for k, i in enumerate(moving):
-        X[i], V[i] = q[3 * k:3 * k + 3], v[3 * k:3 * k + 3]
-    for end, i, pp in ((a, 0, pa), (b, N, pb)):
-        if X[i] is None:
-            X[i], V[i] = held_end(end, pp, motion, t, ramp_on)
+    state = q_all[n_v:]
     Xm, Vm = ca.horzcat(*X), ca.horzcat(*V)  # (3, N+1)
 
     F = force_scale(scene, seg)
@@ -130,22 +116,9 @@ def build_cable3d(scene: Scene, part: str | None = None,
     drag_law = law_table(scene)
     if drag_law is not None:
         seg["drag_law"] = dict(drag_law, eps=DRAG_SPEED)  # for the starts' frozen drag
-    kernel = element_kernel(drag_law["shape"] if drag_law else None).map(N)
-    row = lambda key: ca.DM(seg[key]).T  # noqa: E731  (1, N)
-    BA = np.array([s.line_type.damping for s in scene.sections for _ in range(s.segments)])
-    # negative: minus the damping ratio zeta of the line's highest axial mode (adjacent
-    # nodes in opposition: stiffness 4 EA/ds, damping 4 BA/ds, mass m ds per node), as
-    # MoorDyn reads BA/-zeta: BA = zeta ds sqrt(EA m)
-    BA = np.where(BA < 0, -BA * np.sqrt(seg["EA"] * seg["mass"]) * seg["ds"], BA)
-    water = ca.repmat(current, 1, N)
-    if env.current_profile:  # the current at each element's mid-depth
-        water = water + profile_current(env.current_profile,
-                                        0.5 * (Xm[2, :-1] + Xm[2, 1:]))
-    fa, fb, T, e = kernel(Xm[:, :-1], Xm[:, 1:], Vm[:, :-1], Vm[:, 1:], water,
-                          row("ds"), row("EA"), ca.DM(BA).T, ca.DM(law["EA_slack"]).T,
-                          width * ca.DM(law["delta"]).T, F, row("w"), row("d"), row("cdn"),
-                          row("cdt"), rho, load,
-                          *([ca.DM(drag_law["law"]).T] if drag_law else []))
+    BA = _axial_damping(scene, seg)
+    fa, fb, T, e = _element_forces(scene, seg, Xm, Vm, current, load, law, width, F, rho,
+                                   drag_law, BA)
     elements = ca.horzcat(fa, ca.SX.zeros(3, 1)) + ca.horzcat(ca.SX.zeros(3, 1), fb)  # (3, N+1)
     nodal = ca.SX.zeros(3, N + 1)  # what the elements do not give (the element form's rest)
     contact = ca.SX.zeros(1, N + 1)
@@ -156,7 +129,7 @@ def build_cable3d(scene: Scene, part: str | None = None,
         nodal = nodal + bending[0]
     if not env.in_air and (any(env.current) or env.current_profile):
         term_names.append("drag")
-    fr = None
+    fr = sea = None
     if sb is not None:  # contact, damper and friction on the nodes (.seabed3d)
         sea = seabed_forces(scene, seg, Xm, Vm, nodal, term_names, state=state,
                             laid=None if laid is None else p[params.slice("laid")],
@@ -168,10 +141,7 @@ def build_cable3d(scene: Scene, part: str | None = None,
     # applied force is not the line's, and balances this
     end_force_a = elements[:, 0] + nodal[:, 0] + (bending[1].get(0, 0.0) if bending else 0.0)
     end_force_b = elements[:, N] + nodal[:, N] + (bending[1].get(N, 0.0) if bending else 0.0)
-    applied = np.zeros((3, N + 1))
-    for end, i in ((a, 0), (b, N)):
-        if end.condition is EndCondition.FREE and end.force is not None:
-            applied[:, i] = end.force
+    applied = _applied_forces(scene, N)
     if np.any(applied):
         term_names.append("end force")
         nodal = nodal + load * ca.DM(applied)
@@ -179,13 +149,125 @@ def build_cable3d(scene: Scene, part: str | None = None,
     nodal = elements + nodal
     force = ca.vertcat(*[nodal[:, i] for i in moving])
 
-    # mass: structural and added (normal, tangential); lumped: 3 x 3 per moving node, or
-    # consistent (scene.mass_matrix)
+    mass, inertia, acc = _mass(scene, seg, Xm, V, t, rho, moving)
+    if inertia is not None:
+        force = force + inertia
+    form = None
+    if not env.current_profile:  # the elements' kernel as a loop (.cable3d_elements)
+        form = _form(scene, seg, X, V, acc, moving, drag_law, BA, law, F, rho, current, load,
+                     width, force_rest)
+    outputs = _line_outputs(owner, Xm, Vm, T, e, contact, fr if rubs else None, end_force_a,
+                            end_force_b)
+    _add_energies(outputs, owner, seg, law, e, width, F, load, Xm, sea, bending, v, mass)
+    cable = seg["EI"] <= 0.0
+    bounds = _bounds(scene, seg, T, e, F, contact, applied, drag_law, rho, current)
+    scales = _scales(scene, seg, N, n_v, bristle, F)
+    static = {"motion": np.zeros(1)}
+    if laid is not None:
+        static["static_friction"] = np.ones(1)
+    p_static = params.with_values(**static)
+
+    def starts():
+        for st in starts_of(scene, seg, params, moving):
+            yield dataclasses.replace(st, q=np.concatenate([st.q, np.zeros(q_all.numel() - n_v)]),
+                                      p=p_static)
+    return Mechanism(
+        name=part or "cable3d", q=q_all, v=v, z=ca.SX.sym("z", 0), t=t, p=p, params=params,
+        mass=mass, force=force, constraint=ca.SX.zeros(0, 1), scales=scales,
+        starts=starts if not all(free) else tuple, outputs=outputs,
+        layout=_layout(owner, seg, N, moving, bristle), terms=tuple(term_names),
+        static_params=static, bounds=bounds,
+        stability_when=ca.SX(1.0) if np.all(cable) else None,
+        kinematics=ca.vertcat(v, fr.rate) if bristle else None,
+        rest=fr.rest if bristle else None, elements=form,
+        stability_coordinates=np.arange(n_v) if bristle else None)
+
+
+def _param_blocks(scene: Scene, laid: np.ndarray | None) -> ParamBlocks:
+    """The parameter blocks (module docstring) at the scene's values; with ``laid`` (the
+    as-laid horizontal node positions, m) the static friction's two blocks too."""
+    env, a, b = scene.environment, scene.end_a, scene.end_b
+    names, sizes = P_NAMES + (("static_friction", "laid") if laid is not None else ()), \
+        P_SIZES + ((1, laid.size) if laid is not None else ())
+    return ParamBlocks(names, sizes, np.concatenate([
+        [1.0], a.position if a.position is not None else np.zeros(3),
+        b.position if b.position is not None else np.zeros(3), env.current, [1.0], [1.0], [1.0]]
+        + ([[0.0], laid] if laid is not None else [])))
+
+
+def _node_symbols(scene: Scene, N: int, free: list, bristle: bool, pa, pb, motion, t, ramp_on):
+    """The moving nodes (indices), the coordinates q (3 per moving node, then 2 bristle
+    deflections per node with ``bristle``), the velocities v (3 per moving node), and each
+    node's position and velocity (lists of N+1 (3, 1): q and v's entries, or a held end's
+    prescribed motion, m and m/s)."""
+    moving = [i for i in range(N + 1) if (i == 0 and free[0]) or (i == N and free[1]) or 0 < i < N]
+    n_v = 3 * len(moving)
+    q_all = ca.SX.sym("q", n_v + (2 * (N + 1) if bristle else 0))
+    q = q_all[:n_v]
+    v = ca.SX.sym("v", n_v)
+    X, V = [None] * (N + 1), [None] * (N + 1)
+    for k, i in enumerate(moving):
+        X[i], V[i] = q[3 * k:3 * k + 3], v[3 * k:3 * k + 3]
+    for end, i, pp in ((scene.end_a, 0, pa), (scene.end_b, N, pb)):
+        if X[i] is None:
+            X[i], V[i] = held_end(end, pp, motion, t, ramp_on)
+    return moving, q_all, v, X, V
+
+
+def _axial_damping(scene: Scene, seg: dict) -> np.ndarray:
+    """Each segment's Kelvin-Voigt material damping BA (N,), N s."""
+    BA = np.array([s.line_type.damping for s in scene.sections for _ in range(s.segments)])
+    # negative: minus the damping ratio zeta of the line's highest axial mode (adjacent
+    # nodes in opposition: stiffness 4 EA/ds, damping 4 BA/ds, mass m ds per node), as
+    # MoorDyn reads BA/-zeta: BA = zeta ds sqrt(EA m)
+    return np.where(BA < 0, -BA * np.sqrt(seg["EA"] * seg["mass"]) * seg["ds"], BA)
+
+
+def _element_forces(scene: Scene, seg: dict, Xm, Vm, current, load, law: dict, width, F: float,
+                    rho: float, drag_law: dict | None, BA: np.ndarray):
+    """The element kernel mapped over the N segments: the forces on each segment's first
+    and second node (3, N), N; its axial force T (1, N), N, and strain e (1, N)."""
+    N = len(seg["ds"])
+    env = scene.environment
+    kernel = element_kernel(drag_law["shape"] if drag_law else None).map(N)
+    row = lambda key: ca.DM(seg[key]).T  # noqa: E731  (1, N)
+    water = ca.repmat(current, 1, N)
+    if env.current_profile:  # the current at each element's mid-depth
+        water = water + profile_current(env.current_profile,
+                                        0.5 * (Xm[2, :-1] + Xm[2, 1:]))
+    return kernel(Xm[:, :-1], Xm[:, 1:], Vm[:, :-1], Vm[:, 1:], water,
+                  row("ds"), row("EA"), ca.DM(BA).T, ca.DM(law["EA_slack"]).T,
+                  width * ca.DM(law["delta"]).T, F, row("w"), row("d"), row("cdn"),
+                  row("cdt"), rho, load,
+                  *([ca.DM(drag_law["law"]).T] if drag_law else []))
+
+
+def _applied_forces(scene: Scene, N: int) -> np.ndarray:
+    """(3, N+1) the forces applied on free ends (N, at load 1), zero elsewhere."""
+    applied = np.zeros((3, N + 1))
+    for end, i in ((scene.end_a, 0), (scene.end_b, N)):
+        if end.condition is EndCondition.FREE and end.force is not None:
+            applied[:, i] = end.force
+    return applied
+
+
+def _added_mass_coefficients(scene: Scene) -> tuple[np.ndarray, np.ndarray]:
+    """Each segment's normal and tangential added-mass coefficients (N,) each."""
+    can = np.array([s.line_type.ca_normal for s in scene.sections for _ in range(s.segments)])
+    cat = np.array([s.line_type.ca_tangential for s in scene.sections for _ in range(s.segments)])
+    return can, cat
+
+
+def _mass(scene: Scene, seg: dict, Xm, V: list, t, rho: float, moving: list):
+    """The mass matrix over the moving nodes (3 n_moving square), structural and added
+    (normal, tangential), lumped (3 x 3 per node) or consistent (``scene.mass_matrix``);
+    the force of the held ends' accelerations through the consistent mass's coupling (None
+    when lumped); and the held ends' accelerations ``{node: (3, 1)}``, m/s^2."""
+    N = len(seg["ds"])
     A_w = math.pi * seg["d"] ** 2 / 4.0
     blocks = [ca.SX.zeros(3, 3) for _ in range(N + 1)]
     halves = []  # each element's L0 B / 2
-    can = np.array([s.line_type.ca_normal for s in scene.sections for _ in range(s.segments)])
-    cat = np.array([s.line_type.ca_tangential for s in scene.sections for _ in range(s.segments)])
+    can, cat = _added_mass_coefficients(scene)
     for j in range(N):
         dx = Xm[:, j + 1] - Xm[:, j]
         tt = ca.mtimes(dx, dx.T) / ca.dot(dx, dx)
@@ -198,48 +280,65 @@ def build_cable3d(scene: Scene, part: str | None = None,
     # a prescribed end's acceleration reaches its neighbour through the consistent mass's
     # coupling; a table's (impulses at its rows) is left out
     acc = {i: (ca.jacobian(V[i], t) if end.motion is not None and end.motion.kind != "table"
-               else ca.SX.zeros(3, 1)) for end, i in ((a, 0), (b, N))}
+               else ca.SX.zeros(3, 1)) for end, i in ((scene.end_a, 0), (scene.end_b, N))}
     if scene.mass_matrix == "lumped":
-        mass = ca.diagcat(*[blocks[i] for i in moving])
-    else:
-        mass, inertia = _consistent_mass(halves, acc, moving, N)
-        force = force + inertia
+        return ca.diagcat(*[blocks[i] for i in moving]), None, acc
+    mass, inertia = _consistent_mass(halves, acc, moving, N)
+    return mass, inertia, acc
 
-    form = None
-    if not env.current_profile:  # the elements' kernel as a loop (.cable3d_elements)
-        held = ca.SX.zeros(9, N + 1)
-        for i in (0, N):
-            if i not in moving:
-                held[:, i] = ca.vertcat(X[i], V[i], acc[i])
-        form = element_form(
-            element_kernel(drag_law["shape"] if drag_law else None),
-            dict(L0=seg["ds"], EA=seg["EA"], BA=BA, EAs=law["EA_slack"], delta=law["delta"],
-                 wall=F, w=seg["w"], d=seg["d"], cdn=seg["cdn"], cdt=seg["cdt"], rho=rho,
-                 structural_half=0.5 * seg["mass"] * seg["ds"],
-                 added_half=0.5 * rho * A_w * seg["ds"], ca_normal=can, ca_tangential=cat),
-            drag_law["law"].T if drag_law else None, ca.vertcat(current, load, width),
-            _node_index(N, moving), held, force_rest, scene.mass_matrix != "lumped")
-    outputs = {
+
+def _form(scene: Scene, seg: dict, X: list, V: list, acc: dict, moving: list,
+          drag_law: dict | None, BA: np.ndarray, law: dict, F: float, rho: float, current, load,
+          width, force_rest):
+    """The elements' kernel as a loop (:func:`.elements.element_form`), the held ends'
+    position, velocity and acceleration (9, N+1) fed in."""
+    N = len(seg["ds"])
+    A_w = math.pi * seg["d"] ** 2 / 4.0
+    can, cat = _added_mass_coefficients(scene)
+    held = ca.SX.zeros(9, N + 1)
+    for i in (0, N):
+        if i not in moving:
+            held[:, i] = ca.vertcat(X[i], V[i], acc[i])
+    return element_form(
+        element_kernel(drag_law["shape"] if drag_law else None),
+        dict(L0=seg["ds"], EA=seg["EA"], BA=BA, EAs=law["EA_slack"], delta=law["delta"],
+             wall=F, w=seg["w"], d=seg["d"], cdn=seg["cdn"], cdt=seg["cdt"], rho=rho,
+             structural_half=0.5 * seg["mass"] * seg["ds"],
+             added_half=0.5 * rho * A_w * seg["ds"], ca_normal=can, ca_tangential=cat),
+        drag_law["law"].T if drag_law else None, ca.vertcat(current, load, width),
+        _node_index(N, moving), held, force_rest, scene.mass_matrix != "lumped")
+
+
+def _line_outputs(owner: str, Xm, Vm, T, e, contact, fr, end_force_a, end_force_b) -> dict:
+    """The line's outputs: node positions and velocities (N+1, 3), segment axial forces and
+    strains (N, 1), nodal contact (N+1, 1) and, when ``fr`` (the seabed friction) is given,
+    friction forces (N+1, 2), the forces on the ends (3, 1), N."""
+    return {
         "positions": Output(Xm.T, "m", owner, "node positions (x, y, z)"),
         "velocities": Output(ca.densify(Vm.T), "m/s", owner, "node velocities (x, y, z)"),
         "axial_force": Output(T.T, "N", owner, "axial force of each segment"),
         "strain": Output(e.T, "1", owner, "strain of each segment"),
         "contact_force": Output(contact.T, "N", owner, "seabed contact force on each node"),
         **({"friction_force": Output(fr.force.T, "N", owner, "seabed friction force on each "
-                                     "node (x, y)")} if rubs else {}),
+                                     "node (x, y)")} if fr is not None else {}),
         "end_force_a": Output(end_force_a, "N", owner, "force of the line on end A"),
         "end_force_b": Output(end_force_b, "N", owner, "force of the line on end B"),
     }
-    # energies (J): kinetic 0.5 v^T M v of the moving nodes; potential: the law's integral
-    # over each element, the submerged weight's height, the contact's integral (the
-    # conservative forces' potential: with no drag, damping, friction or moving end the
-    # sum is conserved)
+
+
+def _add_energies(outputs: dict, owner: str, seg: dict, law: dict, e, width, F: float, load,
+                  Xm, sea, bending, v, mass) -> None:
+    """Adds the bending moment (where the line bends) and the energies (J) to ``outputs``:
+    kinetic 0.5 v^T M v of the moving nodes; potential: the law's integral over each
+    element, the submerged weight's height, the contact's integral (the conservative
+    forces' potential: with no drag, damping, friction or moving end the sum is
+    conserved)."""
     ec = e.T  # (N, 1)
     U = (0.5 * ca.DM(law["EA_slack"]) * ec * ec
          + ca.DM(seg["EA"] - law["EA_slack"]) * _ramp_integral(ec, width * ca.DM(law["delta"]))
          + F * 0.005 * ca.exp(-(1.0 + ec) / 0.005))
     potential = ca.dot(ca.DM(seg["ds"]), U) + load * ca.dot(ca.DM(_lumped(seg)), Xm[2, :].T)
-    if sb is not None:
+    if sea is not None:
         potential += sea.energy
     if bending is not None:
         potential += bending[2]
@@ -249,7 +348,13 @@ def build_cable3d(scene: Scene, part: str | None = None,
                                        "kinetic energy of the moving nodes")
     outputs["potential_energy"] = Output(potential, "J", owner, "elastic, gravity, contact "
                                          "and bending potential energy")
-    L = scene.length
+
+
+def _bounds(scene: Scene, seg: dict, T, e, F: float, contact, applied: np.ndarray,
+            drag_law: dict | None, rho: float, current) -> dict:
+    """The admissibility bounds: positive segment lengths, no compression in cable segments
+    (EI = 0), and with a seabed its reaction (:func:`~symcable.models.common.seabed.reaction_bound`)."""
+    N = len(seg["ds"])
     cable = seg["EI"] <= 0.0
     push = np.maximum(CABLE_COMPRESSION * F, FOLD_PUSH * np.abs(seg["w"]) * seg["ds"])
     bounds = {"strain": Bound(e.T, lower=-1.0 + 1e-9, unit="1", scale=1.0,
@@ -259,46 +364,41 @@ def build_cable3d(scene: Scene, part: str | None = None,
         bounds["cable_axial_force"] = Bound(T.T if cab.size == N else T.T[cab.tolist()],
                                             lower=-push[cab], unit="N", scale=F,
                                             what="a cable (EI = 0) carries no compression")
-    if sb is not None:
+    if scene.seabed is not None:
         cdn = seg["cdn"] if drag_law is None else drag_law["normal_bound"]
         bounds["seabed_reaction"] = reaction_bound(scene, seg, contact, applied, cdn, rho,
                                                    current, F)
+    return bounds
+
+
+def _scales(scene: Scene, seg: dict, N: int, n_v: int, bristle: bool, F: float) -> Scales:
+    """The scales: a tenth of the line's length per coordinate (m), a bristle's mobilisation
+    length per deflection (m), sqrt(g L) per velocity (m/s), the force scale ``F`` (N), the
+    line's mass (kg) and the round-off floor of the stiffest segment's force (N)."""
+    env, a, b = scene.environment, scene.end_a, scene.end_b
+    L = scene.length
     coord = L + max((float(np.max(np.abs(e_.position))) for e_ in (a, b)
                      if e_.position is not None), default=0.0)
     floor = 100.0 * np.finfo(float).eps * float(np.max(seg["EA"] / seg["ds"])) * coord
-    n_q = 3 * len(moving)
     total_mass = float(np.sum(seg["mass"] * seg["ds"]))
-    q_scale = np.full(n_q, 0.1 * L)
+    q_scale = np.full(n_v, 0.1 * L)
     if bristle:  # a bristle's deflection: up to its mobilisation length mu N / k
-        q_scale = np.concatenate([q_scale, np.full(2 * (N + 1), bristle_scale(sb, seg))])
-    scales = Scales(q=q_scale, v=np.full(n_q, math.sqrt(env.gravity * L)),
-                    z=np.zeros(0), force=F, mass=max(total_mass, 1e-6), residual_floor=floor)
-    static = {"motion": np.zeros(1)}
-    if laid is not None:
-        static["static_friction"] = np.ones(1)
-    p_static = params.with_values(**static)
+        q_scale = np.concatenate([q_scale, np.full(2 * (N + 1), bristle_scale(scene.seabed, seg))])
+    return Scales(q=q_scale, v=np.full(n_v, math.sqrt(env.gravity * L)),
+                  z=np.zeros(0), force=F, mass=max(total_mass, 1e-6), residual_floor=floor)
 
-    def starts():
-        for st in starts_of(scene, seg, params, moving):
-            yield dataclasses.replace(st, q=np.concatenate([st.q, np.zeros(q_all.numel() - n_q)]),
-                                      p=p_static)
+
+def _layout(owner: str, seg: dict, N: int, moving: list, bristle: bool) -> Layout:
+    """The layout: the line's nodes (held ends moved by ``end_a`` / ``end_b``) and, with
+    bristles, the names of their deflections."""
     states = None
     if bristle:  # node by node, x then y (see seabed_friction.friction)
         states = StateNames(tuple(f"node{i}.bristle.{c}" for i in range(N + 1) for c in "xy"),
                             "m", 'seabed.friction_law = "bristle"',
                             'seabed.friction_law = "coulomb"')
-    layout = Layout(3, {owner: PartLayout(
+    return Layout(3, {owner: PartLayout(
         "line", seg["s"], _node_index(N, moving), _node_index(N, moving),
         {i: name for i, name in ((0, "end_a"), (N, "end_b")) if i not in moving})}, states)
-    return Mechanism(
-        name=part or "cable3d", q=q_all, v=v, z=ca.SX.sym("z", 0), t=t, p=p, params=params,
-        mass=mass, force=force, constraint=ca.SX.zeros(0, 1), scales=scales,
-        starts=starts if not all(free) else tuple, outputs=outputs, layout=layout,
-        terms=tuple(term_names), static_params=static, bounds=bounds,
-        stability_when=ca.SX(1.0) if np.all(cable) else None,
-        kinematics=ca.vertcat(v, fr.rate) if bristle else None,
-        rest=fr.rest if bristle else None, elements=form,
-        stability_coordinates=np.arange(n_q) if bristle else None)
 
 
 def _consistent_mass(halves, acc, moving, N):

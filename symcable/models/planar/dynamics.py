@@ -59,8 +59,10 @@ static place plus its prescribed displacement; end B's when end A is free).
 """
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Mapping
+from dataclasses import dataclass
 from types import MappingProxyType
 
 import casadi as ca
@@ -141,7 +143,114 @@ def build_planar_dynamics(scene: Scene, static) -> DynamicModel:
     env = scene.environment
     a, b = scene.end_a, scene.end_b
 
-    # --- parameters, in named blocks
+    blocks, slices, p_value, period = _param_blocks(scene, static, N)
+    p = ca.SX.sym("p", sum(n for _, n in blocks))
+    P = {name: p[sl] for name, sl in slices.items()}
+    t = ca.SX.sym("t")
+    phi_s, eps_s = P["phi_s"], P["eps_s"]
+    theta = _node_frames(phi_s)
+    st = _state(scene, N, P, t)
+    y, e_dyn, phi_dyn, dyn_nodes, V = st.y, st.e_dyn, st.phi_dyn, st.dyn_nodes, st.V
+    # Cartesian node velocities (N+1,), by whole-vector operations (one CasADi call each,
+    # not one per node): the free nodes' from their frame, the held ends' prescribed
+    th_d = theta[dyn_nodes]
+    c_d, s_d = ca.cos(th_d), ca.sin(th_d)
+    u_d = ca.vertcat(*[st.u[i] for i in dyn_nodes])
+    v_d = ca.vertcat(*[st.v[i] for i in dyn_nodes])
+    Vx_d, Vz_d = u_d * c_d - v_d * s_d, u_d * s_d + v_d * c_d
+    Vx = ca.vertcat(*([] if 0 in st.u else [V[0][0]]), Vx_d, *([] if N in st.u else [V[N][0]]))
+    Vz = ca.vertcat(*([] if 0 in st.u else [V[0][1]]), Vz_d, *([] if N in st.u else [V[N][1]]))
+
+    cs, sn = ca.cos(phi_s), ca.sin(phi_s)
+    ds = ca.DM(seg["ds"])
+    e_rate, phi_rate = _segment_rates(scene, seg, P, st, Vx, Vz, cs, sn)
+
+    # --- internal force increments: exact linearisation of the statics' internal force
+    _, _, _, Fx, Fz, bending = internal_forces(phi_s, eps_s, seg, a.condition, b.condition,
+                                               1.0, a.angle or 0.0, b.angle or 0.0,
+                                               slack_law(seg, force_scale_of(scene, seg)))
+    F_s = ca.vertcat(Fx, Fz)
+    dF = ca.jtimes(F_s, ca.vertcat(phi_s, eps_s), ca.vertcat(phi_dyn, e_dyn))
+    dFx, dFz = dF[:N], dF[N:]
+
+    # --- drag increment on segments, lumped on nodes
+    lump = _lumping_matrix(N)
+    term_names = ["elastic", "inertia"] + (["bending"] if bending else [])
+    dPx, dPz = ca.SX.zeros(N + 1), ca.SX.zeros(N + 1)
+    if not env.in_air:
+        term_names += ["drag", "added mass"]
+        dPx, dPz = _drag_increment(env, seg, P, st, Vx, Vz, lump)
+
+    # --- momentum on the free nodes
+    m_t = np.asarray(ca.mtimes(lump, ca.DM(seg["mass"] * seg["ds"]))).ravel()
+    m_add = 0.0 if env.in_air else env.water_density * math.pi / 4.0
+    m_n = m_t + np.asarray(ca.mtimes(lump, ca.DM(m_add * seg["can"] * seg["d"] ** 2 * seg["ds"]))).ravel()
+    zero = ca.SX.zeros(1)
+    dFx_pad, dFz_pad = ca.vertcat(zero, dFx, zero), ca.vertcat(zero, dFz, zero)
+    Rx = dFx_pad[1:] - dFx_pad[:-1] + dPx
+    Rz = dFz_pad[1:] - dFz_pad[:-1] + dPz
+
+    ct, st_ = ca.cos(th_d), ca.sin(th_d)
+    Rx_d, Rz_d = Rx[dyn_nodes], Rz[dyn_nodes]
+    u_rate = (ct * Rx_d + st_ * Rz_d) / ca.DM(m_t[dyn_nodes])
+    v_rate = (-st_ * Rx_d + ct * Rz_d) / ca.DM(m_n[dyn_nodes])
+    rhs = ca.vertcat(e_rate, phi_rate, u_rate, v_rate)[_rate_order(N, dyn_nodes)]
+
+    # --- outputs
+    F_tot_x, F_tot_z = Fx + dFx, Fz + dFz
+    # force on an end = static + increment of the end node's balance (as in the statics):
+    # the segment force, the node's own load increment and, at a moving end, the d'Alembert
+    # force of the node's lumped mass (added mass normal to the line)
+    force_b = P["force_b_s"] + ca.vertcat(dPx[N] - dFx[N - 1], dPz[N] - dFz[N - 1]) \
+        - _end_inertia(N, st, t, theta, m_t, m_n)
+    force_a = P["force_a_s"] + ca.vertcat(dPx[0] + dFx[0], dPz[0] + dFz[0]) \
+        - _end_inertia(0, st, t, theta, m_t, m_n)
+    px, pz = _positions(scene, N, P, ds, st)
+    outputs = {
+        "fairlead_tension": ca.norm_2(force_b),
+        "anchor_tension": ca.norm_2(force_a),
+        "fairlead_force": force_b.T,
+        "anchor_force": force_a.T,
+        "tension": ca.sqrt(F_tot_x ** 2 + F_tot_z ** 2),
+        "axial_force": ca.DM(seg["EA"]) * (eps_s + e_dyn),
+        "strain": e_dyn,
+        "angle": phi_dyn,
+        "positions": ca.horzcat(ca.vertcat(*px), ca.vertcat(*pz)),
+    }
+
+    kinds = st.kinds
+    y_scale = _y_scale(scene, static, np.array(kinds), period)
+    # the map from the state to Cartesian node velocities (x, z) at rest, for mode shapes
+    theta_s = np.asarray(_node_frames(ca.DM(np.asarray(static.angle, dtype=float)))).ravel()
+    info = _LazyInfo({
+        "velocity_map": functools.partial(_velocity_map, N, y.numel(), np.array(kinds),
+                                          dyn_nodes, theta_s),
+        "node_frames": theta_s,
+        "kinds": tuple(kinds), "dynamic_nodes": tuple(dyn_nodes), "segments": seg,
+        "s_nodes": seg["s"], "static": static, "terms": tuple(term_names),
+        "mass_tangential": m_t, "mass_normal": m_n, "scene": scene,
+        # per segment: the largest total axial strain its line type takes, the range the
+        # linearised dynamics are checked against (symcable.results.trajectory.strain_warnings)
+        "max_strain": np.concatenate([[sec.line_type.max_strain] * sec.segments
+                                      for sec in scene.sections]),
+    })
+    p_periodic = np.array(p_value)
+    p_periodic[slices["ramp"]] = 0.0
+    p_undamped = np.array(p_periodic)
+    for name in ("amp_a", "amp_b", "current", "current_s", "beta"):
+        p_undamped[slices[name]] = 0.0
+    return DynamicModel(name="planar", y=y, t=t, p=p, p_value=p_value, p_periodic=p_periodic,
+                        p_undamped=p_undamped,
+                        p_names=tuple(n for n, _ in blocks), p_slices=MappingProxyType(slices),
+                        rhs=rhs, outputs=outputs, y_scale=y_scale, period=period,
+                        y0=np.zeros(y.numel()), info=info)
+
+
+def _param_blocks(scene: Scene, static, N: int):
+    """The parameter blocks ``[(name, size)]``, where each sits in ``p`` (name -> slice),
+    their values for a run from rest (n_p,) and the excitation's period (s, None when
+    nothing moves)."""
+    env, a, b = scene.environment, scene.end_a, scene.end_b
     blocks = [("phi_s", N), ("eps_s", N), ("amp_a", 2), ("phase_a", 2), ("amp_b", 2),
               ("phase_b", 2), ("omega", 1), ("current", 2), ("current_s", 2), ("force_a_s", 2),
               ("force_b_s", 2), ("ramp", 1), ("beta", 1), ("pos_a_s", 2), ("pos_b_s", 2)]
@@ -149,8 +258,6 @@ def build_planar_dynamics(scene: Scene, static) -> DynamicModel:
     for name, n in blocks:
         slices[name] = slice(k, k + n)
         k += n
-    p = ca.SX.sym("p", k)
-    P = {name: p[sl] for name, sl in slices.items()}
     period = next((e.motion.period for e in (a, b) if e.motion is not None), None)
     values = {
         "phi_s": static.angle, "eps_s": static.strain,
@@ -166,13 +273,32 @@ def build_planar_dynamics(scene: Scene, static) -> DynamicModel:
         "pos_a_s": static.positions[0], "pos_b_s": static.positions[-1],
     }
     p_value = np.concatenate([np.atleast_1d(np.asarray(values[n], dtype=float)) for n, _ in blocks])
+    return blocks, slices, p_value, period
 
-    t = ca.SX.sym("t")
-    phi_s, eps_s = P["phi_s"], P["eps_s"]
-    theta = _node_frames(phi_s)
+
+@dataclass
+class _State:
+    """The state's symbols: ``y`` (n_y, 1) interleaved [node 0], seg 0, node 1, ..., seg N-1,
+    [node N]; each entry's kind (``"u"``, ``"v"``, ``"e"``, ``"phi"``); the free nodes'
+    tangential and normal velocities (node -> SX, m/s) in node order ``dyn_nodes``; the
+    dynamic strains and angles (N, 1); the held ends' prescribed velocities ``V`` (N+1 list,
+    (2, 1) m/s at a held end, else None) and displacements ``disp`` (end A, end B: (2, 1), m)."""
+
+    y: ca.SX
+    kinds: list
+    u: dict
+    v: dict
+    dyn_nodes: list
+    e_dyn: ca.SX
+    phi_dyn: ca.SX
+    V: list
+    disp: list
+
+
+def _state(scene: Scene, N: int, P: dict, t) -> _State:
+    """The state's symbols and the held ends' prescribed motion (:class:`_State`)."""
+    a, b = scene.end_a, scene.end_b
     omega = P["omega"]
-
-    # --- state, interleaved: [node 0], seg 0, node 1, ..., seg N-1, [node N]
     y_list, kinds, V = [], [], [None] * (N + 1)
     u_l, v_l, dyn_nodes = {}, {}, []
 
@@ -216,20 +342,17 @@ def build_planar_dynamics(scene: Scene, static) -> DynamicModel:
             add_node(j + 1)
     if b.condition is not EndCondition.FREE:
         prescribed(N, "b")
-    y = ca.vertcat(*y_list)
-    e_dyn, phi_dyn = ca.vertcat(*e_sym), ca.vertcat(*ph_sym)
-    # Cartesian node velocities (N+1,), by whole-vector operations (one CasADi call each,
-    # not one per node): the free nodes' from their frame, the held ends' prescribed
-    th_d = theta[dyn_nodes]
-    c_d, s_d = ca.cos(th_d), ca.sin(th_d)
-    u_d = ca.vertcat(*[u_l[i] for i in dyn_nodes])
-    v_d = ca.vertcat(*[v_l[i] for i in dyn_nodes])
-    Vx_d, Vz_d = u_d * c_d - v_d * s_d, u_d * s_d + v_d * c_d
-    Vx = ca.vertcat(*([] if 0 in u_l else [V[0][0]]), Vx_d, *([] if N in u_l else [V[N][0]]))
-    Vz = ca.vertcat(*([] if 0 in u_l else [V[0][1]]), Vz_d, *([] if N in u_l else [V[N][1]]))
+    return _State(ca.vertcat(*y_list), kinds, u_l, v_l, dyn_nodes, ca.vertcat(*e_sym),
+                  ca.vertcat(*ph_sym), V, disp)
 
-    # --- kinematics on segments
-    cs, sn = ca.cos(phi_s), ca.sin(phi_s)
+
+def _segment_rates(scene: Scene, seg: dict, P: dict, st: _State, Vx, Vz, cs, sn):
+    """The kinematics on the segments: the rates of the dynamic strain and angle (N, 1), 1/s
+    and rad/s, from the Cartesian node velocities ``Vx``, ``Vz`` (N+1, 1) and the static
+    segment frame ``cs``, ``sn`` (cos, sin of the static angle); with both ends held, the
+    end-to-end closure stabilised."""
+    N = len(seg["ds"])
+    eps_s = P["eps_s"]
     ds = ca.DM(seg["ds"])
     dVx = Vx[1:] - Vx[:-1]
     dVz = Vz[1:] - Vz[:-1]
@@ -242,60 +365,41 @@ def build_planar_dynamics(scene: Scene, static) -> DynamicModel:
     # physical manifold c = 0, which it makes attracting (and the periodic problem regular).
     # The correction acts on the last segment only: dc/dt = -beta c just the same, and only
     # two rows of the Jacobian become dense (spread over every segment, all of them would).
-    if a.condition is not EndCondition.FREE and b.condition is not EndCondition.FREE:
+    if scene.end_a.condition is not EndCondition.FREE and scene.end_b.condition is not EndCondition.FREE:
+        e_dyn, phi_dyn, disp = st.e_dyn, st.phi_dyn, st.disp
         cx = ca.sum1(ds * (e_dyn * cs - (1.0 + eps_s) * phi_dyn * sn)) - (disp[1][0] - disp[0][0])
         cz = ca.sum1(ds * (e_dyn * sn + (1.0 + eps_s) * phi_dyn * cs)) - (disp[1][1] - disp[0][1])
         beta, k = P["beta"][0], N - 1
         e_rate[k] = e_rate[k] - beta / seg["ds"][k] * (cs[k] * cx + sn[k] * cz)
         phi_rate[k] = phi_rate[k] - beta / seg["ds"][k] * (-sn[k] * cx + cs[k] * cz) / (1.0 + eps_s[k])
+    return e_rate, phi_rate
 
-    # --- internal force increments: exact linearisation of the statics' internal force
-    _, _, _, Fx, Fz, bending = internal_forces(phi_s, eps_s, seg, a.condition, b.condition,
-                                               1.0, a.angle or 0.0, b.angle or 0.0,
-                                               slack_law(seg, force_scale_of(scene, seg)))
-    F_s = ca.vertcat(Fx, Fz)
-    dF = ca.jtimes(F_s, ca.vertcat(phi_s, eps_s), ca.vertcat(phi_dyn, e_dyn))
-    dFx, dFz = dF[:N], dF[N:]
 
-    # --- drag increment on segments, lumped on nodes
-    lump = _lumping_matrix(N)
-    term_names = ["elastic", "inertia"] + (["bending"] if bending else [])
-    dPx, dPz = ca.SX.zeros(N + 1), ca.SX.zeros(N + 1)
-    if not env.in_air:
-        term_names += ["drag", "added mass"]
-        U = P["current"]
-        Vmx = 0.5 * (Vx[:-1] + Vx[1:])
-        Vmz = 0.5 * (Vz[:-1] + Vz[1:])
+def _drag_increment(env, seg: dict, P: dict, st: _State, Vx, Vz, lump):
+    """The drag's increment lumped on the nodes, x and z (N+1, 1), N: on the segment as it is
+    now (total angle and strain), minus the steady drag of the static balance at the static
+    state's own current (block current_s): rest is exact, and a changed current (block
+    current) loads the line as the statics would."""
+    phi_s, eps_s = P["phi_s"], P["eps_s"]
+    ds = ca.DM(seg["ds"])
+    U = P["current"]
+    Vmx = 0.5 * (Vx[:-1] + Vx[1:])
+    Vmz = 0.5 * (Vz[:-1] + Vz[1:])
 
-        def drag_xz(rx, rz, ang, strain):
-            c_, s_ = ca.cos(ang), ca.sin(ang)
-            ut, un = c_ * rx + s_ * rz, -s_ * rx + c_ * rz
-            ft, fn = terms.morison_drag(env.water_density, ca.DM(seg["d"]), ca.DM(seg["cdn"]),
-                                        ca.DM(seg["cdt"]), ut, un, strain)
-            return ds * (ft * c_ - fn * s_), ds * (ft * s_ + fn * c_)
+    def drag_xz(rx, rz, ang, strain):
+        c_, s_ = ca.cos(ang), ca.sin(ang)
+        ut, un = c_ * rx + s_ * rz, -s_ * rx + c_ * rz
+        ft, fn = terms.morison_drag(env.water_density, ca.DM(seg["d"]), ca.DM(seg["cdn"]),
+                                    ca.DM(seg["cdt"]), ut, un, strain)
+        return ds * (ft * c_ - fn * s_), ds * (ft * s_ + fn * c_)
 
-        # on the segment as it is now (total angle and strain), minus the steady drag of the
-        # static balance at the static state's own current (block current_s): rest is exact,
-        # and a changed current (block current) loads the line as the statics would
-        fx, fz = drag_xz(U[0] - Vmx, U[1] - Vmz, phi_s + phi_dyn, eps_s + e_dyn)
-        fx0, fz0 = drag_xz(P["current_s"][0], P["current_s"][1], phi_s, eps_s)
-        dPx = ca.mtimes(lump, fx - fx0)
-        dPz = ca.mtimes(lump, fz - fz0)
+    fx, fz = drag_xz(U[0] - Vmx, U[1] - Vmz, phi_s + st.phi_dyn, eps_s + st.e_dyn)
+    fx0, fz0 = drag_xz(P["current_s"][0], P["current_s"][1], phi_s, eps_s)
+    return ca.mtimes(lump, fx - fx0), ca.mtimes(lump, fz - fz0)
 
-    # --- momentum on the free nodes
-    m_t = np.asarray(ca.mtimes(lump, ca.DM(seg["mass"] * seg["ds"]))).ravel()
-    m_add = 0.0 if env.in_air else env.water_density * math.pi / 4.0
-    m_n = m_t + np.asarray(ca.mtimes(lump, ca.DM(m_add * seg["can"] * seg["d"] ** 2 * seg["ds"]))).ravel()
-    zero = ca.SX.zeros(1)
-    dFx_pad, dFz_pad = ca.vertcat(zero, dFx, zero), ca.vertcat(zero, dFz, zero)
-    Rx = dFx_pad[1:] - dFx_pad[:-1] + dPx
-    Rz = dFz_pad[1:] - dFz_pad[:-1] + dPz
 
-    ct, st_ = ca.cos(th_d), ca.sin(th_d)
-    Rx_d, Rz_d = Rx[dyn_nodes], Rz[dyn_nodes]
-    u_rate = (ct * Rx_d + st_ * Rz_d) / ca.DM(m_t[dyn_nodes])
-    v_rate = (-st_ * Rx_d + ct * Rz_d) / ca.DM(m_n[dyn_nodes])
-    # interleaved like the state, gathered in one indexing of [e; phi; u; v]
+def _rate_order(N: int, dyn_nodes: list) -> list:
+    """Where each state entry's rate sits in [e; phi; u; v] (interleaved like the state)."""
     n_d = len(dyn_nodes)
     where = {i: k for k, i in enumerate(dyn_nodes)}
     order = []
@@ -305,28 +409,28 @@ def build_planar_dynamics(scene: Scene, static) -> DynamicModel:
         order += [j, N + j]
         if j + 1 in where:
             order += [2 * N + where[j + 1], 2 * N + n_d + where[j + 1]]
-    rhs = ca.vertcat(e_rate, phi_rate, u_rate, v_rate)[order]
+    return order
 
-    # --- outputs
-    F_tot_x, F_tot_z = Fx + dFx, Fz + dFz
-    # force on an end = static + increment of the end node's balance (as in the statics):
-    # the segment force, the node's own load increment and, at a moving end, the d'Alembert
-    # force of the node's lumped mass (added mass normal to the line)
-    def inertia(i):
-        if i in u_l:
-            return ca.SX.zeros(2, 1)
-        acc = ca.jacobian(V[i], t)
-        ct, st_ = ca.cos(theta[i]), ca.sin(theta[i])
-        a_t, a_n = ct * acc[0] + st_ * acc[1], -st_ * acc[0] + ct * acc[1]
-        return ca.vertcat(m_t[i] * a_t * ct - m_n[i] * a_n * st_, m_t[i] * a_t * st_ + m_n[i] * a_n * ct)
 
-    force_b = P["force_b_s"] + ca.vertcat(dPx[N] - dFx[N - 1], dPz[N] - dFz[N - 1]) - inertia(N)
-    force_a = P["force_a_s"] + ca.vertcat(dPx[0] + dFx[0], dPz[0] + dFz[0]) - inertia(0)
-    # node positions (the paper's S3) from the total angle and strain, chained from a held
-    # end's place (static, plus its prescribed displacement); from end B when end A is free
-    ang, stretch = phi_s + phi_dyn, ds * (1.0 + eps_s + e_dyn)
+def _end_inertia(i: int, st: _State, t, theta, m_t: np.ndarray, m_n: np.ndarray):
+    """The d'Alembert force (2, 1), N, of end node ``i``'s lumped mass when it moves (added
+    mass normal to the line); zero for a free end."""
+    if i in st.u:
+        return ca.SX.zeros(2, 1)
+    acc = ca.jacobian(st.V[i], t)
+    ct, st_ = ca.cos(theta[i]), ca.sin(theta[i])
+    a_t, a_n = ct * acc[0] + st_ * acc[1], -st_ * acc[0] + ct * acc[1]
+    return ca.vertcat(m_t[i] * a_t * ct - m_n[i] * a_n * st_, m_t[i] * a_t * st_ + m_n[i] * a_n * ct)
+
+
+def _positions(scene: Scene, N: int, P: dict, ds, st: _State):
+    """The node positions (the paper's S3), x and z (lists of N+1), m, from the total angle
+    and strain, chained from a held end's place (static, plus its prescribed displacement);
+    from end B when end A is free."""
+    disp = st.disp
+    ang, stretch = P["phi_s"] + st.phi_dyn, ds * (1.0 + P["eps_s"] + st.e_dyn)
     step_x, step_z = stretch * ca.cos(ang), stretch * ca.sin(ang)
-    if a.condition is not EndCondition.FREE:
+    if scene.end_a.condition is not EndCondition.FREE:
         px, pz = [P["pos_a_s"][0] + disp[0][0]], [P["pos_a_s"][1] + disp[0][1]]
         for j in range(N):
             px.append(px[-1] + step_x[j])
@@ -337,56 +441,30 @@ def build_planar_dynamics(scene: Scene, static) -> DynamicModel:
             px.append(px[-1] - step_x[j])
             pz.append(pz[-1] - step_z[j])
         px, pz = px[::-1], pz[::-1]
-    outputs = {
-        "fairlead_tension": ca.norm_2(force_b),
-        "anchor_tension": ca.norm_2(force_a),
-        "fairlead_force": force_b.T,
-        "anchor_force": force_a.T,
-        "tension": ca.sqrt(F_tot_x ** 2 + F_tot_z ** 2),
-        "axial_force": ca.DM(seg["EA"]) * (eps_s + e_dyn),
-        "strain": e_dyn,
-        "angle": phi_dyn,
-        "positions": ca.horzcat(ca.vertcat(*px), ca.vertcat(*pz)),
-    }
+    return px, pz
 
-    kinds_arr = np.array(kinds)
+
+def _y_scale(scene: Scene, static, kinds: np.ndarray, period) -> np.ndarray:
+    """Typical magnitude of each state entry (n_y,): a velocity scale (m/s) for u and v, the
+    static strain's for e, 0.01 rad for phi."""
+    env, a, b = scene.environment, scene.end_a, scene.end_b
     amp = max([np.max(np.abs(e.motion.amplitude)) for e in (a, b) if e.motion] + [0.0])
     v_scale = max(amp * (2 * math.pi / period if period else 0.0), float(np.hypot(*env.current)), 0.1)
     e_scale = max(float(np.max(np.abs(static.strain))), 1e-6)
-    y_scale = np.select([np.isin(kinds_arr, ["u", "v"]), kinds_arr == "e"], [v_scale, e_scale], 0.01)
-    # the map from the state to Cartesian node velocities (x, z) at rest, for mode shapes
-    theta_s = np.asarray(_node_frames(ca.DM(np.asarray(static.angle, dtype=float)))).ravel()
-    # (dense, 2 (N+1) x n_y: built when first asked for, by modal analysis, since at
-    # 10,000 segments it would take 6 GB)
-    def velocity_map():
-        vmap = np.zeros((2 * (N + 1), y.numel()))
-        iu, iv = np.flatnonzero(kinds_arr == "u"), np.flatnonzero(kinds_arr == "v")
-        rows = 2 * np.asarray(dyn_nodes, dtype=int)
-        cth, sth = np.cos(theta_s[dyn_nodes]), np.sin(theta_s[dyn_nodes])
-        vmap[rows, iu], vmap[rows, iv] = cth, -sth
-        vmap[rows + 1, iu], vmap[rows + 1, iv] = sth, cth
-        return vmap
+    return np.select([np.isin(kinds, ["u", "v"]), kinds == "e"], [v_scale, e_scale], 0.01)
 
-    info = _LazyInfo({
-        "velocity_map": velocity_map, "node_frames": theta_s,
-        "kinds": tuple(kinds), "dynamic_nodes": tuple(dyn_nodes), "segments": seg,
-        "s_nodes": seg["s"], "static": static, "terms": tuple(term_names),
-        "mass_tangential": m_t, "mass_normal": m_n, "scene": scene,
-        # per segment: the largest total axial strain its line type takes, the range the
-        # linearised dynamics are checked against (symcable.results.trajectory.strain_warnings)
-        "max_strain": np.concatenate([[sec.line_type.max_strain] * sec.segments
-                                      for sec in scene.sections]),
-    })
-    p_periodic = np.array(p_value)
-    p_periodic[slices["ramp"]] = 0.0
-    p_undamped = np.array(p_periodic)
-    for name in ("amp_a", "amp_b", "current", "current_s", "beta"):
-        p_undamped[slices[name]] = 0.0
-    return DynamicModel(name="planar", y=y, t=t, p=p, p_value=p_value, p_periodic=p_periodic,
-                        p_undamped=p_undamped,
-                        p_names=tuple(n for n, _ in blocks), p_slices=MappingProxyType(slices),
-                        rhs=rhs, outputs=outputs, y_scale=y_scale, period=period,
-                        y0=np.zeros(y.numel()), info=info)
+
+def _velocity_map(N: int, n_y: int, kinds: np.ndarray, dyn_nodes: list,
+                  theta_s: np.ndarray) -> np.ndarray:
+    """The map from the state to Cartesian node velocities (x, z) at rest, for mode shapes:
+    dense, (2 (N+1), n_y), so built when first asked for (by modal analysis)."""
+    vmap = np.zeros((2 * (N + 1), n_y))
+    iu, iv = np.flatnonzero(kinds == "u"), np.flatnonzero(kinds == "v")
+    rows = 2 * np.asarray(dyn_nodes, dtype=int)
+    cth, sth = np.cos(theta_s[dyn_nodes]), np.sin(theta_s[dyn_nodes])
+    vmap[rows, iu], vmap[rows, iv] = cth, -sth
+    vmap[rows + 1, iu], vmap[rows + 1, iv] = sth, cth
+    return vmap
 
 
 class _LazyInfo(Mapping):

@@ -63,13 +63,12 @@ from types import MappingProxyType
 import casadi as ca
 import numpy as np
 
-from ...errors import ConvergenceError
 from ...scene import EndCondition, Scene
 from ..common import terms
-from .base import Guess, Model
+from .base import Model
+from .model_starts import _initial_guess, _Layout
 from ..common.segments import (SLACK_CONTINUATION, CABLE_COMPRESSION, FOLD_PUSH, segment_table,
                               force_scale_of, slack_law, nodal_weights, grounded_length)
-from ..common.catenary import catenary_start
 
 P_NAMES = ("load", "bending", "xa", "za", "xb", "zb", "angle_a", "angle_b", "ux", "uz", "slack")
 
@@ -144,18 +143,104 @@ def build_planar(scene: Scene) -> Model:
     """Discretise a planar scene and write its static equations (see module docstring)."""
     seg = segment_table(scene)
     N = len(seg["ds"])
-    env, sb = scene.environment, scene.seabed
+    env = scene.environment
     a, b = scene.end_a, scene.end_b
     free_a, free_b = a.condition is EndCondition.FREE, b.condition is EndCondition.FREE
 
     p = ca.SX.sym("p", len(P_NAMES))
     lam, mu, xa, za, xb, zb, ang_a, ang_b, ux, uz, sigma = (p[k] for k in range(len(P_NAMES)))
+    X, Z, phi_l, eps_l, w_list, kinds, unknown_nodes = _unknowns(N, free_a, free_b, xa, za, xb, zb)
 
-    # --- unknowns, interleaved: [node 0], seg 0, node 1, seg 1, ..., seg N-1, [node N]
+    Xv, Zv = ca.vertcat(*X), ca.vertcat(*Z)
+    phi, eps = ca.vertcat(*phi_l), ca.vertcat(*eps_l)
+    ds, EA = (ca.DM(seg[k]) for k in ("ds", "EA"))
+    (c, s), _ = terms.tangent(phi)
+    stretch = 1.0 + eps
+    term_names = ["elastic", "weight"]
+
+    # --- compatibility (geometric closure), in N
+    comp_x = EA / ds * (Xv[1:] - Xv[:-1] - ds * stretch * c)
+    comp_z = EA / ds * (Zv[1:] - Zv[:-1] - ds * stretch * s)
+
+    # --- internal forces: axial, bending moment on nodes, shear on segments
+    force_scale = force_scale_of(scene, seg)
+    law = slack_law(seg, force_scale)
+    # continuation parameter of the tension-only law's corner: its width is
+    # SLACK_CONTINUATION times wider at sigma = 0 than at the scene's sigma = 1
+    law["width_factor"] = ca.exp(math.log(SLACK_CONTINUATION) * (1.0 - sigma))
+    T, Q, M, Fx, Fz, bending = internal_forces(phi, eps, seg, a.condition, b.condition, mu,
+                                               ang_a, ang_b, law)
+    if bending:
+        term_names.append("bending")
+
+    # --- external loads lumped on nodes (N per node)
+    Px, Pz, contact = _line_loads(scene, seg, lam, ux, uz, c, s, eps, Zv, term_names)
+    line_Px, line_Pz = Px, Pz
+    applied = np.zeros((N + 1, 2))
+    for end, node in ((a, 0), (b, N)):
+        if end.condition is EndCondition.FREE and end.force is not None:
+            applied[node] = end.force
+    if np.any(applied):
+        term_names.append("end force")
+        Px = Px + lam * ca.DM(applied[:, 0])
+        Pz = Pz + lam * ca.DM(applied[:, 1])
+
+    # --- node equilibrium, in N
+    zero = ca.SX.zeros(1)
+    Fx_pad, Fz_pad = ca.vertcat(zero, Fx, zero), ca.vertcat(zero, Fz, zero)
+    eq_x = Fx_pad[1:] - Fx_pad[:-1] + Px
+    eq_z = Fz_pad[1:] - Fz_pad[:-1] + Pz
+
+    rows, row_kind = _residual_rows(N, free_a, free_b)
+    residual = ca.vertcat(comp_x, comp_z, eq_x, eq_z)[rows]
+    w = ca.vertcat(*w_list)
+
+    # --- outputs
+    end_force_a = ca.horzcat(Fx[0] + line_Px[0], Fz[0] + line_Pz[0])
+    end_force_b = ca.horzcat(line_Px[N] - Fx[N - 1], line_Pz[N] - Fz[N - 1])
+    outputs = _outputs(Xv, Zv, phi, eps, T, Q, M, Fx, Fz, end_force_a, end_force_b, contact)
+    p_target = np.array([
+        1.0, 1.0,
+        *(a.position if a.position is not None else (0.0, 0.0)),
+        *(b.position if b.position is not None else (0.0, 0.0)),
+        a.angle or 0.0, b.angle or 0.0,
+        *tuple(env.current), 1.0,
+    ], dtype=float)
+
+    kinds_arr = np.array(kinds)
+    w_scale, merit_weights, residual_floor = _scales(scene, seg, kinds_arr, row_kind, force_scale)
+    bounds = _bounds(scene, seg, eps, T, contact, line_Px, line_Pz, Px, Pz, end_force_a,
+                     end_force_b, force_scale, residual_floor)
+
+    info = MappingProxyType({"n_segments": N, "s_nodes": seg["s"], "segments": seg,
+                             "unknown_kinds": tuple(kinds), "bending": bending})
+
+    layout = _Layout(kinds_arr, np.array(unknown_nodes, dtype=int))
+
+    def initial_guess():
+        return _initial_guess(scene, seg, layout, p_target, bending, P_NAMES)
+
+    nodal = nodal_weights(seg)
+
+    def postprocess(out: dict) -> dict:
+        return _postprocess(scene, seg, nodal, out)
+
+    return Model(name="planar", scene=scene, terms=tuple(term_names), w=w, p=p,
+                 p_names=P_NAMES, p_target=p_target, residual=residual, outputs=outputs,
+                 w_scale=w_scale, merit_weights=merit_weights, force_scale=force_scale,
+                 residual_floor=residual_floor,
+                 initial_guess=initial_guess,
+                 postprocess=postprocess, info=info, bounds=bounds)
+
+
+def _unknowns(N: int, free_a: bool, free_b: bool, xa, za, xb, zb):
+    """The unknowns' symbols, interleaved [node 0], seg 0, node 1, seg 1, ..., seg N-1,
+    [node N]: each node's x and z (lists of N+1: a symbol, or a held end's parameter, m),
+    the segment angles and strains (lists of N), all unknowns in order, each one's kind
+    (``"x"``, ``"z"``, ``"phi"``, ``"eps"``) and the nodes with unknown positions."""
     X: list = [None] * (N + 1)
     Z: list = [None] * (N + 1)
     phi_l, eps_l, w_list, kinds = [], [], [], []
-
     unknown_nodes = []
 
     def add_node(i):
@@ -177,30 +262,18 @@ def build_planar(scene: Scene) -> Model:
         if j + 1 < N or free_b:
             add_node(j + 1)
     X[N], Z[N] = (X[N], Z[N]) if free_b else (xb, zb)
+    return X, Z, phi_l, eps_l, w_list, kinds, unknown_nodes
 
-    Xv, Zv = ca.vertcat(*X), ca.vertcat(*Z)
-    phi, eps = ca.vertcat(*phi_l), ca.vertcat(*eps_l)
-    ds, EA, EI, wt = (ca.DM(seg[k]) for k in ("ds", "EA", "EI", "w"))
-    (c, s), _ = terms.tangent(phi)
-    stretch = 1.0 + eps
-    term_names = ["elastic", "weight"]
 
-    # --- compatibility (geometric closure), in N
-    comp_x = EA / ds * (Xv[1:] - Xv[:-1] - ds * stretch * c)
-    comp_z = EA / ds * (Zv[1:] - Zv[:-1] - ds * stretch * s)
-
-    # --- internal forces: axial, bending moment on nodes, shear on segments
-    force_scale = force_scale_of(scene, seg)
-    law = slack_law(seg, force_scale)
-    # continuation parameter of the tension-only law's corner: its width is
-    # SLACK_CONTINUATION times wider at sigma = 0 than at the scene's sigma = 1
-    law["width_factor"] = ca.exp(math.log(SLACK_CONTINUATION) * (1.0 - sigma))
-    T, Q, M, Fx, Fz, bending = internal_forces(phi, eps, seg, a.condition, b.condition, mu,
-                                               ang_a, ang_b, law)
-    if bending:
-        term_names.append("bending")
-
-    # --- external loads lumped on nodes (N per node)
+def _line_loads(scene: Scene, seg: dict, lam, ux, uz, c, s, eps, Zv, term_names: list):
+    """The line's own loads lumped on the nodes, x and z (N+1, 1), N: weight, drag of the
+    current and seabed contact; and the contact alone (N+1, 1), N. Appends the terms it
+    builds to ``term_names``."""
+    N = len(seg["ds"])
+    env, sb = scene.environment, scene.seabed
+    a, b = scene.end_a, scene.end_b
+    free_a, free_b = a.condition is EndCondition.FREE, b.condition is EndCondition.FREE
+    ds, wt = ca.DM(seg["ds"]), ca.DM(seg["w"])
     lump = _lumping_matrix(N)
     seg_fx = ca.SX.zeros(N)
     seg_fz = -lam * wt * ds
@@ -235,24 +308,13 @@ def build_planar(scene: Scene) -> Model:
         contact = ca.DM(trib_width * sb.stiffness) * terms.smooth_ramp(
             -env.depth - Zv[probe.tolist()], delta)
         Pz = Pz + contact
-    line_Px, line_Pz = Px, Pz
-    applied = np.zeros((N + 1, 2))
-    for end, node in ((a, 0), (b, N)):
-        if end.condition is EndCondition.FREE and end.force is not None:
-            applied[node] = end.force
-    if np.any(applied):
-        term_names.append("end force")
-        Px = Px + lam * ca.DM(applied[:, 0])
-        Pz = Pz + lam * ca.DM(applied[:, 1])
+    return Px, Pz, contact
 
-    # --- node equilibrium, in N
-    zero = ca.SX.zeros(1)
-    Fx_pad, Fz_pad = ca.vertcat(zero, Fx, zero), ca.vertcat(zero, Fz, zero)
-    eq_x = Fx_pad[1:] - Fx_pad[:-1] + Px
-    eq_z = Fz_pad[1:] - Fz_pad[:-1] + Pz
 
-    # rows interleaved like the unknowns, gathered in one indexing of the stacked vectors
-    # [comp_x; comp_z; eq_x; eq_z] (one CasADi call, not one per row)
+def _residual_rows(N: int, free_a: bool, free_b: bool) -> tuple[list, list]:
+    """The residual's rows, interleaved like the unknowns, as indices into the stacked
+    [comp_x; comp_z; eq_x; eq_z] (one CasADi indexing, not one call per row); and each row's
+    segment (compatibility rows) or -1 (equilibrium rows)."""
     rows, row_kind = [], []
     if free_a:
         rows += [2 * N, 3 * N + 1]
@@ -263,18 +325,20 @@ def build_planar(scene: Scene) -> Model:
         if j + 1 < N or free_b:
             rows += [2 * N + j + 1, 3 * N + 1 + j + 1]
             row_kind += [-1, -1]
-    residual = ca.vertcat(comp_x, comp_z, eq_x, eq_z)[rows]
-    w = ca.vertcat(*w_list)
+    return rows, row_kind
 
-    # --- outputs
-    end_force_a = ca.horzcat(Fx[0] + line_Px[0], Fz[0] + line_Pz[0])
-    end_force_b = ca.horzcat(line_Px[N] - Fx[N - 1], line_Pz[N] - Fz[N - 1])
+
+def _outputs(Xv, Zv, phi, eps, T, Q, M, Fx, Fz, end_force_a, end_force_b, contact) -> dict:
+    """The named outputs of ``(w, p)``: node positions (N+1, 2), m; segment angle (rad),
+    strain, axial force, shear (N, 1); nodal moments (N+1, 1), N m; segment internal force
+    (N, 2), N; node tension (N+1, 1), N; the end forces (1, 2), N; the contact (N+1, 1), N."""
+    N = phi.numel()
     Fmag = ca.sqrt(Fx * Fx + Fz * Fz)
     # interior nodes: the mean of the two segments' (none with one segment: a 1 x 1 SX
     # sliced [:-1] is 1 x 0, a row, which vertcat would count wrongly)
     inner = 0.5 * (Fmag[:-1] + Fmag[1:]) if N > 1 else ca.SX(0, 1)
     tension_nodes = ca.vertcat(ca.norm_2(end_force_a), inner, ca.norm_2(end_force_b))
-    outputs = {
+    return {
         "positions": ca.horzcat(Xv, Zv),
         "angle": phi,
         "strain": eps,
@@ -288,16 +352,13 @@ def build_planar(scene: Scene) -> Model:
         "contact_force": contact,
     }
 
-    p_target = np.array([
-        1.0, 1.0,
-        *(a.position if a.position is not None else (0.0, 0.0)),
-        *(b.position if b.position is not None else (0.0, 0.0)),
-        a.angle or 0.0, b.angle or 0.0,
-        *current, 1.0,
-    ], dtype=float)
 
+def _scales(scene: Scene, seg: dict, kinds_arr: np.ndarray, row_kind: list,
+            force_scale: float) -> tuple[np.ndarray, np.ndarray, float]:
+    """The unknowns' scales (n_w,: m, rad, strain), the residual rows' merit weights (n_w,)
+    and the residual's round-off floor (N)."""
+    a, b = scene.end_a, scene.end_b
     L = scene.length
-    kinds_arr = np.array(kinds)
     max_strain = max(sec.line_type.max_strain for sec in scene.sections)
     w_scale = np.select([kinds_arr == "phi", kinds_arr == "eps"], [0.5, 0.5 * max_strain], 0.1 * L)
 
@@ -314,29 +375,7 @@ def build_planar(scene: Scene) -> Model:
     coord = L + max(abs(v) for e in (a, b) if e.position is not None for v in e.position)
     residual_floor = 100.0 * np.finfo(float).eps * float(
         np.max(seg["EA"] / seg["ds"]) * coord + np.max(seg["EI"] / seg["ds"] ** 2) * 2.0 * math.pi)
-
-    bounds = _bounds(scene, seg, eps, T, contact, line_Px, line_Pz, Px, Pz, end_force_a,
-                     end_force_b, force_scale, residual_floor)
-
-    info = MappingProxyType({"n_segments": N, "s_nodes": seg["s"], "segments": seg,
-                             "unknown_kinds": tuple(kinds), "bending": bending})
-
-    layout = _Layout(kinds_arr, np.array(unknown_nodes, dtype=int))
-
-    def initial_guess():
-        return _initial_guess(scene, seg, layout, p_target, bending)
-
-    nodal = nodal_weights(seg)
-
-    def postprocess(out: dict) -> dict:
-        return _postprocess(scene, seg, nodal, out)
-
-    return Model(name="planar", scene=scene, terms=tuple(term_names), w=w, p=p,
-                 p_names=P_NAMES, p_target=p_target, residual=residual, outputs=outputs,
-                 w_scale=w_scale, merit_weights=merit_weights, force_scale=force_scale,
-                 residual_floor=residual_floor,
-                 initial_guess=initial_guess,
-                 postprocess=postprocess, info=info, bounds=bounds)
+    return w_scale, merit_weights, residual_floor
 
 
 def _bounds(scene, seg, eps, T, contact, line_Px, line_Pz, Px, Pz, end_force_a, end_force_b,
@@ -397,220 +436,6 @@ def _bounds(scene, seg, eps, T, contact, line_Px, line_Pz, Px, Pz, end_force_a, 
                                  scale=force_scale, what="the line's loads and end forces in "
                                                          "balance")
     return out
-
-
-# --------------------------------------------------------------------------- start
-
-class _Layout:
-    """Where node positions and segment angle/strain sit in the unknown vector."""
-
-    def __init__(self, kinds: np.ndarray, unknown_nodes: np.ndarray):
-        self.n = kinds.size
-        self.nodes = unknown_nodes
-        self.ix, self.iz = np.flatnonzero(kinds == "x"), np.flatnonzero(kinds == "z")
-        self.iphi, self.ieps = np.flatnonzero(kinds == "phi"), np.flatnonzero(kinds == "eps")
-
-    def pack(self, pos: np.ndarray, phi: np.ndarray, eps: np.ndarray) -> np.ndarray:
-        """Unknown vector from node positions (N+1, 2) and segment angle/strain (N,)."""
-        w = np.empty(self.n)
-        w[self.ix], w[self.iz] = pos[self.nodes, 0], pos[self.nodes, 1]
-        w[self.iphi], w[self.ieps] = phi, eps
-        return w
-
-
-def _from_positions(pos: np.ndarray, seg: dict, tension_mid: np.ndarray | None):
-    d = np.diff(pos, axis=0)
-    phi = np.unwrap(np.arctan2(d[:, 1], d[:, 0]))
-    if tension_mid is None:
-        eps = np.hypot(d[:, 0], d[:, 1]) / seg["ds"] - 1.0
-    else:
-        eps = tension_mid / seg["EA"]
-    return phi, eps
-
-
-def _bowed(pa, pb, seg) -> np.ndarray:
-    """Node positions of a half sine between the two ends, bowed sideways until it is as
-    long as the line, nodes at their arc lengths: the first buckling mode's shape, a start
-    for a rod compressed between its ends (from the straight strut, the buckled branch is a
-    sideways jump Newton does not make). Bowed down when the line sinks, else up (to +x
-    for a vertical chord)."""
-    s, L = seg["s"], float(seg["s"][-1])
-    chord = pb - pa
-    c = float(np.hypot(*chord))
-    t = chord / c
-    n = np.array([-t[1], t[0]])
-    sinks = float(np.sum(seg["w"] * seg["ds"])) >= 0.0
-    if n[1] != 0.0 and (n[1] > 0.0) == sinks or (n[1] == 0.0 and n[0] < 0.0):
-        n = -n
-    u = np.linspace(0.0, 1.0, 2001)
-
-    def curve(a):
-        return np.outer(u * c, t) + np.outer(a * np.sin(math.pi * u), n)
-
-    def length(a):
-        return float(np.sum(np.hypot(*np.diff(curve(a), axis=0).T)))
-
-    lo, hi = 0.0, L
-    for _ in range(60):  # bisection: the length grows with the amplitude
-        mid = 0.5 * (lo + hi)
-        lo, hi = (mid, hi) if length(mid) < L else (lo, mid)
-    pts = curve(0.5 * (lo + hi))
-    arc = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(pts, axis=0).T))])
-    frac = s / L * arc[-1]
-    return pa + np.stack([np.interp(frac, arc, pts[:, 0]), np.interp(frac, arc, pts[:, 1])], axis=1)
-
-
-def _hanging_start(scene, seg, free_a: bool):
-    """Exact discrete equilibrium of a line without bending, drag or seabed that hangs from
-    its fixed end: integrating F_{i-1} = F_i + P_i from the free end gives every segment
-    force, hence its angle and strain, and compatibility gives the positions."""
-    N = len(seg["ds"])
-    fixed, free = (scene.end_b, scene.end_a) if free_a else (scene.end_a, scene.end_b)
-    node_w = np.zeros(N + 1)
-    node_w[:-1] += 0.5 * seg["w"] * seg["ds"]
-    node_w[1:] += 0.5 * seg["w"] * seg["ds"]
-    f_free = np.array(free.force or (0.0, 0.0))
-    F = np.zeros((N, 2))
-    if free_a:  # node 0 free: F_0 = -P_0, F_j = F_{j-1} - P_j
-        acc = -(f_free + [0.0, -node_w[0]])
-        for j in range(N):
-            F[j] = acc
-            acc = acc - [0.0, -node_w[j + 1]]
-    else:       # node N free: F_{N-1} = P_N, F_{j-1} = F_j + P_j
-        acc = f_free + [0.0, -node_w[N]]
-        for j in range(N - 1, -1, -1):
-            F[j] = acc
-            acc = acc + [0.0, -node_w[j]]
-    T = np.hypot(F[:, 0], F[:, 1])
-    if np.any(T <= 0):
-        return None
-    phi = np.unwrap(np.arctan2(F[:, 1], F[:, 0]))
-    eps = T / seg["EA"]
-    steps = (seg["ds"] * (1 + eps))[:, None] * np.stack([np.cos(phi), np.sin(phi)], axis=1)
-    origin = np.array(fixed.position)
-    if free_a:
-        pos = origin - np.concatenate([np.cumsum(steps[::-1], axis=0)[::-1], np.zeros((1, 2))])
-    else:
-        pos = origin + np.concatenate([np.zeros((1, 2)), np.cumsum(steps, axis=0)])
-    return pos, phi, eps
-
-
-def _laid_on_seabed(scene, seg, pos: np.ndarray, free_a: bool) -> np.ndarray:
-    """A hanging line that reaches below the seabed, lowered onto it: the nodes above the
-    seabed stay; from the first node below it on, the line lies flat on the bed (at the
-    depth where the contact carries its weight), each segment at its unstretched length,
-    away from the held end (in the direction of the free end's horizontal force, else +x)."""
-    depth = scene.environment.depth
-    order = np.arange(len(pos))[::-1] if free_a else np.arange(len(pos))
-    ds = seg["ds"][::-1] if free_a else seg["ds"]
-    p = pos[order].copy()
-    below = np.flatnonzero(p[:, 1] < -depth)
-    k = int(below[0])
-    free = scene.end_a if free_a else scene.end_b
-    fx = (free.force or (0.0, 0.0))[0]
-    direction = 1.0 if fx >= 0.0 else -1.0
-    pen = max(float(np.mean(seg["w"])), 0.0) / (scene.seabed.stiffness * float(np.mean(seg["d"])))
-    p[k, 1] = -depth - pen
-    for i in range(k + 1, len(p)):
-        p[i] = p[i - 1] + np.array([direction * ds[i - 1], 0.0])
-    out = np.empty_like(p)
-    out[order] = p
-    return out
-
-
-def _initial_guess(scene, seg, layout: _Layout, p_target, bending):
-    """Starting points in order of preference (the solver tries each), built lazily: a
-    generator, so a start is only computed when the ones before it have failed."""
-    a, b = scene.end_a, scene.end_b
-    free_a, free_b = a.condition is EndCondition.FREE, b.condition is EndCondition.FREE
-    s, L = seg["s"], seg["s"][-1]
-    no_bending = np.array(p_target)
-    no_bending[P_NAMES.index("bending")] = 0.0
-    cable_p, cable_h = (no_bending, "bending") if bending else (np.array(p_target), "")
-    if np.any(seg["EI"] <= 0.0):  # cables: continuation from the tension-only law's wide corner
-        cable_p = np.array(cable_p)
-        cable_p[P_NAMES.index("slack")] = 0.0
-        cable_h = "bending and slack" if cable_h else "slack"
-
-    def make(pos, phi, eps, p0, source, homotopy):
-        return Guess(w=layout.pack(pos, phi, eps), p=p0, source=source, homotopy=homotopy)
-
-    if not free_a and not free_b:
-        pa, pb = np.array(a.position), np.array(b.position)
-        try:
-            start = catenary_start(pa, pb, seg, scene)
-        except (ConvergenceError, ValueError, FloatingPointError):
-            start = None
-        if start is not None:
-            pos, ten, source = start
-            yield make(pos, *_from_positions(pos, seg, ten), cable_p, source, cable_h)
-        straight = pa + np.outer(s / L, pb - pa)
-        phi, eps = _from_positions(straight, seg, None)
-        yield make(straight, phi, np.maximum(eps, 0.0), cable_p, "straight line", cable_h)
-        if bending and np.hypot(*(pb - pa)) < L:
-            bowed = _bowed(pa, pb, seg)
-            yield make(bowed, *_from_positions(bowed, seg, None), np.array(p_target),
-                       "bowed line (half sine)", "")
-        relaxed = _relaxed(scene, seg, straight if start is None else start[0], p_target, make)
-        if relaxed is not None:
-            yield relaxed
-        return
-
-    fixed, free = (b, a) if free_a else (a, b)
-
-    def hanging():
-        start = _hanging_start(scene, seg, free_a)
-        if start is None:
-            return None
-        pos, phi, eps = start
-        if scene.seabed is not None and np.min(pos[:, 1]) < -scene.environment.depth:
-            pos = _laid_on_seabed(scene, seg, pos, free_a)
-            phi, eps = _from_positions(pos, seg, None)
-            return make(pos, phi, eps, cable_p, "hanging line laid on the seabed", cable_h)
-        return make(pos, phi, eps, cable_p, "hanging line", cable_h)
-
-    def unloaded():
-        t = np.array([math.cos(fixed.angle), math.sin(fixed.angle)])
-        pos = np.array(fixed.position) + np.outer(s - (0.0 if free_b else L), t)
-        p0 = np.array(p_target)
-        p0[P_NAMES.index("load")] = 0.0
-        return make(pos, np.full(len(seg["ds"]), math.atan2(t[1], t[0])), np.zeros(len(seg["ds"])),
-                    p0, "straight clamped line, unloaded", "load")
-
-    order = [hanging]
-    if fixed.condition is EndCondition.CLAMPED:
-        load = float(np.hypot(*(free.force or (0.0, 0.0))) + np.sum(np.abs(seg["w"]) * seg["ds"]))
-        # when bending dominates a cantilever is best reached from its unloaded state
-        order = [unloaded, hanging] if np.max(seg["EI"]) > 0.1 * load * L**2 else [hanging, unloaded]
-    first = None
-    for build in order:
-        g = build()
-        if g is not None:
-            first = g if first is None else first
-            yield g
-    if first is not None:
-        pos = np.zeros((len(s), 2))
-        pos[layout.nodes, 0], pos[layout.nodes, 1] = first.w[layout.ix], first.w[layout.iz]
-        relaxed = _relaxed(scene, seg, pos, p_target, make)
-        if relaxed is not None:
-            yield relaxed
-
-
-def _relaxed(scene, seg, pos0, p_target, make):
-    """The start at the minimum of the line's potential energy
-    (:func:`~symcable.models.common.relax.relaxed_positions`) from ``pos0``, for lines
-    without bending, the drag of a current frozen at the last shape in a few passes. None
-    for a line with bending or when the minimiser fails."""
-    from ..common.relax import relax_line
-
-    if np.any(seg["EI"] > 0.0):
-        return None
-    force_scale = force_scale_of(scene, seg)
-    pos = relax_line(scene, seg, pos0, slack_law(seg, force_scale), force_scale)
-    if pos is None:
-        return None
-    return make(pos, *_from_positions(pos, seg, None), np.array(p_target),
-                "minimum of the potential energy", "")
 
 
 # --------------------------------------------------------------------------- results

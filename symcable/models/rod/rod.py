@@ -59,6 +59,7 @@ with static friction, cable3d's ``static_friction`` and ``laid``.
 """
 from __future__ import annotations
 
+import functools
 import math
 
 import casadi as ca
@@ -69,12 +70,13 @@ from ...scene import EndCondition, Scene
 from ..common.elements import element_kernel, held_end
 from ..common.drag import law_table
 from ..common.starts import force_scale, starts_of
-from .hybrid_terms import axial_law, cable_bending, rod_mask, rod_vertices, spun_edges
+from .hybrid_terms import axial_law, rod_mask, spun_edges
 from ...mechanism.mechanism import (Bound, Layout, Mechanism, Output, ParamBlocks, PartLayout,
                                    Scales, Start)
 from ..common.segments import CABLE_COMPRESSION, FOLD_PUSH, segment_table
 from ..common.relax import _ramp_integral
-from .frames import end_moment_force, reference_director, transport, vertex_kernel
+from .frames import end_moment_force, reference_director, transport
+from .vertices import _internal_forces, _vertex_terms, _VertexTerms
 from .loads import rod_mass, rod_seabed, seabed_setup, water_velocity
 from ..common.seabed import lumped as _lumped, reaction_bound
 
@@ -128,12 +130,6 @@ def _slots(N: int, moving: list, spun: list) -> dict:
     return out
 
 
-def _clamp_frame(end) -> tuple[np.ndarray, np.ndarray]:
-    """A clamp's (direction, reference director), numpy."""
-    d = np.asarray(end.direction, float)
-    return d, reference_director(d)
-
-
 def build_rod(scene: Scene, rod: np.ndarray | None = None) -> Mechanism:
     """The scene's line (scene version 1, ``model = "rod"``) as a rod Mechanism (module
     docstring). ``rod``: per segment, whether it is a rod edge (default: the scene's
@@ -147,36 +143,18 @@ def build_rod(scene: Scene, rod: np.ndarray | None = None) -> Mechanism:
     N = len(seg["ds"])
     rod = rod_mask(scene) if rod is None else np.asarray(rod, bool)
     whole = bool(np.all(rod))
-    if np.any(seg["GJ"][rod] <= 0.0) or np.any(seg["EI"][rod] <= 0.0) \
-            or np.any(seg["EI2"][rod] <= 0.0):
-        raise SymcableError(f"scene {scene.name!r}: a rod needs EI > 0 and GJ > 0 in "
-                            "every line type of its sections (a cable is model = 'cable3d')")
+    _check_rod(scene, seg, rod)
     env = scene.environment
     a, b = scene.end_a, scene.end_b
     cond = [a.condition, b.condition]
     free = [c is EndCondition.FREE for c in cond]
     clamped = [c is EndCondition.CLAMPED for c in cond]
     guided = [e.guided for e in (a, b)]
-    if all(free):
-        raise SymcableError(f"scene {scene.name!r}: both ends free; hold one end")
-    for k, (end, j) in enumerate(((a, 0), (b, N - 1))):
-        if guided[k] and not rod[j] and seg["EI"][j] <= 0.0:
-            raise SymcableError(f"scene {scene.name!r}: end_{'ab'[k]} is guided, but its "
-                                "section has EI = 0 and is not a rod: nothing holds its "
-                                "tangent (give the section EI > 0, or model = 'rod')")
     twists = [math.radians(e.twist_deg or 0.0) for e in (a, b)]
     col = np.cumsum(rod) - 1  # each rod edge's column in the frame block
     n_rod = int(np.sum(rod))
-    anchors = default_anchors(scene, N)[:6 * n_rod]
     rubs, bristle, laid = seabed_setup(scene, seg)
-    # no rod edge (a hybrid of cable3d sections with a guided end): no frame block
-    params = ParamBlocks(P_NAMES + (("frame",) if n_rod else ()) + (
-        ("static_friction", "laid") if laid is not None else ()),
-        P_SIZES + ((6 * n_rod,) if n_rod else ()) + ((1, laid.size) if laid is not None
-                                                     else ()), np.concatenate([
-            [1.0], a.position if a.position is not None else np.zeros(3),
-            b.position if b.position is not None else np.zeros(3), env.current, [1.0], [1.0],
-            twists, anchors] + ([[0.0], laid] if laid is not None else [])))
+    params = _param_blocks(scene, N, n_rod, twists, laid)
     p = ca.SX.sym("p", params.n)
     sl = params.slice
     load, pa, pb, current = p[0], p[sl("end_a.position")], p[sl("end_b.position")], p[7:10]
@@ -186,142 +164,27 @@ def build_rod(scene: Scene, rod: np.ndarray | None = None) -> Mechanism:
 
     moving = [i for i in range(N + 1) if (i == 0 and free[0]) or (i == N and free[1]) or 0 < i < N]
     spun = spun_edges(rod, clamped)  # twists in q
-    n_x = 3 * len(moving)
     slots = _slots(N, moving, spun)
-    n_v = n_x + len(spun)
+    n_v = 3 * len(moving) + len(spun)
     q_all = ca.SX.sym("q", n_v + (2 * (N + 1) if bristle else 0))  # bristles last
     q = q_all[:n_v]
     v = ca.SX.sym("v", n_v)
-    X, V = [None] * (N + 1), [None] * (N + 1)
-    for i in moving:
-        k = slots[("x", i)]
-        X[i], V[i] = q[k:k + 3], v[k:k + 3]
-    for end, i, pp in ((a, 0, pa), (b, N, pb)):
-        if X[i] is None:
-            X[i], V[i] = held_end(end, pp, motion, t, ramp_on)
+    X, V, theta = _node_symbols(scene, N, moving, spun, slots, q, v, pa, pb, motion, t, ramp_on)
     Xm, Vm = ca.horzcat(*X), ca.horzcat(*V)
-    theta = [ca.SX(0.0)] * N
-    for j in spun:
-        theta[j] = q[slots[("th", j)]]
 
     F = force_scale(scene, seg)
     rho = 0.0 if env.in_air else env.water_density
     drag_law = law_table(scene)
-    row = lambda key: ca.DM(seg[key]).T  # noqa: E731
     BA = np.array([s.line_type.damping for s in scene.sections for _ in range(s.segments)])
     BA = np.where(BA < 0, -BA * np.sqrt(seg["EA"] * seg["mass"]) * seg["ds"], BA)
     EAs, delta = axial_law(seg, rod, F)
-    fa, fb, T, e = element_kernel(drag_law["shape"] if drag_law else None).map(N)(
-        Xm[:, :-1], Xm[:, 1:], Vm[:, :-1], Vm[:, 1:], water_velocity(scene, current, Xm),
-        row("ds"), row("EA"), ca.DM(BA).T, ca.DM(EAs).T, ca.DM(delta).T, F, row("w"),
-        row("d"), row("cdn"), row("cdt"), rho, load,
-        *([ca.DM(drag_law["law"]).T] if drag_law else []))
+    fa, fb, T, e = _element_forces(scene, seg, Xm, Vm, current, load, BA, EAs, delta, F, rho,
+                                   drag_law)
     nodal = ca.horzcat(fa, ca.SX.zeros(3, 1)) + ca.horzcat(ca.SX.zeros(3, 1), fb)
-    torque = ca.SX.zeros(1, N)
-
-    # vertices: (node, previous edge, next edge, lbar); edge -1 / N: a clamp's or guide's ghost
-    held = [clamped[k] or guided[k] for k in (0, 1)]
-    verts = rod_vertices(rod, seg["ds"], held)
-    ghost = {}
-    for k, (end, i, j) in enumerate(((a, 0, 0), (b, N, N - 1))):
-        sign = -1.0 if i == 0 else 1.0
-        if clamped[k]:
-            d, u = _clamp_frame(end)
-            ghost[i] = (Xm[:, i] + sign * float(seg["ds"][j]) * ca.DM(d),
-                        p[sl("end_a.twist" if i == 0 else "end_b.twist")], ca.DM(d), ca.DM(u))
-        elif guided[k]:  # the neighbour edge's twist and anchor: no twist across the guide
-            d = ca.DM(np.asarray(end.direction, float))
-            ghost[i] = (Xm[:, i] + sign * float(seg["ds"][j]) * d, theta[j],
-                        frame[0:3, col[j]] if rod[j] else None,
-                        frame[3:6, col[j]] if rod[j] else None)
-    stiff = lambda j: ca.DM([seg["EI"][j], seg["EI2"][j]])  # noqa: E731
-    coupled = bool(np.any(seg["K"][rod] != 0.0))
-    cols = {k: [] for k in ("xp", "x", "xn", "thp", "thn", "t0p", "u0p", "t0n", "u0n", "Bp",
-                            "Bn", "GJ", "lbar") + (("K", "dsp", "dsn", "wp", "wn")
-                                                   if coupled else ())}
-    for i, jp, jn, lbar in verts:
-        gp, gn = ghost.get(0) if jp < 0 else None, ghost.get(N) if jn >= N else None
-        cols["xp"].append(gp[0] if gp else Xm[:, i - 1])
-        cols["x"].append(Xm[:, i])
-        cols["xn"].append(gn[0] if gn else Xm[:, i + 1])
-        cols["thp"].append(gp[1] if gp else theta[jp])
-        cols["thn"].append(gn[1] if gn else theta[jn])
-        cols["t0p"].append(gp[2] if gp else frame[0:3, col[jp]])
-        cols["u0p"].append(gp[3] if gp else frame[3:6, col[jp]])
-        cols["t0n"].append(gn[2] if gn else frame[0:3, col[jn]])
-        cols["u0n"].append(gn[3] if gn else frame[3:6, col[jn]])
-        jp_, jn_ = max(jp, 0), min(jn, N - 1)
-        cols["Bp"].append(stiff(jp_))
-        cols["Bn"].append(stiff(jn_))
-        # the joint of two sections: the harmonic mean of GJ over the cell (as cable3d's EI)
-        ds_p, ds_n = seg["ds"][jp_], seg["ds"][jn_]
-        at_guide = (jp < 0 and guided[0]) or (jn >= N and guided[1])
-        cols["GJ"].append(0.0 if at_guide else
-                          (ds_p + ds_n) / (ds_p / seg["GJ"][jp_] + ds_n / seg["GJ"][jn_]))
-        cols["lbar"].append(lbar)
-        if coupled:  # each edge's share of the cell (a ghost has none)
-            wp, wn = (0.0 if jp < 0 else ds_p / 2), (0.0 if jn >= N else ds_n / 2)
-            wp, wn = wp / (wp + wn), wn / (wp + wn)
-            cols["K"].append(0.0 if at_guide else wp * seg["K"][jp_] + wn * seg["K"][jn_])
-            cols["dsp"].append(ds_p)
-            cols["dsn"].append(ds_n)
-            cols["wp"].append(wp)
-            cols["wn"].append(wn)
-    iso = bool(np.all(seg["EI"][rod] == seg["EI2"][rod]))
-    if verts:
-        kernel = vertex_kernel(iso, coupled, vertices=len(verts))
-        out = kernel.map(len(verts))(*[ca.horzcat(*c) for c in cols.values()])
-    else:
-        out = [ca.SX.zeros(n, 0) for n in (3, 3, 3, 1, 1, 1, 2, 1, 3, 1)]
-    fp, f, fn, qp, qn, E, kappa, twist, M, Mt = out
-    reaction = {0: ca.SX.zeros(3, 1), N: ca.SX.zeros(3, 1)}
-    nv = N + 1
-    moment = ca.SX.zeros(3, nv)
-    kap, tw, mt = ca.SX.zeros(2, nv), ca.SX.zeros(1, nv), ca.SX.zeros(1, nv)
-    for k, (i, jp, jn, _) in enumerate(verts):
-        nodal[:, i] += f[:, k]
-        # a clamp's ghost is held (its force is the clamp's reaction); a guide's turns with
-        # its node (its force is the node's) and shares the neighbour edge's twist
-        if jp >= 0:
-            nodal[:, i - 1] += fp[:, k]
-            torque[jp] += qp[k]
-        elif guided[0]:
-            nodal[:, 0] += fp[:, k]
-            torque[0] += qp[k]
-        else:
-            reaction[0] += fp[:, k]
-        if jn < N:
-            nodal[:, i + 1] += fn[:, k]
-            torque[jn] += qn[k]
-        elif guided[1]:
-            nodal[:, N] += fn[:, k]
-            torque[N - 1] += qn[k]
-        else:
-            reaction[N] += fn[:, k]
-        moment[:, i], kap[:, i], tw[i], mt[i] = M[:, k], kappa[:, k], twist[k], Mt[k]
-    # cable3d's own bending on the cable3d edges (hybrid; guide and clamp ghosts as above)
-    cb = cable_bending(seg, rod, held, guided, Xm, (a.direction, b.direction))
-    if cb is not None:
-        nodal, moment = nodal + cb["nodal"], moment + cb["moment"]
-        reaction = {i: reaction[i] + cb["reaction"][i] for i in (0, N)}
-    # the internal force across each edge (N, on the part before it from the part beyond):
-    # the axial force along the edge, and the vertex terms that straddle the cut (the
-    # vertex at its first node pushes the node beyond with fn, whose reaction the part
-    # before takes, as its forces sum to zero; the vertex at its second node pushes the
-    # node before with fp)
-    internal = ca.SX.zeros(3, N)
-    for j in range(N):
-        dx = Xm[:, j + 1] - Xm[:, j]
-        internal[:, j] = T[j] * dx / ca.norm_2(dx)
-    for k, (i, _, _, _) in enumerate(verts):
-        if i < N:
-            internal[:, i] -= fn[:, k]
-        if i > 0:
-            internal[:, i - 1] += fp[:, k]
-    if cb is not None:
-        internal += cb["straddle"]
+    vt = _vertex_terms(scene, seg, rod, Xm, theta, frame, col, p, sl, clamped, guided, nodal)
+    internal = _internal_forces(Xm, T, vt)
     # the seabed (contact, damper, friction) on the nodes: a held end's goes to its support
-    sea = rod_seabed(scene, seg, Xm, Vm, nodal, q_all[n_v:] if bristle else None,
+    sea = rod_seabed(scene, seg, Xm, Vm, vt.nodal, q_all[n_v:] if bristle else None,
                      p[sl("laid")] if laid is not None else None,
                      p[sl("static_friction")] if laid is not None else None)
     nodal = sea.nodal
@@ -330,10 +193,111 @@ def build_rod(scene: Scene, rod: np.ndarray | None = None) -> Mechanism:
     for end, i in ((a, 0), (b, N)):
         if end.condition is EndCondition.FREE and end.force is not None:
             applied[:, i] = end.force
-    end_force = {i: nodal[:, i] + reaction[i] for i in (0, N)}
+    end_force = {i: nodal[:, i] + vt.reaction[i] for i in (0, N)}
     nodal = nodal + load * ca.DM(applied)
-    force = ca.vertcat(*[nodal[:, i] if kind == "x" else torque[i] for kind, i in slots])
-    for end, j in ((a, 0), (b, N - 1)):  # a free end's applied moment (on its rod edge)
+    force = ca.vertcat(*[nodal[:, i] if kind == "x" else vt.torque[i] for kind, i in slots])
+    force = _add_end_moments(scene, rod, force, load, Xm, theta, frame, col, q)
+    mass = rod_mass(scene, seg, Xm, rho, slots)
+
+    slack = np.isfinite(delta) & (EAs != seg["EA"])  # tension-only cable3d edges
+    potential = _potential(seg, EAs, delta, slack, e, vt, load, Xm, applied, sea)
+    outputs = _outputs(N, Xm, Vm, theta, T, e, vt, internal, sea, rubs, end_force,
+                       _reference_frames(Xm, rod, frame, col), v, mass, potential)
+    static = {"motion": np.zeros(1), **({"static_friction": np.ones(1)} if laid is not None
+                                        else {})}
+    starts = functools.partial(_starts, scene, seg, params, moving, slots, twists, clamped,
+                               static if laid is not None else None, q_all.numel() - n_v)
+    terms = ["elastic", "weight"] + (["bending"] if vt.verts or vt.cb is not None else []) + (
+        ["torsion"] if vt.verts else []) + (
+        ["material damping"] if np.any(BA) else []) + (
+        ["drag"] if rho > 0 and (any(env.current) or env.current_profile) else []) + (
+        sea.terms) + (
+        ["end force"] if np.any(applied) else []) + (
+        ["end moment"] if any(x.moment is not None and any(x.moment) for x in (a, b)) else []) + (
+        ["tension-torsion coupling"] if vt.coupled else [])
+    return Mechanism(
+        name="rod" if whole else "hybrid", q=q_all, v=v, z=ca.SX.sym("z", 0), t=t, p=p,
+        params=params, mass=mass, force=force, constraint=ca.SX.zeros(0, 1),
+        scales=_scales(scene, seg, slots, q_all.numel() - n_v, sea.state_scale, F),
+        starts=starts, outputs=outputs, layout=_layout(seg, N, moving, slots, sea.states),
+        terms=tuple(terms), static_params=static,
+        bounds=_bounds(scene, seg, T, e, slack, F, sea, applied, drag_law, rho, current),
+        kinematics=ca.vertcat(v, sea.rate) if bristle else None, rest=sea.rest,
+        stability_coordinates=np.arange(n_v) if bristle else None)
+
+
+def _check_rod(scene: Scene, seg: dict, rod: np.ndarray) -> None:
+    """Raises a SymcableError for a rod section without EI > 0 and GJ > 0, both ends free,
+    or a guided end on a section that cannot hold its tangent."""
+    N = len(seg["ds"])
+    a, b = scene.end_a, scene.end_b
+    if np.any(seg["GJ"][rod] <= 0.0) or np.any(seg["EI"][rod] <= 0.0) \
+            or np.any(seg["EI2"][rod] <= 0.0):
+        raise SymcableError(f"scene {scene.name!r}: a rod needs EI > 0 and GJ > 0 in "
+                            "every line type of its sections (a cable is model = 'cable3d')")
+    if all(e.condition is EndCondition.FREE for e in (a, b)):
+        raise SymcableError(f"scene {scene.name!r}: both ends free; hold one end")
+    for k, (end, j) in enumerate(((a, 0), (b, N - 1))):
+        if end.guided and not rod[j] and seg["EI"][j] <= 0.0:
+            raise SymcableError(f"scene {scene.name!r}: end_{'ab'[k]} is guided, but its "
+                                "section has EI = 0 and is not a rod: nothing holds its "
+                                "tangent (give the section EI > 0, or model = 'rod')")
+
+
+def _param_blocks(scene: Scene, N: int, n_rod: int, twists: list,
+                  laid: np.ndarray | None) -> ParamBlocks:
+    """The parameter blocks (module docstring) at the scene's values: the ``frame`` block
+    (6 per rod edge) when there are rod edges, the static friction's with ``laid``."""
+    env, a, b = scene.environment, scene.end_a, scene.end_b
+    anchors = default_anchors(scene, N)[:6 * n_rod]
+    # no rod edge (a hybrid of cable3d sections with a guided end): no frame block
+    return ParamBlocks(P_NAMES + (("frame",) if n_rod else ()) + (
+        ("static_friction", "laid") if laid is not None else ()),
+        P_SIZES + ((6 * n_rod,) if n_rod else ()) + ((1, laid.size) if laid is not None
+                                                     else ()), np.concatenate([
+            [1.0], a.position if a.position is not None else np.zeros(3),
+            b.position if b.position is not None else np.zeros(3), env.current, [1.0], [1.0],
+            twists, anchors] + ([[0.0], laid] if laid is not None else [])))
+
+
+def _node_symbols(scene: Scene, N: int, moving: list, spun: list, slots: dict, q, v, pa, pb,
+                  motion, t, ramp_on):
+    """Each node's position and velocity (lists of N+1 (3, 1), m and m/s: q and v's
+    entries, or a held end's prescribed motion) and each edge's twist angle (list of N, rad:
+    q's entry, or 0 where the twist is not an unknown)."""
+    X, V = [None] * (N + 1), [None] * (N + 1)
+    for i in moving:
+        k = slots[("x", i)]
+        X[i], V[i] = q[k:k + 3], v[k:k + 3]
+    for end, i, pp in ((scene.end_a, 0, pa), (scene.end_b, N, pb)):
+        if X[i] is None:
+            X[i], V[i] = held_end(end, pp, motion, t, ramp_on)
+    theta = [ca.SX(0.0)] * N
+    for j in spun:
+        theta[j] = q[slots[("th", j)]]
+    return X, V, theta
+
+
+def _element_forces(scene: Scene, seg: dict, Xm, Vm, current, load, BA: np.ndarray,
+                    EAs: np.ndarray, delta: np.ndarray, F: float, rho: float,
+                    drag_law: dict | None):
+    """cable3d's element kernel mapped over the N edges: the forces on each edge's first and
+    second node (3, N), N; its axial force T (1, N), N, and strain e (1, N)."""
+    N = len(seg["ds"])
+    row = lambda key: ca.DM(seg[key]).T  # noqa: E731
+    return element_kernel(drag_law["shape"] if drag_law else None).map(N)(
+        Xm[:, :-1], Xm[:, 1:], Vm[:, :-1], Vm[:, 1:], water_velocity(scene, current, Xm),
+        row("ds"), row("EA"), ca.DM(BA).T, ca.DM(EAs).T, ca.DM(delta).T, F, row("w"),
+        row("d"), row("cdn"), row("cdt"), rho, load,
+        *([ca.DM(drag_law["law"]).T] if drag_law else []))
+
+
+def _add_end_moments(scene: Scene, rod: np.ndarray, force, load, Xm, theta: list, frame, col,
+                     q):
+    """``force`` (n_v, 1) plus the free ends' applied moments (each on its rod edge,
+    :func:`~.frames.end_moment_force`)."""
+    N = Xm.shape[1] - 1
+    for end, j in ((scene.end_a, 0), (scene.end_b, N - 1)):
         if end.moment is not None and any(end.moment):
             if not rod[j]:
                 raise SymcableError(f"scene {scene.name!r}: an end moment needs a rod section "
@@ -341,25 +305,42 @@ def build_rod(scene: Scene, rod: np.ndarray | None = None) -> Mechanism:
             force = force + load * end_moment_force(
                 Xm[:, j], Xm[:, j + 1], theta[j], frame[0:3, col[j]], frame[3:6, col[j]],
                 ca.DM(end.moment), q)
+    return force
 
-    mass = rod_mass(scene, seg, Xm, rho, slots)
 
-    d1 = []  # the current reference directors (the re-anchoring output)
+def _reference_frames(Xm, rod: np.ndarray, frame, col) -> list:
+    """The current reference directors of the rod edges (the re-anchoring output): per rod
+    edge its tangent and transported reference director, (6, 1)."""
+    d1 = []
     for j in np.flatnonzero(rod):
         tj = (Xm[:, j + 1] - Xm[:, j]) / ca.norm_2(Xm[:, j + 1] - Xm[:, j])
         d1.append(ca.vertcat(tj, transport(frame[0:3, col[j]], tj, frame[3:6, col[j]])))
-    owner = "line"
-    slack = np.isfinite(delta) & (EAs != seg["EA"])  # tension-only cable3d edges
+    return d1
+
+
+def _potential(seg: dict, EAs: np.ndarray, delta: np.ndarray, slack: np.ndarray, e,
+               vt: _VertexTerms, load, Xm, applied: np.ndarray, sea):
+    """The potential energy, J: bending and twisting, axial (cable3d's integral of the
+    tension-only law on its slack edges, the wall left out), gravity, applied forces,
+    cable3d's bending and the seabed's."""
     U = 0.5 * ca.DM(EAs) * e.T * e.T
     if np.any(slack):  # cable3d's integral of the tension-only law (its wall left out)
         U = U + ca.DM(seg["EA"] - EAs) * _ramp_integral(e.T, ca.DM(delta))
-    potential = ca.sum2(E) + ca.dot(ca.DM(seg["ds"]), U) \
+    potential = ca.sum2(vt.E) + ca.dot(ca.DM(seg["ds"]), U) \
         + load * ca.dot(ca.DM(_lumped(seg)), Xm[2, :].T) \
         - load * ca.dot(ca.DM(applied.T.ravel()), ca.vec(Xm))
-    if cb is not None:
-        potential += cb["energy"]
+    if vt.cb is not None:
+        potential += vt.cb["energy"]
     potential += sea.energy
-    outputs = {
+    return potential
+
+
+def _outputs(N: int, Xm, Vm, theta: list, T, e, vt: _VertexTerms, internal, sea, rubs: bool,
+             end_force: dict, d1: list, v, mass, potential) -> dict:
+    """The rod's outputs (owner ``"line"``): node and edge fields, the end forces, the
+    re-anchored frames (with rod edges) and the energies."""
+    owner = "line"
+    return {
         "positions": Output(Xm.T, "m", owner, "node positions (x, y, z)"),
         "velocities": Output(ca.densify(Vm.T), "m/s", owner, "node velocities (x, y, z)"),
         "twist_angles": Output(ca.vertcat(*theta), "rad", owner, "twist angle of each edge "
@@ -367,11 +348,11 @@ def build_rod(scene: Scene, rod: np.ndarray | None = None) -> Mechanism:
                                "edges)"),
         "axial_force": Output(T.T, "N", owner, "axial force of each segment"),
         "strain": Output(e.T, "1", owner, "strain of each segment"),
-        "curvature": Output(kap.T, "1/m", owner, "material curvatures kappa_1, kappa_2 at "
+        "curvature": Output(vt.kap.T, "1/m", owner, "material curvatures kappa_1, kappa_2 at "
                             "each node (the next edge's frame; 0 where no vertex)"),
-        "twist": Output(tw.T, "rad", owner, "discrete twist at each node"),
-        "bending_moment": Output(moment.T, "N m", owner, "bending moment vector at each node"),
-        "twisting_moment": Output(mt.T, "N m", owner, "twisting moment GJ tau at each node"),
+        "twist": Output(vt.tw.T, "rad", owner, "discrete twist at each node"),
+        "bending_moment": Output(vt.moment.T, "N m", owner, "bending moment vector at each node"),
+        "twisting_moment": Output(vt.mt.T, "N m", owner, "twisting moment GJ tau at each node"),
         "internal_force": Output(internal.T, "N", owner, "internal force across each edge "
                                  "(on the part towards end A; the seed's f): tension and shear"),
         "contact_force": Output(sea.contact.T, "N", owner, "seabed contact force on each "
@@ -389,46 +370,61 @@ def build_rod(scene: Scene, rod: np.ndarray | None = None) -> Mechanism:
                                    "contact and applied-force potential energy (the axial "
                                    "term without the wall's)"),
     }
+
+
+def _scales(scene: Scene, seg: dict, slots: dict, n_states: int, state_scale: float,
+            F: float) -> Scales:
+    """The scales: a tenth of the line's length per position (m), 1 rad per twist, the
+    bristle scale per state (m); sqrt(g L) per velocity (m/s), over L per twist rate; the
+    force scale ``F`` (N), the line's mass (kg), the stiffest edge's round-off floor (N)."""
+    env, a, b = scene.environment, scene.end_a, scene.end_b
     L = scene.length
     coord = L + max((float(np.max(np.abs(x.position))) for x in (a, b)
                      if x.position is not None), default=0.0)
     floor = 100.0 * np.finfo(float).eps * float(np.max(seg["EA"] / seg["ds"])) * coord
     vx = math.sqrt(env.gravity * L)
     is_x = np.concatenate([[kind == "x"] * (3 if kind == "x" else 1) for kind, _ in slots])
-    scales = Scales(q=np.concatenate([np.where(is_x, 0.1 * L, 1.0),
-                                      np.full(q_all.numel() - n_v, sea.state_scale)]),
-                    v=np.where(is_x, vx, vx / L),
-                    z=np.zeros(0), force=F, mass=max(float(np.sum(seg["mass"] * seg["ds"])),
-                                                     1e-6), residual_floor=floor)
-    static = {"motion": np.zeros(1), **({"static_friction": np.ones(1)} if laid is not None
-                                        else {})}
-    lo, hi = twists
+    return Scales(q=np.concatenate([np.where(is_x, 0.1 * L, 1.0),
+                                    np.full(n_states, state_scale)]),
+                  v=np.where(is_x, vx, vx / L),
+                  z=np.zeros(0), force=F, mass=max(float(np.sum(seg["mass"] * seg["ds"])),
+                                                   1e-6), residual_floor=floor)
 
-    def starts():
-        s = seg["s"] / seg["s"][-1]
-        th = lo + (hi - lo) * 0.5 * (s[:-1] + s[1:]) if all(clamped) else \
-            np.full(N, hi if clamped[1] and not clamped[0] else lo)
-        for st in starts_of(scene, seg, params, moving):
-            x = st.q.reshape(-1, 3)
-            yield Start(np.concatenate([x[moving.index(i)] if kind == "x" else th[i:i + 1]
-                                        for kind, i in slots] + [np.zeros(q_all.numel() - n_v)]),
-                        st.z, params.with_values(st.p, **static) if laid is not None else st.p,
-                        st.source, st.homotopy)
+
+def _starts(scene: Scene, seg: dict, params: ParamBlocks, moving: list, slots: dict,
+            twists: list, clamped: list, static: dict | None, n_states: int):
+    """The static starts (a generator of Start): cable3d's node positions
+    (:func:`~symcable.models.common.starts.starts_of`), the twists interpolated between
+    the clamps' (or a clamp's throughout), zero first-order states; with static friction
+    (``static``: its static parameter values) the start's parameters set to them."""
+    N = len(seg["ds"])
+    lo, hi = twists
+    s = seg["s"] / seg["s"][-1]
+    th = lo + (hi - lo) * 0.5 * (s[:-1] + s[1:]) if all(clamped) else \
+        np.full(N, hi if clamped[1] and not clamped[0] else lo)
+    for st in starts_of(scene, seg, params, moving):
+        x = st.q.reshape(-1, 3)
+        yield Start(np.concatenate([x[moving.index(i)] if kind == "x" else th[i:i + 1]
+                                    for kind, i in slots] + [np.zeros(n_states)]),
+                    st.z, params.with_values(st.p, **static) if static is not None else st.p,
+                    st.source, st.homotopy)
+
+
+def _layout(seg: dict, N: int, moving: list, slots: dict, states) -> Layout:
+    """The layout: the line's nodes in q (held ends moved by ``end_a`` / ``end_b``) and the
+    first-order states' names."""
     node_q = -np.ones((N + 1, 3), dtype=int)
     for i in moving:
         node_q[i] = slots[("x", i)] + np.arange(3)
-    layout = Layout(3, {owner: PartLayout(
+    return Layout(3, {"line": PartLayout(
         "line", seg["s"], node_q, node_q,
-        {i: name for i, name in ((0, "end_a"), (N, "end_b")) if i not in moving})},
-        sea.states)
-    terms = ["elastic", "weight"] + (["bending"] if verts or cb is not None else []) + (
-        ["torsion"] if verts else []) + (
-        ["material damping"] if np.any(BA) else []) + (
-        ["drag"] if rho > 0 and (any(env.current) or env.current_profile) else []) + (
-        sea.terms) + (
-        ["end force"] if np.any(applied) else []) + (
-        ["end moment"] if any(x.moment is not None and any(x.moment) for x in (a, b)) else []) + (
-        ["tension-torsion coupling"] if coupled else [])
+        {i: name for i, name in ((0, "end_a"), (N, "end_b")) if i not in moving})}, states)
+
+
+def _bounds(scene: Scene, seg: dict, T, e, slack: np.ndarray, F: float, sea,
+            applied: np.ndarray, drag_law: dict | None, rho: float, current) -> dict:
+    """The admissibility bounds: positive edge lengths, no compression in the tension-only
+    cable3d edges, and with a seabed its reaction."""
     bounds = {"strain": Bound(e.T, lower=-1.0 + 1e-9, unit="1", scale=1.0,
                               what="segments of positive length")}
     cab = np.flatnonzero(slack)
@@ -441,11 +437,4 @@ def build_rod(scene: Scene, rod: np.ndarray | None = None) -> Mechanism:
         bounds["seabed_reaction"] = reaction_bound(
             scene, seg, sea.contact, applied,
             seg["cdn"] if drag_law is None else drag_law["normal_bound"], rho, current, F)
-    return Mechanism(
-        name="rod" if whole else "hybrid", q=q_all, v=v, z=ca.SX.sym("z", 0), t=t, p=p,
-        params=params, mass=mass, force=force, constraint=ca.SX.zeros(0, 1), scales=scales,
-        starts=starts, outputs=outputs, layout=layout, terms=tuple(terms),
-        static_params=static, bounds=bounds,
-        kinematics=ca.vertcat(v, sea.rate) if bristle else None, rest=sea.rest,
-        stability_coordinates=np.arange(n_v) if bristle else None)
-
+    return bounds

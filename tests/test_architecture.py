@@ -459,3 +459,67 @@ def test_graph_resolves_relative_lazy_and_package_imports(tmp_path):
     found = problems(g, {"pkg": 0, "pkg.top": 0, "pkg.sub": 0})
     assert len(found) == 1 and found[0].startswith("import cycle: pkg.sub -> ")
     assert "pkg.sub.leaf imports pkg.top at pkg/sub/leaf.py:2" in found[0]
+
+
+# --------------------------------------------------------------------------- sizes
+
+#: design.md's limits on the package's shape: modules at the top of ``symcable/`` (besides
+#: ``__init__``), lines of a library file, lines of code of a function (docstring, blank and
+#: comment lines not counted; nested functions count toward the function that holds them)
+MAX_TOP_MODULES, MAX_FILE_LINES, MAX_FUNCTION_LINES = 5, 600, 100
+
+
+def code_lines(lines: list, node: ast.AST) -> int:
+    """Lines of code of a function ``node`` in a file of ``lines``: not blank, not a comment,
+    not its docstring."""
+    skip = set()
+    body = node.body
+    if body and isinstance(body[0], ast.Expr) and isinstance(body[0].value, ast.Constant) \
+            and isinstance(body[0].value.value, str):
+        skip = set(range(body[0].lineno, body[0].end_lineno + 1))
+    return sum(1 for i in range(node.lineno, node.end_lineno + 1)
+               if i not in skip and lines[i - 1].strip()
+               and not lines[i - 1].strip().startswith("#"))
+
+
+def size_problems(src: Path = ROOT, package: str = PACKAGE) -> list:
+    """Messages for a package over the limits above."""
+    out = []
+    top = sorted(p.stem for p in (src / package).glob("*.py") if p.stem != "__init__")
+    if len(top) > MAX_TOP_MODULES:
+        out.append(f"{len(top)} modules at the top of {package}/ ({', '.join(top)}): at most "
+                   f"{MAX_TOP_MODULES}")
+    for path in sorted((src / package).rglob("*.py")):
+        text = path.read_text()
+        lines = text.splitlines()
+        rel = path.relative_to(src)
+        if len(lines) > MAX_FILE_LINES:
+            out.append(f"{rel}: {len(lines)} lines, more than {MAX_FILE_LINES}")
+        for node in ast.walk(ast.parse(text)):
+            if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
+                n = code_lines(lines, node)
+                if n > MAX_FUNCTION_LINES:
+                    out.append(f"{rel}:{node.lineno} {node.name}: {n} lines of code, more "
+                               f"than {MAX_FUNCTION_LINES}")
+    return out
+
+
+def test_package_shape():
+    """At most 5 modules at the top of symcable/, no library file over 600 lines, no function
+    over 100 lines of code (design.md: files small enough to read in one sitting)."""
+    found = size_problems()
+    assert not found, "\n" + "\n".join(found)
+
+
+def test_size_checker_finds_each_kind(tmp_path):
+    pkg = tmp_path / "pkg"
+    pkg.mkdir()
+    for k in range(6):
+        (pkg / f"m{k}.py").write_text("x = 1\n")
+    body = "\n".join(f"    y{k} = {k}" for k in range(101))
+    (pkg / "long.py").write_text('def f():\n    """doc\n    string"""\n    # note\n\n'
+                                 + body + "\n" + "\n" * 600)
+    found = size_problems(tmp_path, "pkg")
+    assert any("7 modules at the top" in f for f in found), found
+    assert any("long.py: " in f and "more than 600" in f for f in found), found
+    assert any("f: 101 lines of code" in f for f in found), found

@@ -516,7 +516,7 @@ def test_size_checker_finds_each_kind(tmp_path):
     pkg.mkdir()
     for k in range(6):
         (pkg / f"m{k}.py").write_text("x = 1\n")
-    body = "\n".join(f"    y{k} = {k}" for k in range(101))
+    body = "\n".join(f"    y{k} = {k}" for k in range(100))  # + the def line: 101
     (pkg / "long.py").write_text('def f():\n    """doc\n    string"""\n    # note\n\n'
                                  + body + "\n" + "\n" * 600)
     found = size_problems(tmp_path, "pkg")

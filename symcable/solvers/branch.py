@@ -1,7 +1,7 @@
 """Continuation of a static equilibrium along a path in one named parameter block (an end's
 twist, an end's position, the load), with the stability of every point, and a way off an
 unstable branch along its unstable mode: the loops and buckled shapes of a twisted rod
-reached by twisting it or bringing its ends together (issue 14 item 3).
+reached by twisting it or bringing its ends together.
 
 Each step: a secant predictor from the last two points, damped Newton
 (:func:`~symcable.solvers.newton.newton`) at the step's parameters, the step halved (at most
@@ -148,8 +148,8 @@ class _Charts:
         edge twists shifted by whole turns where the new chart's reference twist at a vertex
         is the old one's wrapped by 2 pi (the anchors' angle is taken afresh by atan2;
         :class:`~symcable.solvers.reanchor.TwistTurns`, as the time march does): without the
-        shift the vertex's twist would jump by a turn (measured: a coarse loop's snap lost a
-        turn of link so). Not renewed where no shift restores every vertex."""
+        shift the vertex's twist would jump by a turn (a coarse loop's snap can lose a turn
+        of link so). Not renewed where no shift restores every vertex."""
         if self.hook is None:
             return p, False, q
         margin = float(self.margin(q, 0.0, p))
@@ -167,7 +167,7 @@ def _relax(F, mech, x, p, tol, charts):
     and a step refused that turns an edge within the hook's floor of the half turn from
     where it was (a relaxation that swings a loop round turns edges by more than a half
     turn; a step across the anchored frame's singularity would make the reference twist
-    jump by a turn: measured, a snap that lost one turn of link without it): (result, p)."""
+    jump by a turn, and a snap lose a turn of link): (result, p)."""
     res = _ptc(F, mech, x, p, tol, charts=charts.stepwise() if charts.hook is not None else None)
     return res, res.p
 

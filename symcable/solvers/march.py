@@ -174,7 +174,7 @@ def run_fixed(stepper, x, t0, h, p, idx, scale, progress, label, tau, reanchor=N
     k, iters, iters_max, worst, lte_max, step_time = 0, 0.0, 0.0, 0.0, -np.inf, 0.0
     # the cost per step measured by this stepper's first run sizes every later batch, so
     # that repeated runs (sweeps, studies) reuse the batches built (a mapaccum of a mapaccum
-    # costs about 25 ms to build: a third of a 300-step run on the WD0050 chain)
+    # costs tens of ms to build, a fair part of a short run)
     sec_per_step, failure = stepper.sec_per_step, None
     sub = {"substepped_steps": 0, "max_substeps": 1, "first_substep_time": None}
     wanted = idx

@@ -15,10 +15,8 @@ their Newton tolerance):
   residual, any kinematics q' = G v + w, n_z = 0), state and fixed point u = (y, y'), y =
   (q, v): the carried rate y' is the scheme's memory. Used where the mechanism has
   kinematics (the planar cable; the second-order scheme needs q' = v). Where it has none
-  both apply, and the second order stays: it takes constraints, and on the toys it is as
-  fast or faster at a smaller error (measured, default rho_inf of each, 3 runs: Duffing
-  T/100 8 periods 0.24 s, error 8.2e-4 of the amplitude, against 7 periods 0.24 s, 1.3e-3;
-  3-mass chain T/200 17 periods 1.04 s, 1.7e-5, against 15 periods 1.48 s, 2.4e-5).
+  both apply, and the second order stays: it takes constraints, and on the toy mechanisms
+  it is as fast or faster at a smaller error (the numbers: studies/README.md).
 
 The fixed point is found by Anderson acceleration (type II, depth 10, or n_u / 3 up to 50
 on a large state: each iterate is the plain march Phi(u) corrected by the least-squares
@@ -30,16 +28,7 @@ with ``newton="rootfinder"``: the implicit function theorem), one call returning
 and dPhi/du, and a Newton step that does not reduce the residual is halved (up to 6 times,
 each trial a plain period).
 
-Why this order, measured to tol 1e-9 from the same start (one run each, 2 shared cores):
-
-=========================  =======================  ===================  ==============
-mechanism (steps)          Newton, exact monodromy  Anderson (depth 10)  plain march
-=========================  =======================  ===================  ==============
-Duffing (T/100)            4 periods, 0.13 s        8 periods, 0.04 s    37 periods
-chain, 3 masses (T/200)    4 periods, 0.78 s        17 periods, 0.53 s   37 periods
-driven pendulum (T/200)    3 periods, 0.38 s        5 periods, 0.05 s    20 periods
-=========================  =======================  ===================  ==============
-
+Why this order:
 Newton needs the fewest periods, but a period with its Jacobian costs about n_u + 1 plain
 ones (n_u = 2 (n_q + n_v) forward directions through every step's linear solve), so Anderson
 is faster on all three and more so as n_u grows (a cable has hundreds). Newton is kept as
@@ -47,35 +36,14 @@ the fallback: its convergence is quadratic whatever the Floquet multipliers, whe
 slows down on lightly damped modes, and it is the one that returns the monodromy (its
 largest multiplier is reported as ``floquet_max``).
 
-Where many modes decay slowly (studies/sphere; medians of 3 on 2 cores shared with other
-jobs: compare within a row; "Newton" is Anderson's budget cut to its first 3-5 periods):
-
-=================================  ===================  ==================  ===========
-case (unknowns, steps)             Anderson             Newton              collocation
-=================================  ===================  ==================  ===========
-payload sphere, 1.27 Hz, slack     48 periods, 122 s    9 periods (2 Newton 529 s
-(cable3d, 20 segments; 240, 100;   (after a stalled     iterations), 40 s   (one run)
-steps in the virtual machine)      attempt, see below)
-lightly damped planar line at      58 periods, 0.32 s   15 periods (6 Newton  8.0 s
-resonance (20 segments; 156, 100;                       iterations), 130 s
-steps in generated C)
-=================================  ===================  ==================  ===========
-
-What a monodromy costs decides it. Where the steps run in the virtual machine, CasADi carries
-all n_u directions through a step at once, and a monodromy cost about 20 plain periods on
-the sphere (7.5 s against about 0.4 s), not n_u + 1 = 241; there Newton is 3 times faster.
-Where the plain periods run in generated C (the first-order step) and the monodromy in the
-virtual machine, a monodromy costs thousands of periods (line: about 20 s against 5 ms). On the sphere, from rest at full amplitude, Anderson
-stalled (its residual fell by a factor 1.000 per period) and spent its whole budget of 241
-periods there before its Newton fallback failed and the solve was repeated from a ramped
-start. So, where the steps run in the virtual machine only, Anderson stops when its residual
-has stalled (:func:`stalled`: the best of the last 10 periods not 0.98^10 below the best of
-the 10 before, while above a scaled 1e-6) and Newton takes over at once: the sphere's stalled
-attempt then ends after about 20 periods instead of 241 (one run, 115 s against 122 s: the
-repeated solve dominates). With the rule applied to generated-C steps too, the line stopped
-Anderson after 33 periods and took 39 s for what Anderson finishes in 58 periods and 0.32 s:
-hence not there. A switch on the projected cost (Anderson's remaining periods at its rate
-against a measured monodromy) would take the sphere's 40 s everywhere; not built.
+What a monodromy costs decides when Newton takes over. Where the steps run in the virtual
+machine, CasADi carries all n_u directions through a step at once and a monodromy costs a few
+tens of plain periods: there Anderson stops as soon as its residual has stalled
+(:func:`stalled`: the best of the last 10 periods not 0.98^10 below the best of the 10
+before, while above a scaled 1e-6) and Newton takes over at once. Where the plain periods run
+in generated C (the first-order step) and the monodromy in the virtual machine, a monodromy
+costs thousands of periods, and Anderson keeps its whole budget. (The measurements behind
+both: studies/README.md.)
 
 Scaling
 -------
@@ -88,8 +56,7 @@ Start
 The static equilibrium at rest (the other methods start from
 :func:`~symcable.solvers.periodic_start.transient_start`, a
 short time run from it; shooting's own first periods are that run, at its own steps, so a
-separate one only costs: on seed 001 its 6 periods of 64 steps saved 2 of the 17 periods,
-at the cost of 4), or a given periodic solution at t = 0, the rates made consistent
+separate one only costs), or a given periodic solution at t = 0, the rates made consistent
 (second order: accelerations and constraint forces by the derived
 ``consistent_acceleration``, abar = a; first order: y' from the equations); or, from a
 shooting solution of the same steps, its integrator state (``stats["state0"]``), which one
@@ -128,20 +95,15 @@ MAX_HALVINGS = 6
 #: secant pairs of Anderson acceleration, and the periods it may take before Newton takes over
 ANDERSON_DEPTH = 10
 ANDERSON_PERIODS = 60
-#: the most secant pairs on a large state (n_u / 3 up to this): on the planar cable (20
-#: segments, n_u = 156) a lightly damped line at resonance took 246 periods with 10 pairs,
-#: 97 with 20, 71 with 30 and 58 with 50; where every mode decays alike (seed 001) the depth
-#: does not matter (17-18 periods from 3 to 40)
+#: the most secant pairs on a large state (n_u / 3 up to this): a lightly damped line needs
+#: many pairs, a line whose modes decay alike does not mind (studies/README.md)
 ANDERSON_MAX_DEPTH = 50
 
 
 #: Anderson stops early, and Newton takes over, when the best residual of the last
 #: ANDERSON_STALL_PERIODS / 2 periods is above ANDERSON_STALL_RATE ** (that many) times the
-#: best of the half before: a stalled iteration (the payload sphere at 1.27 Hz from rest,
-#: studies/sphere: the residual fell by a factor 1.000 per period over its last 20 periods and
-#: spent the rest of its 241-period budget there); converging runs fall faster (on average
-#: 0.3 per period on seed 001, 17 periods to 1e-9; 0.7 on the lightly damped line at
-#: resonance, 58 periods), and a stall cut short costs nothing Newton would not fix
+#: best of the half before: a stalled iteration; converging runs fall much faster per period,
+#: and a stall cut short costs nothing Newton would not fix (studies/README.md)
 ANDERSON_STALL_RATE = 0.98
 ANDERSON_STALL_PERIODS = 20
 #: ... while its residual is above this (scaled): a stall far from any solution. Below it the

@@ -1,4 +1,4 @@
-"""The 3D position-vector cable (seed 003), ``model = "cable3d"``, as a Mechanism.
+"""The 3D position-vector cable (Sun, Zhu & LaRosa), ``model = "cable3d"``, as a Mechanism.
 
 Nodes 0..N along the line (end A to end B), two-node elements between them. The unknowns q
 are the positions (x, y, z) of the nodes that move (every interior node, and a free end),
@@ -8,22 +8,22 @@ l, unit tangent t = (x_b - x_a) / l, strain e = l / L0 - 1), one kernel mapped o
 elements gives:
 
 - axial force T = law(e) + BA de/dt: the tension-only law of cables
-  (:func:`~symcable.models.common.terms.cable_axial_force`, as the planar line's; a seed-003
-  secant K is not used: CasADi differentiates this law exactly, giving the tangent
-  (EA/L0) t t^T + (T/l)(I - t t^T)), and Kelvin-Voigt material damping BA (N s), seed 003's
-  C = c K;
+  (:func:`~symcable.models.common.terms.cable_axial_force`, as the planar line's; Sun, Zhu &
+  LaRosa's secant K is not used: CasADi differentiates this law exactly, giving the tangent
+  (EA/L0) t t^T + (T/l)(I - t t^T)), and Kelvin-Voigt material damping BA (N s), Sun, Zhu &
+  LaRosa's C = c K;
 - weight and buoyancy: the submerged weight w L0 (N), half on each node;
 - Morison drag on the water's velocity relative to the element (the current minus the
   mean of its nodes' velocities), split along and across t: 0.5 rho d Cd |u| u sqrt(1+e)
   per unstretched metre (the planar law), |u| smoothed as sqrt(|u|^2 + DRAG_SPEED^2) so the
   force is differentiable at rest, half on each node; or, for a line type with ``drag_law =
-  "loading-functions"``, seed 003's loading functions (:mod:`.cable3d_drag`);
+  "loading-functions"``, Sun, Zhu & LaRosa's loading functions (:mod:`.cable3d_drag`);
 - bending where EI > 0 (:mod:`.cable3d_bending`: a discrete curvature energy on node
   triplets; a clamped end's tangent held by a ghost node); such segments carry compression
   (the linear law EA e, as the planar line's), cable segments (EI = 0) do not;
 - lumped mass: structural m L0 / 2 per node, and added mass rho A L0 / 2 (Ca_n (I - t t^T) +
   Ca_t t t^T) per node, rho A the displaced water per metre; or, with ``mass_matrix =
-  "consistent"``, seed 003's L0 B / 6 [[2, 1], [1, 2]] per element (:func:`_consistent_mass`).
+  "consistent"``, Sun, Zhu & LaRosa's L0 B / 6 [[2, 1], [1, 2]] per element (:func:`_consistent_mass`).
 
 Each node on a flat seabed at z = -depth gets (:mod:`.seabed3d`, shared with the rod) the
 planar line's smooth penalty contact k d b ramp(-depth - z) (b its tributary length), a

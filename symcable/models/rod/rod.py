@@ -1,4 +1,4 @@
-"""The Kirchhoff rod (seed 000's rod; issue 14), ``model = "rod"``, as a Mechanism: the
+"""The Kirchhoff rod (Goyal & Perkins' rod), ``model = "rod"``, as a Mechanism: the
 discrete elastic rod (Bergou et al. 2008, 2010) on cable3d's nodes.
 
 Unknowns q: the positions (x, y, z) of the moving nodes (as :mod:`~symcable.models.cable3d.line`:
@@ -41,7 +41,7 @@ at each element's mid-depth. Not yet: the consistent mass, natural curvature.
 ``model = "hybrid"`` (:mod:`.hybrid`) builds this Mechanism with a per-segment mask ``rod``
 (:mod:`.hybrid_terms`): the rod's terms on its rod sections, cable3d's elsewhere.
 
-The reference frame (design, studies/rod_notes/rod14.md): each edge's reference director is its
+The reference frame (its design and the alternatives weighed: studies/rod_notes): each edge's reference director is its
 *anchor* (t0_j, u0_j), a parameter block ``frame`` (6 per edge, data), carried to the
 current tangent by the smallest rotation. It is a smooth function of the edge's own two
 nodes, so the Jacobian keeps the band of the positions-plus-twists ordering, the generic
@@ -354,7 +354,7 @@ def _outputs(N: int, Xm, Vm, theta: list, T, e, vt: _VertexTerms, internal, sea,
         "bending_moment": Output(vt.moment.T, "N m", owner, "bending moment vector at each node"),
         "twisting_moment": Output(vt.mt.T, "N m", owner, "twisting moment GJ tau at each node"),
         "internal_force": Output(internal.T, "N", owner, "internal force across each edge "
-                                 "(on the part towards end A; the seed's f): tension and shear"),
+                                 "(on the part towards end A; Goyal & Perkins' f): tension and shear"),
         "contact_force": Output(sea.contact.T, "N", owner, "seabed contact force on each "
                                 "node"),
         **({"friction_force": Output(sea.friction.force.T, "N", owner, "seabed friction force "

@@ -166,7 +166,7 @@ def _plan(scene, mech, opts, t0, dt, q0, v0, p, hook, path, stand_in, start) -> 
     """The plan of a run from (q0, v0) at t0 with its rates, as the march carries it: where
     the Mechanism re-anchors, its start already in the chart the march's first step takes
     (:meth:`~symcable.solvers.reanchor.Reanchoring.after` at step 0: a rod whose static
-    state is turned far from its anchors, as seed 000's, is re-anchored there)."""
+    state is turned far from its anchors, as the built-in seed000_rod's, is re-anchored there)."""
     qd, vd = start_rates(mech, q0, v0, t0, p)
     x0 = np.concatenate([q0, v0, qd, vd])
     renewed = False

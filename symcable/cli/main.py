@@ -299,7 +299,7 @@ def _demo(args) -> int:
     plot = args.plot or "symcable-demo.png"
     args.plot = plot
     _static(demo_scene_path(), args)
-    print("\nsymcable demo 2/2: periodic steady state of the seed-001 line (suspended, current "
+    print("\nsymcable demo 2/2: periodic steady state of the seed001 line (suspended, current "
           "0.5 m/s, elliptic fairlead motion, T = 10 s)\n")
     scene = load_scene(demo_scene_path("seed001"))
     per = solve_periodic(scene, "collocation")  # as docs/demo-periodic.png and its caption
@@ -385,7 +385,7 @@ def build_parser() -> argparse.ArgumentParser:
                    "then letters, digits or underscores; default symcable_scene)")
     p = sub.add_parser("cache", help="the build cache of generated C (SYMCABLE_CACHE_DIR)")
     p.add_argument("action", choices=["info", "clear"])
-    p = sub.add_parser("demo", help="the built-in scenes: OC3 statics, seed-001 periodic response")
+    p = sub.add_parser("demo", help="the built-in scenes: OC3 statics, the seed001 periodic response")
     p.add_argument("--plot", metavar="FILE", help="figure path (default symcable-demo.png)")
     p.add_argument("--save", metavar="FILE", help="save the static solution (.npz or .json)")
     from ..sweep.command import add_parser as add_sweep

@@ -28,8 +28,8 @@ from ..results.generic import SceneLinearization
 from ..scene import End, EndCondition, Scene
 from .cable3d_static import AT_REST, body_stiffness, dynamic_p, node_shapes, tows
 from ..models.rod.reanchor import reanchor_hook
-from .scene3d import (dynamics_mechanism, has_twists, rod_line, scene_equilibrium, start_state,
-                      twist_names, twist_shapes)
+from .scene3d import (check_moves, dynamics_mechanism, has_twists, rod_line, scene_equilibrium,
+                      start_state, twist_names, twist_shapes)
 from ..solvers.integrate import ERROR_TARGET, accurate_dt, error_warning, integrate
 from ..solvers.march import leaky_sum
 from ..solvers.linearize import MAX_DENSE, mechanism_modes, output_sensitivity
@@ -265,6 +265,7 @@ def simulate_3d(scene: Scene, duration: float, dt: float | None = None,
             opts = dataclasses.replace(opts, tol=float(newton_tol))
     t0 = run_start(scene) if t_start is None else float(t_start)
     mech, eq, v0, how, notes = start_state(scene, t0, start, codegen)
+    check_moves(scene, mech)
     t_static = time.perf_counter() - started
     if dt is None and name != "rk4":
         dt = default_dt(scene, duration, _start_tensions(scene, eq))
@@ -301,6 +302,7 @@ def modal_analysis_3d(scene: Scene, n_modes: int = 10, *, max_dense: int = MAX_D
         raise SymcableError(f"n_modes = {n_modes!r}: must be an integer >= 1")
     mech, eq = scene_equilibrium(scene)
     mech = dynamics_mechanism(scene, mech)
+    check_moves(scene, mech)
     t_static = time.perf_counter() - started
     eq = dataclasses.replace(eq, p=dynamic_p(scene, mech, eq.p))
     modes = mechanism_modes(mech, eq, int(n_modes), damped=damped, max_dense=max_dense)

@@ -15,7 +15,7 @@ import time
 import numpy as np
 
 from .cable3d import RHO_INF, _line_result, _motions, _period
-from .scene3d import check_periodic_scene, dynamics_mechanism, scene_equilibrium
+from .scene3d import check_moves, check_periodic_scene, dynamics_mechanism, scene_equilibrium
 from ..errors import ConvergenceError, SymcableError
 from .planar_periodic import method_options
 from ..results.line3d import LineTrajectory
@@ -73,6 +73,7 @@ def _solve_3d(scene: Scene, method, codegen, stability, start, options) -> tuple
         opts = dataclasses.replace(opts, rho_inf=RHO_INF)
     mech, eq = scene_equilibrium(scene, codegen=codegen)
     mech = dynamics_mechanism(scene, mech)
+    check_moves(scene, mech)
     p = np.array(mech.params.values, float)
     ramped = p.copy()  # the start's first period: the motion ramped in from rest
     for block in mech.params.names:  # every line's "ramp" (namespaced in a scene of several)

@@ -22,7 +22,7 @@ from .rod_fields import tension_shear
 from .rod_static import rod_mechanism, rod_static_equilibrium
 from ..scene import Scene
 
-__all__ = ["ROD_SERIES", "check_periodic_scene", "dynamics_mechanism", "has_twists",
+__all__ = ["ROD_SERIES", "check_moves", "check_periodic_scene", "dynamics_mechanism", "has_twists",
            "rod_line", "scene_equilibrium", "scene_mechanism", "start_state", "twist_names",
            "twist_shapes"]
 
@@ -49,6 +49,16 @@ def scene_equilibrium(scene: Scene, **options):
     ``codegen``, as :func:`~symcable.api.cable3d_static.static_equilibrium`)."""
     solve = rod_static_equilibrium if has_twists(scene) else static_equilibrium
     return solve(scene, **options)
+
+
+def check_moves(scene: Scene, mech) -> None:
+    """A dynamic analysis needs something that moves: a SymcableError naming the scene when
+    ``mech`` has no velocity unknowns (every node held, e.g. one segment between two held
+    ends)."""
+    if mech.n_v == 0:
+        raise SymcableError(f"scene {scene.name!r}: nothing moves (every node is held, e.g. a "
+                            "single segment between two held ends): its dynamics have no "
+                            "unknowns; give the line more segments")
 
 
 def dynamics_mechanism(scene: Scene, mech):

@@ -18,9 +18,9 @@ from .cable3d import RHO_INF, _line_result, _motions, _period
 from .scene3d import check_moves, check_periodic_scene, dynamics_mechanism, scene_equilibrium
 from ..errors import ConvergenceError, SymcableError
 from .planar_periodic import method_options
-from ..results.line3d import LineTrajectory
 from ..results.periodic import PeriodicSweep
 from ..results.periodic_generic import MechanismPeriodic
+from ..results.periodic_line import PeriodicLine, as_periodic
 from ..scene import Scene
 from ..solvers.floquet import floquet
 from ..solvers.options import Shooting
@@ -30,11 +30,13 @@ __all__ = ["solve_periodic_3d", "sweep_periodic_3d"]
 
 
 def solve_periodic_3d(scene: Scene, method="collocation", *, codegen: bool | None = None,
-                      stability: bool = False, **options) -> LineTrajectory:
+                      stability: bool = False, **options) -> PeriodicLine:
     """The periodic response of a cable3d line to its harmonic end motion, fully nonlinear
     (see :func:`symcable.solve_periodic`): one period, the motion at full amplitude (no
-    ramp), as a :class:`LineTrajectory` over ``[0, T)`` whose ``method`` names the periodic
-    method and whose ``stats`` hold ``period`` (s), the method's iterations and its own
+    ramp), as a :class:`~symcable.results.periodic_line.PeriodicLine` (a scene of several
+    lines: ``PeriodicSystem``; both a :class:`~symcable.results.periodic.PeriodicSolution`)
+    over ``[0, T)`` whose ``method`` names the periodic method and whose ``stats`` hold
+    ``period`` (s), the method's iterations and its own
     ``error_estimate`` (the largest scaled equation defect on a grid 4 times the solver's).
 
     ``stability=True``: also the Floquet multipliers of the solution
@@ -117,8 +119,8 @@ def _solve_3d(scene: Scene, method, codegen, stability, start, options) -> tuple
         stats["start_kind"] = ("neighbour" if str(res.stats.get("start", ""))
                                .startswith("periodic solution") else "own start")
     n_t = len(res.time)
-    return _line_result(scene, mech, res, name, period / max(n_t, 1), stats,
-                        res.warnings), res
+    return as_periodic(_line_result(scene, mech, res, name, period / max(n_t, 1), stats,
+                                    res.warnings)), res
 
 
 def stretched(per: MechanismPeriodic, period: float, p) -> MechanismPeriodic:

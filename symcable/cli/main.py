@@ -239,14 +239,15 @@ def _periodic(args) -> int:
     from ..scene import load_scene
     from ..api.analyses import runs_on_mechanism, solve_periodic
     from ..plotting.profiles import plot_periodic
-    from ..results.periodic import PeriodicSolution
+    from ..results.line3d import LineTrajectory, SystemTrajectory
 
     scene = load_scene(args.scene)
     # on the Mechanism: the Floquet multipliers too (the linearised path does not take them)
     per = solve_periodic(scene, method=args.method, **(
         {"stability": not args.no_stability} if runs_on_mechanism(scene) else {}))
-    _emit(per, args, lambda path: (plot_periodic(per, path) if isinstance(per, PeriodicSolution)
-                                   else _plot_3d(per, scene, path)))
+    _emit(per, args, lambda path: (_plot_3d(per, scene, path)
+                                   if isinstance(per, (LineTrajectory, SystemTrajectory))
+                                   else plot_periodic(per, path)))
     if "floquet_max" in per.stats and not args.json:
         print(f"stable: {'yes' if per.stats['stable'] else 'no'}, largest Floquet multiplier "
               f"|mu| = {per.stats['floquet_max']:.6g} (margin {per.stats['floquet_margin']:g}, "

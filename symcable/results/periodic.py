@@ -6,6 +6,7 @@ phase) rather than complex numbers so that every export format keeps them.
 """
 from __future__ import annotations
 
+from abc import ABCMeta
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -18,8 +19,13 @@ __all__ = ["PeriodicSolution", "PeriodicSweep"]
 
 
 @dataclass(frozen=True)
-class PeriodicSolution(OneLine, Exportable):
-    """Periodic steady state of a dynamic model over one excitation period.
+class PeriodicSolution(OneLine, Exportable, metaclass=ABCMeta):
+    """Periodic steady state of a dynamic model over one excitation period: the type of
+    every periodic result. This class is the linearised planar line's; a 3D scene's result
+    (:class:`~symcable.results.periodic_line.PeriodicLine`, ``PeriodicSystem``) is one too
+    (``isinstance`` holds), with the same ``period``, ``time``, ``fairlead_tension``,
+    harmonics, ``status``, ``stats``, ``warnings``, ``summary()``, ``plot()``, ``save()``
+    and ``load()``.
 
     ``n`` is the number of output times (``resolution``), ``n_y`` the number of states,
     ``n_seg`` the number of segments, ``H`` the number of harmonics reported.

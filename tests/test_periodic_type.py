@@ -46,3 +46,15 @@ def test_harmonics_are_the_fourier_series_of_the_samples():
                                [3.0, 2.0, 0.4, 0.5, -1.1], atol=1e-12)
     shifted = harmonics(t + 1.0, 3.0 + 2.0 * np.cos(w * (t + 1.0) + 0.4), T)
     np.testing.assert_allclose(shifted[1][1], 0.4, atol=1e-12)  # phases on absolute time
+
+
+def test_every_static_and_time_result_is_one_type():
+    """sc.solve_static gives a sc.StaticSolution and sc.simulate a sc.Trajectory on every
+    formulation: the planar line's, a 3D line's, a scene of several lines and points."""
+    deck = sc.load_scene("seed001").to_dict()
+    deck["sections"][0]["segments"] = 8
+    for scene in (deck, "sphere", "seed000_hybrid"):
+        assert isinstance(sc.solve_static(scene), sc.StaticSolution), scene
+    for scene in (deck, "sphere"):
+        tr = sc.simulate(scene, 1.0, dt=0.1)
+        assert isinstance(tr, sc.Trajectory) and tr.fairlead_tension.shape == tr.time.shape

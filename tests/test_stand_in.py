@@ -62,13 +62,13 @@ def test_a_grounded_planar_line_runs_its_stand_in_with_a_note(analysis):
 
 def test_a_suspended_planar_line_stays_linearised():
     """seed 001's line hangs clear of the seabed: its dynamics stay the linearised planar
-    model (a Trajectory, no note)."""
+    model (its Trajectory, not the 3D cable's LineTrajectory; no note)."""
     d = sc.load_scene("seed001").to_dict()
     d["sections"][0]["segments"] = 10
     with warnings.catch_warnings():
         warnings.simplefilter("error", sc.ModelNote)
         traj = sc.simulate(d, 2.0, dt=0.1)
-    assert isinstance(traj, sc.Trajectory)
+    assert isinstance(traj, sc.Trajectory) and not isinstance(traj, sc.LineTrajectory)
 
 
 def test_a_clamped_planar_end_has_no_stand_in():

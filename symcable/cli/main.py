@@ -197,7 +197,7 @@ def _simulate(args) -> int:
     from ..scene import load_scene
     from ..api.analyses import simulate
     from ..plotting.profiles import plot_trajectory
-    from ..results.trajectory import Trajectory
+    from ..results.line3d import LineTrajectory, SystemTrajectory
 
     scene = load_scene(args.scene)
     motions = [e.motion for e in (scene.end_a, scene.end_b) if e is not None and e.motion] \
@@ -214,8 +214,9 @@ def _simulate(args) -> int:
         from ..plotting.tows import plot_tow
         _emit(traj, args, lambda path: plot_tow(traj, scene, path))
         return _exit_status(traj)
-    _emit(traj, args, lambda path: (plot_trajectory(traj, path) if isinstance(traj, Trajectory)
-                                    else _plot_3d(traj, scene, path)))
+    _emit(traj, args, lambda path: (_plot_3d(traj, scene, path)
+                                    if isinstance(traj, (LineTrajectory, SystemTrajectory))
+                                    else plot_trajectory(traj, path)))
     return _exit_status(traj)
 
 

@@ -10,6 +10,7 @@ import numpy as np
 
 from ..errors import SymcableError
 from .static import Exportable, OneLine
+from .trajectory import Trajectory
 
 __all__ = ["LineTrajectory", "SystemTrajectory", "line_from_outputs", "slack_report", "snap_warning"]
 
@@ -256,6 +257,17 @@ class SystemTrajectory(Exportable):
             for name in self.line_names})
 
     @property
+    def fairlead_tension(self) -> np.ndarray:
+        """(n_t,) N: the tension at end B of the scene's first line (the one-line shortcut;
+        every line's: ``lines[name].fairlead_tension``)."""
+        return self.lines[self.line_names[0]].fairlead_tension
+
+    @property
+    def anchor_tension(self) -> np.ndarray:
+        """(n_t,) N: the tension at end A of the scene's first line."""
+        return self.lines[self.line_names[0]].anchor_tension
+
+    @property
     def points(self):
         from types import MappingProxyType
         n_t = self.time.size
@@ -324,3 +336,7 @@ class SystemTrajectory(Exportable):
         object.__setattr__(obj, "point_names", tuple(obj.point_names))
         object.__setattr__(obj, "body_names", tuple(obj.body_names))
         return obj
+
+
+Trajectory.register(LineTrajectory)  # a 3D line's and a scene's time histories are
+Trajectory.register(SystemTrajectory)  # Trajectories too (isinstance holds)

@@ -100,11 +100,6 @@ class PeriodicSystem(_Periodic, SystemTrajectory):
     SystemTrajectory`), with the period (s) and the harmonics of the first line's tension at
     its end B (``fairlead_tension``, N)."""
 
-    @property
-    def fairlead_tension(self) -> np.ndarray:
-        """(n_t,) N: the tension at end B of the scene's first line."""
-        return self.lines[self.line_names[0]].fairlead_tension
-
     def summary(self) -> str:
         """The scene's summary with the period and the first line's first harmonic."""
         lines = SystemTrajectory.summary(self).splitlines()

@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import json
 import math
+from abc import ABCMeta
 from dataclasses import dataclass, field, fields
 from pathlib import Path
 from types import MappingProxyType
@@ -144,8 +145,11 @@ class OneLine:
 
 
 @dataclass(frozen=True)
-class StaticSolution(OneLine, Exportable):
+class StaticSolution(OneLine, Exportable, metaclass=ABCMeta):
     """Static configuration of a line. ``n`` is the number of nodes, ``n - 1`` of segments.
+    The type of every static result: a scene of several lines, points and bodies gives a
+    :class:`SystemStaticSolution`, a StaticSolution too (``isinstance`` holds), whose
+    ``lines[name]`` are this class.
 
     Attributes
     ----------
@@ -498,3 +502,6 @@ class SystemStaticSolution:
                    unknowns=None if unknowns is None else np.asarray(unknowns, dtype=float),
                    bodies=MappingProxyType({k: state(BodyState, v)
                                             for k, v in d.get("bodies", {}).items()}))
+
+
+StaticSolution.register(SystemStaticSolution)  # a scene of several lines: a StaticSolution too

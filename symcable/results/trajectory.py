@@ -1,6 +1,7 @@
 """Time-domain results: :class:`Trajectory`, what :func:`symcable.simulate` returns."""
 from __future__ import annotations
 
+from abc import ABCMeta
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Mapping
@@ -14,8 +15,13 @@ __all__ = ["Trajectory", "end_force_warnings", "node_tension", "range_warnings",
 
 
 @dataclass(frozen=True)
-class Trajectory(OneLine, Exportable):
-    """A time history of a line, sampled at the saved steps.
+class Trajectory(OneLine, Exportable, metaclass=ABCMeta):
+    """A time history of a line, sampled at the saved steps: the type of every time result.
+    This class is the linearised planar line's; a 3D line's and a scene's
+    (:class:`~symcable.results.line3d.LineTrajectory`, ``SystemTrajectory``) are Trajectories
+    too (``isinstance`` holds), with the same ``time``, ``fairlead_tension``,
+    ``anchor_tension``, ``method``, ``dt``, ``status``, ``stats``, ``warnings``, ``lines``,
+    ``summary()``, ``plot()``, ``save()`` and ``load()``.
 
     ``n_t`` is the number of saved samples, ``n_y`` the number of states, ``n_seg`` the
     number of segments.

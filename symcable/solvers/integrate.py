@@ -263,7 +263,7 @@ def integrate(mech: Mechanism, duration: float, dt: float | None = None, *, meth
     if tol is None:
         n_steps = max(1, math.ceil(duration / dt_req * (1.0 - 1e-12)))
         h = duration / n_steps
-        idx = save_indices(n_steps, h, duration, save_every, save_times, max_samples)
+        idx = save_indices(n_steps, h, duration, save_every, save_times, max_samples, period)
         ks, Xs, failure, extra = run_fixed(stepr, x, t0, h, p, idx, scale, progress, label, tau,
                                            ra)
         T = t0 + ks * (duration / n_steps)  # k h to within one ulp

@@ -9,18 +9,36 @@ import numpy as np
 
 from ..errors import SymcableError
 
-__all__ = ["MAX_GAP", "runs", "save_indices", "with_checkpoints"]
+__all__ = ["MAX_GAP", "runs", "save_indices", "unaliased_every", "with_checkpoints"]
 
 #: longest run of steps one batched call advances between two checkpoints: a mapaccum over
 #: many thousands of steps is slow to build, so long gaps between saves are cut into pieces
 MAX_GAP = 256
 
 
+def unaliased_every(every: int, dt: float, period: float | None) -> int:
+    """The least whole number of steps >= ``every`` between saved samples that is not in step
+    with a motion of ``period`` s: where a period is a whole number P of steps (dt s), one
+    whose greatest common divisor with P is 1, so that P successive samples fall at P
+    different phases of the motion (every 50th step of a run at T/100 would sample two
+    phases only, and show a flat response); ``every`` itself otherwise."""
+    if period is None or not period > 0 or every <= 1:
+        return every
+    steps = period / dt
+    P = round(steps)
+    if P < 2 or abs(steps - P) > 1e-6 * steps:
+        return every
+    while math.gcd(every, P) != 1:
+        every += 1
+    return every
+
+
 def save_indices(n_steps: int, dt: float, duration: float, save_every, save_times,
-                 max_samples: int | None = None) -> np.ndarray:
+                 max_samples: int | None = None, period: float | None = None) -> np.ndarray:
     """Sorted unique step indices to save (0 is the start): every ``save_every`` steps and
     the last (None: every step, or about ``max_samples`` evenly spaced when there are more
-    steps than that), or the steps nearest ``save_times`` (s, from the start)."""
+    steps than that, their spacing not in step with a motion of ``period`` s:
+    :func:`unaliased_every`), or the steps nearest ``save_times`` (s, from the start)."""
     if save_every is not None and save_times is not None:
         raise SymcableError("save_every and save_times: give at most one of them")
     if save_times is not None:
@@ -33,7 +51,7 @@ def save_indices(n_steps: int, dt: float, duration: float, save_every, save_time
         return np.unique(np.clip(np.rint(st / dt).astype(np.int64), 0, n_steps))
     if save_every is None:
         save_every = 1 if max_samples is None or n_steps < max_samples else \
-            math.ceil(n_steps / max_samples)
+            unaliased_every(math.ceil(n_steps / max_samples), dt, period)
     elif isinstance(save_every, bool) or not isinstance(save_every, (int, np.integer)) or save_every < 1:
         raise SymcableError(f"save_every = {save_every!r}: must be a whole number of steps >= 1")
     idx = np.arange(0, n_steps + 1, int(save_every), dtype=np.int64)

@@ -162,12 +162,15 @@ def solve_static_3d(scene: Scene, *, tol: float | None = None, max_iter: int = 5
                                diagnostics=exc.diagnostics) from None
     stats = dict(eq.stats)
     stats.update(wall_time=time.perf_counter() - t0, unknowns=mech.n_q, terms=list(mech.terms))
-    warnings = list(eq.warnings)
-    if _frictionless_statics(scene):
-        warnings.append(FRICTIONLESS)
-    if tows(scene):
-        warnings.append(AT_REST)
-    return _solution(scene, seg, eq.outputs, eq.q, "converged", stats, tuple(warnings))
+    warnings = _static_warnings(scene, eq)
+    return _solution(scene, seg, eq.outputs, eq.q, "converged", stats, warnings)
+
+
+def _static_warnings(scene: Scene, eq) -> tuple:
+    """The warnings of a 3D static solution: the solver's, with a seabed's friction left
+    out of statics and a tow's speed left out of the state at rest."""
+    return tuple(eq.warnings) + ((FRICTIONLESS,) if _frictionless_statics(scene) else ()) \
+        + ((AT_REST,) if tows(scene) else ())
 
 
 #: the warning of a static solve (or modes about it) of a scene that tows
@@ -231,12 +234,8 @@ def _solve_system(scene: Scene, *, tol, max_iter, continuation, codegen) -> Syst
                                diagnostics=exc.diagnostics) from None
     stats = dict(eq.stats)
     stats.update(wall_time=time.perf_counter() - t0, unknowns=mech.n_q, terms=list(mech.terms))
-    warnings = list(eq.warnings)
-    if _frictionless_statics(scene):
-        warnings.append(FRICTIONLESS)
-    if tows(scene):
-        warnings.append(AT_REST)
-    return _system(scene, eq.outputs, eq.q, "converged", stats, tuple(warnings))
+    warnings = _static_warnings(scene, eq)
+    return _system(scene, eq.outputs, eq.q, "converged", stats, warnings)
 
 
 def _system(scene, out, q, status, stats, warnings) -> SystemStaticSolution:

@@ -302,9 +302,9 @@ def _draw_levels(ax3, axes2: dict, dim: int, every: np.ndarray, seabed: float | 
                                             (0.0 if surface else None, SURFACE_COLOR,
                                              "free surface, z = 0"))
               if z is not None]
-    if ax3 is not None and levels:
-        pad = 0.05 * max(float(np.max(hi - lo)), 1e-9)
-        X, Y = np.meshgrid([lo[0] - pad, hi[0] + pad], [lo[1] - pad, hi[1] + pad])
+    centre, half = 0.5 * (lo + hi), 0.5 * max(float(np.max(hi - lo)), 1e-9)
+    if ax3 is not None and levels:  # the planes span the scene's extent on x and y
+        X, Y = np.meshgrid(*([centre[j] - 1.05 * half, centre[j] + 1.05 * half] for j in (0, 1)))
         for z, c, _ in levels:
             ax3.plot_surface(X, Y, np.full_like(X, z), color=c, alpha=0.15, linewidth=0)
     for z, c, _ in levels:
@@ -318,6 +318,11 @@ def _draw_levels(ax3, axes2: dict, dim: int, every: np.ndarray, seabed: float | 
         ax3.set_title("3D view")
     for key, (a, b), (xl, yl) in _views(dim):
         ax = axes2[key]
+        # each view spans at least a tenth of the scene's extent: a coordinate that varies
+        # by round-off only (a plan of a line in its vertical plane) is drawn flat
+        ax.update_datalim([[centre[a] - 0.1 * half, centre[b] - 0.1 * half],
+                           [centre[a] + 0.1 * half, centre[b] + 0.1 * half]])
+        ax.autoscale_view()
         ax.set_xlabel(xl)
         ax.set_ylabel(yl)
         ax.set_aspect("equal", adjustable="datalim")

@@ -26,6 +26,20 @@ class _Outputs(Exportable):
             raise SymcableError(f"part = {name!r}: no outputs (parts: {', '.join(parts) or 'none'})")
         return found
 
+    def plot(self, path: str | Path | None = None, *, mechanism=None, **options):
+        """Draw the state in space: a 3D view with plan (x-y) and elevation (x-z)
+        projections (dim = 3) or the elevation (dim = 2), every part in its own colour;
+        saved to ``path`` when given. ``mechanism``: the Mechanism this result belongs to
+        (or its Layout), which says which coordinates are which node. ``options``: those of
+        :func:`symcable.plotting.view3d.plot_mechanism` (``seabed``, ``surface``, ``title``;
+        a time history also ``times``, ``snapshots``, ``envelope``: snapshots fading from
+        early to late, or every node's path). Returns the matplotlib Figure."""
+        from ..plotting.view3d import plot_mechanism
+        if mechanism is None:
+            raise SymcableError("mechanism = None: give the Mechanism this result belongs to "
+                                "(or its Layout): it says which coordinates are which node")
+        return plot_mechanism(self, mechanism, path, **options)
+
     @classmethod
     def load(cls, path: str | Path):
         obj = super().load(path)
@@ -61,19 +75,6 @@ class Equilibrium(_Outputs):
     stats: dict = field(default_factory=dict)
     warnings: tuple = ()
 
-    def plot(self, path: str | Path | None = None, *, mechanism=None, **options):
-        """Draw the state in space: a 3D view with plan (x-y) and elevation (x-z)
-        projections (dim = 3) or the elevation (dim = 2), every part in its own colour;
-        saved to ``path`` when given. ``mechanism``: the Mechanism this result belongs to
-        (or its Layout), which says which coordinates are which node. ``options``: those of
-        :func:`symcable.plotting.view3d.plot_mechanism` (``seabed``, ``surface``, ``title``).
-        Returns the matplotlib Figure."""
-        from ..plotting.view3d import plot_mechanism
-        if mechanism is None:
-            raise SymcableError("mechanism = None: give the Mechanism this result belongs to "
-                                "(or its Layout): it says which coordinates are which node")
-        return plot_mechanism(self, mechanism, path, **options)
-
     def __repr__(self) -> str:
         return (f"Equilibrium({self.mechanism!r}, status={self.status!r}, n_q={self.q.size}, "
                 f"n_z={self.z.size}, residual={self.stats.get('residual_norm', float('nan')):.3g} N)")
@@ -108,20 +109,6 @@ class MechanismTrajectory(_Outputs):
     status: str
     stats: dict = field(default_factory=dict)
     warnings: tuple = ()
-
-    def plot(self, path: str | Path | None = None, *, mechanism=None, **options):
-        """Draw the state in space: a 3D view with plan (x-y) and elevation (x-z)
-        projections (dim = 3) or the elevation (dim = 2), every part in its own colour;
-        saved to ``path`` when given. ``mechanism``: the Mechanism this result belongs to
-        (or its Layout), which says which coordinates are which node. ``options``: those of
-        :func:`symcable.plotting.view3d.plot_mechanism` (``times``, ``snapshots``, ``envelope``:
-        snapshots fading from early to late, or every node's path; ``seabed``, ``surface``,
-        ``title``). Returns the matplotlib Figure."""
-        from ..plotting.view3d import plot_mechanism
-        if mechanism is None:
-            raise SymcableError("mechanism = None: give the Mechanism this result belongs to "
-                                "(or its Layout): it says which coordinates are which node")
-        return plot_mechanism(self, mechanism, path, **options)
 
     def __repr__(self) -> str:
         return (f"MechanismTrajectory({self.mechanism!r}, status={self.status!r}, "

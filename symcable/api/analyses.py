@@ -54,7 +54,7 @@ def dynamics_scene(scene) -> Scene:
         return scene
     key = repr(scene.to_dict())
     if key not in _STAND_INS:
-        static = solve_static(scene)
+        static = solve_static(scene, estimate=False)
         stand_in = form.stand_in(scene, static)
         if stand_in is None:  # the linearised path takes it: its model built once, here
             cache_dynamic_model(scene, linearised_model(scene, static))
@@ -127,7 +127,8 @@ def build_dynamic_model(scene, static=None) -> DynamicModel:
         return linearised_model(scene, static)
     model = cached_dynamic_model(scene)
     if model is None:
-        model = cache_dynamic_model(scene, linearised_model(scene, solve_static(scene)))
+        static = solve_static(scene, estimate=False)
+        model = cache_dynamic_model(scene, linearised_model(scene, static))
     return model
 
 
@@ -495,7 +496,7 @@ def end_stiffness(scene, end: str = "b", *, static=None) -> np.ndarray:
         return _c3.end_stiffness_3d(scene, end)
     model = build_model(scene)
     mech = static_mechanism(model)
-    st = solve_static(scene, model=model) if static is None else static
+    st = solve_static(scene, model=model, estimate=False) if static is None else static
     p = mech.params.values
     eq = solve_equilibrium(mech, p, starts=[Start(st.unknowns, np.zeros(0), p, "static solution")])
     return -output_sensitivity(mech, eq, f"end_force_{end}", f"end_{end}.position")
@@ -521,7 +522,7 @@ def linearize(scene, *, undamped: bool = False, static=None) -> SceneLinearizati
         return _c3.linearize_3d(s3, undamped=undamped)
     scene = load_scene(scene)
     model = build_model(scene)
-    st = solve_static(scene, model=model) if static is None else static
+    st = solve_static(scene, model=model, estimate=False) if static is None else static
     dyn = build_dynamic_model(scene, static=st)
     mech = dynamics_mechanism(dyn)
     # at rest: the periodic parameters (no start-up ramp) with the end motion off

@@ -28,8 +28,9 @@ RTOL = 1e-9
 
 def solve_static(scene, *, tol: float | None = None, max_iter: int = 50,
                  continuation: bool = True, model: Model | None = None,
-                 codegen: bool | None = None) -> StaticSolution:
-    """Static configuration of a scene.
+                 codegen: bool | None = None, accuracy: float | None = None,
+                 estimate: bool = True) -> StaticSolution:
+    """Static configuration of a scene, with its discretisation error.
 
     Parameters
     ----------
@@ -56,11 +57,23 @@ def solve_static(scene, *, tol: float | None = None, max_iter: int = 50,
         when a C compiler is found and the model is small enough for it to pay (see
         :mod:`symcable.mechanism.codegen`); True without a compiler warns once and uses the virtual
         machine. The results agree to round-off.
+    accuracy : float, optional
+        Discretisation error allowed, as a fraction of the largest tension (e.g. 0.01).
+        Given, the lines whose estimated error exceeds it are solved again with more
+        segments (up to four rounds) and the refined solution is returned. Default None:
+        no refinement; a line whose error exceeds 1 % warns, naming the segments needed.
+    estimate : bool
+        Estimate the discretisation error (:mod:`symcable.api.static_error`: a second solve
+        with half the segments, Richardson extrapolation). False skips it (half the cost or
+        less) and leaves ``stats["discretisation_error"]`` out.
 
     Returns
     -------
     StaticSolution
-        ``stats`` gives ``iterations``, ``residual_norm`` (N), ``tolerance`` (N),
+        ``stats["discretisation_error"]`` gives, per line, the estimated error of its end
+        tensions (``error``, N; ``relative``, to the largest tension), the segment counts
+        compared, the order assumed, and the estimate's ``wall_time`` (s). ``stats`` also
+        gives ``iterations``, ``residual_norm`` (N), ``tolerance`` (N),
         ``wall_time`` (s), ``compiled`` (generated C or not), ``path`` (``"newton"``:
         plain Newton in one CasADi call;
         ``"damped newton"``: with a line search; ``"continuation in <what>"``) and
@@ -74,6 +87,20 @@ def solve_static(scene, *, tol: float | None = None, max_iter: int = 50,
     """
     if not isinstance(scene, Scene):
         scene = load_scene(scene)
+    options = dict(tol=tol, max_iter=max_iter, continuation=continuation, codegen=codegen)
+    sol = _solve_once(scene, model=model, **options)
+    if not estimate:
+        if accuracy is not None:
+            raise SymcableError("solve_static: accuracy needs the error estimate "
+                                "(estimate=True)")
+        return sol
+    from .static_error import with_error_estimate
+    return with_error_estimate(scene, sol, lambda s: _solve_once(s, model=None, **options),
+                               accuracy)
+
+
+def _solve_once(scene: Scene, *, tol, max_iter, continuation, model, codegen):
+    """:func:`solve_static` without the error estimate."""
     form = formulation_of(scene)
     if not form.linearised:
         if model is not None:

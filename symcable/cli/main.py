@@ -141,7 +141,7 @@ def _check(args) -> int:
         return 0
     # a moving scene: its dynamics are linearised about the static state, so whether they
     # can run, and how, is only known from that state
-    static = solve_static(scene, codegen=False)
+    static = solve_static(scene, codegen=False, estimate=False)
     try:
         run = dynamics_scene(scene)
     except SymcableError as exc:
@@ -228,7 +228,7 @@ def _plot_3d(res, scene, path):
         return res.plot(path)
     from ..api.analyses import solve_static
     try:
-        st = solve_static(scene)
+        st = solve_static(scene, estimate=False)
         t0 = {n: (st.lines[n].anchor_tension, st.lines[n].fairlead_tension)
               for n in res.line_names}
     except SymcableError:

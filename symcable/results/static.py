@@ -121,6 +121,24 @@ def _components(f) -> str:
     return ", ".join(f"{n} {v / 1e3:.4f}" for n, v in zip(names, f)) + " kN"
 
 
+def _error_lines(stats: dict) -> list:
+    """The summary's lines on the discretisation error (``stats["discretisation_error"]``,
+    :mod:`symcable.api.static_error`): per line the end tensions' estimated error, N and
+    relative to the largest tension."""
+    rep = stats.get("discretisation_error")
+    if not rep or not rep.get("lines"):
+        return []
+    out = []
+    for name, e in rep["lines"].items():
+        label = "discretisation" if len(rep["lines"]) == 1 else f"  error {name}"
+        out.append(f"{label:17s} {e['error']:.3g} N ({e['relative']:.2%} of the largest "
+                   f"tension) at {e['segments']} segments, estimated against "
+                   f"{e['compared_with']}")
+    if rep.get("rounds"):
+        out.append(f"refined           {rep['rounds']} rounds to {rep['accuracy']:.2%}")
+    return out
+
+
 class OneLine:
     """Results per part for a one-line scene: ``.lines["line"]`` is the result itself (the
     same fields), ``.points`` and ``.bodies`` are empty. Scenes of several parts give each
@@ -229,6 +247,7 @@ class StaticSolution(OneLine, Exportable, metaclass=ABCMeta):
             f"{st.get('residual_norm', float('nan')):.3g} N (tol {st.get('tolerance', float('nan')):.3g} N), "
             f"{1e3 * st.get('wall_time', float('nan')):.1f} ms",
         ]
+        lines += _error_lines(st)
         lines += [f"warning           {w}" for w in self.warnings]
         return "\n".join(lines)
 
@@ -441,6 +460,7 @@ class SystemStaticSolution:
         out.append(f"solver            {st.get('iterations', '?')} iterations, residual "
                    f"{st.get('residual_norm', float('nan')):.3g} N (tol "
                    f"{st.get('tolerance', float('nan')):.3g} N)")
+        out += _error_lines(st)
         out += [f"warning           {w}" for w in self.warnings]
         return "\n".join(out)
 

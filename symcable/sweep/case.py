@@ -128,7 +128,7 @@ def _analyse(scene, analysis: str, options: Mapping, codegen) -> tuple:
         discard = 0.0
     values = _per_line(res, lambda r: _series_values(
         r.time, {k: getattr(r, k) for k in _SERIES if hasattr(r, k)}, discard), several)
-    static = solve_static(scene, codegen=codegen)
+    static = solve_static(scene, codegen=codegen, estimate=False)
     values.update(_per_line(static, lambda s: {"static_fairlead_tension": s.fairlead_tension,
                                                "static_anchor_tension": s.anchor_tension},
                             several))

@@ -1,0 +1,219 @@
+"""The discretisation error of a static answer, and refinement until it meets a tolerance.
+
+A static solution is exact for the discrete line (its residual is at round-off), not for the
+cable: the segments cannot follow a touchdown corner, a fold or a point load within one
+segment. The error of each line's end tensions is estimated by Richardson extrapolation from
+a second solve of the same scene with other segment counts (half, or twice for lines of fewer
+than :data:`MIN_HALVED` segments): with ``T(n) = T + C n^-p``, the user's answer is off by
+
+    e = |T(n) - T(m)| / |1 - (n/m)^p|
+
+where ``p`` is 2 for a smooth line and 1 past a corner (a slack line standing up from the
+seabed). Such a corner's error does not fall steadily (it depends on where the true
+touchdown falls within a segment), so the estimate is at least the corner's own
+(:func:`_corner`: half the weight of the segment leaving the bed, times the sine of the
+angle turned there). The estimate is in N and as a fraction of the scene's largest
+tension; above the accuracy asked (default 1 %) the solution carries a warning naming the
+segments that would meet it, and ``accuracy=`` refines those lines until it does.
+"""
+from __future__ import annotations
+
+import dataclasses
+import math
+import time
+from typing import Callable
+
+import numpy as np
+
+from ..errors import SymcableError
+from ..limits import current
+from ..scene import Scene
+from ..scene.refine import ONE_LINE, line_segments, scaled_segments
+
+__all__ = ["ACCURACY", "with_error_estimate"]
+
+#: default accuracy: a solution whose estimated error exceeds this fraction of its largest
+#: tension warns (and ``accuracy=`` refines to it)
+ACCURACY = 0.01
+#: a line of fewer segments is compared with a solve at twice its segments, not half
+MIN_HALVED = 8
+#: refinement rounds at most, and the largest factor of segments one round applies
+MAX_ROUNDS = 4
+MAX_FACTOR = 8.0
+#: a touchdown is a corner (first-order convergence) when the line turns there through an
+#: angle whose sine exceeds this, beyond its smooth turning
+SHARP = 0.2
+
+
+def _ends(sol) -> dict:
+    """``{line: (anchor tension, fairlead tension, largest tension)}``, N."""
+    return {name: (ln.anchor_tension, ln.fairlead_tension,
+                   max(ln.anchor_tension, ln.fairlead_tension, float(np.max(np.abs(ln.tension)))))
+            for name, ln in sol.lines.items()}
+
+
+def _segment_weights(scene: Scene) -> dict:
+    """``{line: (n - 1,) submerged weight of each segment, N}``."""
+    if scene.version == 1:
+        parts = {ONE_LINE: scene.sections}
+    else:
+        parts = {ln.name: ln.sections for ln in scene.lines}
+    return {name: np.concatenate([np.full(s.segments, abs(s.line_type.weight) * s.ds)
+                                  for s in secs]) for name, secs in parts.items()}
+
+
+def _turn_sin(pos: np.ndarray, m: int) -> float:
+    """Sine of the angle the line turns through at interior node ``m`` (1 past 90 deg)."""
+    u, v = pos[m] - pos[m - 1], pos[m + 1] - pos[m]
+    nu, nv = np.linalg.norm(u), np.linalg.norm(v)
+    if nu == 0.0 or nv == 0.0:
+        return 0.0
+    cos = float(np.dot(u, v) / (nu * nv))
+    return math.sqrt(max(0.0, 1.0 - cos * cos)) if cos > 0 else 1.0
+
+
+def _corner(ln, weights: np.ndarray) -> tuple[float, float]:
+    """The error a touchdown corner leaves in a line's end tensions, N: where the line
+    leaves the seabed at an angle (a slack line standing up from the bed), the true
+    touchdown lies anywhere within the segment that leaves it, and its weight is carried by
+    the bed or by the line in a proportion the nodes cannot resolve; half that segment's
+    weight times the sine of the angle the line turns through there, beyond what it turns
+    through a few nodes up (zero for a smooth, tangent touchdown). A node is on the bed when
+    the bed carries at least a tenth of its weight. Returns ``(error N, that sine)``."""
+    pos = np.asarray(ln.positions, float)
+    n = len(pos)
+    share = 0.5 * (np.concatenate([[0.0], weights]) + np.concatenate([weights, [0.0]]))
+    on = np.asarray(ln.contact_force) > 0.1 * share
+    worst, sharpest = 0.0, 0.0
+    for i in np.flatnonzero(on[:-1] != on[1:]):
+        up = 1 if on[i] else -1            # towards the suspended part
+        far = i + (4 if up > 0 else -3)    # a node of the suspended part, past the corner
+        smooth = _turn_sin(pos, far) if 0 < far < n - 1 else 0.0
+        for m in (i - 1, i, i + 1, i + 2):
+            if 0 < m < n - 1:
+                excess = max(0.0, _turn_sin(pos, m) - smooth)
+                worst = max(worst, 0.5 * max(weights[m - 1], weights[m]) * excess)
+                sharpest = max(sharpest, excess)
+    return worst, sharpest
+
+
+def _compare(sol, n: dict, other, m: dict, weights: dict,
+             before: dict | None = None) -> dict:
+    """Per line the estimated error of ``sol`` (segments ``n``) from ``other`` (segments
+    ``m``), at least its touchdown corner's (:func:`_corner`); a line whose count did not
+    change keeps its entry of ``before``."""
+    mine, theirs = _ends(sol), _ends(other)
+    scale = max(max(v[2] for v in mine.values()), 1e-300)
+    lines = {}
+    for name, (ta, tb, _) in mine.items():
+        if n[name] == m[name]:
+            if before and name in before:
+                lines[name] = dict(before[name], relative=before[name]["error"] / scale)
+            continue
+        corner, sharp = _corner(sol.lines[name], weights[name])
+        # first order past a corner (the touchdown of a line standing up from the bed),
+        # second order where the line is smooth
+        p = 1 if sharp > SHARP else 2
+        diff = max(abs(ta - theirs[name][0]), abs(tb - theirs[name][1]))
+        richardson = diff / abs(1.0 - (n[name] / m[name]) ** p)
+        err = max(richardson, corner)
+        lines[name] = {"error": float(err), "relative": float(err / scale),
+                       "segments": n[name], "compared_with": m[name], "order": p,
+                       "richardson": float(richardson), "corner": float(corner)}
+    return lines
+
+
+def _needed(entry: dict, accuracy: float) -> int:
+    """Segments that would bring ``entry``'s line under ``accuracy`` (10 % margin)."""
+    ratio = max(entry["relative"] / accuracy, 1.0)
+    return int(math.ceil(entry["segments"] * 1.1 * ratio ** (1.0 / entry["order"])))
+
+
+def _force(f: float) -> str:
+    """A force with its unit chosen by its size."""
+    for unit, scale in (("MN", 1e6), ("kN", 1e3)):
+        if abs(f) >= scale:
+            return f"{f / scale:.3g} {unit}"
+    return f"{f:.3g} N"
+
+
+def _warnings(lines: dict, accuracy: float, refining: bool) -> tuple:
+    out = []
+    for name, e in lines.items():
+        if e["relative"] <= accuracy:
+            continue
+        how = ("" if refining else
+               f"; solve_static(scene, accuracy={accuracy:g}) refines it")
+        out.append(f"line '{name}': discretisation error about {_force(e['error'])}, "
+                   f"{e['relative']:.1%} of the largest tension, at {e['segments']} segments "
+                   f"(estimated against {e['compared_with']}); about {_needed(e, accuracy)} "
+                   f"segments would bring it under {100 * accuracy:g} %{how}")
+    return tuple(out)
+
+
+def _other(scene: Scene) -> tuple[Scene, dict]:
+    n = line_segments(scene)
+    other = scaled_segments(scene, {k: (0.5 if v >= MIN_HALVED else 2.0) for k, v in n.items()})
+    return other, line_segments(other)
+
+
+def _attach(sol, report: dict, warnings: tuple):
+    stats = dict(sol.stats, discretisation_error=report)
+    return dataclasses.replace(sol, stats=stats, warnings=tuple(sol.warnings) + warnings)
+
+
+def with_error_estimate(scene: Scene, sol, solve: Callable, accuracy: float | None):
+    """``sol`` (the static solution of ``scene``) with its discretisation error in
+    ``stats["discretisation_error"]`` and a warning per line above the accuracy; with
+    ``accuracy`` given, the solution of ``scene`` refined (more segments on the lines above
+    it, up to :data:`MAX_ROUNDS` rounds) until every line meets it.
+
+    ``solve(scene)`` solves a scene without estimating. The report: ``lines`` (per line
+    ``error`` N, ``relative`` to the largest tension, ``segments``, ``compared_with``,
+    ``order``), ``max_relative``, ``accuracy``, ``segments`` (per line, of the answer
+    returned), ``rounds`` (refinements made) and ``wall_time`` (s, the estimate's and the
+    refinement's cost).
+    """
+    t0 = time.perf_counter()
+    target = ACCURACY if accuracy is None else float(accuracy)
+    if not (0.0 < target < 1.0):
+        raise SymcableError(f"solve_static: accuracy = {accuracy!r}: must be a fraction of "
+                            "the largest tension between 0 and 1 (e.g. 0.01)")
+    n = line_segments(scene)
+    other, m = _other(scene)
+    notes = ()
+    try:
+        ref = solve(other)
+    except SymcableError as exc:
+        report = {"lines": {}, "max_relative": None, "accuracy": target, "segments": n,
+                  "rounds": 0, "wall_time": time.perf_counter() - t0}
+        first = str(exc).splitlines()[0][:200]
+        return _attach(sol, report, (f"no discretisation error estimate: the comparison "
+                                     f"solve at {sum(m.values())} segments failed ({first})",))
+    lines = _compare(sol, n, ref, m, _segment_weights(scene))
+    rounds = 0
+    while accuracy is not None and rounds < MAX_ROUNDS and any(
+            e["relative"] > target for e in lines.values()):
+        factors = {k: min(MAX_FACTOR, max(1.5, 1.2 * (e["relative"] / target)
+                                          ** (1.0 / e["order"])))
+                   for k, e in lines.items() if e["relative"] > target}
+        finer = scaled_segments(scene, factors)
+        total = sum(line_segments(finer).values())
+        if total > current().segments:
+            notes = (f"refinement stopped at {sum(n.values())} segments: the next round "
+                     f"needs {total}, more than the segments limit ({current().segments})",)
+            break
+        try:
+            new = solve(finer)
+        except SymcableError as exc:
+            notes = (f"refinement stopped at {sum(n.values())} segments: the solve at "
+                     f"{total} failed ({str(exc).splitlines()[0][:200]})",)
+            break
+        n_new = line_segments(finer)
+        lines = _compare(new, n_new, sol, n, _segment_weights(finer), before=lines)
+        scene, sol, n, rounds = finer, new, n_new, rounds + 1
+    report = {"lines": lines,
+              "max_relative": max((e["relative"] for e in lines.values()), default=0.0),
+              "accuracy": target, "segments": n, "rounds": rounds,
+              "wall_time": time.perf_counter() - t0}
+    return _attach(sol, report, _warnings(lines, target, accuracy is not None) + notes)

@@ -28,10 +28,12 @@ from ..mechanism.mechanism import Mechanism, Start
 from ..models.planar.static import static_mechanism
 from ..solvers.equilibrium import solve_equilibrium
 from ..solvers.linearize import MAX_DENSE, mechanism_modes, output_sensitivity
+from ..solvers.integrate import check_steps
 from ..mechanism.functions import functions as _functions
 from ..models.planar.mechanism import dynamics_mechanism, mechanism_of, state_permutation
 from . import planar_time as _planar_time
-from .planar_periodic import solve_model, sweep_model
+from .planar_periodic import method_options, solve_model, sweep_model
+from .periodic_error import with_time_error
 from ..results.generic import Equilibrium, SceneLinearization
 from .planar_static import solve_static
 from . import cable3d as _c3
@@ -219,6 +221,7 @@ def simulate(scene, duration: float, dt: float | None = None, method: str = "gen
         Mechanism's q or v).
     """
     started = time.perf_counter()
+    duration, dt = check_steps(duration, dt)  # at once, before any static solve
     s3 = _nonlinear(scene, model=model, params=params)
     if s3 is not None:
         return _c3.simulate_3d(s3, duration, dt, method,
@@ -242,8 +245,10 @@ def simulate(scene, duration: float, dt: float | None = None, method: str = "gen
 def solve_periodic(scene, method="shooting", *, model: DynamicModel | None = None,
                    params: np.ndarray | None = None, initial: PeriodicSolution | None = None,
                    resolution: int = 200, tol: float | None = None, codegen: bool | None = None,
-                   ipopt_options: Mapping | None = None, **options) -> PeriodicSolution:
-    """Periodic steady state of a scene's dynamics over one period of its excitation.
+                   ipopt_options: Mapping | None = None, estimate: bool = True,
+                   **options) -> PeriodicSolution:
+    """Periodic steady state of a scene's dynamics over one period of its excitation, with
+    the error of its time discretisation.
 
     The scene's dynamics Mechanism (:func:`~symcable.models.planar.mechanism.mechanism_of`)
     is solved by the generic periodic solvers
@@ -294,13 +299,19 @@ def solve_periodic(scene, method="shooting", *, model: DynamicModel | None = Non
         generalized-alpha step is a CasADi rootfinder, which CasADi cannot write C for).
     ipopt_options : dict, optional
         Collocation with IPOPT: IPOPT options by their IPOPT names, over the defaults.
+    estimate : bool
+        Estimate the error of the time discretisation (:mod:`symcable.api.periodic_error`:
+        the same solve at half the steps, intervals or harmonics; about half the cost
+        again). False skips it.
 
     Returns
     -------
     PeriodicSolution
         ``status`` "converged", "slack" (a tension reached zero) or "invalid" (the strain
         left the line type's range); ``stats`` as documented there, with ``error_estimate``
-        (the generic solvers' independent defect check).
+        (the generic solvers' independent defect check) and ``time_discretisation_error``
+        (the largest error of a line end's tension extremes, N and relative to its tension
+        range; above 1 % a warning names the resolution that would meet it).
 
     Raises
     ------
@@ -316,13 +327,26 @@ def solve_periodic(scene, method="shooting", *, model: DynamicModel | None = Non
     s3 = _nonlinear(scene, model=model, params=params, initial=initial,
                     ipopt_options=ipopt_options)
     if s3 is not None:
-        return _c3p.solve_periodic_3d(s3, method, codegen=codegen, tol=tol, **options)
-    if model is None:
-        scene = load_scene(scene)
-        model = build_dynamic_model(scene)
-    return solve_model(scene, model, method, params=params, initial=initial,
-                       resolution=resolution, tol=tol, ipopt_options=ipopt_options,
-                       codegen=codegen, options=options, started=started)
+        res = _c3p.solve_periodic_3d(s3, method, codegen=codegen, tol=tol, **options)
+    else:
+        if model is None:
+            scene = load_scene(scene)
+            model = build_dynamic_model(scene)
+        res = solve_model(scene, model, method, params=params, initial=initial,
+                          resolution=resolution, tol=tol, ipopt_options=ipopt_options,
+                          codegen=codegen, options=options, started=started)
+    if not estimate:
+        return res
+    others = {k: options[k] for k in _NOT_METHOD if k in options}
+    _, opts = method_options(method, {k: v for k, v in options.items() if k not in others})
+    others.pop("stability", None)
+    again = dict(model=model, params=params, resolution=resolution, tol=tol, codegen=codegen,
+                 ipopt_options=ipopt_options, estimate=False, **others)
+    return with_time_error(res, opts, lambda o: solve_periodic(s3 or scene, o, **again))
+
+
+#: solve_periodic's keyword options that are not the method's own
+_NOT_METHOD = ("stability", "start")
 
 
 def sweep_periodic(scene, periods: Sequence[float], method="collocation", *,

@@ -30,7 +30,7 @@ from ..limits import current
 from ..scene import Scene
 from ..scene.refine import ONE_LINE, line_segments, scaled_segments
 
-__all__ = ["ACCURACY", "with_error_estimate"]
+__all__ = ["ACCURACY", "force_text", "with_error_estimate"]
 
 #: default accuracy: a solution whose estimated error exceeds this fraction of its largest
 #: tension warns (and ``accuracy=`` refines to it)
@@ -129,7 +129,7 @@ def _needed(entry: dict, accuracy: float) -> int:
     return int(math.ceil(entry["segments"] * 1.1 * ratio ** (1.0 / entry["order"])))
 
 
-def _force(f: float) -> str:
+def force_text(f: float) -> str:
     """A force with its unit chosen by its size."""
     for unit, scale in (("MN", 1e6), ("kN", 1e3)):
         if abs(f) >= scale:
@@ -144,7 +144,7 @@ def _warnings(lines: dict, accuracy: float, refining: bool) -> tuple:
             continue
         how = ("" if refining else
                f"; solve_static(scene, accuracy={accuracy:g}) refines it")
-        out.append(f"line '{name}': discretisation error about {_force(e['error'])}, "
+        out.append(f"line '{name}': discretisation error about {force_text(e['error'])}, "
                    f"{e['relative']:.1%} of the largest tension, at {e['segments']} segments "
                    f"(estimated against {e['compared_with']}); about {_needed(e, accuracy)} "
                    f"segments would bring it under {100 * accuracy:g} %{how}")

@@ -22,8 +22,16 @@ Outputs, beside each part's own (namespaced: ``"line1.axial_force"``, ``"line1.e
 ``"buoy.own_force"``, ...):
 
 - ``"P.position"`` (3,), m, of every point P;
-- ``"P.force"`` (3,), N: the force the lines attached to P exert on it (the sum of their end
-  forces there);
+- ``"P.force"`` (3,), N: the force the lines attached to P exert on it, the sum of their end
+  forces there (``"LINE.end_force_a"`` / ``"_b"``). A line's end node is P's node; of the
+  loads on that node, P's own (weight less buoyancy, drag, applied force, its own seabed
+  contact: ``"P.own_force"``) are P's, and the line's are its end segment's axial pull
+  plus the loads of its half segment lumped on the node: that half segment's weight less
+  buoyancy and drag, and the seabed's contact, damper and friction under it. So a line's
+  end force is its tension at the end: lying on the bed up to a point resting there, the
+  bed carries the half segment (:func:`~symcable.models.common.seabed.joined_on`) and the
+  force is the end segment's axial pull, whatever the segment count (as a catenary's end
+  tension there); hanging from the point, it is that pull plus the half segment's weight;
 - ``"P.net_force"`` (3,), N, free points only: that plus the point's own loads (zero in
   equilibrium; its mass times its acceleration in motion);
 - ``"B.position"`` (3,), m, ``"B.orientation"`` (4,) (unit quaternion, scalar first),
@@ -238,7 +246,9 @@ def build_system(scene: Scene) -> Mechanism:
             ln, _, node = attached[name][0]
             out[f"{name}.position"] = Output(out[f"{ln}.positions"].expr[node, :].T, "m", name,
                                              "position of the point")
-        out[f"{name}.force"] = Output(force, "N", name, "force of the attached lines on the point")
+        out[f"{name}.force"] = Output(force, "N", name, "force of the attached lines on the "
+                                      "point: their end tensions (end segment's pull plus "
+                                      "its half segment's loads), N")
         if pt.is_free:
             out[f"{name}.net_force"] = Output(force + out[f"{name}.own_force"].expr, "N", name,
                                               "net force on the point (zero in equilibrium)")

@@ -138,7 +138,11 @@ def build_cable3d(scene: Scene, part: str | None = None,
         nodal, contact, fr = sea.nodal, sea.contact, sea.friction
     # what the line exerts on each end (N): its element's pull and the loads lumped on the
     # end node, which the support takes (as the planar line's end forces); on a free end the
-    # applied force is not the line's, and balances this
+    # applied force is not the line's, and balances this. At an end joined to a free point
+    # (the node is the point's too) these are the line's share of the node's loads: its end
+    # segment's pull and its half segment's weight, drag and seabed contact, damper and
+    # friction (resting on the bed with the point, the contact carries the half segment:
+    # seabed.joined_on); the point's own loads are its own part's
     end_force_a = elements[:, 0] + nodal[:, 0] + (bending[1].get(0, 0.0) if bending else 0.0)
     end_force_b = elements[:, N] + nodal[:, N] + (bending[1].get(N, 0.0) if bending else 0.0)
     applied = _applied_forces(scene, N)
@@ -321,8 +325,10 @@ def _line_outputs(owner: str, Xm, Vm, T, e, contact, fr, end_force_a, end_force_
         "contact_force": Output(contact.T, "N", owner, "seabed contact force on each node"),
         **({"friction_force": Output(fr.force.T, "N", owner, "seabed friction force on each "
                                      "node (x, y)")} if fr is not None else {}),
-        "end_force_a": Output(end_force_a, "N", owner, "force of the line on end A"),
-        "end_force_b": Output(end_force_b, "N", owner, "force of the line on end B"),
+        "end_force_a": Output(end_force_a, "N", owner, "force of the line on end A: the end "
+                              "segment's pull plus its half segment's loads on the end node"),
+        "end_force_b": Output(end_force_b, "N", owner, "force of the line on end B: the end "
+                              "segment's pull plus its half segment's loads on the end node"),
     }
 
 

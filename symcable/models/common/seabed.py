@@ -42,8 +42,8 @@ from .friction import Friction, friction
 #: ramp's tail), a small fraction of its weight a few metres above the bed
 CONTACT_SMOOTHING = 0.1
 
-__all__ = ["CONTACT_SMOOTHING", "SeabedTerms", "bristle_scale", "friction_setup", "lumped",
-           "profile_current", "reaction_bound", "seabed_damper", "seabed_forces"]
+__all__ = ["CONTACT_SMOOTHING", "SeabedTerms", "bristle_scale", "friction_setup", "joined_on",
+           "lumped", "profile_current", "reaction_bound", "seabed_damper", "seabed_forces"]
 
 
 @dataclass(frozen=True)
@@ -100,8 +100,10 @@ def seabed_forces(scene: Scene, seg: dict, Xm, Vm, nodal, term_names: list, *, s
     rests where the neighbour does (as the planar line). An end joined to a free point: the
     point's node sits as deep as the point's own contact and the other lines put it (a
     clump pressed in, or held higher by a lighter bed load than this line's), so while the
-    point touches the bed the half segment beside it rests where the neighbour does; lifted
-    off the bed, it carries none (the smooth on-off factor of the point's penetration).
+    point lies on the bed (within the line's own penetration of it, as a held end) the half
+    segment beside it rests where the neighbour does, and the bed, not the point, carries
+    it; lifted off the bed, it carries none (the smooth on-off factor :func:`joined_on` of
+    the point's penetration).
     This part of the contact is not conservative, and ``energy`` counts it at the node's own
     penetration."""
     sb, env = scene.seabed, scene.environment
@@ -124,8 +126,7 @@ def seabed_forces(scene: Scene, seg: dict, Xm, Vm, nodal, term_names: list, *, s
     ramp = [terms.smooth_ramp(pen[i], dlt) for i in range(N + 1)]
     for k, (i, nb) in enumerate(((0, 1), (N, N - 1))):
         if joined[k] and N > 0:
-            ramp[i] = terms.smooth_ramp(pen[nb], dlt) * 0.5 * (
-                1.0 + pen[i] / ca.sqrt(pen[i] * pen[i] + dlt * dlt))
+            ramp[i] = terms.smooth_ramp(pen[nb], dlt) * joined_on(pen[i], sink, dlt)
     contact = ca.DM(trib * sb.stiffness).T * ca.horzcat(*ramp)
     nodal = nodal + ca.vertcat(ca.SX.zeros(2, N + 1), contact)
     nodal = nodal + seabed_damper(sb, Vm, pen, dlt, trib, term_names)
@@ -137,6 +138,23 @@ def seabed_forces(scene: Scene, seg: dict, Xm, Vm, nodal, term_names: list, *, s
         nodal = nodal + ca.vertcat(fr.force, ca.SX.zeros(1, N + 1))
     energy = ca.dot(ca.DM(trib * sb.stiffness), _ramp_integral(pen, dlt).T)
     return SeabedTerms(nodal, contact, fr, energy)
+
+
+def joined_on(pen, sink, width):
+    """The on-off factor of a joined end's contact (:func:`seabed_forces`): whether the free
+    point's node lies within the line's own penetration under its weight, ``sink`` (m), of the
+    bed (the rule of a held end, which rests on the bed within ``sink`` of it), smoothed over
+    ``width`` (m) about pen = -sink: 0.5 (1 + tanh((pen + sink) / width)), ``pen`` the node's
+    penetration (m, negative above the bed).
+
+    Not a step about pen = 0 on the line's smoothing width: a point's own contact is far
+    stiffer than the line's (:func:`~symcable.models.system.point_contact`), so a point at
+    rest presses in anywhere from 0 to ``sink``, and such a step took from the line's contact
+    up to half of its end half segment's weight (13 % at 0.1 ``sink``), which the point's
+    contact carried instead and the line reported as its pull on the point (issue 33: 3.24
+    kN at a clump where the chain pulls 66 N). The tanh's tail is exponential: at pen >= 0,
+    with width = CONTACT_SMOOTHING ``sink``, the factor is 1 to 4e-9."""
+    return 0.5 * (1.0 + ca.tanh((pen + sink) / width))
 
 
 def reaction_bound(scene: Scene, seg: dict, contact, applied: np.ndarray, cdn: np.ndarray,

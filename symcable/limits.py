@@ -58,6 +58,10 @@ class Limits:
         Size of a motion table file, bytes.
     nesting : int
         Depth of nested arrays and tables in a scene or sweep (TOML or dict).
+    solve_seconds : int
+        Wall time of one periodic solve's iterations, s (shooting's periods, IPOPT's
+        iterations): a response with no period (a line that snaps, a subharmonic) is said
+        so within it rather than iterated on for hours.
     """
 
     segments: int = 20_000
@@ -67,6 +71,7 @@ class Limits:
     file_bytes: int = 16 * _MB
     table_bytes: int = 16 * _MB
     nesting: int = 32
+    solve_seconds: int = 600
 
     def __post_init__(self):
         for f in dataclasses.fields(self):
@@ -83,7 +88,8 @@ OPTIONS = {"segments": ("--max-segments", 1, "segments of a scene, all lines tog
            "sweep_cases": ("--max-cases", 1, "cases of a sweep"),
            "file_bytes": ("--max-file-mb", _MB, "size of a scene file, deck or sweep file"),
            "table_bytes": ("--max-table-mb", _MB, "size of a motion table file"),
-           "nesting": ("--max-nesting", 1, "nesting of arrays and tables in a scene or sweep")}
+           "nesting": ("--max-nesting", 1, "nesting of arrays and tables in a scene or sweep"),
+           "solve_seconds": ("--max-solve-seconds", 1, "wall time of one periodic solve, s")}
 
 _current: contextvars.ContextVar = contextvars.ContextVar("symcable_limits", default=Limits())
 

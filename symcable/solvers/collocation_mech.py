@@ -299,5 +299,15 @@ def solve_collocation(mech: Mechanism, period: float, opts: Collocation, p, star
     return check_and_wrap(mech, period, p, x[:, :nq], x[:, nq:], z, method="collocation",
                           solved=solved, tol=tol, defect_tol=defect_tol, stats=stats,
                           derivatives=(dx[:, :nq], dx[:, nq:]), codegen=compiled,
-                          why=f"{opts.solver} stopped ({sol['return_status']}) at residual "
-                              f"{sol['residual']:.3g} > tol = {tol:.3g}")
+                          why=_why(opts, sol, tol))
+
+
+def _why(opts, sol: dict, tol: float) -> str:
+    """Why a collocation solve stopped short, in a line (with the way on at a time limit)."""
+    why = (f"{opts.solver} stopped ({sol['return_status']}) at residual "
+           f"{sol['residual']:.3g} > tol = {tol:.3g}")
+    if "WallTime" in str(sol["return_status"]):
+        why += (": the time limit of one periodic solve (sc.limits(solve_seconds=...), "
+                "--max-solve-seconds); method='shooting' is cheaper, or the response may have "
+                "no period (simulate shows what it does)")
+    return why

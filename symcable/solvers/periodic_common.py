@@ -36,6 +36,7 @@ import numpy as np
 
 from ..mechanism.codegen import FastCall, compile_functions
 from ..mechanism.functions import functions
+from ..limits import current as current_limits
 from ..errors import ConvergenceError, SymcableError
 from ..mechanism.mechanism import Mechanism
 from ..results.periodic_generic import MechanismPeriodic, trig_interp
@@ -267,7 +268,8 @@ class SquareSystem:
             w, status, iters = self._newton(w0, P, tol, max_iter, solver == "damped")
         elif solver == "ipopt":
             opts = dict(IPOPT_DEFAULTS)
-            opts.update({"tol": tol, "constr_viol_tol": tol, "max_iter": max_iter})
+            opts.update({"tol": tol, "constr_viol_tol": tol, "max_iter": max_iter,
+                         "max_wall_time": float(current_limits().solve_seconds)})
             opts.update(dict(ipopt_options or {}))
             nlp = self._ipopt(opts)
             sol = nlp(x0=w0, p=P, lbg=0.0, ubg=0.0)

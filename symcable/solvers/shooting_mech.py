@@ -81,6 +81,7 @@ import numpy as np
 from ..mechanism.codegen import FastCall, use_codegen
 from ..mechanism.functions import functions
 from ..errors import SymcableError
+from ..limits import current as current_limits
 from ..mechanism.mechanism import Mechanism
 from ..results.periodic_generic import trig_interp
 from .galpha1 import galpha1_kernel, step_scales
@@ -287,8 +288,9 @@ def solve_shooting(mech: Mechanism, period: float, opts: Shooting, p, start: Sta
         x0, z = pm.initial_state(q0, v0, z0, 0.0, p)
         u = x0[:nu]
     # NumPy in and out: a DM of N states costs ms to convert
+    limit = current_limits().solve_seconds
     sh = _Shots(pm, FastCall(pm.march), period, p, su, z, nz, pm.march.size1_out(0),
-                pm.method.tol)
+                pm.method.tol, t0 + limit)
     # phase 1: Anderson acceleration of the plain march (cheap periods, no Jacobian)
     res, u, X, r, history, periods = _anderson(sh, u, z, tol, anderson_budget(nu),
                                                anderson_depth(nu))
@@ -300,7 +302,12 @@ def solve_shooting(mech: Mechanism, period: float, opts: Shooting, p, start: Sta
     if not solved and not why:
         why = (f"{anderson_periods} Anderson periods and {iters} Newton iterations: residual "
                f"{res:.3g} > tol = {tol:.3g}")
-    if not solved:
+    if not solved and sh.late():
+        why = (f"stopped at the time limit of {limit} s, {periods} periods marched "
+               f"(residual {res:.3g} > tol = {tol:.3g}): the response may have no period (a "
+               "line that snaps, a subharmonic); run simulate to see what it does, or raise "
+               "the limit (sc.limits(solve_seconds=...), --max-solve-seconds)")
+    elif not solved:
         why += _rate_note(history)
     qs, vs, zs = pm.samples(X)
     m = 4 * N
@@ -341,6 +348,10 @@ class _Shots:
     nz: int
     n_x: int
     step_tol: float
+    deadline: float = math.inf  #: time.perf_counter() past which no more periods are marched
+
+    def late(self) -> bool:
+        return time.perf_counter() > self.deadline
 
     def evaluate(self, u_, z_, jac):
         """(X (n_x, N+1) the states over the period, residual max |r|, r (n_u,) the scaled
@@ -401,6 +412,8 @@ def _anderson(sh: _Shots, u, z, tol: float, budget: int, depth: int):
             best = (res, u, X)
         if not sh.pm.compiled and stalled(history):
             break  # (a plain period in generated C costs ~1/2000 of a monodromy: go on)
+        if sh.late():
+            break
     res, u, X = best
     return res, u, X, r, history, periods
 
@@ -413,11 +426,11 @@ def _newton_phase(sh: _Shots, u, X, res: float, r, tol: float, max_iter: int, hi
     stopped short or "")."""
     nu, su = sh.pm.n_u, sh.su
     iters, J, why = 0, None, ""
-    if res > tol and np.isfinite(res):
+    if res > tol and np.isfinite(res) and not sh.late():
         z = sh.z_of(X)
         X, res, r, J = sh.evaluate(u, z, True)
         periods += 1
-    while res > tol and iters < max_iter:
+    while res > tol and iters < max_iter and not sh.late():
         if r is None:
             why = "a generalized-alpha step failed inside the period"
             break

@@ -55,6 +55,7 @@ from ...errors import SymcableError
 from ...scene import EndCondition, Scene
 from ..common.bending import bending_terms, linear_axial_law
 from ..common.drag import law_table
+from ..common.terms import fluid_term_names
 from .elements import element_form
 from ..common.starts import force_scale, starts_of
 from ..common.relax import _ramp_integral
@@ -127,8 +128,7 @@ def build_cable3d(scene: Scene, part: str | None = None,
     if bending is not None:
         term_names.append("bending")
         nodal = nodal + bending[0]
-    if not env.in_air and (any(env.current) or env.current_profile):
-        term_names.append("drag")
+    term_names += fluid_term_names(scene.sections, rho)
     fr = sea = None
     if sb is not None:  # contact, damper and friction on the nodes (.seabed3d)
         sea = seabed_forces(scene, seg, Xm, Vm, nodal, term_names, state=state,

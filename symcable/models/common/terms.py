@@ -93,3 +93,16 @@ def tangent(phi):
     """Unit tangent (cos phi, sin phi) and normal (-sin phi, cos phi) of angle phi."""
     c, s = ca.cos(phi), ca.sin(phi)
     return (c, s), (-s, c)
+
+
+def fluid_term_names(sections, rho: float) -> list:
+    """The fluid terms a line's equations of motion build, by name: ``"drag"`` (Morison, on
+    the line's velocity relative to the water: in statics only a current's) where a section
+    has a drag coefficient, ``"added mass"`` where one has an added-mass coefficient; none
+    in air (``rho`` = 0, kg/m^3)."""
+    if rho <= 0:
+        return []
+    types = [s.line_type for s in sections]
+    return ((["drag"] if any(t.cd_normal > 0 or t.cd_tangential > 0 for t in types) else [])
+            + (["added mass"] if any(t.ca_normal > 0 or (t.ca_tangential or 0) > 0
+                                     for t in types) else []))

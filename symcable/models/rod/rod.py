@@ -69,6 +69,7 @@ from ...errors import SymcableError
 from ...scene import EndCondition, Scene
 from ..common.elements import element_kernel, held_end
 from ..common.drag import law_table
+from ..common.terms import fluid_term_names
 from ..common.starts import force_scale, starts_of
 from .hybrid_terms import axial_law, rod_mask, spun_edges
 from ...mechanism.mechanism import (Bound, Layout, Mechanism, Output, ParamBlocks, PartLayout,
@@ -210,7 +211,7 @@ def build_rod(scene: Scene, rod: np.ndarray | None = None) -> Mechanism:
     terms = ["elastic", "weight"] + (["bending"] if vt.verts or vt.cb is not None else []) + (
         ["torsion"] if vt.verts else []) + (
         ["material damping"] if np.any(BA) else []) + (
-        ["drag"] if rho > 0 and (any(env.current) or env.current_profile) else []) + (
+        fluid_term_names(scene.sections, rho)) + (
         sea.terms) + (
         ["end force"] if np.any(applied) else []) + (
         ["end moment"] if any(x.moment is not None and any(x.moment) for x in (a, b)) else []) + (

@@ -99,6 +99,16 @@ def nodal_weights(seg: dict) -> tuple:
     return trib, w_node, np.where(w_node > 0, w_node, np.inf), 0.1 * np.abs(w_node)
 
 
+def seabed_sink(scene: Scene, seg: dict) -> float:
+    """How far a held end may sit above the seabed and still rest on it, m: the penetration
+    of the heaviest segment under its own weight (at least 1e-6 of the line's length). The
+    rule of the contact models (the planar line's, and the 3D lines' in
+    :func:`~symcable.models.common.seabed.seabed_forces`): a held end at most this high rests
+    on the seabed, and its half segment takes its neighbour's penetration."""
+    return max(abs(float(np.max(seg["w"]))) / (scene.seabed.stiffness * float(np.min(seg["d"]))),
+               1e-6 * scene.length)
+
+
 def grounded_length(scene: Scene, seg: dict, nodal: tuple | None, pos: np.ndarray,
                     contact: np.ndarray | None, fa: np.ndarray, fb: np.ndarray) -> tuple:
     """(grounded length, m, unstretched; its end's arc length s, m, or None; the touchdown
@@ -118,15 +128,35 @@ def grounded_length(scene: Scene, seg: dict, nodal: tuple | None, pos: np.ndarra
     grounded = float(np.sum(np.minimum(contact / w_div, trib)))
     # in contact: the seabed carries more than a tenth of the local weight per length
     in_contact = contact / trib > w_tenth
-    for node, force, end in ((0, fa, scene.end_a), (len(s) - 1, fb, scene.end_b)):
-        if end.is_fixed and w_node[node] > 0 and in_contact[node]:
-            grounded += max(0.0, -float(force[-1])) / w_node[node]
+    # A held end lying on the seabed (the contact models' rule, :func:`seabed_sink`) rests
+    # on the grounded line, and props up what pulls it down, where the line beside it sinks
+    # into the bed without a break from the end to a node in contact. Not by the end's own
+    # contact force: its half segment takes the neighbour's penetration, which on a penalty
+    # seabed grows from the end over the length sqrt(T / (k d)) (9 m on the OC3 line), so
+    # the neighbour is in contact only on segments longer than about a tenth of that (0.95
+    # m on OC3: issue 33, the OC3 line lost 9 m of grounded length from 1,000 segments on).
+    # A taut line rising from its anchor does not sink beside it: the anchor then carries
+    # its half segment's weight lumped on its node, which is no grounded line (and a node
+    # that grazes the bed beside it, in contact by less than a tenth of its weight, none)
+    rests = in_contact.copy()
+    if scene.seabed is not None:
+        z, floor = pos[:, -1], -scene.environment.depth
+        bed = floor + seabed_sink(scene, seg)
+        for node, step, force, end in ((0, 1, fa, scene.end_a), (len(s) - 1, -1, fb, scene.end_b)):
+            if not (end.is_fixed and w_node[node] > 0 and float(z[node]) <= bed):
+                continue
+            beside = np.arange(node + step, len(s) - 1 - node, step)  # the others, from it
+            sunk = z[beside] < floor
+            run = beside[:int(np.argmin(sunk)) if not sunk.all() else len(beside)]
+            if in_contact[node] or in_contact[run].any():
+                rests[node] = True
+                grounded += max(0.0, -float(force[-1])) / w_node[node]
     grounded = min(grounded, float(s[-1]))
     if not grounded > 0:
         return grounded, None, None
-    if in_contact[0] and not in_contact[-1]:
+    if rests[0] and not rests[-1]:
         s_td = grounded
-    elif in_contact[-1] and not in_contact[0]:
+    elif rests[-1] and not rests[0]:
         s_td = float(s[-1]) - grounded
     else:
         s_td = float(s[np.argmax(in_contact)])

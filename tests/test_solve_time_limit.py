@@ -25,3 +25,19 @@ def test_a_solve_past_its_limit_says_so(kw, says):
         sc.solve_periodic("seed001", estimate=False, **kw)
     msg = str(info.value)
     assert says in msg and "solve_seconds" in msg
+
+
+def test_ipopt_iterations_reach_the_progress_bar(monkeypatch):
+    """Collocation with IPOPT counts its iterations into the progress bar (shown on a
+    terminal once a solve has run a second; forced on here, into a string)."""
+    import io
+
+    import symcable.solvers.periodic_common as pc
+
+    buf, made = io.StringIO(), pc.ProgressBar
+    monkeypatch.setattr(pc, "ProgressBar",
+                        lambda total, enabled, **kw: made(total, True, stream=buf, **kw))
+    res = sc.solve_periodic("seed001", method="collocation", intervals=20, estimate=False)
+    text = buf.getvalue()
+    assert "(IPOPT)" in text and "iteration" in text
+    assert f"{res.stats['iterations'] + 1}/100" in text  # iteration 0 is IPOPT's start

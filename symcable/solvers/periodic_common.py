@@ -37,6 +37,7 @@ import numpy as np
 from ..mechanism.codegen import FastCall, compile_functions
 from ..mechanism.functions import functions
 from ..limits import current as current_limits
+from ..progress import ProgressBar
 from ..errors import ConvergenceError, SymcableError
 from ..mechanism.mechanism import Mechanism
 from ..results.periodic_generic import MechanismPeriodic, trig_interp
@@ -140,6 +141,7 @@ class SquareSystem:
         self.n_par = int(residual.size1_in(1))
         self._order = order
         self._solvers: dict = {}
+        self._counters: dict = {}  # IPOPT iteration callbacks, kept alive with their solvers
 
     def _ordered(self) -> tuple:
         """(residual, rows, unknowns): the system the Newton solvers work on, permuted by
@@ -240,8 +242,11 @@ class SquareSystem:
             # step whatever the Hessian, so IPOPT gets a zero Lagrangian Hessian (no second
             # derivatives of the whole system to build)
             lam_f, lam_g = ca.MX.sym("lam_f"), ca.MX.sym("lam_g", self.n)
+            counter = _IpoptIterations(f"{self.name}_iterations", self.n, self.n_par)
+            self._counters[key] = counter
             opts = {"ipopt": dict(options), "print_time": False, "error_on_fail": False,
                     "calc_lam_p": False, "show_eval_warnings": False,
+                    "iteration_callback": counter,
                     "hess_lag": ca.Function("nlp_hess_l", [w, P, lam_f, lam_g],
                                             [ca.MX(self.n, self.n)],
                                             ["x", "p", "lam_f", "lam_g"], ["hess_gamma_x_x"])}
@@ -272,7 +277,14 @@ class SquareSystem:
                          "max_wall_time": float(current_limits().solve_seconds)})
             opts.update(dict(ipopt_options or {}))
             nlp = self._ipopt(opts)
-            sol = nlp(x0=w0, p=P, lbg=0.0, ubg=0.0)
+            counter = self._counters[("ipopt", repr(sorted(opts.items())))]
+            with ProgressBar(int(opts["max_iter"]), None, label=f"{self.name} (IPOPT)",
+                             unit="iteration") as bar:
+                counter.start(bar)
+                try:
+                    sol = nlp(x0=w0, p=P, lbg=0.0, ubg=0.0)
+                finally:
+                    counter.start(None)
             st = nlp.stats()
             w = np.asarray(sol["x"]).ravel()
             status, iters = st.get("return_status", "?"), int(st.get("iter_count", -1))
@@ -282,6 +294,47 @@ class SquareSystem:
         res = float(np.max(np.abs(r))) if r.size else 0.0
         return {"w": w, "iterations": iters, "residual": res, "return_status": status,
                 "wall_time": time.perf_counter() - t0}
+
+
+class _IpoptIterations(ca.Callback):
+    """IPOPT's iteration callback: counts the iterations into a progress bar (shown on a
+    terminal once a solve has run a second, :class:`~symcable.progress.ProgressBar`)."""
+
+    def __init__(self, name: str, nx: int, n_par: int):
+        ca.Callback.__init__(self)
+        self.nx, self.n_par, self.count, self.bar = nx, n_par, 0, None
+        self.construct(name, {})
+
+    def start(self, bar) -> None:
+        self.count, self.bar = 0, bar
+
+    def get_n_in(self):
+        return ca.nlpsol_n_out()
+
+    def get_n_out(self):
+        return 1
+
+    def get_name_in(self, i):
+        return ca.nlpsol_out(i)
+
+    def get_name_out(self, i):
+        return "ret"
+
+    def get_sparsity_in(self, i):
+        n = ca.nlpsol_out(i)
+        if n == "f":
+            return ca.Sparsity.scalar()
+        if n in ("x", "lam_x", "g", "lam_g"):  # a square system: as many equations as unknowns
+            return ca.Sparsity.dense(self.nx)
+        if n == "lam_p":
+            return ca.Sparsity.dense(self.n_par)
+        return ca.Sparsity(0, 0)
+
+    def eval(self, arg):
+        self.count += 1
+        if self.bar is not None:
+            self.bar.update(self.count)
+        return [0]
 
 
 def point_function(mech: Mechanism, name: str, compiled: bool) -> ca.Function:

@@ -30,8 +30,10 @@ from .cable3d_static import AT_REST, body_stiffness, dynamic_p, node_shapes, tow
 from ..models.rod.reanchor import reanchor_hook
 from .scene3d import (check_moves, dynamics_mechanism, has_twists, rod_line, scene_equilibrium,
                       start_state, twist_names, twist_shapes)
-from ..solvers.integrate import ERROR_TARGET, accurate_dt, error_warning, integrate
+from ..solvers.integrate import (ERROR_TARGET, accurate_dt, check_steps, error_warning,
+                                integrate)
 from ..solvers.march import leaky_sum
+from ..solvers.time_estimate import MOTION_FLOOR
 from ..solvers.linearize import MAX_DENSE, mechanism_modes, output_sensitivity
 from ..solvers.options import RK4, GeneralizedAlphaFirstOrder
 
@@ -51,15 +53,34 @@ RHO_INF = 0.0
 #: tolerance of 1e-10, in less time (fewer chord iterations)
 NEWTON_TOL = 1e-8
 #: the end tensions' error estimate (:func:`tension_error_estimate`) times this: the raw
-#: estimate is about half the true error, so the factor makes it a slight overestimate
+#: estimate is about half the true error, so the factor makes it a slight overestimate.
+#: Not where a tow enters or leaves a turn (:func:`motion_kinks`), where the run's error
+#: peaks: there the raw estimate is already about the true error (0.9 to 1.3 times it on the
+#: towed body's 300 m turn and on 150 m and 600 m turns of it, against runs at 1/4 to 1/32
+#: of the step), and the factor had the towed body's step of 0.54 s warn of 1.8 % of the
+#: tension range for a true error of 0.85 %
 TENSION_ESTIMATE_FACTOR = 2.0
+#: samples on each side of a kink of the prescribed motion whose tension estimate comes
+#: from across it: the third derivative of the samples (three nested central differences)
+#: at a sample reaches three samples either way
+KINK_REACH = 3
 #: the least range an end tension's error is relative to, as a fraction of the largest end
 #: tension of the run: a steady tow's tensions vary by round-off only (a free end's is zero
 #: to 2e-4 N), against which any estimate is a large fraction
 TENSION_RANGE_FLOOR = 1e-3
-#: rad, a tow's default step turns it through at most this on its tightest turn (a 90 degree
-#: turn in 31 steps)
+#: rad, the former default's bound on a tow's step: the turn through at most this on its
+#: tightest turn (a 90 degree turn in 31 steps); too coarse, now TOW_KINK_STEP and
+#: TOW_STRETCH_STEP (studies/towed_body compares against it)
 TOW_TURN_STEP = 0.05
+#: rad, a tow's default step turns it through at most this on its tightest turn. Why: the
+#: tow path is C1, its acceleration jumps by U^2 / R where a turn begins and ends, and there
+#: the tensions' error is first order in the step. The towed body (towed_body.toml, its 300 m
+#: turn at 12 kn) at TOW_STRETCH_STEP's 0.54 s (0.011 rad per step) was 0.85 % of its
+#: fairlead tension's range off a run at 1/32 of the step, at the 1 % target, and its
+#: estimate said 0.99 %; at 0.008 rad (0.39 s) 0.6 %, estimate 0.81 %. A turn that changes
+#: the tensions little against their range can need less (a 600 m turn at 3 m/s: 1 % at
+#: 0.001 rad), which the run's error estimate then says
+TOW_KINK_STEP = 0.008
 #: a tow's default step in a turn is also at most TOW_STRETCH_STEP sqrt(T / EA) / Omega for
 #: each line (T its largest tension at the start, EA its stiffest section's, Omega = U / R
 #: the tightest turn's rate). Why: each step's Newton iterations start from y0 + h y'0,
@@ -92,7 +113,7 @@ def run_start(scene: Scene) -> float:
 def default_dt(scene: Scene, duration: float, tensions: dict | None = None) -> float:
     """The default step, s: a harmonic motion's period / STEPS_PER_PERIOD; a table's smallest
     row spacing (the table resolves its motion no finer); a tow's time to turn through
-    TOW_TURN_STEP rad on its tightest turn, and given ``tensions`` ({line name: its largest
+    TOW_KINK_STEP rad on its tightest turn, and given ``tensions`` ({line name: its largest
     tension at the start, N}; a one-line scene's line is ``""``) at most TOW_STRETCH_STEP
     sqrt(T / EA) / Omega there; at most duration / 100; with no motion duration / 100."""
     dts = [duration / 100.0]
@@ -111,7 +132,7 @@ def default_dt(scene: Scene, duration: float, tensions: dict | None = None) -> f
             if tk.size > 1:
                 dts.append(float(np.min(np.diff(tk))))
         elif m.kind == "tow":
-            dts += [TOW_TURN_STEP * radius / m.speed for _, radius, _ in m.turns]
+            dts += [TOW_KINK_STEP * radius / m.speed for _, radius, _ in m.turns]
         else:
             dts.append(m.period / STEPS_PER_PERIOD)
     return min(dts)
@@ -153,8 +174,25 @@ def _period(scene: Scene):
     return min(per) if per else None
 
 
+def motion_kinks(scene: Scene) -> tuple:
+    """The times (s) at which a prescribed motion's acceleration jumps: where a tow enters and
+    leaves each turn (its path is C1, :mod:`symcable.models.common.tow`: the acceleration
+    jumps to U^2 / R and back)."""
+    out = []
+    for m in _motions(scene):
+        if m.kind != "tow":
+            continue
+        t = float(m.start)
+        for after, radius, angle in m.turns:
+            t += float(after)
+            out.append(t)
+            t += float(radius) * abs(math.radians(float(angle))) / float(m.speed)
+            out.append(t)
+    return tuple(sorted(out))
+
+
 def tension_error_estimate(time, series, h: float, tau: float, constant: float,
-                           floor: float = 0.0) -> float:
+                           floor: float = 0.0, kinks=()) -> float:
     """The time-stepping error of a sampled series (an end tension) relative to its range,
     by generalized-alpha's local error C h^3 |f'''| per step (``constant`` C, step ``h`` s)
     summed with a memory of ``tau`` s (one radian of the excitation), as
@@ -162,8 +200,12 @@ def tension_error_estimate(time, series, h: float, tau: float, constant: float,
     from the samples (``time`` s). The state's own estimate measures positions against their
     range, and a tension is EA times a small difference of positions: on a taut line the
     tension's error was 25 times the positions' (each relative to its range). Times
-    TENSION_ESTIMATE_FACTOR. The range is at least ``floor`` (N): a steady tension (a
-    steady tow, a free end's zero) has no range, and its round-off is no motion."""
+    TENSION_ESTIMATE_FACTOR, except within KINK_REACH samples of ``kinks`` (s, where the
+    prescribed motion's acceleration jumps, :func:`motion_kinks`): across a kink the third
+    derivative of the samples is the jump over the sample spacing, not a smooth
+    derivative, and the raw estimate there is already about the true error. The range is
+    at least ``floor`` (N): a steady tension (a steady tow, a free end's zero) has no range,
+    and its round-off is no motion."""
     t, f = np.asarray(time, float), np.asarray(series, float)
     rng = max(float(np.ptp(f)), floor) if f.size else 0.0
     if t.size < 5 or not rng > 0:
@@ -171,23 +213,38 @@ def tension_error_estimate(time, series, h: float, tau: float, constant: float,
     f3 = np.gradient(np.gradient(np.gradient(f, t), t), t)
     H = np.diff(t)
     d = constant * h * h * 0.5 * (np.abs(f3[1:]) + np.abs(f3[:-1])) * H
-    E = leaky_sum(0.0, d, float(np.mean(H)) / tau)
-    return TENSION_ESTIMATE_FACTOR * float(np.max(E)) / rng
+    factor = np.full(d.size, TENSION_ESTIMATE_FACTOR)
+    for tk in kinks:
+        if t[0] < tk < t[-1]:
+            # interval i takes the third derivative at samples i and i + 1, each made of
+            # the samples KINK_REACH either way: those from j - 3 to j + 3 reach across
+            j = int(np.searchsorted(t, tk)) - 1  # t[j] < tk <= t[j + 1]
+            factor[max(0, j - KINK_REACH):j + KINK_REACH + 1] = 1.0
+    E = leaky_sum(0.0, factor * d, float(np.mean(H)) / tau)
+    return float(np.max(E)) / rng
 
 
-def _with_tension_estimate(stats: dict, warnings, tr, ends, opts, period, label) -> tuple:
+def _with_tension_estimate(stats: dict, warnings, tr, ends, opts, period, label,
+                           kinks=()) -> tuple:
     """The run's error estimate as the larger of the state's and the end tensions' (see
-    :func:`tension_error_estimate`), and its warning."""
+    :func:`tension_error_estimate`; ``kinks``: :func:`motion_kinks`), and its warning. The
+    state's only when the state moves (its range at least MOTION_FLOOR of its scales): a
+    line at rest still jitters by its Newton tolerance and the settling of its start, and
+    the estimate of that jitter (relative to the floor) grows as the step shrinks, noise
+    over noise (seed000_hybrid at rest: 1.1 % of the floor at dt = 0.005 s, against 0.06 %
+    at 0.05 s); its outputs' error is the end tensions', measured against at least
+    TENSION_RANGE_FLOOR of the largest tension."""
     if stats.get("error_estimate") is None or not hasattr(opts, "error_constant"):
         return stats, warnings
     h = stats["dt"]
     tau = stats.get("error_memory") or (tr.time[-1] - tr.time[0]) / (2 * math.pi)
     series = [np.linalg.norm(f, axis=1) for f in ends]
     floor = TENSION_RANGE_FLOOR * max(float(np.max(f)) if f.size else 0.0 for f in series)
-    est = max(tension_error_estimate(tr.time, f, h, tau, opts.error_constant, floor)
+    est = max(tension_error_estimate(tr.time, f, h, tau, opts.error_constant, floor, kinks)
               for f in series)
     stats = dict(stats, error_estimate_states=stats["error_estimate"], tension_error_estimate=est)
-    stats["error_estimate"] = max(est, stats["error_estimate"])
+    moves = (stats.get("motion_range") or 0.0) >= MOTION_FLOOR
+    stats["error_estimate"] = max(est, stats["error_estimate"] if moves else 0.0)
     stats["dt_accurate"] = accurate_dt(h, stats["error_estimate"])
     warnings = [w for w in warnings if "time step is too coarse" not in w]
     if stats["error_estimate"] > ERROR_TARGET:
@@ -207,7 +264,7 @@ def _line_result(scene, mech, tr, method: str, dt: float, stats: dict, warnings,
         ends = [np.asarray(tr.outputs[prefix[n] + k], float).reshape(t.size, 3)
                 for n in lines for k in ("end_force_a", "end_force_b")]
         stats, warnings = _with_tension_estimate(dict(stats), warnings, tr, ends, opts, period,
-                                                 method)
+                                                 method, motion_kinks(scene))
     common = dict(method=method, dt=float(dt), status=tr.status, stats=stats)
     if scene.version == 1 and has_twists(scene):
         return rod_line(scene, mech, t, tr.outputs, warnings, common)
@@ -251,12 +308,8 @@ def simulate_3d(scene: Scene, duration: float, dt: float | None = None,
     rho_inf = RHO_INF if rho_inf is None else rho_inf
     if not (isinstance(rho_inf, (int, float)) and 0.0 <= rho_inf <= 1.0):
         raise SymcableError(f"rho_inf = {rho_inf!r}: must be a number in [0, 1]")
-    try:
-        duration = float(duration)
-    except (TypeError, ValueError):
-        duration = float("nan")
-    if not (math.isfinite(duration) and duration > 0):
-        raise SymcableError(f"duration = {duration!r} s: must be > 0")
+    # before the static solve: a bad duration or step is refused at once (check_steps)
+    duration, dt = check_steps(duration, dt, _period(scene))
     if name == "rk4":
         opts = RK4()
     else:

@@ -26,7 +26,8 @@ from ..results.trajectory import Trajectory
 from ..scene import load_scene
 from ..solvers import steps as _steps
 from ..solvers.galpha1 import coefficients, galpha1_residual
-from ..solvers.integrate import ERROR_TARGET, check_positive, error_warning, integrate
+from ..solvers.integrate import (ERROR_TARGET, check_positive, check_steps, error_warning,
+                                integrate)
 from ..solvers.options import RK4, GeneralizedAlphaFirstOrder
 from ..solvers.stepcache import STEP_CACHE
 
@@ -115,7 +116,7 @@ def simulate(scene, duration: float, dt: float | None = None, method: str = "gen
     ``time.perf_counter()`` when the caller began (``stats["wall_time"]`` counts from it)."""
     wall0 = _time.perf_counter() if started is None else started
     meth = Method.parse(method)
-    duration = check_positive("duration", duration, "s")
+    duration, dt = check_steps(duration, dt)
     if scene is None and model is None:
         raise SymcableError("scene = None: give a scene, or a model to integrate")
     if model is None:
@@ -132,6 +133,7 @@ def simulate(scene, duration: float, dt: float | None = None, method: str = "gen
     opts = GeneralizedAlphaFirstOrder(rho_inf=rho_inf, tol=tol, max_iter=NEWTON_MAX_ITER) if ga else RK4()
     mech = mechanism_of(model)
     iq, iv, q0, v0 = _rest(model)
+    check_steps(duration, dt, model.period or None)  # dt against the motion's period
     default_dt = (model.period / 100.0) if model.period else duration / 100.0
     if dt is None:
         dt = default_dt if ga else min(0.8 * rk4_stability_limit(model, p), default_dt)

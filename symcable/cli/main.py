@@ -154,8 +154,9 @@ def _check(args) -> int:
               f"seabed, which the linearised dynamics do not model; simulate, periodic and "
               f"modes run it as model = {run.model.value!r} in its plane")
     else:
+        from ..results.io import force_text
         print(f"dynamics   ok: linearised about the static state (fairlead tension "
-              f"{static.fairlead_tension / 1e3:.4g} kN, grounded length "
+              f"{force_text(static.fairlead_tension)}, grounded length "
               f"{static.grounded_length:.3g} m)")
     print("ok")
     return 0
@@ -196,6 +197,7 @@ def _exit_status(result) -> int:
 def _simulate(args) -> int:
     from ..scene import load_scene
     from ..api.analyses import simulate
+    from ..solvers.integrate import check_steps
     from ..plotting.profiles import plot_trajectory
     from ..results.line3d import LineTrajectory, SystemTrajectory
 
@@ -209,6 +211,9 @@ def _simulate(args) -> int:
     tow = next((m for m in motions if m.kind == "tow"), None)
     duration = args.duration if args.duration is not None else (table.period if table else tow.period + 60.0 if tow
                                  else 10.0 * period if period else 60.0)
+    # the options as given, in one line each (the API would name its parameters instead)
+    check_steps(duration, args.dt, min((m.period for m in motions if m.kind == "harmonic"),
+                                       default=None), names=("--duration", "--dt"))
     traj = simulate(scene, duration, dt=args.dt, method=args.method)
     if tow is not None:  # a tow: tracks in plan, towed depth, towpoint tension / T0
         from ..plotting.tows import plot_tow

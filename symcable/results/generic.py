@@ -8,6 +8,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import SymcableError
+from .io import force_text, force_unit
 from .static import Exportable
 
 __all__ = ["Equilibrium", "Linearization", "MechanismModes", "MechanismTrajectory",
@@ -228,21 +229,22 @@ class SceneLinearization(Exportable):
     body_stiffness: dict = field(default_factory=dict)
 
     def summary(self) -> str:
-        """The sizes, each held end's or point's stiffness matrix (kN/m, rows as printed)
-        and each free body's 6 x 6 mooring stiffness diagonal."""
+        """The sizes, each held end's or point's stiffness matrix (rows as printed; N/m, kN/m
+        or MN/m by its size) and each free body's 6 x 6 mooring stiffness diagonal."""
         out = [f"scene             {self.scene_name}",
                f"linearisation     n_q = {self.K.shape[1]}, n_v = {self.K.shape[0]}"
                + (" (undamped: current, excitation and stabilisation off)" if self.undamped
                   else "")]
         for name, k in self.end_stiffness.items():
-            k = np.atleast_2d(np.asarray(k, float)) / 1e3
+            k = np.atleast_2d(np.asarray(k, float))
+            k_n, unit = force_unit(k, "N/m")
             label = f"end {name}" if name in ("a", "b") else f"point {name}"
-            rows = "; ".join(" ".join(f"{v:.5g}" for v in r) for r in k)
-            out.append(f"stiffness {label:8s} [{rows}] kN/m")
+            rows = "; ".join(" ".join(f"{v:.5g}" for v in r) for r in k / k_n)
+            out.append(f"stiffness {label:8s} [{rows}] {unit}")
         for name, k in self.body_stiffness.items():
             d = np.diag(np.asarray(k, float))
-            out.append(f"body {name:12s} diagonal {' '.join(f'{v:.5g}' for v in d[:3] / 1e3)} "
-                       f"kN/m, {' '.join(f'{v:.5g}' for v in d[3:] / 1e3)} kN m/rad")
+            out.append(f"body {name:12s} diagonal {force_text(d[:3], 'N/m', '.5g', ' ')}, "
+                       f"{force_text(d[3:], 'N m/rad', '.5g', ' ')}")
         return "\n".join(out)
 
     def plot(self, path: str | Path | None = None):

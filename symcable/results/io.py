@@ -20,9 +20,47 @@ import numpy as np
 
 from ..errors import SymcableError
 
-__all__ = ["decode", "encode", "read_tree", "write_tree"]
+__all__ = ["decode", "encode", "force_text", "force_unit", "read_tree", "write_tree"]
 
 _NONFINITE = {"nan": math.nan, "inf": math.inf, "-inf": -math.inf}
+
+#: the prefixes a printed force (or moment, stiffness) takes by its magnitude
+_PREFIXES = ((1e9, "G"), (1e6, "M"), (1e3, "k"))
+
+
+def force_unit(values, unit: str = "N") -> tuple[float, str]:
+    """``(factor, unit text)`` to print ``values`` (in ``unit``: N, N m, N/m, N m/rad) with:
+    G, M or k as their largest finite magnitude reaches 1e9, 1e6 or 1e3, else the unit
+    itself (a rod's 0.01 N stays in N, not "0.0000 kN"). Values printed together share it."""
+    a = np.abs(np.asarray(values, dtype=float)).ravel()
+    a = a[np.isfinite(a)]
+    big = float(a.max()) if a.size else 0.0
+    for factor, prefix in _PREFIXES:
+        if big >= factor:
+            return factor, prefix + unit
+    return 1.0, unit
+
+
+def force_text(values, unit: str = "N", spec: str = ".4g", sep: str = " .. ",
+               names=None) -> str:
+    """``values`` (one number, or several: a range ``lo .. hi``, components) in the unit
+    :func:`force_unit` chooses, each formatted with ``spec`` and joined by ``sep`` (with
+    ``names``, each preceded by its name: ``"Fx 1.2, Fz 3.4 kN"``). A fixed-point ``spec``
+    (``".4f"``) keeps its decimals while the largest value is at least 1 in the unit chosen,
+    and below that (forces under 1 N) takes as many as give the largest 4 significant
+    figures (down to 1e-6; below, 4 significant figures each); a value that rounds to zero
+    prints without its sign."""
+    v = np.atleast_1d(np.asarray(values, dtype=float)).ravel()
+    factor, text = force_unit(v, unit)
+    a = np.abs(v[np.isfinite(v)]) / factor
+    big = float(a.max()) if a.size else 0.0
+    if spec.endswith("f") and big < 1.0:
+        spec = f".{3 - math.floor(math.log10(big))}f" if big >= 1e-6 else ".4g"
+    parts = [format(x / factor, spec) for x in v]
+    parts = [p[1:] if p.startswith("-") and not p.strip("-0.") else p for p in parts]
+    if names is not None:
+        parts = [f"{n} {p}" for n, p in zip(names, parts)]
+    return f"{sep.join(parts)} {text}"
 
 
 def _float_tag(x: float):

@@ -9,6 +9,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import SymcableError
+from .io import force_text
 from .static import Exportable, OneLine
 from .trajectory import Trajectory
 
@@ -125,7 +126,7 @@ class LineTrajectory(OneLine, Exportable):
     def summary(self) -> str:
         """A few lines: run, end tensions (range), slack and snap, warnings."""
         st = self.stats
-        kn = lambda a: f"{np.min(a) / 1e3:.4g} .. {np.max(a) / 1e3:.4g} kN"  # noqa: E731
+        kn = lambda a: force_text([np.min(a), np.max(a)])  # noqa: E731 (N, kN, MN by size)
         lines = [f"scene             {self.scene_name}",
                  f"run               {self.method}, dt {self.dt:.4g} s, {len(self.time)} samples "
                  f"over {self.time[-1] - self.time[0]:.4g} s, status {self.status}",
@@ -136,7 +137,7 @@ class LineTrajectory(OneLine, Exportable):
         if st.get("slack_fraction"):
             lines.append(f"slack             {100 * st['slack_fraction']:.3g} % of the time, up to "
                          f"{st['slack_segments']} segments; {st['snaps']} snap(s)"
-                         + (f", peak {st['snap_peak'] / 1e3:.4g} kN at t = "
+                         + (f", peak {force_text(st['snap_peak'])} at t = "
                             f"{st['snap_peak_time']:.4g} s" if st.get("snap_peak") else ""))
         lines.append(f"wall time         {st.get('wall_time', float('nan')):.3g} s")
         lines += [f"warning           {w}" for w in self.warnings]
@@ -174,7 +175,7 @@ def snap_warning(stats: dict) -> str | None:
         return None
     return (f"segments went slack ({100 * stats['slack_fraction']:.3g} % of the time, up to "
             f"{stats['slack_segments']} at once) and snapped taut {stats['snaps']} time(s); "
-            f"largest tension after a snap {stats['snap_peak'] / 1e3:.4g} kN at t = "
+            f"largest tension after a snap {force_text(stats['snap_peak'])} at t = "
             f"{stats['snap_peak_time']:.4g} s: snap peaks converge slowly in dt, check them at "
             "dt / 2")
 
@@ -305,15 +306,16 @@ class SystemTrajectory(Exportable):
         raise SymcableError(f"kind = {kind!r}: must be 'tensions' or 'system'")
 
     def summary(self) -> str:
-        """The run, each line's end tensions (range, kN) and each point's excursion (m)."""
+        """The run, each line's end tensions (range; N, kN or MN by their size) and each
+        point's excursion (m)."""
         st = self.stats
         out = [f"scene             {self.scene_name}",
                f"run               {self.method}, dt {self.dt:.4g} s, {self.time.size} samples "
                f"over {self.time[-1] - self.time[0]:.4g} s, status {self.status}"]
         for name, ln in self.lines.items():
-            out.append(f"line {name:12s} fairlead {ln.fairlead_tension.min() / 1e3:.4g} .. "
-                       f"{ln.fairlead_tension.max() / 1e3:.4g} kN, anchor "
-                       f"{ln.anchor_tension.min() / 1e3:.4g} .. {ln.anchor_tension.max() / 1e3:.4g} kN")
+            out.append(f"line {name:12s} fairlead "
+                       f"{force_text([ln.fairlead_tension.min(), ln.fairlead_tension.max()])}, "
+                       f"anchor {force_text([ln.anchor_tension.min(), ln.anchor_tension.max()])}")
         for name, pt in self.points.items():
             x = pt["position"]
             out.append(f"point {name:11s} excursion {np.max(np.linalg.norm(x - x[0], axis=1)):.4g} m")

@@ -7,6 +7,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .io import force_text
 from .static import Exportable
 
 __all__ = ["DOF_NAMES", "OffsetSweep"]
@@ -124,8 +125,8 @@ class OffsetSweep(Exportable):
                f"{st.get('fallbacks', 0)} fallback solves"]
         for k in range(6):
             f = self.force[:, k]
-            out.append(f"{_FORCE[k]:17s} {np.nanmin(f) / 1e3:.5g} .. {np.nanmax(f) / 1e3:.5g} "
-                       f"{'kN' if k < 3 else 'kN m'}")
+            out.append(f"{_FORCE[k]:17s} "
+                       f"{force_text([np.nanmin(f), np.nanmax(f)], 'N' if k < 3 else 'N m', '.5g')}")
         out.append(f"largest residual  {np.nanmax(self.residual):.3g} N "
                    f"(tolerance {st.get('tolerance', float('nan')):.3g} N)")
         return "\n".join(out)

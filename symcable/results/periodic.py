@@ -13,6 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import SymcableError
+from .io import force_text, force_unit
 from .static import Exportable, OneLine
 
 __all__ = ["PeriodicSolution", "PeriodicSweep"]
@@ -176,8 +177,8 @@ class PeriodicSolution(OneLine, Exportable, metaclass=ABCMeta):
         return plot_periodic(self, path)
 
     def summary(self) -> str:
-        """A few lines a person reads: fairlead tension range and first harmonic (kN),
-        tension envelope (kN), solver stats."""
+        """A few lines a person reads: fairlead tension range and first harmonic, tension
+        envelope (N, kN or MN by their size), solver stats."""
         st = self.stats
         tf = self.fairlead_tension
         amp, ph = self.fairlead_tension_harmonics_amplitude, self.fairlead_tension_harmonics_phase
@@ -193,18 +194,19 @@ class PeriodicSolution(OneLine, Exportable, metaclass=ABCMeta):
             f"scene             {self.scene_name}",
             f"periodic          {self.method}, {disc}, period {self.period:.4g} s",
             f"status            {self.status}",
-            f"fairlead tension  mean {np.mean(tf) / 1e3:.4f} kN, min {np.min(tf) / 1e3:.4f} kN, "
-            f"max {np.max(tf) / 1e3:.4f} kN",
-            f"first harmonic    {amp[1] / 1e3:.4f} kN at phase {np.degrees(ph[1]):.2f} deg"
+            f"fairlead tension  mean {force_text(np.mean(tf), spec='.4f')}, min "
+            f"{force_text(np.min(tf), spec='.4f')}, max {force_text(np.max(tf), spec='.4f')}",
+            f"first harmonic    {force_text(amp[1], spec='.4f')} at phase "
+            f"{np.degrees(ph[1]):.2f} deg"
             if amp.size > 1 else "first harmonic    -",
         ]
         if self.tension_max.size:
-            lines.append(f"tension envelope  min {np.min(self.tension_min) / 1e3:.4f} kN, "
-                         f"max {np.max(self.tension_max) / 1e3:.4f} kN along the line "
+            lines.append(f"tension envelope  min {force_text(np.min(self.tension_min), spec='.4f')}"
+                         f", max {force_text(np.max(self.tension_max), spec='.4f')} along the line "
                          "(nodes, ends included)")
         if self.axial_force is not None and np.size(self.axial_force):
-            lines.append(f"axial force       min {np.min(self.axial_force) / 1e3:.4f} kN, "
-                         f"max {np.max(self.axial_force) / 1e3:.4f} kN along the line "
+            lines.append(f"axial force       min {force_text(np.min(self.axial_force), spec='.4f')}"
+                         f", max {force_text(np.max(self.axial_force), spec='.4f')} along the line "
                          "(signed: < 0 is compression)")
         lines.append(
             f"solver            {st.get('solver', '?')}: {st.get('iterations', '?')} iterations "
@@ -266,16 +268,20 @@ class PeriodicSweep(Exportable):
     warnings: tuple = ()
 
     def summary(self) -> str:
-        """One line per period: first-harmonic amplitude, range of the fairlead tension (kN)."""
+        """One line per period: first-harmonic amplitude, range of the fairlead tension (in
+        one unit for the table, N, kN or MN by the tensions' size)."""
+        k_n, u = force_unit(np.r_[self.fairlead_tension_amplitude, self.fairlead_tension_min,
+                                  self.fairlead_tension_max])
         lines = [f"scene             {self.scene_name}",
                  f"sweep             {self.method}, {len(self.periods)} periods, status {self.status}, "
                  f"{self.stats.get('wall_time', float('nan')):.2f} s",
-                 "  period s   amplitude kN   min kN       max kN       iterations  status"]
+                 f"  period s   {'amplitude ' + u:13s}  {'min ' + u:11s}  {'max ' + u:11s}  "
+                 "iterations  status"]
         its = self.stats.get("iterations", [None] * len(self.periods))
         for k, T in enumerate(self.periods):
-            lines.append(f"  {T:8.3f}   {self.fairlead_tension_amplitude[k] / 1e3:10.4f}   "
-                         f"{self.fairlead_tension_min[k] / 1e3:10.4f}   "
-                         f"{self.fairlead_tension_max[k] / 1e3:10.4f}   {str(its[k]):>10}  "
+            lines.append(f"  {T:8.3f}   {self.fairlead_tension_amplitude[k] / k_n:10.4f}   "
+                         f"{self.fairlead_tension_min[k] / k_n:10.4f}   "
+                         f"{self.fairlead_tension_max[k] / k_n:10.4f}   {str(its[k]):>10}  "
                          f"{self.statuses[k]}")
         lines += [f"warning           {w}" for w in self.warnings]
         return "\n".join(lines)

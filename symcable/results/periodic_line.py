@@ -13,6 +13,7 @@ from dataclasses import fields
 import numpy as np
 
 from .line3d import LineTrajectory, SystemTrajectory
+from .io import force_text
 from .periodic import PeriodicSolution
 
 __all__ = ["PeriodicLine", "PeriodicSystem", "REPORTED_HARMONICS", "as_periodic", "harmonics"]
@@ -62,7 +63,7 @@ class _Periodic:
 
     def _periodic_line(self) -> str:
         amp, ph = self._harmonics()
-        first = (f", first harmonic of the fairlead tension {amp[1] / 1e3:.4g} kN at "
+        first = (f", first harmonic of the fairlead tension {force_text(amp[1])} at "
                  f"{math.degrees(ph[1]):.2f} deg" if amp.size > 1 else "")
         return f"periodic          period {self.period:.4g} s{first}"
 

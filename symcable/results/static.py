@@ -10,8 +10,7 @@ from types import MappingProxyType
 
 import numpy as np
 
-from ..errors import SymcableError
-from .io import read_tree, write_tree
+from .io import force_text, read_tree, write_tree
 
 __all__ = ["Exportable", "ModalSolution", "OneLine", "PointState", "StaticSolution",
            "SystemStaticSolution"]
@@ -116,9 +115,10 @@ def _plot_3d(result, path, scene):
 
 
 def _components(f) -> str:
-    """'Fx a, Fz b kN' (planar) or 'Fx a, Fy b, Fz c kN' (3D)."""
+    """'Fx a, Fz b kN' (planar) or 'Fx a, Fy b, Fz c kN' (3D), in the unit the force's
+    magnitude takes (:func:`~symcable.results.io.force_text`)."""
     names = ("Fx", "Fz") if len(f) == 2 else ("Fx", "Fy", "Fz")
-    return ", ".join(f"{n} {v / 1e3:.4f}" for n, v in zip(names, f)) + " kN"
+    return force_text(f, spec=".4f", sep=", ", names=names)
 
 
 def _error_lines(stats: dict) -> list:
@@ -239,10 +239,12 @@ class StaticSolution(OneLine, Exportable, metaclass=ABCMeta):
         lines = [
             f"scene             {self.scene_name}",
             f"status            {self.status} via {st.get('path', '?')} from {st.get('start', '?')}",
-            f"fairlead tension  {self.fairlead_tension / 1e3:.4f} kN  ({_components(self.fairlead_force)})",
-            f"anchor tension    {self.anchor_tension / 1e3:.4f} kN  ({_components(self.anchor_force)})",
+            f"fairlead tension  {force_text(self.fairlead_tension, spec='.4f')}  "
+            f"({_components(self.fairlead_force)})",
+            f"anchor tension    {force_text(self.anchor_tension, spec='.4f')}  "
+            f"({_components(self.anchor_force)})",
             f"grounded length   {self.grounded_length:.3f} m",
-            f"max |moment|      {np.max(np.abs(self.moment)) / 1e3:.4f} kN m",
+            f"max |moment|      {force_text(np.max(np.abs(self.moment)), 'N m', '.4f')}",
             f"solver            {st.get('iterations', '?')} iterations, residual "
             f"{st.get('residual_norm', float('nan')):.3g} N (tol {st.get('tolerance', float('nan')):.3g} N), "
             f"{1e3 * st.get('wall_time', float('nan')):.1f} ms",
@@ -446,8 +448,9 @@ class SystemStaticSolution:
                f"status            {self.status} via {st.get('path', '?')} from "
                f"{st.get('start', '?')}"]
         for name, ln in self.lines.items():
-            out.append(f"line {name:12s} fairlead {ln.fairlead_tension / 1e3:.4f} kN, anchor "
-                       f"{ln.anchor_tension / 1e3:.4f} kN, grounded {ln.grounded_length:.3f} m")
+            out.append(f"line {name:12s} fairlead {force_text(ln.fairlead_tension, spec='.4f')}, "
+                       f"anchor {force_text(ln.anchor_tension, spec='.4f')}, grounded "
+                       f"{ln.grounded_length:.3f} m")
         for name, pt in self.points.items():
             x = ", ".join(f"{v:.3f}" for v in pt.position)
             out.append(f"point {name:11s} {pt.kind:6s} at ({x}) m, lines' force "

@@ -8,6 +8,7 @@ from typing import Mapping
 
 import numpy as np
 
+from .io import force_text
 from .static import Exportable, OneLine
 
 __all__ = ["Trajectory", "end_force_warnings", "node_tension", "range_warnings", "slack_warnings",
@@ -163,7 +164,8 @@ class Trajectory(OneLine, Exportable, metaclass=ABCMeta):
 
     # ------------------------------------------------------------------ summary
     def summary(self) -> str:
-        """A few lines a person reads: tensions (kN), motion ranges, solver stats."""
+        """A few lines a person reads: tensions (N, kN or MN by their size), motion ranges,
+        solver stats."""
         st = self.stats
         ft = self.fairlead_tension
         at = self.anchor_tension
@@ -173,17 +175,22 @@ class Trajectory(OneLine, Exportable, metaclass=ABCMeta):
             a = np.asarray(a) / scale
             return f"{np.min(a):.4f} .. {np.max(a):.4f}" if a.size else "-"
 
+        def force(a):  # a force's range in the unit its size takes
+            a = np.asarray(a, float)
+            return force_text([np.min(a), np.max(a)], spec=".4f") if a.size else "- N"
+
         lines = [
             f"scene             {self.scene_name}",
             f"status            {self.status}: {self.method}, dt {self.dt:.6g} s, "
             f"{st.get('steps', '?')} steps to t = {self.time[-1] if self.n_t else 0.0:.6g} s, "
             f"{self.n_t} samples",
-            f"fairlead tension  {rng(ft, 1e3)} kN (mean {np.mean(ft) / 1e3 if ft.size else np.nan:.4f} kN)",
-            f"anchor tension    {rng(at, 1e3)} kN",
-            f"segment tension   {np.min(lo) / 1e3 if np.size(lo) else np.nan:.4f} .. "
-            f"{np.max(hi) / 1e3 if np.size(hi) else np.nan:.4f} kN over the line",
+            f"fairlead tension  {force(ft)} (mean "
+            f"{force_text(np.mean(ft) if ft.size else np.nan, spec='.4f')})",
+            f"anchor tension    {force(at)}",
+            f"segment tension   {force([np.min(lo), np.max(hi)] if np.size(lo) else [])} "
+            "over the line",
             f"dynamic strain    {rng(self.strain)} -",
-            f"axial force       {rng(self.axial_force, 1e3)} kN over the line "
+            f"axial force       {force(self.axial_force)} over the line "
             "(signed: < 0 is compression)" if self.axial_force is not None else
             "axial force       -",
             f"dynamic angle     {rng(np.degrees(self.angle))} deg",

@@ -35,7 +35,8 @@ from .schedule import save_indices
 from .stepcache import STEP_CACHE, maybe_compiled
 from .steps import check_second_order, galpha_step, rk4_stability_limit, rk4_step
 
-__all__ = ["BLOWUP", "ERROR_TARGET", "accurate_dt", "check_positive", "error_warning", "integrate", "substep_warning",
+__all__ = ["BLOWUP", "ERROR_TARGET", "accurate_dt", "check_positive", "check_steps", "error_warning",
+           "integrate", "substep_warning",
            "galpha_step", "galpha1_step", "method_name", "rk4_stability_limit", "rk4_step",
            "start_rates"]
 
@@ -58,6 +59,30 @@ def check_positive(name: str, value, unit: str = "") -> float:
         raise SymcableError(f"{name} = {value!r}{' ' + unit if unit else ''}: must be > 0 "
                             "(a finite number)")
     return v
+
+
+def check_steps(duration, dt=None, period=None, *, names=("duration", "dt"),
+                fixed: bool = True) -> tuple[float, float | None]:
+    """``(duration, dt)`` (s) as floats, or a one-line SymcableError naming the option
+    (``names``: the parameters', or a command's ``--duration``/``--dt``), its value and what
+    is allowed: each a finite number > 0 (``dt`` None keeps the default), dt at most the
+    duration (one step fills the run), and for fixed steps (``fixed``) with a motion of
+    ``period`` s at most half the period: fewer than two steps per period cannot follow the
+    motion (at dt = T every step sees the motion at one phase, as if it stood still, and
+    the run "converges" to a line at rest)."""
+    d = check_positive(names[0], duration, "s")
+    if dt is None:
+        return d, None
+    h = check_positive(names[1], dt, "s")
+    if h > d * (1.0 + 1e-9):
+        raise SymcableError(f"{names[1]} = {dt!r} s: larger than the {names[0].lstrip('-')} "
+                            f"({d:.6g} s): must be > 0 and at most the {names[0].lstrip('-')}")
+    if fixed and period is not None and h > 0.5 * float(period) * (1.0 + 1e-9):
+        raise SymcableError(f"{names[1]} = {dt!r} s: more than half the motion's period "
+                            f"({float(period):.6g} s), which the steps cannot follow: must be > 0 "
+                            f"and at most {0.5 * float(period):.6g} s (about period / 100 = "
+                            f"{float(period) / 100:.3g} s for 1 % accuracy)")
+    return d, h
 
 
 def start_rates(mech: Mechanism, q0, v0, t0: float, p) -> tuple[np.ndarray, np.ndarray]:
@@ -125,8 +150,10 @@ def integrate(mech: Mechanism, duration: float, dt: float | None = None, *, meth
     dt : float, s, optional
         The step (fixed), shortened when needed so that a whole number of steps fills
         ``duration`` (``stats["dt_requested"]`` keeps the value asked for); the first step
-        with ``tol``. Default ``duration / 100``; RK4: at most 0.8 times its stability limit
-        (:func:`rk4_stability_limit`, ``stats["dt_stable"]``).
+        with ``tol``. At most the duration, and (fixed steps) at most half the ``period``
+        (:func:`check_steps`). Default ``duration / 100`` (``period / 100`` when shorter);
+        RK4: at most 0.8 times its stability limit (:func:`rk4_stability_limit`,
+        ``stats["dt_stable"]``).
     method : GeneralizedAlpha | GeneralizedAlphaFirstOrder | RK4, default GeneralizedAlpha()
     q0, v0 : initial coordinates and velocities (default: ``start``'s q, or the mechanism's
         first static start, at rest)
@@ -223,7 +250,8 @@ def integrate(mech: Mechanism, duration: float, dt: float | None = None, *, meth
         raise SymcableError(f"method = {method!r}: must be GeneralizedAlpha(...), "
                             "GeneralizedAlphaFirstOrder(...) or RK4()")
     label = label or method_name(method)
-    duration = check_positive("duration", duration, "s")
+    period = None if period is None else check_positive("period", period, "s")
+    duration, dt = check_steps(duration, dt, period, fixed=tol is None)
     if tol is not None:
         if not isinstance(method, _IMPLICIT):
             raise SymcableError("tol: adaptive steps need generalized-alpha (RK4 here has no "
@@ -244,7 +272,7 @@ def integrate(mech: Mechanism, duration: float, dt: float | None = None, *, meth
     stats: dict = {"method": method_name(method)}
     if isinstance(method, _IMPLICIT):
         stats["rho_inf"] = method.rho_inf
-    default = duration / 100.0
+    default = min(duration, period or duration) / 100.0
     if isinstance(method, RK4):
         stats["dt_stable"] = rk4_stability_limit(mech, p, t0, q0, v0)
         default = min(default, 0.8 * stats["dt_stable"])
@@ -253,7 +281,6 @@ def integrate(mech: Mechanism, duration: float, dt: float | None = None, *, meth
         check_limit("steps", duration / dt_req, f"the run's time steps (duration "
                     f"{duration:.6g} s / dt {dt_req:.6g} s)", "a guard against runs that "
                     "exhaust memory and time")
-    period = None if period is None else check_positive("period", period, "s")
     tau = (duration if period is None else period) / (2.0 * math.pi)
     hook = reanchor if reanchor is not None else getattr(mech, "reanchor", None)
     ra = None if hook is None else Reanchoring(mech, hook, p,

@@ -1,6 +1,7 @@
 """The running error estimate of a time march (:class:`RunningEstimate`, planned by
 :class:`EstimatePlan`): each step's local error, carried as a leaky sum over the decay time of
-the error (:func:`leaky_sum`), relative to the range of the motion. Made in NumPy from the
+the error (:func:`leaky_sum`), relative to the range of the motion (at least MOTION_FLOOR of
+the state's scales: a run at rest has no range to speak of). Made in NumPy from the
 states a batched call returns; the step itself is unchanged
 (:mod:`symcable.solvers.march` runs it)."""
 from __future__ import annotations
@@ -17,8 +18,16 @@ __all__ = ["EstimatePlan", "RunningEstimate", "leaky_sum", "MOTION_FLOOR"]
 
 #: steps the running error estimate takes at once (its arrays stay in the cache)
 _CHUNK = 256
-#: smallest range of the motion (relative to the scales) the error estimate is relative to
-MOTION_FLOOR = 1e-6
+#: the least range of the motion (relative to the scales, the state's typical change) the
+#: error estimate is relative to: a state that moves by less is at rest, and its error is
+#: measured against this fraction of its scale. Why not less: a line at rest still moves by
+#: its Newton tolerance and the settling of its start (seed000_hybrid's rod: 2.5e-6 of its
+#: velocity scale), against which its error of 6e-7 of the scale read as "25 % of the
+#: range" (the floor was 1e-6: seed000_rod and seed000_hybrid warned at rest, 25 to 133 %;
+#: the end tensions' own floor is the same fraction of the largest tension,
+#: :data:`symcable.api.cable3d.TENSION_RANGE_FLOOR`). The built-in scenes that move have
+#: ranges of 0.06 (oc3) to 28 (towed_body) of their scales
+MOTION_FLOOR = 1e-3
 
 
 @dataclass(frozen=True)
@@ -105,7 +114,8 @@ class RunningEstimate:
         """``error_estimate_scaled`` (the largest running estimate, relative to the scales),
         ``motion_range`` (max_i (hi_i - lo_i) / scale_i over the run) and ``error_estimate``
         (their ratio: the error relative to the range of the motion, or to MOTION_FLOOR
-        when the motion is smaller: a state at rest up to round-off is not a motion); None
+        when the motion is smaller: a state at rest up to a thousandth of its scale is not a
+        motion, and an error relative to its range would be noise over noise); None
         without an estimate (RK4)."""
         if self.plan.kind == "none":
             return {"error_estimate": None, "error_estimate_scaled": None, "motion_range": None}

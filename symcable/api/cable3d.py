@@ -321,7 +321,7 @@ def simulate_3d(scene: Scene, duration: float, dt: float | None = None,
     check_moves(scene, mech)
     t_static = time.perf_counter() - started
     if dt is None and name != "rk4":
-        dt = default_dt(scene, duration, _start_tensions(scene, eq))
+        dt = min(default_dt(scene, duration, _start_tensions(scene, eq)), duration)
     kw = dict(method=opts, t0=t0, start=eq, v0=v0, p=mech.params.values, save_every=save_every,
               save_times=save_times, progress=progress, codegen=codegen, label=name,
               period=_period(scene),

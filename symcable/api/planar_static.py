@@ -19,6 +19,7 @@ from ..models.planar.static import static_mechanism
 from ..results.static import StaticSolution
 from ..scene import Scene, load_scene
 from ..solvers.equilibrium import solve_equilibrium
+from .above_water import check_above_water
 
 __all__ = ["RTOL", "solve_static"]
 
@@ -88,7 +89,7 @@ def solve_static(scene, *, tol: float | None = None, max_iter: int = 50,
     if not isinstance(scene, Scene):
         scene = load_scene(scene)
     options = dict(tol=tol, max_iter=max_iter, continuation=continuation, codegen=codegen)
-    sol = _solve_once(scene, model=model, **options)
+    sol = check_above_water(scene, _solve_once(scene, model=model, **options))
     if not estimate:
         if accuracy is not None:
             raise SymcableError("solve_static: accuracy needs the error estimate "

@@ -137,6 +137,7 @@ def simulate(scene, duration: float, dt: float | None = None, method: str = "gen
     default_dt = (model.period / 100.0) if model.period else duration / 100.0
     if dt is None:
         dt = default_dt if ga else min(0.8 * rk4_stability_limit(model, p), default_dt)
+        dt = min(dt, duration)  # a run shorter than the default step is one step
     failure = None
     try:
         run = integrate(mech, duration, check_positive("dt", dt, "s"), method=opts, p=p, q0=q0, v0=v0,

@@ -11,7 +11,10 @@ import numbers
 import re
 from typing import Any, Mapping
 
+import numpy as np
+
 from ..errors import SceneError
+from .bodies import BodyEnd
 from .model import _DIMS, EndCondition, Model
 
 _AXES = {2: ("x", "z"), 3: ("x", "y", "z")}  # vectors per dimension, z up in both
@@ -180,3 +183,101 @@ def _num_reader(path: str, table: Mapping):
             raise SceneError(f"{_key(path, key)}: required key missing ({what})")
         return _number(_key(path, key), value, unit, gt=gt, ge=ge)
     return num
+
+
+# ----------------------------------------------------------------------------- free surface
+
+def _held_ends(scene) -> list:
+    """``[(label, sections, ends)]``, one per line of ``scene``: ``label`` names the line in
+    messages, ``ends`` its ends held at a given position (pinned or clamped ends, fixed and
+    vessel points, points of fixed bodies), each ``(key path, value shown, position,
+    max_strain of the section at it)``. Free ends, free points and free bodies (their
+    positions solved for) are left out."""
+    if scene.version == 1:
+        ends = [(f"{which}.position", list(end.position), end.position,
+                 sec.line_type.max_strain)
+                for which, end, sec in (("end_a", scene.end_a, scene.sections[0]),
+                                        ("end_b", scene.end_b, scene.sections[-1]))
+                if end.position is not None]
+        return [("the line", scene.sections, ends)]
+    out = []
+    for i, ln in enumerate(scene.lines):
+        ends = []
+        for which, sec in (("end_a", ln.sections[0]), ("end_b", ln.sections[-1])):
+            end, strain = ln.end(which), sec.line_type.max_strain
+            if isinstance(end, BodyEnd):
+                if not scene.bodies[end.body].is_free:
+                    world = scene.bodies[end.body].world(end.offset)
+                    ends.append((f"lines[{i}].{which}", end.text,
+                                 tuple(float(v) for v in world), strain))
+            elif isinstance(end, str):
+                if not scene.points[end].is_free:
+                    pt = scene.points[end]
+                    ends.append((f"{_key('points', end)}.position", list(pt.position),
+                                 pt.position, strain))
+            elif end.position is not None:
+                ends.append((f"lines[{i}].{which}.position", list(end.position),
+                             end.position, strain))
+        out.append((f"lines[{i}] ({ln.name!r})", ln.sections, ends))
+    return out
+
+
+def _lowest_reach(a, b, reach: float) -> float:
+    """The lowest z that a line of stretched length at most ``reach`` between the points
+    ``a`` and ``b`` can reach: the bottom of the ellipsoid of foci a, b and major axis
+    ``reach`` (the points p with |pa| + |pb| <= reach)."""
+    a, b = np.asarray(a, float), np.asarray(b, float)
+    d = float(np.linalg.norm(b - a))
+    half = 0.5 * reach
+    minor2 = max(half * half - 0.25 * d * d, 0.0)
+    ez = float(b[-1] - a[-1]) / d if d > 0 else 0.0
+    return float(0.5 * (a[-1] + b[-1])) - math.sqrt(half * half * ez * ez
+                                                    + minor2 * (1.0 - ez * ez))
+
+
+def _check_free_surface(scene) -> None:
+    """Refuse a line that the scene's held ends put mostly out of the water, in a scene in
+    water (``environment.water_density > 0``; a scene in air is not checked).
+
+    symcable has no free surface: every line is loaded as submerged (its buoyancy, drag and
+    added mass in water of ``water_density``) wherever it is, and the free surface is z = 0
+    (the README's "A scene file"). A line may rise out of the water to an end held above
+    it (a fairlead or a towpoint on a deck): that part is computed with water's loads, an
+    error in proportion to its length which that idealisation accepts. What the held ends
+    alone put out of the water, before any solve, is at least: the whole line when it
+    cannot reach z = 0 even stretched to its line types' ``max_strain`` (both ends held);
+    else, for each held end a height h above the surface, h / (1 + max_strain) of
+    unstretched line (the line has to come down that far to reach the water). When that is
+    more than half of the line's length, the line is certainly mostly in air while the
+    scene computes it in water: one SceneError naming the highest end, its position, how
+    much of the line is in air and what is allowed. A line found out of the water only by
+    the solve, and a free point or body floating up out of it, are checked on the solution
+    (:mod:`symcable.api.above_water`)."""
+    if scene.environment.in_air:
+        return
+    for label, sections, ends in _held_ends(scene):
+        length = sum(s.length for s in sections)
+        tol = 1e-9 * length
+        up = [e for e in ends if e[2][-1] > tol]
+        if not up:
+            continue
+        reach = sum(s.length * (1.0 + s.line_type.max_strain) for s in sections)
+        whole = len(ends) == 2 and _lowest_reach(ends[0][2], ends[1][2], reach) > 0.0
+        out = length if whole else sum(e[2][-1] / (1.0 + e[3]) for e in up)
+        if not out > 0.5 * length:
+            continue
+        key, shown, position, _ = max(up, key=lambda e: e[2][-1])
+        also = "".join(f", and {k} at z = {_fmt(p[-1])} m" for k, _, p, _ in ends if k != key)
+        amount = (f"it cannot reach the water even stretched to max_strain: all of its "
+                  f"{_fmt(length)} m is in air" if whole else
+                  f"at least {_fmt(out)} m of its {_fmt(length)} m "
+                  f"({100 * out / length:.0f} %) is then in air")
+        unit = "m" if key.endswith(".position") else ""
+        what = "" if unit else "this point of the fixed body is "
+        raise _err(key, shown, unit,
+                   f"{what}{_fmt(position[-1])} m above the free surface (z = 0){also}: "
+                   f"{label} hangs mostly out of the water ({amount}), yet symcable loads every "
+                   "line as submerged (water's buoyancy, drag and added mass: it has no free "
+                   "surface); a line may rise out of the water to an end above it (a fairlead), "
+                   "not lie mostly in air: lower the end below z = 0, lengthen the line, or set "
+                   "environment.water_density = 0 for a line in air")

@@ -25,7 +25,7 @@ else:  # pragma: no cover - exercised on Python 3.10 only
 from ..errors import LimitError, SceneError
 from ..data import resolve
 from ..limits import check, check_nesting, check_toml_nesting, read_bounded
-from .checks import _check_keys, _check_text, _choice, _err, _get
+from .checks import _check_free_surface, _check_keys, _check_text, _choice, _err, _get
 from .model import _DIMS, Model, Scene, scene_to_dict
 from .moordyn import MoorDynDeck, is_moordyn_deck, parse_moordyn
 from .system import read_system
@@ -193,10 +193,12 @@ def _build(data: Mapping, source: str, base: str = ".") -> Scene:
                         model, zones)
         for k, ln in enumerate(lines):
             _check_section_models(model, zones, ln.sections, f"lines[{k}].sections")
-        return Scene(name=name, model=model, environment=env, seabed=seabed,
-                     line_types=MappingProxyType(types), sections=(), end_a=None, end_b=None,
-                     source=source, points=points, lines=lines, mass_matrix=mass_matrix,
-                     bodies=bodies)
+        scene = Scene(name=name, model=model, environment=env, seabed=seabed,
+                      line_types=MappingProxyType(types), sections=(), end_a=None, end_b=None,
+                      source=source, points=points, lines=lines, mass_matrix=mass_matrix,
+                      bodies=bodies)
+        _check_free_surface(scene)  # a line the held ends put mostly out of the water
+        return scene
     for key in ("points", "bodies"):
         if _get(data, key) is not None:
             raise _err(key, "{...}", "", f"{key} are attached to [[lines]] (scene version 2): "
@@ -224,10 +226,12 @@ def _build(data: Mapping, source: str, base: str = ".") -> Scene:
                        "cable carries no moment): remove it")
     _check_geometry(env, sections, ends, dim)
     _check_friction_options(seabed, model.value, False, ends)
-    return Scene(name=name, model=model, environment=env, seabed=seabed,
-                 line_types=MappingProxyType(types), sections=sections,
-                 end_a=ends["end_a"], end_b=ends["end_b"], source=source,
-                 mass_matrix=mass_matrix, zones=zones)
+    scene = Scene(name=name, model=model, environment=env, seabed=seabed,
+                  line_types=MappingProxyType(types), sections=sections,
+                  end_a=ends["end_a"], end_b=ends["end_b"], source=source,
+                  mass_matrix=mass_matrix, zones=zones)
+    _check_free_surface(scene)  # a line the held ends put mostly out of the water
+    return scene
 
 
 def _check_segments(by_key: Mapping[str, tuple], model: Model, zones: str) -> None:

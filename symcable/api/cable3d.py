@@ -28,8 +28,8 @@ from ..results.generic import SceneLinearization
 from ..scene import End, EndCondition, Scene
 from .cable3d_static import AT_REST, body_stiffness, dynamic_p, node_shapes, tows
 from ..models.rod.reanchor import reanchor_hook
-from .scene3d import (check_moves, dynamics_mechanism, has_twists, rod_line, scene_equilibrium,
-                      start_state, twist_names, twist_shapes)
+from .scene3d import (check_moves, check_rk4_limit, dynamics_mechanism, has_twists, rod_line,
+                      scene_equilibrium, start_state, twist_names, twist_shapes)
 from ..solvers.integrate import (ERROR_TARGET, accurate_dt, check_steps, error_warning,
                                 integrate)
 from ..solvers.march import leaky_sum
@@ -320,6 +320,8 @@ def simulate_3d(scene: Scene, duration: float, dt: float | None = None,
     mech, eq, v0, how, notes = start_state(scene, t0, start, codegen)
     check_moves(scene, mech)
     t_static = time.perf_counter() - started
+    if name == "rk4":  # its stable step (cached for integrate), or one line saying why not
+        check_rk4_limit(scene, mech, t0, eq.q, v0)
     if dt is None and name != "rk4":
         dt = min(default_dt(scene, duration, _start_tensions(scene, eq)), duration)
     kw = dict(method=opts, t0=t0, start=eq, v0=v0, p=mech.params.values, save_every=save_every,

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import re
 
 import numpy as np
 
@@ -22,9 +23,9 @@ from .rod_fields import tension_shear
 from .rod_static import rod_mechanism, rod_static_equilibrium
 from ..scene import Scene
 
-__all__ = ["ROD_SERIES", "check_moves", "check_periodic_scene", "dynamics_mechanism", "has_twists",
-           "rod_line", "scene_equilibrium", "scene_mechanism", "start_state", "twist_names",
-           "twist_shapes"]
+__all__ = ["ROD_SERIES", "check_moves", "check_periodic_scene", "check_rk4_limit",
+           "dynamics_mechanism", "has_twists", "rod_line", "scene_equilibrium", "scene_mechanism",
+           "start_state", "twist_names", "twist_shapes"]
 
 #: the rod's outputs a time or periodic result carries in ``stats["outputs"]`` (name ->
 #: array (n_t, ...)), beyond the cable's series (see :mod:`symcable.models.rod.rod`)
@@ -59,6 +60,34 @@ def check_moves(scene: Scene, mech) -> None:
         raise SymcableError(f"scene {scene.name!r}: nothing moves (every node is held, e.g. a "
                             "single segment between two held ends): its dynamics have no "
                             "unknowns; give the line more segments")
+
+
+def check_rk4_limit(scene: Scene, mech, t0: float, q, v) -> float:
+    """RK4's stable step at the run's start, s
+    (:func:`~symcable.solvers.steps.rk4_stability_limit` with the run's own arguments, so that
+    :func:`~symcable.solvers.integrate.integrate` finds it cached), or one SymcableError
+    naming the method and the fix where it cannot be computed. Past DENSE_MAX states it is a
+    power iteration with sparse QR solves of the mass matrix, which CasADi's QR refuses
+    (``Linsol::solve: 'nfact' failed``) when a pivot is below its absolute threshold: a rod's
+    twist inertia (m D^2 ds / 8: 4.9e-13 kg m^2 on seed 000's 5 mm cells, beside node masses
+    of 4e-6 kg) fails at 6.5e-13 and passes at 9.8e-13 (seed000_rod at 300 and 200
+    segments), and the run would stop on a CasADi RuntimeError."""
+    from ..solvers.steps import rk4_stability_limit
+    try:
+        return rk4_stability_limit(mech, mech.params.values, t0, q, v)
+    except RuntimeError as exc:
+        # CasADi's "<path>/linsol.cpp:91: Linsol::solve: 'nfact' failed", in one line
+        why = re.sub(r"^\S*:\d+:\s*", "", " ".join(str(exc).split())) or type(exc).__name__
+        sections = scene.sections if scene.version == 1 else [
+            sec for ln in scene.lines for sec in ln.sections]
+        ds = min((sec.ds for sec in sections), default=None)
+        rod = (f"; a rod's twist inertia on segments of {ds * 1e3:.3g} mm is below the sparse "
+               "solver's pivot threshold" if has_twists(scene) and ds else "")
+        raise SymcableError(f"method = 'rk4': its stable step cannot be computed for scene "
+                            f"{scene.name!r} ({mech.n_q + mech.n_v} states): the sparse solve "
+                            f"with its mass matrix failed ({why}){rod}; use "
+                            "method='generalized-alpha' (the default) or fewer, longer "
+                            "segments") from None
 
 
 def dynamics_mechanism(scene: Scene, mech):

@@ -197,7 +197,7 @@ def _exit_status(result) -> int:
 def _simulate(args) -> int:
     from ..scene import load_scene
     from ..api.analyses import simulate
-    from ..solvers.integrate import check_steps
+    from ..api.analyses import check_steps
     from ..plotting.profiles import plot_trajectory
     from ..results.line3d import LineTrajectory, SystemTrajectory
 

@@ -11,6 +11,7 @@ import pytest
 import symcable as sc
 from symcable.errors import SymcableError
 from symcable.scene import scene_to_dict
+from test_cable3d_points import _two_lines as _points_scene
 
 W = 698.094          # N/m, OC3's chain, submerged
 DEPTH = 100.0        # m
@@ -98,20 +99,12 @@ def test_smooth_line_estimate_tracks_the_error():
 
 
 def _two_lines(n: int) -> dict:
-    """Two lines meeting at a free buoy: an anchor chain partly on the seabed and a rope up
-    to a vessel point (tests/test_cable3d_points.py's scene), ``n`` segments a line."""
-    return {"name": "buoyed", "model": "cable3d", "environment": {"depth": 120.0},
-            "seabed": {"stiffness": 1e7},
-            "line_types": {"chain": {"mass": 60.0, "diameter": 0.09, "EA": 5e8},
-                           "rope": {"mass": 6.0, "diameter": 0.11, "EA": 4e7}},
-            "points": {"anchor": {"kind": "fixed", "position": [-300.0, -80.0, -120.0]},
-                       "buoy": {"kind": "free", "position": [-120.0, 0.0, -50.0],
-                                "mass": 400.0, "volume": 4.0, "force": [0.0, 3000.0, 0.0]},
-                       "fairlead": {"kind": "vessel", "position": [40.0, 60.0, -8.0]}},
-            "lines": [{"name": "lower", "end_a": "anchor", "end_b": "buoy",
-                       "sections": [{"type": "chain", "length": 230.0, "segments": n}]},
-                      {"name": "upper", "end_a": "buoy", "end_b": "fairlead",
-                       "sections": [{"type": "rope", "length": 170.0, "segments": n}]}]}
+    """tests/test_cable3d_points.py's two lines meeting at a free buoy (an anchor chain
+    partly on the seabed, a rope up to a vessel point), ``n`` segments a line."""
+    d = _points_scene()
+    for line in d["lines"]:
+        line["sections"][0]["segments"] = n
+    return d
 
 
 def test_system_reports_each_line():

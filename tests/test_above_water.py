@@ -5,8 +5,9 @@ submerged must be in the water.
   is refused when the scene is read, in one line naming the key and the value, and
   ``symcable check`` does not say "ok" (symcable.scene.checks._check_free_surface);
 - a free body or free buoy that the static solve floats above the surface, its buoyancy
-  still counted in full, is refused after the solve (symcable.api.above_water), and a line
-  the solve leaves mostly in air is warned about;
+  still counted in full, or a buoyant section of a line floated above it, is refused after
+  the solve (symcable.api.above_water), and a line the solve leaves mostly in air is
+  warned about;
 - a fairlead a few metres above the surface, and a scene in air, solve as before, with no
   such message.
 """
@@ -305,3 +306,40 @@ def test_a_free_buoy_floating_above_the_surface_is_refused():
     assert "volume 2 m^3" in msg and "volume = 0 for a point in air" in msg
     sol = _solve_checked(buoy_scene(0.0))  # a clump weight: no buoyancy, nothing to refuse
     assert sol.points["buoy"].position[2] < 0.0
+
+
+def _lazy_wave(buoyant_length: float, model: str) -> dict:
+    """A lazy wave in 100 m of water: 120 m of chain from the anchor, a buoyant section
+    (390 N/m net buoyancy) of ``buoyant_length`` m, 60 m of chain up to a fairlead 30 m
+    below the surface, 150 m away."""
+    a, b = [0.0, -100.0], [150.0, -30.0]
+    if model == "cable3d":
+        a, b = [0.0, 0.0, -100.0], [150.0, 0.0, -30.0]
+    return {"name": "lazy wave", "model": model, "environment": {"depth": 100.0},
+            "line_types": {"chain": {"mass": 100.0, "diameter": 0.08, "EA": 5e8},
+                           "float": {"mass": 250.0, "diameter": 0.6, "EA": 5e8}},
+            "sections": [{"type": "chain", "length": 120.0, "segments": 24},
+                         {"type": "float", "length": buoyant_length, "segments": 30},
+                         {"type": "chain", "length": 60.0, "segments": 12}],
+            "end_a": {"condition": "pinned", "position": a},
+            "end_b": {"condition": "pinned", "position": b}}
+
+
+@pytest.mark.parametrize("model", ["planar", "cable3d"])
+def test_a_buoyant_section_floated_above_the_surface_is_refused(model):
+    """150 m of the buoyant section lift its hump to z = +16 m, its buoyancy counted in full
+    there (the fuzz study's lazy waves stood 4-95 m above z = 0, unwarned): refused in one
+    line naming the section, where it ended and what to change. With 40 m the hump stays
+    under water (the line's highest point is the fairlead) and the scene solves."""
+    from symcable.api.above_water import AboveWaterError
+    with pytest.raises(AboveWaterError) as info:
+        _solve_checked(_lazy_wave(150.0, model))
+    msg = _one_line(str(info.value))
+    assert msg.startswith("the line: the static solve floats its buoyant sections[1]"), msg
+    assert "net buoyancy 390.4 N/m" in msg and "above the free surface" in msg
+    z = float(msg.split("to z = ")[1].split(" m")[0])
+    top = float(np.max(info.value.solution.positions[:, -1]))
+    assert z == pytest.approx(top, rel=1e-2) and 5.0 < z < 30.0
+    sol = _solve_checked(_lazy_wave(40.0, model))
+    assert sol.status == "converged"
+    assert float(np.max(sol.positions[:, -1])) == pytest.approx(-30.0)

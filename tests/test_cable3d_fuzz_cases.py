@@ -11,7 +11,10 @@ as "converged", and what they must give now:
 - a light line lying on the bed up to a heavy clump resting there took, through its end
   node's contact, the clump's penetration, and reported 55.6 kN at the clump where it pulls
   2.5 kN (c11-0007): while a free point touches the bed, the half segment of each line beside
-  it now rests where the line's neighbour node does (as a held end on the bed).
+  it now rests where the line's neighbour node does (as a held end on the bed);
+- a short stiff wire far from the origin (t33-0337): its round-off floor (10 x, 4.1 N) was
+  above a node's weight (1.06 N), so the start, every segment at zero tension, passed as
+  converged and the ends read 0.53 N for 40 and 60 N.
 """
 from __future__ import annotations
 
@@ -23,6 +26,7 @@ import numpy as np
 import pytest
 
 import symcable as sc
+from symcable.analytic.catenary import elastic_catenary
 from symcable.scene import load_scene
 
 RHO, G = 1025.0, 9.80665
@@ -239,3 +243,29 @@ def test_one_segment_between_held_ends_has_no_unknowns():
     w = sc.load_scene(d).line_types["r"].weight
     assert st.status == "converged"
     assert abs(st.fairlead_tension - 0.5 * w * 10.0) < 1e-8 * w * 10.0
+
+
+def test_short_stiff_wire_far_from_the_origin_keeps_its_tension():
+    """A 5.2 m wire (EA 1.85e9 N, 92 segments, node weight 1.06 N) between pinned ends 550 m
+    from the origin, against the elastic catenary: the default tolerance now stays below a
+    hundredth of a node's weight, so the end tensions (40.2 and 59.9 N) are right to the
+    discretisation of a smooth catenary at 92 segments (1e-3 relative is 10 x that; before,
+    both ends read 0.53 N)."""
+    a = np.array([-69.0576566973566, -552.1753903544461, -342.0892780152257])
+    b = np.array([-67.47065461146387, -554.2803273361055, -341.0327352376603])
+    wire = {"mass": 2.2676115415835305, "diameter": 0.021296063211699624, "EA": 1853687391.7373426}
+    L = 5.212212781090386
+    d = {"model": "cable3d", "line_types": {"wire": wire},
+         "sections": [{"type": "wire", "length": L, "segments": 92}],
+         "end_a": {"condition": "pinned", "position": a.tolist()},
+         "end_b": {"condition": "pinned", "position": b.tolist()}}
+    r = sc.solve_static(d, estimate=False)
+    w = (wire["mass"] - RHO * math.pi * wire["diameter"] ** 2 / 4) * G
+    ref = elastic_catenary(float(np.hypot(*(b - a)[:2])), float(b[2] - a[2]), L,
+                              wire["EA"], w)
+    # the tolerance: a fiftieth of the round-off floor, 8 mN, under 1 % of a node's weight
+    assert r.stats["residual_norm"] <= r.stats["tolerance"] < 0.01 * w * L / 92
+    ta = math.hypot(ref.H, ref.V_a)
+    tb = math.hypot(ref.H, ref.V_b)
+    assert r.anchor_tension == pytest.approx(ta, rel=1e-3)
+    assert r.fairlead_tension == pytest.approx(tb, rel=1e-3)

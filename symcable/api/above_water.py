@@ -17,6 +17,13 @@ checked here, on the solution (a scene in air, ``water_density = 0``, is not che
   buoyancy, not a part of it, and nothing in the solution says so: hence a refusal, not a
   warning. (Below the surface the body may still break it, its shape being unknown: only
   the certain case is refused.)
+- a line whose buoyant section (net buoyancy, ``weight < 0``) the solve lifts above the
+  surface where nothing holds it (a node above z = 0 higher than its neighbours, or a free
+  end, or an end at a free point) is refused, :class:`AboveWaterError`, for the reason a
+  buoyant point is: its buoyancy is counted in full above the water, so it rises until the
+  rest of the line stops it, and the shape and every tension are not those of the real
+  line (which would float at the surface). A buoyant section rising to a held end above
+  the water is a line leaving the water, the next case;
 - a line with more than half of its length above the surface gets a warning (the
   solution's ``warnings``), naming how much and the weight left out there. The part of a
   line above the water has its weight counted short by its buoyancy, and drag and added
@@ -76,6 +83,7 @@ def check_above_water(scene, solution):
     if scene.environment.in_air or solution.status != "converged":
         return solution  # a failed solve's partial result is no answer to check
     _check_floating(scene, solution)
+    _check_lines_floating(scene, solution)
     new = [(name, text) for name, text in _mostly_up(scene, solution)
            if text not in solution.warnings]  # checked once already: the same solution
     if not new:
@@ -125,6 +133,61 @@ def _check_floating(scene, solution) -> None:
                 "equilibrium of the real buoy (it would float lower); give it more mass or "
                 "less volume (volume = 0 for a point in air), shorter lines, or hold it "
                 "(kind = 'vessel' or 'fixed')", solution)
+
+
+def _loose_ends(scene, name) -> tuple[bool, bool]:
+    """Whether end A / B of a line (``name``; None: the one line) is free to rise: a free
+    end, or an end at a free point."""
+    if name is None:
+        return tuple(e.condition.name == "FREE" for e in (scene.end_a, scene.end_b))
+    line = next(ln for ln in scene.lines if ln.name == name)
+    out = []
+    for end in (line.end_a, line.end_b):
+        if isinstance(end, str):
+            out.append(bool(scene.points[end].is_free))
+        else:
+            cond = getattr(end, "condition", None)
+            out.append(cond is not None and cond.name == "FREE")
+    return tuple(out)
+
+
+def _check_lines_floating(scene, solution) -> None:
+    """Raise AboveWaterError for the first line with a buoyant section floated above z = 0
+    (module docstring): a node of a buoyant section above the surface and no lower than
+    its neighbours, not a held end."""
+    for name, label, sections, sol in _line_solutions(scene, solution):
+        weights = np.array([sec.line_type.weight for sec in sections])
+        if not np.any(weights < 0):
+            continue
+        z = np.asarray(sol.positions, float)[:, -1]
+        s = np.asarray(sol.s, float)
+        n = z.size
+        if n < 2 or not np.any(z > 0):
+            continue
+        edges = np.cumsum([sec.length for sec in sections])
+        mid = np.minimum(np.searchsorted(edges, 0.5 * (s[:-1] + s[1:])), len(sections) - 1)
+        seg_buoyant = weights[mid] < 0
+        buoyant = np.zeros(n, bool)
+        buoyant[:-1] |= seg_buoyant
+        buoyant[1:] |= seg_buoyant
+        up_a = np.r_[True, z[1:] >= z[:-1]]
+        up_b = np.r_[z[:-1] >= z[1:], True]
+        peak = (z > 0) & buoyant & up_a & up_b
+        loose = _loose_ends(scene, name)
+        peak[0] &= loose[0]
+        peak[-1] &= loose[-1]
+        if not peak.any():
+            continue
+        i = int(np.flatnonzero(peak)[np.argmax(z[peak])])
+        k = int(mid[min(i, n - 2)] if seg_buoyant[min(i, n - 2)] else mid[max(i - 1, 0)])
+        sec = sections[k]
+        raise AboveWaterError(
+            f"{label}: the static solve floats its buoyant sections[{k}] (net buoyancy "
+            f"{-sec.line_type.weight:.4g} N/m) to z = {_z(z[i])} m at s = {s[i]:.4g} m, above "
+            "the free surface (z = 0), with its buoyancy still counted in full: symcable has "
+            "no free surface, so this is not an equilibrium of the real line (it would float "
+            "at the surface); shorten or weigh down the buoyant section, or lower the line",
+            solution)
 
 
 def _segments_above(s, positions) -> np.ndarray:

@@ -79,7 +79,7 @@ def static_equilibrium(scene: Scene, *, tol: float | None = None, max_iter: int 
     mech = cable3d_mechanism(scene)
     if tol is None:
         F = mech.scales.force if scene.version == 2 else force_scale(scene, segment_table(scene))
-        tol = max(RTOL * F, 10 * mech.scales.residual_floor)
+        tol = mech.scales.static_tolerance(F, RTOL)
     eq = solve_equilibrium(mech, tol=tol, max_iter=max_iter,
                            continuation=None if continuation else False, codegen=codegen)
     return mech, eq

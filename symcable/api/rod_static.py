@@ -39,7 +39,7 @@ def rod_static_equilibrium(scene: Scene, *, tol: float | None = None, max_iter: 
     force scale, as cable3d)."""
     mech = rod_mechanism(scene)
     if tol is None:
-        tol = max(RTOL * force_scale(scene, rod_table(scene)), 10 * mech.scales.residual_floor)
+        tol = mech.scales.static_tolerance(force_scale(scene, rod_table(scene)), RTOL)
     eq = solve_equilibrium(mech, tol=tol, max_iter=max_iter,
                            continuation=None if continuation else False, codegen=codegen)
     return mech, eq
@@ -108,7 +108,7 @@ def hybrid_zones(scene: Scene, threshold: float = ZONE_THRESHOLD,
         return scene, {"zones": [], "threshold": threshold, "grow": grow,
                        "message": "zones given"}
     mech = probe_mechanism(scene)
-    tol = max(RTOL * force_scale(scene, rod_table(scene)), 10 * mech.scales.residual_floor)
+    tol = mech.scales.static_tolerance(force_scale(scene, rod_table(scene)), RTOL)
     eq = solve_equilibrium(mech, tol=tol, codegen=False)
     return zoned_scene(scene, eq.outputs["positions"], eq.outputs["internal_force"],
                        threshold, grow)

@@ -9,10 +9,10 @@ than :data:`MIN_HALVED` segments): with ``T(n) = T + C n^-p``, the user's answer
     e = |T(n) - T(m)| / |1 - (n/m)^p|
 
 where ``p`` is 2 for a smooth line and 1 past a corner (a slack line standing up from the
-seabed). Such a corner's error does not fall steadily (it depends on where the true
-touchdown falls within a segment), so the estimate is at least the corner's own
-(:func:`_corner`: half the weight of the segment leaving the bed, times the sine of the
-angle turned there). The estimate is in N and as a fraction of the scene's largest
+seabed, or folded in the water column). Such a corner's error does not fall steadily (it
+depends on where the true touchdown or fold falls within a segment), so the estimate is at
+least the corner's own (:func:`_corner`, :func:`_fold`: half the weight of the segment
+there, times the sine of the angle turned beyond the line's smooth turning). The estimate is in N and as a fraction of the scene's largest
 tension; above the accuracy asked (default 1 %) the solution carries a warning naming the
 segments that would meet it, and ``accuracy=`` refines those lines until it does.
 """
@@ -62,6 +62,16 @@ def _segment_weights(scene: Scene) -> dict:
                                   for s in secs]) for name, secs in parts.items()}
 
 
+def _free_ends(scene: Scene) -> dict:
+    """``{line: (end A free, end B free)}``: an end with ``condition = "free"``."""
+    def loose(end) -> bool:
+        cond = getattr(end, "condition", None)
+        return cond is not None and getattr(cond, "name", "") == "FREE"
+    if scene.version == 1:
+        return {ONE_LINE: (loose(scene.end_a), loose(scene.end_b))}
+    return {ln.name: (loose(ln.end_a), loose(ln.end_b)) for ln in scene.lines}
+
+
 def _turn_sin(pos: np.ndarray, m: int) -> float:
     """Sine of the angle the line turns through at interior node ``m`` (1 past 90 deg)."""
     u, v = pos[m] - pos[m - 1], pos[m + 1] - pos[m]
@@ -97,11 +107,51 @@ def _corner(ln, weights: np.ndarray) -> tuple[float, float]:
     return worst, sharpest
 
 
-def _compare(sol, n: dict, other, m: dict, weights: dict,
+def _fold(ln, weights: np.ndarray, free: tuple = (False, False)) -> tuple[float, float]:
+    """The error a fold in the water column leaves in a line's end tensions, N: a line
+    folded within a segment (a near-vertical line doubled back at its lower end, a slack
+    loop) turns through a large angle at one node while the nodes two away on either side
+    turn little; where the true fold lies within that segment the nodes cannot resolve, and
+    the error falls as 1/n (first order), as at a touchdown corner. Half the weight of the
+    segments beside the node times the sine of the angle turned there beyond the larger of
+    those two nodes' (nodes on the seabed left to :func:`_corner`). A fold doubled back
+    along the line itself (a vertical line folded at its lower end) turns no angle the nodes
+    show: there the tension passes through zero within a segment, so a node in the water
+    column whose tension is below the weight of a segment beside it (not within two nodes of
+    a free end, ``free`` (end A, end B), where the tension falls to zero smoothly) counts as
+    a fold turning through 180 degrees (sine 1), with no floor of its own. Returns
+    ``(error N, that sine)``."""
+    pos = np.asarray(ln.positions, float)
+    n = len(pos)
+    share = 0.5 * (np.concatenate([[0.0], weights]) + np.concatenate([weights, [0.0]]))
+    on = np.asarray(ln.contact_force) > 0.1 * share
+    worst, sharpest = 0.0, 0.0
+    for m in range(1, n - 1):
+        if on[m]:
+            continue
+        near = [_turn_sin(pos, k) for k in (m - 2, m + 2) if 0 < k < n - 1]
+        if not near:
+            continue
+        excess = max(0.0, _turn_sin(pos, m) - max(near))
+        if excess > SHARP:
+            worst = max(worst, 0.5 * max(weights[m - 1], weights[m]) * excess)
+            sharpest = max(sharpest, excess)
+    tension = np.asarray(ln.tension, float)
+    for m in range(1, n - 1):
+        if on[m] or (free[0] and m <= 2) or (free[1] and m >= n - 3):
+            continue
+        if tension[m] < max(weights[m - 1], weights[m]):
+            sharpest = 1.0
+            break
+    return worst, sharpest
+
+
+def _compare(sol, n: dict, other, m: dict, weights: dict, free: dict,
              before: dict | None = None) -> dict:
     """Per line the estimated error of ``sol`` (segments ``n``) from ``other`` (segments
-    ``m``), at least its touchdown corner's (:func:`_corner`); a line whose count did not
-    change keeps its entry of ``before``."""
+    ``m``), at least its touchdown corner's and fold's (:func:`_corner`, :func:`_fold`;
+    ``weights`` and ``free`` per line as :func:`_segment_weights` and :func:`_free_ends`
+    give them); a line whose count did not change keeps its entry of ``before``."""
     mine, theirs = _ends(sol), _ends(other)
     scale = max(max(v[2] for v in mine.values()), 1e-300)
     lines = {}
@@ -110,9 +160,10 @@ def _compare(sol, n: dict, other, m: dict, weights: dict,
             if before and name in before:
                 lines[name] = dict(before[name], relative=before[name]["error"] / scale)
             continue
-        corner, sharp = _corner(sol.lines[name], weights[name])
-        # first order past a corner (the touchdown of a line standing up from the bed),
-        # second order where the line is smooth
+        corner, sharp = max(_corner(sol.lines[name], weights[name]),
+                            _fold(sol.lines[name], weights[name], free[name]))
+        # first order past a corner (the touchdown of a line standing up from the bed, a
+        # fold in the water column), second order where the line is smooth
         p = 1 if sharp > SHARP else 2
         diff = max(abs(ta - theirs[name][0]), abs(tb - theirs[name][1]))
         richardson = diff / abs(1.0 - (n[name] / m[name]) ** p)
@@ -190,7 +241,7 @@ def with_error_estimate(scene: Scene, sol, solve: Callable, accuracy: float | No
         first = str(exc).splitlines()[0][:200]
         return _attach(sol, report, (f"no discretisation error estimate: the comparison "
                                      f"solve at {sum(m.values())} segments failed ({first})",))
-    lines = _compare(sol, n, ref, m, _segment_weights(scene))
+    lines = _compare(sol, n, ref, m, _segment_weights(scene), _free_ends(scene))
     rounds = 0
     while accuracy is not None and rounds < MAX_ROUNDS and any(
             e["relative"] > target for e in lines.values()):
@@ -210,7 +261,8 @@ def with_error_estimate(scene: Scene, sol, solve: Callable, accuracy: float | No
                      f"{total} failed ({str(exc).splitlines()[0][:200]})",)
             break
         n_new = line_segments(finer)
-        lines = _compare(new, n_new, sol, n, _segment_weights(finer), before=lines)
+        lines = _compare(new, n_new, sol, n, _segment_weights(finer), _free_ends(finer),
+                         before=lines)
         scene, sol, n, rounds = finer, new, n_new, rounds + 1
     report = {"lines": lines,
               "max_relative": max((e["relative"] for e in lines.values()), default=0.0),

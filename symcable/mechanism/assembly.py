@@ -460,14 +460,15 @@ def _part_layouts(m: Mechanism, num: _Numbering) -> dict:
 def _scales(parts: list, q_scale: np.ndarray, v_scale: np.ndarray, n_z_total: int) -> Scales:
     """The assembled scales: ``q_scale`` (n_q,) and ``v_scale`` (n_v,) with non-positive
     entries set to 1 (in place), the parts' z scales in order, the largest of their force
-    (N), mass (kg) and residual floor (N)."""
+    (N), mass (kg) and residual floor (N), the smallest of their resolutions (N)."""
     q_scale[q_scale <= 0] = 1.0
     v_scale[v_scale <= 0] = 1.0
     return Scales(q=q_scale, v=v_scale,
                   z=np.concatenate([m.scales.z for m in parts]) if n_z_total else np.zeros(0),
                   force=max(m.scales.force for m in parts),
                   mass=max(m.scales.mass for m in parts),
-                  residual_floor=max(m.scales.residual_floor for m in parts))
+                  residual_floor=max(m.scales.residual_floor for m in parts),
+                  resolution=min(m.scales.resolution for m in parts))
 
 
 def _default_starts(parts: list, num: _Numbering, params: ParamBlocks, static_params: dict):

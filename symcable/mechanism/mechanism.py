@@ -34,6 +34,7 @@ message of the periodic solvers, which refuse them.
 from __future__ import annotations
 
 import hashlib
+import math
 import re
 from dataclasses import dataclass, field
 from functools import cached_property
@@ -180,6 +181,10 @@ class Scales:
     mass : float         kg, a characteristic mass (converts constraint rows to forces)
     residual_floor : float
         N, the smallest force residual float64 round-off lets the equations reach.
+    resolution : float
+        N, the smallest load the static equations must resolve (the lightest node's weight;
+        inf when no node weighs anything): :meth:`static_tolerance` stays below a thousandth
+        of it, where round-off allows.
     g : ndarray (n_z,) or None
         Typical magnitude of each constraint row, in its own unit: a time step is converged
         when |g_i| <= tol g_i (default: the median coordinate scale).
@@ -197,6 +202,22 @@ class Scales:
     residual_floor: float = 0.0
     g: np.ndarray | None = None
     merit: np.ndarray | None = None
+    resolution: float = math.inf
+
+    def static_tolerance(self, force: float | None = None, rtol: float = 1e-9) -> float:
+        """The default static tolerance on the residual's max-norm, N: ``rtol`` times the force
+        scale (``force``, default :attr:`force`), or ten times the round-off floor where that
+        is larger, but not above a thousandth of :attr:`resolution` (a node's residual adds
+        up along the line: a tension error of up to N x the tolerance over N nodes) while a
+        fiftieth of the floor is below it (the floor has a hundredfold margin over float64's
+        resolution of the coordinates). A short stiff line far from the origin has a round-off floor larger than
+        a node's weight: a start with every segment at zero tension would pass ten times the
+        floor, and the line's tension would be lost (a 5 m wire 550 m from the origin: 0.5 N
+        at the ends for 40 and 60 N)."""
+        F = self.force if force is None else force
+        loose = 10.0 * self.residual_floor
+        tight = max(0.02 * self.residual_floor, 1e-3 * self.resolution)
+        return max(rtol * F, min(loose, tight))
 
     def g_scale(self) -> np.ndarray:
         """``g``, or the median of ``q`` for every constraint row."""

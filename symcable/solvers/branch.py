@@ -256,7 +256,7 @@ def trace_branch(mech: Mechanism, block: str, values, *, component: int | None =
     F = functions(mech)
     S = F.static_solver(codegen)
     if tol is None:
-        tol = max(1e-9 * mech.scales.force, 10 * mech.scales.residual_floor)
+        tol = mech.scales.static_tolerance()
     opts = dict(tol=tol, max_iter=max_iter, x_scale=_x_scale(F), merit_weights=mech.scales.merit)
     branch = Branch(mech.name, block, component,
                     stats={"reanchored": [], "halvings": 0, "snaps": []})

@@ -315,7 +315,7 @@ def solve_equilibrium(mech: Mechanism, p=None, *, tol: float | None = None,
             diagnostics={"attempts": [], "best": {}, "iterations": 0})
     S = F.static_solver(codegen)
     if tol is None:
-        tol = max(1e-9 * mech.scales.force, 10 * mech.scales.residual_floor)
+        tol = mech.scales.static_tolerance()
     opts = dict(tol=tol, max_iter=max_iter, x_scale=_x_scale(F), merit_weights=mech.scales.merit)
     step = S.fast("step")
     attempts, best, iterations = [], None, 0

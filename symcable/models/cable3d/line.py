@@ -61,8 +61,8 @@ from ..common.starts import force_scale, starts_of
 from ..common.relax import _ramp_integral
 from ...mechanism.mechanism import (Bound, Layout, Mechanism, Output, ParamBlocks, PartLayout,
                                    Scales, StateNames)
-from ..common.seabed import (bristle_scale, friction_setup, lumped as _lumped, profile_current,
-                       reaction_bound, seabed_forces)
+from ..common.seabed import (bristle_scale, friction_setup, lumped as _lumped, node_resolution,
+                       profile_current, reaction_bound, seabed_forces)
 from ..common.segments import (CABLE_COMPRESSION, FOLD_PUSH, SLACK_CONTINUATION, segment_table,
                               slack_law)
 from ..common.elements import DRAG_SPEED, element_kernel, held_end
@@ -380,7 +380,8 @@ def _bounds(scene: Scene, seg: dict, T, e, F: float, contact, applied: np.ndarra
 def _scales(scene: Scene, seg: dict, N: int, n_v: int, bristle: bool, F: float) -> Scales:
     """The scales: a tenth of the line's length per coordinate (m), a bristle's mobilisation
     length per deflection (m), sqrt(g L) per velocity (m/s), the force scale ``F`` (N), the
-    line's mass (kg) and the round-off floor of the stiffest segment's force (N)."""
+    line's mass (kg), the round-off floor of the stiffest segment's force (N) and the lightest
+    node's weight (N, :func:`~symcable.models.common.seabed.node_resolution`)."""
     env, a, b = scene.environment, scene.end_a, scene.end_b
     L = scene.length
     coord = L + max((float(np.max(np.abs(e_.position))) for e_ in (a, b)
@@ -391,7 +392,8 @@ def _scales(scene: Scene, seg: dict, N: int, n_v: int, bristle: bool, F: float) 
     if bristle:  # a bristle's deflection: up to its mobilisation length mu N / k
         q_scale = np.concatenate([q_scale, np.full(2 * (N + 1), bristle_scale(scene.seabed, seg))])
     return Scales(q=q_scale, v=np.full(n_v, math.sqrt(env.gravity * L)),
-                  z=np.zeros(0), force=F, mass=max(total_mass, 1e-6), residual_floor=floor)
+                  z=np.zeros(0), force=F, mass=max(total_mass, 1e-6), residual_floor=floor,
+                  resolution=node_resolution(seg))
 
 
 def _layout(owner: str, seg: dict, N: int, moving: list, bristle: bool) -> Layout:

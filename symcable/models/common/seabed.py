@@ -43,7 +43,7 @@ from .friction import Friction, friction
 CONTACT_SMOOTHING = 0.1
 
 __all__ = ["CONTACT_SMOOTHING", "SeabedTerms", "bristle_scale", "friction_setup", "joined_on",
-           "lumped", "profile_current", "reaction_bound", "seabed_damper", "seabed_forces"]
+           "lumped", "node_resolution", "profile_current", "reaction_bound", "seabed_damper", "seabed_forces"]
 
 
 @dataclass(frozen=True)
@@ -65,6 +65,15 @@ def lumped(seg) -> np.ndarray:
     out[:-1] += 0.5 * seg["w"] * seg["ds"]
     out[1:] += 0.5 * seg["w"] * seg["ds"]
     return out
+
+
+def node_resolution(seg) -> float:
+    """The lightest node's submerged weight magnitude, N (:func:`lumped`, nodes that weigh
+    nothing left out; inf when none weighs anything): the smallest load a static solve of the
+    line must resolve (:attr:`~symcable.mechanism.mechanism.Scales.resolution`)."""
+    w = np.abs(lumped(seg))
+    w = w[w > 0]
+    return float(np.min(w)) if w.size else float("inf")
 
 
 def friction_setup(scene: Scene, seg: dict) -> tuple[bool, bool, np.ndarray | None]:

@@ -79,7 +79,7 @@ from ..common.relax import _ramp_integral
 from .frames import end_moment_force, reference_director, transport
 from .vertices import _internal_forces, _vertex_terms, _VertexTerms
 from .loads import rod_mass, rod_seabed, seabed_setup, water_velocity
-from ..common.seabed import lumped as _lumped, reaction_bound
+from ..common.seabed import lumped as _lumped, node_resolution, reaction_bound
 
 __all__ = ["build_rod", "default_anchors", "rod_table"]
 
@@ -377,7 +377,8 @@ def _scales(scene: Scene, seg: dict, slots: dict, n_states: int, state_scale: fl
             F: float) -> Scales:
     """The scales: a tenth of the line's length per position (m), 1 rad per twist, the
     bristle scale per state (m); sqrt(g L) per velocity (m/s), over L per twist rate; the
-    force scale ``F`` (N), the line's mass (kg), the stiffest edge's round-off floor (N)."""
+    force scale ``F`` (N), the line's mass (kg), the stiffest edge's round-off floor (N), the
+    lightest node's weight (N)."""
     env, a, b = scene.environment, scene.end_a, scene.end_b
     L = scene.length
     coord = L + max((float(np.max(np.abs(x.position))) for x in (a, b)
@@ -389,7 +390,8 @@ def _scales(scene: Scene, seg: dict, slots: dict, n_states: int, state_scale: fl
                                     np.full(n_states, state_scale)]),
                   v=np.where(is_x, vx, vx / L),
                   z=np.zeros(0), force=F, mass=max(float(np.sum(seg["mass"] * seg["ds"])),
-                                                   1e-6), residual_floor=floor)
+                                                   1e-6), residual_floor=floor,
+                  resolution=node_resolution(seg))
 
 
 def _starts(scene: Scene, seg: dict, params: ParamBlocks, moving: list, slots: dict,

@@ -22,6 +22,7 @@ import errno
 import dataclasses
 import os
 import stat
+import time
 from contextlib import contextmanager
 from dataclasses import dataclass
 from typing import Any, Iterator, Mapping
@@ -59,9 +60,11 @@ class Limits:
     nesting : int
         Depth of nested arrays and tables in a scene or sweep (TOML or dict).
     solve_seconds : int
-        Wall time of one periodic solve's iterations, s (shooting's periods, IPOPT's
-        iterations): a response with no period (a line that snaps, a subharmonic) is said
-        so within it rather than iterated on for hours.
+        Wall time of one periodic solve, s: of a whole ``solve_periodic`` call (its
+        attempts, fallbacks and error estimate together, :func:`call_deadline`), and of
+        each solve's iterations within it (shooting's periods, IPOPT's iterations). A
+        response with no period (a line that snaps, a subharmonic) is said so within it
+        rather than iterated on for hours.
     """
 
     segments: int = 20_000
@@ -89,7 +92,7 @@ OPTIONS = {"segments": ("--max-segments", 1, "segments of a scene, all lines tog
            "file_bytes": ("--max-file-mb", _MB, "size of a scene file, deck or sweep file"),
            "table_bytes": ("--max-table-mb", _MB, "size of a motion table file"),
            "nesting": ("--max-nesting", 1, "nesting of arrays and tables in a scene or sweep"),
-           "solve_seconds": ("--max-solve-seconds", 1, "wall time of one periodic solve, s")}
+           "solve_seconds": ("--max-solve-seconds", 1, "wall time of a periodic solve, s")}
 
 _current: contextvars.ContextVar = contextvars.ContextVar("symcable_limits", default=Limits())
 
@@ -97,6 +100,37 @@ _current: contextvars.ContextVar = contextvars.ContextVar("symcable_limits", def
 def current() -> Limits:
     """The limits in force here (:func:`limits` changes them for a block)."""
     return _current.get()
+
+
+_deadline: contextvars.ContextVar = contextvars.ContextVar("symcable_deadline", default=None)
+
+
+@contextmanager
+def call_deadline() -> Iterator[None]:
+    """Within the block, every periodic solve shares one deadline: ``solve_seconds`` from
+    the block's start (:func:`remaining_seconds`). Nested blocks keep the outer deadline."""
+    if _deadline.get() is not None:
+        yield
+        return
+    token = _deadline.set(time.perf_counter() + current().solve_seconds)
+    try:
+        yield
+    finally:
+        _deadline.reset(token)
+
+
+def remaining_seconds() -> float:
+    """Seconds a periodic solve starting now may take: ``solve_seconds``, or what is left of
+    the enclosing :func:`call_deadline` when that is less (0 once it has passed)."""
+    top = float(current().solve_seconds)
+    end = _deadline.get()
+    return top if end is None else max(0.0, min(top, end - time.perf_counter()))
+
+
+def past_deadline() -> bool:
+    """Whether the enclosing :func:`call_deadline` has passed (False outside one)."""
+    end = _deadline.get()
+    return end is not None and time.perf_counter() >= end
 
 
 @contextmanager

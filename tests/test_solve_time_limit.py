@@ -41,3 +41,38 @@ def test_ipopt_iterations_reach_the_progress_bar(monkeypatch):
     text = buf.getvalue()
     assert "(IPOPT)" in text and "iteration" in text
     assert f"{res.stats['iterations'] + 1}/100" in text  # iteration 0 is IPOPT's start
+
+
+def test_one_deadline_for_the_whole_call():
+    """``call_deadline``: every periodic solve inside shares one deadline, solve_seconds from
+    the block's start (a solve_periodic call's retries, fallbacks and error estimate each
+    had their own before: one call ran 936 s under a 120 s limit); nested blocks keep the
+    outer one; outside, a solve has the whole limit."""
+    import time
+
+    from symcable.limits import call_deadline, past_deadline, remaining_seconds
+    with sc.limits(solve_seconds=2):
+        assert remaining_seconds() == 2.0 and not past_deadline()
+        with call_deadline():
+            left = remaining_seconds()
+            assert 1.5 < left <= 2.0
+            with call_deadline():  # nested: the outer deadline holds
+                time.sleep(0.05)
+                assert remaining_seconds() < left
+        assert remaining_seconds() == 2.0
+
+
+@pytest.mark.parametrize("kw", [{}, {"method": "collocation", "intervals": 20}])
+def test_a_solve_inside_a_spent_deadline_stops_at_once(kw):
+    """A periodic solve started after the call's deadline has passed (as a retry, a
+    continuation or the estimate's second solve would be) does not iterate on: shooting
+    stops marching, IPOPT at its first iteration (its callback; the solver, built once for
+    every call, keeps max_wall_time at the limit), each saying so."""
+    import time
+
+    from symcable.limits import call_deadline
+    with sc.limits(solve_seconds=1), call_deadline():
+        time.sleep(1.05)
+        with pytest.raises(ConvergenceError) as info:
+            sc.solve_periodic("seed001", estimate=False, **kw)
+    assert "time limit" in str(info.value) and "solve_seconds" in str(info.value)

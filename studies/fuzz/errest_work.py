@@ -6,8 +6,11 @@ The stages, each reported to the parent (:mod:`fuzz_pool`) before it starts so e
 own time limit: ``solve`` (``sc.solve_static(scene, codegen=False)``, public defaults
 otherwise), ``refs`` (MoorPy), ``extra`` (the cost timing and the diagnostics below). A
 record's fields: ``outcome`` (solved, clean error, crash), ``sym`` ({line: [T_A, T_B]}, N),
-``estimate`` (``stats["discretisation_error"]["max_relative"]``), ``est_lines`` ({line:
-relative}), ``warned`` (a warning "line '...': discretisation error about ..."),
+``estimate`` (``stats["discretisation_error"]["max_relative"]`` plus, where a line touches
+the bed, ``stats["seabed_error"]["max_relative"]``: the two add at worst; each is also kept,
+``est_disc``, ``est_bed``, with the seabed estimate's ``t_bed``, s), ``est_lines`` ({line:
+relative}, the discretisation's), ``warned`` (a warning "line '...': discretisation error
+about ..." or "... the penalty seabed (stiffness ..."),
 ``no_estimate`` (the warning that the comparison solve failed), ``ref`` ({line: [T_A, T_B,
 grounded]} or None), ``ref_kind``, ``true`` (max over lines and ends of |T - T_MoorPy| over
 MoorPy's largest end tension, at least 1e-3 of the scene's weight), ``true_lines``, ``t_solve`` (s, the call with the estimate),
@@ -32,6 +35,7 @@ import warnings as pywarnings
 HERE = os.path.dirname(os.path.abspath(__file__))
 ACCURACY = 0.01
 MARK = "discretisation error about"
+BED_MARK = "the penalty seabed (stiffness"
 NO_ESTIMATE = "no discretisation error estimate"
 
 
@@ -184,12 +188,16 @@ def run_item(item: dict, notify=None, extra: bool = True) -> dict:
     rec.update(out)
     if sol is not None:
         de = sol.stats.get("discretisation_error") or {}
-        rec.update(sym=_tensions(sol), estimate=de.get("max_relative"),
+        be = sol.stats.get("seabed_error") or {}
+        disc, bed = de.get("max_relative"), be.get("max_relative")
+        rec.update(sym=_tensions(sol),
+                   estimate=None if disc is None else disc + (bed or 0.0),
+                   est_disc=disc, est_bed=bed, t_bed=be.get("wall_time"),
                    est_lines={k: v.get("relative") for k, v in (de.get("lines") or {}).items()},
                    est_orders={k: v.get("order") for k, v in (de.get("lines") or {}).items()},
                    t_est=de.get("wall_time"), path=sol.stats.get("path"),
                    warnings=[w[:300] for w in sol.warnings],
-                   warned=any(MARK in w for w in sol.warnings),
+                   warned=any(MARK in w or BED_MARK in w for w in sol.warnings),
                    slack_warning=any("hang slack" in w for w in sol.warnings),
                    no_estimate=any(NO_ESTIMATE in w for w in sol.warnings))
     notify("refs", dict(rec))

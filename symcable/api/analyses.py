@@ -34,6 +34,7 @@ from ..models.planar.mechanism import dynamics_mechanism, mechanism_of, state_pe
 from . import planar_time as _planar_time
 from .planar_periodic import method_options, solve_model, sweep_model
 from .periodic_error import with_time_error
+from ..limits import call_deadline
 from ..results.generic import Equilibrium, SceneLinearization
 from .planar_static import solve_static
 from . import cable3d as _c3
@@ -323,26 +324,27 @@ def solve_periodic(scene, method="shooting", *, model: DynamicModel | None = Non
         The solver did not converge, or its answer failed the defect check; ``partial`` is
         a PeriodicSolution with status "failed", ``diagnostics`` the solver's status.
     """
-    started = time.perf_counter()
-    s3 = _nonlinear(scene, model=model, params=params, initial=initial,
-                    ipopt_options=ipopt_options)
-    if s3 is not None:
-        res = _c3p.solve_periodic_3d(s3, method, codegen=codegen, tol=tol, **options)
-    else:
-        if model is None:
-            scene = load_scene(scene)
-            model = build_dynamic_model(scene)
-        res = solve_model(scene, model, method, params=params, initial=initial,
-                          resolution=resolution, tol=tol, ipopt_options=ipopt_options,
-                          codegen=codegen, options=options, started=started)
-    if not estimate:
-        return res
-    others = {k: options[k] for k in _NOT_METHOD if k in options}
-    _, opts = method_options(method, {k: v for k, v in options.items() if k not in others})
-    others.pop("stability", None)
-    again = dict(model=model, params=params, resolution=resolution, tol=tol, codegen=codegen,
-                 ipopt_options=ipopt_options, estimate=False, **others)
-    return with_time_error(res, opts, lambda o: solve_periodic(s3 or scene, o, **again))
+    with call_deadline():  # one deadline, limits.solve_seconds, for the whole call
+        started = time.perf_counter()
+        s3 = _nonlinear(scene, model=model, params=params, initial=initial,
+                        ipopt_options=ipopt_options)
+        if s3 is not None:
+            res = _c3p.solve_periodic_3d(s3, method, codegen=codegen, tol=tol, **options)
+        else:
+            if model is None:
+                scene = load_scene(scene)
+                model = build_dynamic_model(scene)
+            res = solve_model(scene, model, method, params=params, initial=initial,
+                              resolution=resolution, tol=tol, ipopt_options=ipopt_options,
+                              codegen=codegen, options=options, started=started)
+        if not estimate:
+            return res
+        others = {k: options[k] for k in _NOT_METHOD if k in options}
+        _, opts = method_options(method, {k: v for k, v in options.items() if k not in others})
+        others.pop("stability", None)
+        again = dict(model=model, params=params, resolution=resolution, tol=tol, codegen=codegen,
+                     ipopt_options=ipopt_options, estimate=False, **others)
+        return with_time_error(res, opts, lambda o: solve_periodic(s3 or scene, o, **again))
 
 
 #: solve_periodic's keyword options that are not the method's own

@@ -17,6 +17,7 @@ import numpy as np
 from .cable3d import RHO_INF, _line_result, _motions, _period
 from .scene3d import check_moves, check_periodic_scene, dynamics_mechanism, scene_equilibrium
 from ..errors import ConvergenceError, SymcableError
+from ..limits import current as current_limits, past_deadline
 from .planar_periodic import method_options
 from ..results.periodic import PeriodicSweep
 from ..results.periodic_generic import MechanismPeriodic
@@ -101,6 +102,14 @@ def _solve_3d(scene: Scene, method, codegen, stability, start, options) -> tuple
         if res is None:
             res = solve_periodic_mech(mech, period, opts, **kw)
     except ConvergenceError as first:
+        if past_deadline():
+            raise ConvergenceError(f"{str(first).splitlines()[0]}; not tried again from a "
+                                   "start with the motion ramped in: the call's time limit of "
+                                   f"{current_limits().solve_seconds} s (sc.limits("
+                                   "solve_seconds=...), --max-solve-seconds) has passed; the "
+                                   "response may have no period: run simulate to see what "
+                                   "it does", diagnostics=getattr(first, "diagnostics", None)
+                                   ) from None
         try:
             res = solve_periodic_mech(mech, period, opts, start_p=ramped, **kw)
         except ConvergenceError as second:

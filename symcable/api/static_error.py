@@ -213,7 +213,8 @@ def _attach(sol, report: dict, warnings: tuple):
     return dataclasses.replace(sol, stats=stats, warnings=tuple(sol.warnings) + warnings)
 
 
-def with_error_estimate(scene: Scene, sol, solve: Callable, accuracy: float | None):
+def with_error_estimate(scene: Scene, sol, solve: Callable, accuracy: float | None,
+                        after: Callable | None = None):
     """``sol`` (the static solution of ``scene``) with its discretisation error in
     ``stats["discretisation_error"]`` and a warning per line above the accuracy; with
     ``accuracy`` given, the solution of ``scene`` refined (more segments on the lines above
@@ -223,7 +224,9 @@ def with_error_estimate(scene: Scene, sol, solve: Callable, accuracy: float | No
     ``error`` N, ``relative`` to the largest tension, ``segments``, ``compared_with``,
     ``order``), ``max_relative``, ``accuracy``, ``segments`` (per line, of the answer
     returned), ``rounds`` (refinements made) and ``wall_time`` (s, the estimate's and the
-    refinement's cost).
+    refinement's cost). ``after(scene, sol)``, when given, is applied to the solution
+    returned and its scene (the refined one) before the report is attached (the seabed's
+    estimate, :mod:`symcable.api.bed_error`).
     """
     t0 = time.perf_counter()
     target = ACCURACY if accuracy is None else float(accuracy)
@@ -239,6 +242,7 @@ def with_error_estimate(scene: Scene, sol, solve: Callable, accuracy: float | No
         report = {"lines": {}, "max_relative": None, "accuracy": target, "segments": n,
                   "rounds": 0, "wall_time": time.perf_counter() - t0}
         first = str(exc).splitlines()[0][:200]
+        sol = after(scene, sol) if after is not None else sol
         return _attach(sol, report, (f"no discretisation error estimate: the comparison "
                                      f"solve at {sum(m.values())} segments failed ({first})",))
     lines = _compare(sol, n, ref, m, _segment_weights(scene), _free_ends(scene))
@@ -264,6 +268,8 @@ def with_error_estimate(scene: Scene, sol, solve: Callable, accuracy: float | No
         lines = _compare(new, n_new, sol, n, _segment_weights(finer), _free_ends(finer),
                          before=lines)
         scene, sol, n, rounds = finer, new, n_new, rounds + 1
+    if after is not None:
+        sol = after(scene, sol)
     report = {"lines": lines,
               "max_relative": max((e["relative"] for e in lines.values()), default=0.0),
               "accuracy": target, "segments": n, "rounds": rounds,

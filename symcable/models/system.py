@@ -148,16 +148,17 @@ def point_part(pt: Point, env: Environment, seabed=None, contact=None) -> Mechan
     the contact N = K ramp(-depth - z) upward, a damper -damping (K / stiffness) v_z while in
     contact (the lines' pressure per speed over the same footprint), and regularised Coulomb
     friction -mu N v_h / sqrt(|v_h|^2 + v_eps^2) with the isotropic ``friction`` (or, when only
-    friction_axial / friction_lateral are given, the larger). Parameter blocks ``load`` (1)
-    and ``current`` (3, m/s). Outputs ``position``, ``own_force`` (those loads),
+    friction_axial / friction_lateral are given, the larger). Parameter blocks ``load`` (1),
+    ``current`` (3, m/s) and ``bed`` (1, scales K). Outputs ``position``, ``own_force`` (those loads),
     ``contact_force`` (N, upward), ``potential_energy`` (of the weight, buoyancy, applied
     force and contact, J), ``kinetic_energy`` (J)."""
     weight, applied, rho = _point_loads(pt, env)
     q, v = ca.SX.sym("q", 3), ca.SX.sym("v", 3)
     t = ca.SX.sym("t")
-    params = ParamBlocks(("load", "current"), (1, 3), np.concatenate([[1.0], env.current]))
+    params = ParamBlocks(("load", "current", "bed"), (1, 3, 1),
+                         np.concatenate([[1.0], env.current, [1.0]]))
     p = ca.SX.sym("p", params.n)
-    load, current = p[0], p[1:4]
+    load, current, bed = p[0], p[1:4], p[4]
     u = current - v
     speed = ca.sqrt(ca.dot(u, u) + DRAG_SPEED ** 2)
     drag = 0.5 * rho * ca.DM(pt.drag_area) * speed * u
@@ -171,10 +172,10 @@ def point_part(pt: Point, env: Environment, seabed=None, contact=None) -> Mechan
     if seabed is not None and contact is not None:
         K, width = contact
         pen = -env.depth - q[2]
-        normal = K * terms.smooth_ramp(pen, width)
+        normal = bed * K * terms.smooth_ramp(pen, width)
         names.append("point seabed")
         own = own + ca.vertcat(0.0, 0.0, normal)
-        potential = potential + K * _ramp_integral(pen, width)
+        potential = potential + bed * K * _ramp_integral(pen, width)
         on = 0.5 * (1.0 + pen / ca.sqrt(pen * pen + width * width))
         if seabed.damping > 0:
             own = own - ca.vertcat(0.0, 0.0, seabed.damping * K / seabed.stiffness * v[2] * on)

@@ -123,7 +123,8 @@ def _components(f) -> str:
 
 def _error_lines(stats: dict) -> list:
     """The summary's lines on the discretisation error (``stats["discretisation_error"]``,
-    :mod:`symcable.api.static_error`): per line the end tensions' estimated error, N and
+    :mod:`symcable.api.static_error`) and the seabed's (``stats["seabed_error"]``,
+    :mod:`symcable.api.bed_error`): per line the end tensions' estimated error, N and
     relative to the largest tension."""
     rep = stats.get("discretisation_error")
     if not rep or not rep.get("lines"):
@@ -136,6 +137,11 @@ def _error_lines(stats: dict) -> list:
                    f"{e['compared_with']}")
     if rep.get("rounds"):
         out.append(f"refined           {rep['rounds']} rounds to {rep['accuracy']:.2%}")
+    bed = stats.get("seabed_error")
+    for name, e in ((bed or {}).get("lines") or {}).items():
+        label = "seabed" if len(bed["lines"]) == 1 else f"  seabed {name}"
+        out.append(f"{label:17s} {e['error']:.3g} N ({e['relative']:.2%} of the largest "
+                   f"tension) from a rigid bed's, sinking {e['sinking']:.3g} m")
     return out
 
 

@@ -306,7 +306,7 @@ def _why(opts, sol: dict, tol: float) -> str:
     """Why a collocation solve stopped short, in a line (with the way on at a time limit)."""
     why = (f"{opts.solver} stopped ({sol['return_status']}) at residual "
            f"{sol['residual']:.3g} > tol = {tol:.3g}")
-    if "WallTime" in str(sol["return_status"]):
+    if "WallTime" in str(sol["return_status"]) or "User_Requested" in str(sol["return_status"]):
         why += (": the time limit of one periodic solve (sc.limits(solve_seconds=...), "
                 "--max-solve-seconds); method='shooting' is cheaper, or the response may have "
                 "no period (simulate shows what it does)")

@@ -36,7 +36,7 @@ import numpy as np
 
 from ..mechanism.codegen import FastCall, compile_functions
 from ..mechanism.functions import functions
-from ..limits import current as current_limits
+from ..limits import current as current_limits, remaining_seconds
 from ..progress import ProgressBar
 from ..errors import ConvergenceError, SymcableError
 from ..mechanism.mechanism import Mechanism
@@ -280,7 +280,10 @@ class SquareSystem:
             counter = self._counters[("ipopt", repr(sorted(opts.items())))]
             with ProgressBar(int(opts["max_iter"]), None, label=f"{self.name} (IPOPT)",
                              unit="iteration") as bar:
-                counter.start(bar)
+                # the call's deadline (limits.call_deadline) by the callback, not by
+                # max_wall_time: an option is fixed when the solver is built, and the one
+                # IPOPT solver serves every call (a sweep's, a cached system's)
+                counter.start(bar, time.perf_counter() + remaining_seconds())
                 try:
                     sol = nlp(x0=w0, p=P, lbg=0.0, ubg=0.0)
                 finally:
@@ -298,15 +301,17 @@ class SquareSystem:
 
 class _IpoptIterations(ca.Callback):
     """IPOPT's iteration callback: counts the iterations into a progress bar (shown on a
-    terminal once a solve has run a second, :class:`~symcable.progress.ProgressBar`)."""
+    terminal once a solve has run a second, :class:`~symcable.progress.ProgressBar`), and
+    stops IPOPT (a non-zero return: "User_Requested_Stop") once the call's deadline
+    (``time.perf_counter()`` s; None: none) has passed."""
 
     def __init__(self, name: str, nx: int, n_par: int):
         ca.Callback.__init__(self)
-        self.nx, self.n_par, self.count, self.bar = nx, n_par, 0, None
+        self.nx, self.n_par, self.count, self.bar, self.deadline = nx, n_par, 0, None, None
         self.construct(name, {})
 
-    def start(self, bar) -> None:
-        self.count, self.bar = 0, bar
+    def start(self, bar, deadline: float | None = None) -> None:
+        self.count, self.bar, self.deadline = 0, bar, deadline
 
     def get_n_in(self):
         return ca.nlpsol_n_out()
@@ -334,7 +339,8 @@ class _IpoptIterations(ca.Callback):
         self.count += 1
         if self.bar is not None:
             self.bar.update(self.count)
-        return [0]
+        late = self.deadline is not None and time.perf_counter() > self.deadline
+        return [1 if late else 0]
 
 
 def point_function(mech: Mechanism, name: str, compiled: bool) -> ca.Function:

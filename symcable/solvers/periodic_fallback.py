@@ -46,6 +46,7 @@ from typing import Callable
 import numpy as np
 
 from ..errors import ConvergenceError
+from ..limits import current as current_limits, past_deadline
 from ..mechanism.mechanism import Mechanism
 
 __all__ = ["AMPLITUDE_BLOCK", "RAMP_BLOCK", "FIRST_STEP", "MIN_STEP", "MAX_SOLVES",
@@ -120,6 +121,11 @@ def solve_by_continuation(solve: Callable, mech: Mechanism, p, first: Convergenc
         raise first
     s, ds, prev, path, solves, last = 0.0, float(first_step), None, [], 0, None
     while s < 1.0 and solves < max_solves and ds >= min_step:
+        if past_deadline():
+            last = ConvergenceError(f"stopped at the call's time limit of "
+                                    f"{current_limits().solve_seconds} s (sc.limits("
+                                    "solve_seconds=...), --max-solve-seconds)")
+            break
         s_try = min(1.0, s + ds)
         sp = None if start_p is None or prev is not None else with_amplitude(start_p, slices, s_try)
         solves += 1

@@ -22,6 +22,7 @@ import numpy as np
 
 from ..mechanism.codegen import use_codegen
 from ..errors import ConvergenceError, SymcableError
+from ..limits import current as current_limits, past_deadline
 from ..mechanism.mechanism import Mechanism
 from ..results.generic import Equilibrium
 from ..results.periodic_generic import MechanismPeriodic
@@ -228,6 +229,13 @@ def solve_periodic_mech(mech: Mechanism, period: float, method=None, *, p=None, 
     except ConvergenceError as first:
         if not (fallback and static is not None and continuation_applies(mech, p, start_p, first)):
             raise
+        if past_deadline():  # the call's time is spent: no continuation
+            raise ConvergenceError(f"{str(first).strip().splitlines()[0]}; no continuation "
+                                   f"in the motion amplitude: the call's time limit of "
+                                   f"{current_limits().solve_seconds} s (sc.limits("
+                                   "solve_seconds=...), --max-solve-seconds) has passed",
+                                   partial=first.partial,
+                                   diagnostics=first.diagnostics) from None
 
         # a continuation step that Newton does not close within STEP_MAX_ITER iterations is
         # halved rather than iterated on (shooting's periods are capped by their own budget)

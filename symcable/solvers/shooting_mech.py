@@ -81,7 +81,7 @@ import numpy as np
 from ..mechanism.codegen import FastCall, use_codegen
 from ..mechanism.functions import functions
 from ..errors import SymcableError
-from ..limits import current as current_limits
+from ..limits import current as current_limits, remaining_seconds
 from ..mechanism.mechanism import Mechanism
 from ..results.periodic_generic import trig_interp
 from .galpha1 import galpha1_kernel, step_scales
@@ -290,7 +290,7 @@ def solve_shooting(mech: Mechanism, period: float, opts: Shooting, p, start: Sta
     # NumPy in and out: a DM of N states costs ms to convert
     limit = current_limits().solve_seconds
     sh = _Shots(pm, FastCall(pm.march), period, p, su, z, nz, pm.march.size1_out(0),
-                pm.method.tol, t0 + limit)
+                pm.method.tol, time.perf_counter() + remaining_seconds())
     # phase 1: Anderson acceleration of the plain march (cheap periods, no Jacobian)
     res, u, X, r, history, periods = _anderson(sh, u, z, tol, anderson_budget(nu),
                                                anderson_depth(nu))

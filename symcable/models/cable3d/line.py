@@ -39,7 +39,8 @@ Parameters (blocks): ``load`` (scales weight, buoyancy and applied forces; 1),
 ``end_a.position``, ``end_b.position`` (3 each, m), ``current`` (3, m/s), ``slack`` (the
 tension-only law's continuation, as planar), ``motion`` (scales the prescribed motions, a
 tow's included; 0 in statics), ``ramp`` (1: a harmonic motion ramps in over its first
-period from t = 0; 0: at full amplitude throughout, as periodic solves take it); with
+period from t = 0; 0: at full amplitude throughout, as periodic solves take it), ``bed``
+(scales the seabed contact's stiffness; 1); with
 static friction ``static_friction`` (1 in statics, 0 in time) and ``laid`` (the as-laid
 horizontal positions of the nodes, m, node by node).
 """
@@ -70,8 +71,9 @@ from ..common.elements import DRAG_SPEED, element_kernel, held_end
 __all__ = ["DRAG_SPEED", "build_cable3d", "force_scale"]
 
 
-P_NAMES = ("load", "end_a.position", "end_b.position", "current", "slack", "motion", "ramp")
-P_SIZES = (1, 3, 3, 3, 1, 1, 1)
+P_NAMES = ("load", "end_a.position", "end_b.position", "current", "slack", "motion", "ramp",
+           "bed")
+P_SIZES = (1, 3, 3, 3, 1, 1, 1, 1)
 
 
 def build_cable3d(scene: Scene, part: str | None = None,
@@ -103,7 +105,7 @@ def build_cable3d(scene: Scene, part: str | None = None,
     params = _param_blocks(scene, laid)
     p = ca.SX.sym("p", params.n)
     load, pa, pb = p[0], p[1:4], p[4:7]
-    current, sigma, motion, ramp_on = p[7:10], p[10], p[11], p[12]
+    current, sigma, motion, ramp_on, bed = p[7:10], p[10], p[11], p[12], p[13]
     t = ca.SX.sym("t")
     moving, q_all, v, X, V = _node_symbols(scene, N, free, bristle, pa, pb, motion, t, ramp_on)
     n_v = 3 * len(moving)
@@ -134,7 +136,7 @@ def build_cable3d(scene: Scene, part: str | None = None,
         sea = seabed_forces(scene, seg, Xm, Vm, nodal, term_names, state=state,
                             laid=None if laid is None else p[params.slice("laid")],
                             gate=None if laid is None else p[params.slice("static_friction")],
-                            joined=joined)
+                            joined=joined, bed=bed)
         nodal, contact, fr = sea.nodal, sea.contact, sea.friction
     # what the line exerts on each end (N): its element's pull and the loads lumped on the
     # end node, which the support takes (as the planar line's end forces); on a free end the
@@ -195,8 +197,8 @@ def _param_blocks(scene: Scene, laid: np.ndarray | None) -> ParamBlocks:
         P_SIZES + ((1, laid.size) if laid is not None else ())
     return ParamBlocks(names, sizes, np.concatenate([
         [1.0], a.position if a.position is not None else np.zeros(3),
-        b.position if b.position is not None else np.zeros(3), env.current, [1.0], [1.0], [1.0]]
-        + ([[0.0], laid] if laid is not None else [])))
+        b.position if b.position is not None else np.zeros(3), env.current, [1.0], [1.0], [1.0],
+        [1.0]] + ([[0.0], laid] if laid is not None else [])))
 
 
 def _node_symbols(scene: Scene, N: int, free: list, bristle: bool, pa, pb, motion, t, ramp_on):

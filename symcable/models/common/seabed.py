@@ -95,8 +95,8 @@ def bristle_scale(sb, seg: dict) -> float:
 
 
 def seabed_forces(scene: Scene, seg: dict, Xm, Vm, nodal, term_names: list, *, state=None,
-                  laid=None, gate=None, joined: tuple[bool, bool] = (False, False)
-                  ) -> SeabedTerms:
+                  laid=None, gate=None, joined: tuple[bool, bool] = (False, False),
+                  bed=1.0) -> SeabedTerms:
     """The seabed's contact, damper and friction on the nodes (module docstring), added to
     ``nodal`` (3, N+1), N. ``Xm``, ``Vm`` (3, N+1) node positions (m) and velocities (m/s),
     held ends included; ``seg`` the segment table (``ds``, ``d``, ``w``); ``state`` the
@@ -114,7 +114,9 @@ def seabed_forces(scene: Scene, seg: dict, Xm, Vm, nodal, term_names: list, *, s
     it; lifted off the bed, it carries none (the smooth on-off factor :func:`joined_on` of
     the point's penetration).
     This part of the contact is not conservative, and ``energy`` counts it at the node's own
-    penetration."""
+    penetration. ``bed`` (the ``bed`` parameter block) scales the contact's stiffness: 1 is
+    the scene's; a stiffer bed, with the smoothing kept, measures how far the penalty's
+    penetration moves the answer from a rigid bed's (:mod:`symcable.api.bed_error`)."""
     sb, env = scene.seabed, scene.environment
     a, b = scene.end_a, scene.end_b
     N = len(seg["ds"])
@@ -136,7 +138,7 @@ def seabed_forces(scene: Scene, seg: dict, Xm, Vm, nodal, term_names: list, *, s
     for k, (i, nb) in enumerate(((0, 1), (N, N - 1))):
         if joined[k] and N > 0:
             ramp[i] = terms.smooth_ramp(pen[nb], dlt) * joined_on(pen[i], sink, dlt)
-    contact = ca.DM(trib * sb.stiffness).T * ca.horzcat(*ramp)
+    contact = bed * ca.DM(trib * sb.stiffness).T * ca.horzcat(*ramp)
     nodal = nodal + ca.vertcat(ca.SX.zeros(2, N + 1), contact)
     nodal = nodal + seabed_damper(sb, Vm, pen, dlt, trib, term_names)
     fr = None
@@ -145,7 +147,7 @@ def seabed_forces(scene: Scene, seg: dict, Xm, Vm, nodal, term_names: list, *, s
             + (["static friction"] if laid is not None else [])
         fr = friction(sb, Xm, Vm, contact, trib, np.abs(lumped(seg)), state, laid, gate)
         nodal = nodal + ca.vertcat(fr.force, ca.SX.zeros(1, N + 1))
-    energy = ca.dot(ca.DM(trib * sb.stiffness), _ramp_integral(pen, dlt).T)
+    energy = bed * ca.dot(ca.DM(trib * sb.stiffness), _ramp_integral(pen, dlt).T)
     return SeabedTerms(nodal, contact, fr, energy)
 
 

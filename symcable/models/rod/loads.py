@@ -61,17 +61,19 @@ class RodSeabed:
     state_scale: float = 0.0
 
 
-def rod_seabed(scene: Scene, seg: dict, Xm, Vm, nodal, state, laid, gate) -> RodSeabed:
+def rod_seabed(scene: Scene, seg: dict, Xm, Vm, nodal, state, laid, gate, bed=1.0) -> RodSeabed:
     """The seabed on the rod's nodes (:func:`.seabed3d.seabed_forces`), added to ``nodal``
     (3, N+1), N. ``state``: the bristle deflections (2 (N+1), 1), m, the last entries of
     q (None without the bristle law); ``laid``, ``gate``: the static friction parameters
-    (None without). No seabed: ``nodal`` unchanged, zero contact."""
+    (None without); ``bed`` the contact stiffness's scale (the ``bed`` block). No seabed:
+    ``nodal`` unchanged, zero contact."""
     N = Xm.shape[1] - 1
     sb = scene.seabed
     if sb is None:
         return RodSeabed(nodal, ca.SX.zeros(1, N + 1))
     names: list = []
-    sea = seabed_forces(scene, seg, Xm, Vm, nodal, names, state=state, laid=laid, gate=gate)
+    sea = seabed_forces(scene, seg, Xm, Vm, nodal, names, state=state, laid=laid, gate=gate,
+                        bed=bed)
     out = RodSeabed(sea.nodal, sea.contact, sea.friction, sea.energy, names)
     if state is not None and sea.friction is not None and sea.friction.rate is not None:
         out.rate, out.rest = sea.friction.rate, sea.friction.rest

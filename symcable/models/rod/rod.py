@@ -54,7 +54,8 @@ B, else straight down, with :func:`~symcable.models.rod.frames.reference_directo
 
 Parameters (blocks): ``load``, ``end_a.position``, ``end_b.position``, ``current``,
 ``motion``, ``ramp`` (as cable3d's), ``end_a.twist``, ``end_b.twist`` (a clamp's twist,
-rad; continuation and the Greenhill test move them), ``frame`` (6 N: the anchors) and,
+rad; continuation and the Greenhill test move them), ``bed`` (as cable3d's), ``frame`` (6 N:
+the anchors) and,
 with static friction, cable3d's ``static_friction`` and ``laid``.
 """
 from __future__ import annotations
@@ -84,8 +85,8 @@ from ..common.seabed import lumped as _lumped, node_resolution, reaction_bound
 __all__ = ["build_rod", "default_anchors", "rod_table"]
 
 P_NAMES = ("load", "end_a.position", "end_b.position", "current", "motion", "ramp",
-           "end_a.twist", "end_b.twist")
-P_SIZES = (1, 3, 3, 3, 1, 1, 1, 1)
+           "end_a.twist", "end_b.twist", "bed")
+P_SIZES = (1, 3, 3, 3, 1, 1, 1, 1, 1)
 
 
 def rod_table(scene: Scene) -> dict:
@@ -187,7 +188,7 @@ def build_rod(scene: Scene, rod: np.ndarray | None = None) -> Mechanism:
     # the seabed (contact, damper, friction) on the nodes: a held end's goes to its support
     sea = rod_seabed(scene, seg, Xm, Vm, vt.nodal, q_all[n_v:] if bristle else None,
                      p[sl("laid")] if laid is not None else None,
-                     p[sl("static_friction")] if laid is not None else None)
+                     p[sl("static_friction")] if laid is not None else None, p[sl("bed")])
     nodal = sea.nodal
 
     applied = np.zeros((3, N + 1))
@@ -258,7 +259,7 @@ def _param_blocks(scene: Scene, N: int, n_rod: int, twists: list,
                                                      else ()), np.concatenate([
             [1.0], a.position if a.position is not None else np.zeros(3),
             b.position if b.position is not None else np.zeros(3), env.current, [1.0], [1.0],
-            twists, anchors] + ([[0.0], laid] if laid is not None else [])))
+            twists, [1.0], anchors] + ([[0.0], laid] if laid is not None else [])))
 
 
 def _node_symbols(scene: Scene, N: int, moving: list, spun: list, slots: dict, q, v, pa, pb,

@@ -62,9 +62,12 @@ def _segment_weights(scene: Scene) -> dict:
                                   for s in secs]) for name, secs in parts.items()}
 
 
-def _free_ends(scene: Scene) -> dict:
-    """``{line: (end A free, end B free)}``: an end with ``condition = "free"``."""
+def _free_ends(scene: Scene, points: bool = False) -> dict:
+    """``{line: (end A free, end B free)}``: an end with ``condition = "free"`` (and, with
+    ``points``, an end at a free point)."""
     def loose(end) -> bool:
+        if isinstance(end, str):
+            return points and bool(scene.points[end].is_free)
         cond = getattr(end, "condition", None)
         return cond is not None and getattr(cond, "name", "") == "FREE"
     if scene.version == 1:
@@ -82,16 +85,17 @@ def _turn_sin(pos: np.ndarray, m: int) -> float:
     return math.sqrt(max(0.0, 1.0 - cos * cos)) if cos > 0 else 1.0
 
 
-def _corner(ln, weights: np.ndarray) -> tuple[float, float]:
+def _corner(ln, weights: np.ndarray, loose: tuple = (False, False)) -> tuple[float, float]:
     """The error a touchdown corner leaves in a line's end tensions, N: where the line
     leaves the seabed at an angle (a slack line standing up from the bed), the true
     touchdown lies anywhere within the segment that leaves it, and its weight is carried by
     the bed or by the line in a proportion the nodes cannot resolve; half that segment's
     weight times the sine of the angle the line turns through there, beyond what it turns
     through a few nodes up (zero for a smooth, tangent touchdown). A node is on the bed when
-    the bed carries at least a tenth of its weight. An end whose neighbour lies on the bed
-    and whose own node the bed carries only in part (a tenth to nine tenths: a joint lifting
-    off the bed) has its lift-off within the end segment: the part not carried, first order
+    the bed carries at least a tenth of its weight. A free end or an end at a free point
+    (``loose``) whose neighbour lies on the bed and whose own node the bed carries only in
+    part (a tenth to nine tenths: a joint lifting off the bed; a held end's half segment
+    rests where its neighbour does) has its lift-off within the end segment: the part not carried, first order
     (a joint of chains on the bed pulled up by a riser read 2.7 kN at 85 and 42 segments
     where the catenary's 0.34 m of hanging chain gives 1.35 kN). Returns
     ``(error N, that sine)``."""
@@ -110,9 +114,9 @@ def _corner(ln, weights: np.ndarray) -> tuple[float, float]:
                 worst = max(worst, 0.5 * max(weights[m - 1], weights[m]) * excess)
                 sharpest = max(sharpest, excess)
     contact = np.asarray(ln.contact_force, float)
-    for end, nb in ((0, 1), (n - 1, n - 2)):  # an end half carried by the bed: a hinge
+    for k, end, nb in ((0, 0, 1), (1, n - 1, n - 2)):  # a loose end half on the bed: a hinge
         frac = contact[end] / share[end] if share[end] > 0 else 0.0
-        if n > 2 and on[nb] and 0.1 < frac < 0.9:
+        if loose[k] and n > 2 and on[nb] and 0.1 < frac < 0.9:
             worst = max(worst, (1.0 - frac) * share[end])
             sharpest = 1.0
     return worst, sharpest
@@ -157,12 +161,13 @@ def _fold(ln, weights: np.ndarray, free: tuple = (False, False)) -> tuple[float,
     return worst, sharpest
 
 
-def _compare(sol, n: dict, other, m: dict, weights: dict, free: dict,
+def _compare(sol, n: dict, other, m: dict, weights: dict, free: dict, loose: dict,
              before: dict | None = None) -> dict:
     """Per line the estimated error of ``sol`` (segments ``n``) from ``other`` (segments
     ``m``), at least its touchdown corner's and fold's (:func:`_corner`, :func:`_fold`;
-    ``weights`` and ``free`` per line as :func:`_segment_weights` and :func:`_free_ends`
-    give them); a line whose count did not change keeps its entry of ``before``."""
+    ``weights``, ``free`` and ``loose`` per line as :func:`_segment_weights` and
+    :func:`_free_ends` give them); a line whose count did not change keeps its entry of
+    ``before``."""
     mine, theirs = _ends(sol), _ends(other)
     scale = max(max(v[2] for v in mine.values()), 1e-300)
     lines = {}
@@ -171,7 +176,7 @@ def _compare(sol, n: dict, other, m: dict, weights: dict, free: dict,
             if before and name in before:
                 lines[name] = dict(before[name], relative=before[name]["error"] / scale)
             continue
-        corner, sharp = max(_corner(sol.lines[name], weights[name]),
+        corner, sharp = max(_corner(sol.lines[name], weights[name], loose[name]),
                             _fold(sol.lines[name], weights[name], free[name]))
         # first order past a corner (the touchdown of a line standing up from the bed, a
         # fold in the water column), second order where the line is smooth
@@ -256,7 +261,8 @@ def with_error_estimate(scene: Scene, sol, solve: Callable, accuracy: float | No
         sol = after(scene, sol) if after is not None else sol
         return _attach(sol, report, (f"no discretisation error estimate: the comparison "
                                      f"solve at {sum(m.values())} segments failed ({first})",))
-    lines = _compare(sol, n, ref, m, _segment_weights(scene), _free_ends(scene))
+    lines = _compare(sol, n, ref, m, _segment_weights(scene), _free_ends(scene),
+                     _free_ends(scene, points=True))
     rounds = 0
     while accuracy is not None and rounds < MAX_ROUNDS and any(
             e["relative"] > target for e in lines.values()):
@@ -277,7 +283,7 @@ def with_error_estimate(scene: Scene, sol, solve: Callable, accuracy: float | No
             break
         n_new = line_segments(finer)
         lines = _compare(new, n_new, sol, n, _segment_weights(finer), _free_ends(finer),
-                         before=lines)
+                         _free_ends(finer, points=True), before=lines)
         scene, sol, n, rounds = finer, new, n_new, rounds + 1
     if after is not None:
         sol = after(scene, sol)

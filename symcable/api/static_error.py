@@ -85,6 +85,13 @@ def _turn_sin(pos: np.ndarray, m: int) -> float:
     return math.sqrt(max(0.0, 1.0 - cos * cos)) if cos > 0 else 1.0
 
 
+def _on_bed(ln, weights: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``(share, on)``: each node's share of the segments' weight (N+1,), N, and whether the
+    bed carries at least a tenth of it."""
+    share = 0.5 * (np.concatenate([[0.0], weights]) + np.concatenate([weights, [0.0]]))
+    return share, np.asarray(ln.contact_force) > 0.1 * share
+
+
 def _corner(ln, weights: np.ndarray, loose: tuple = (False, False)) -> tuple[float, float]:
     """The error a touchdown corner leaves in a line's end tensions, N: where the line
     leaves the seabed at an angle (a slack line standing up from the bed), the true
@@ -95,14 +102,13 @@ def _corner(ln, weights: np.ndarray, loose: tuple = (False, False)) -> tuple[flo
     the bed carries at least a tenth of its weight. A free end or an end at a free point
     (``loose``) whose neighbour lies on the bed and whose own node the bed carries only in
     part (a tenth to nine tenths: a joint lifting off the bed; a held end's half segment
-    rests where its neighbour does) has its lift-off within the end segment: the part not carried, first order
-    (a joint of chains on the bed pulled up by a riser read 2.7 kN at 85 and 42 segments
+    rests where its neighbour does) has its lift-off within the end segment: the part not
+    carried, first order (a joint of chains on the bed pulled up by a riser read 2.7 kN at 85 and 42 segments
     where the catenary's 0.34 m of hanging chain gives 1.35 kN). Returns
     ``(error N, that sine)``."""
     pos = np.asarray(ln.positions, float)
     n = len(pos)
-    share = 0.5 * (np.concatenate([[0.0], weights]) + np.concatenate([weights, [0.0]]))
-    on = np.asarray(ln.contact_force) > 0.1 * share
+    share, on = _on_bed(ln, weights)
     worst, sharpest = 0.0, 0.0
     for i in np.flatnonzero(on[:-1] != on[1:]):
         up = 1 if on[i] else -1            # towards the suspended part
@@ -138,8 +144,7 @@ def _fold(ln, weights: np.ndarray, free: tuple = (False, False)) -> tuple[float,
     ``(error N, that sine)``."""
     pos = np.asarray(ln.positions, float)
     n = len(pos)
-    share = 0.5 * (np.concatenate([[0.0], weights]) + np.concatenate([weights, [0.0]]))
-    on = np.asarray(ln.contact_force) > 0.1 * share
+    share, on = _on_bed(ln, weights)
     worst, sharpest = 0.0, 0.0
     for m in range(1, n - 1):
         if on[m]:

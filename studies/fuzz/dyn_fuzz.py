@@ -24,7 +24,9 @@ Run
     options: --n N (200), --seed S (33), --workers W (2), --out DIR (studies/fuzz/out_dyn/),
              --budget-min M (no new scene after M minutes; default none),
              --check16-every K (the dt / 16 reference on every K-th scene too; 5, quick 0),
-             --report (classify the --out dir's results.json again, rewrite the tables)
+             --report (classify the --out dir's results.json again, rewrite the tables),
+             --resume (keep the --out dir's records and run only the scenes it lacks: a
+             200-scene run may span sessions; refused if the measured commit changed)
     python studies/fuzz/dyn_work.py studies/fuzz/out_dyn/failures.json d33-0002  # replay
 
 Writes ``results.csv`` (one row per scene), ``results.json`` (every record with its
@@ -84,6 +86,8 @@ def main(argv=None) -> dict:
     ap.add_argument("--check16-every", type=int, default=None)
     ap.add_argument("--report", action="store_true",
                     help="classify the --out dir's results.json again and rewrite its tables")
+    ap.add_argument("--resume", action="store_true",
+                    help="keep the --out dir's records, run only the scenes they lack")
     args = ap.parse_args(argv)
     if args.report:
         return report(Path(args.out))
@@ -97,7 +101,10 @@ def main(argv=None) -> dict:
     items = dyn_scenes.generate(n, args.seed, quick=args.quick)
     for i, it in enumerate(items):
         it["check16"] = bool(every) and i % every == 0
-    log = open(out / "progress.log", "w")  # noqa: SIM115 - closed after the run
+    old, wall0 = _previous(out, n, args.seed, version) if args.resume else ([], 0.0)
+    have = {r["id"] for r in old}
+    todo = [it for it in items if it["id"] not in have]
+    log = open(out / "progress.log", "a" if args.resume else "w")  # noqa: SIM115 - closed after the run
 
     def progress(done, total):
         if len(done) != getattr(progress, "last", -1):
@@ -114,18 +121,36 @@ def main(argv=None) -> dict:
         load = os.getloadavg()[0]
     except OSError:
         load = None
-    recs = dyn_pool.run_all(items, workers=args.workers, progress=progress,
+    recs = dyn_pool.run_all(todo, workers=args.workers, progress=progress,
                             budget_s=None if args.budget_min is None else 60 * args.budget_min)
     log.close()
-    res = {"n": len(recs), "n_asked": n, "seed": args.seed, "workers": args.workers,
+    res = {"n": len(old) + len(recs), "n_asked": n, "seed": args.seed, "workers": args.workers,
            "quick": args.quick, "version": version,
            "command": "python studies/fuzz/dyn_fuzz.py " + " ".join(argv if argv is not None
                                                                     else sys.argv[1:]),
-           "wall_min": (time.perf_counter() - t0) / 60, "load": load}
+           "wall_min": wall0 + (time.perf_counter() - t0) / 60, "load": load}
     scenes = {it["id"]: it for it in items}
-    res["records"] = [dict(r, scene=scenes[r["id"]]["scene"], **{"class": scenes[r["id"]]["class"]})
-                      for r in recs]
+    new = [dict(r, scene=scenes[r["id"]]["scene"], **{"class": scenes[r["id"]]["class"]})
+           for r in recs]
+    order = {it["id"]: i for i, it in enumerate(items)}
+    res["records"] = sorted(old + new, key=lambda r: order[r["id"]])
     return _write(out, res)
+
+
+def _previous(out: Path, n: int, seed: int, version: str) -> tuple[list, float]:
+    """The records and wall minutes of an earlier run in ``out`` of the same scenes and code."""
+    path = out / "results.json"
+    if not path.exists():
+        return [], 0.0
+    with open(path) as fh:
+        res = json.load(fh)
+    if (res.get("n_asked"), res.get("seed")) != (n, seed):
+        raise SystemExit(f"--resume: {path} holds --n {res.get('n_asked')} --seed "
+                         f"{res.get('seed')}, not --n {n} --seed {seed}")
+    if str(res.get("version")).split(" @ ")[-1] != version.split(" @ ")[-1]:
+        raise SystemExit(f"--resume: {path} measured {res.get('version')}, this run would "
+                         f"measure {version}; start a new --out")
+    return res["records"], float(res.get("wall_min", 0.0))
 
 
 def report(out: Path) -> dict:

@@ -1,5 +1,6 @@
 """A periodic answer carries the error of its time discretisation
-(symcable.api.periodic_error): the same solve at half (or twice) the resolution, Richardson.
+(symcable.api.periodic_error): the same solve at another resolution (shooting: twice the
+steps; collocation, harmonic balance: half), Richardson.
 
 The truth is the same scene solved at 800 steps a period (its own error a few 1e-4 of the
 estimates below: second order from 16-64 steps). The bound asked of the estimate is the
@@ -25,12 +26,12 @@ def sphere_ref():
 @pytest.mark.parametrize("steps", [16, 32])
 def test_shooting_estimate_tracks_the_error(steps, sphere_ref):
     """The payload sphere at 16 and 32 steps a period: 6 % and 1.7 % of its anchor tension
-    range off (16 steps' half, 8, fails its defect check: the estimate then comes from 32)."""
+    range off; each estimated against twice its steps."""
     res = sc.solve_periodic("sphere", steps=steps)
     e = res.stats["time_discretisation_error"]
     true = _true(res, sphere_ref, e["where"])
     assert true / 3 <= e["error"] <= 3 * true, (e, true)
-    assert e["relative"] > 0.01
+    assert e["relative"] > 0.01 and e["compared_with"] == {"steps": 2 * steps}
     msg = [w for w in res.warnings if "time-discretisation error" in w]
     assert len(msg) == 1 and f"steps = {steps}" in msg[0] and "under 1 %" in msg[0]
 
@@ -40,11 +41,37 @@ def test_default_steps_are_within_one_percent(sphere_ref):
     error; nothing warns."""
     res = sc.solve_periodic("sphere")
     e = res.stats["time_discretisation_error"]
-    assert e["relative"] < 0.01 and e["compared_with"] == {"steps": 50}
+    assert e["relative"] < 0.01 and e["compared_with"] == {"steps": 200}
     line, end = e["where"]
     t = getattr(sphere_ref.lines[line], f"{end}_tension")
     assert _true(res, sphere_ref, e["where"]) < 0.01 * (t.max() - t.min())
     assert not [w for w in res.warnings if "time-discretisation error" in w]
+
+
+#: a slack wire moved at its lower end (dynamic fuzz scene d33-0116, rounded): at 100 steps
+#: its fairlead tension's least value is 74 N (2.2 % of the range) off the cycle at 800, and
+#: 50 steps differ from 100 by 18 N only (not yet second order): the estimate against
+#: half the steps said 0.22 % and no warning
+SLACK_WIRE = {
+    "name": "slack wire", "model": "cable3d",
+    "line_types": {"wire": {"mass": 80.8, "diameter": 0.1271, "EA": 1.252e7}},
+    "sections": [{"type": "wire", "length": 277.29, "segments": 24}],
+    "end_a": {"condition": "pinned", "position": [-189.48, -205.65, -378.59],
+              "motion": {"kind": "harmonic", "period": 8.189, "amplitude": [0.811, 0.547, 1.920],
+                         "phase_deg": [180.0, 0.0, 180.0]}},
+    "end_b": {"condition": "pinned", "position": [-249.90, -301.25, -399.87]}}
+
+
+def test_shooting_outside_its_asymptotic_range_warns():
+    """The slack wire at the default 100 steps: its estimate (against 200 steps) is within
+    a factor of 3 of the error against 800 steps (whose own error is under 1/60 of it at
+    second order), and above 1 % it warns."""
+    res = sc.solve_periodic(SLACK_WIRE)
+    ref = sc.solve_periodic(SLACK_WIRE, steps=800, estimate=False)
+    e = res.stats["time_discretisation_error"]
+    true = _true(res, ref, e["where"])
+    assert true / 3 <= e["error"] <= 3 * true, (e, true)
+    assert e["relative"] > 0.01 and [w for w in res.warnings if "steps = 100" in w]
 
 
 def test_harmonic_balance_too_few_harmonics_warns():

@@ -302,7 +302,8 @@ def solve_periodic(scene, method="shooting", *, model: DynamicModel | None = Non
         Collocation with IPOPT: IPOPT options by their IPOPT names, over the defaults.
     estimate : bool
         Estimate the error of the time discretisation (:mod:`symcable.api.periodic_error`:
-        the same solve at half the steps, intervals or harmonics; about half the cost
+        shooting solved again at twice the steps, about twice the cost again; collocation
+        and harmonic balance at half the intervals or harmonics, about half the cost
         again). False skips it.
 
     Returns

@@ -23,6 +23,7 @@ from functools import cached_property
 import casadi as ca
 import numpy as np
 
+from .attached import Attached
 from .static_functions import StaticSolver, static_solver
 from ..linalg.sparse import sparse_solve
 from .mechanism import Mechanism
@@ -351,19 +352,14 @@ class MechanismFunctions:
 
 
 class FunctionCache:
-    """Functions per Mechanism, built once; a weak mapping, so the entry goes with the
-    Mechanism."""
+    """Functions per Mechanism, built once and kept on the Mechanism
+    (:class:`~symcable.mechanism.attached.Attached`), so they go with it."""
 
     def __init__(self):
-        self._store: "weakref.WeakKeyDictionary[Mechanism, MechanismFunctions]" = \
-            weakref.WeakKeyDictionary()
+        self._store = Attached("functions")
 
     def get(self, mech: Mechanism) -> MechanismFunctions:
-        fns = self._store.get(mech)
-        if fns is None:
-            fns = MechanismFunctions(mech)
-            self._store[mech] = fns
-        return fns
+        return self._store.setdefault(mech, lambda: MechanismFunctions(mech))
 
     def __len__(self) -> int:
         return len(self._store)

@@ -2,13 +2,15 @@
 compiled libraries, stability limits), kept in one explicit object, and the choice of
 generated C for a step Function.
 
-A weak mapping: a Mechanism that is no longer used frees its entries.
+The entries live on the Mechanism (:class:`~symcable.mechanism.attached.Attached`): a
+Mechanism that is no longer used frees them with it, even when an entry refers back to it.
 """
 from __future__ import annotations
 
-import weakref
+import itertools
 from typing import Callable
 
+from ..mechanism.attached import Attached
 from ..mechanism.codegen import compile_functions, graph_size, use_codegen
 
 __all__ = ["STEP_CACHE", "StepCache", "maybe_compiled"]
@@ -18,17 +20,20 @@ class StepCache:
     """``get(mech, key, build)``: the value stored for ``(mech, key)``, built by ``build()``
     on first use. Keys are tuples naming what the value depends on beyond the Mechanism."""
 
+    _ids = itertools.count()
+
     def __init__(self):
-        self.store: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
+        #: ``store[mech]``: the dict of mech's entries by key
+        self.store = Attached(f"steps{next(self._ids)}")
 
     def get(self, mech, key: tuple, build: Callable):
-        entries = self.store.setdefault(mech, {})
+        entries = self.store.setdefault(mech, dict)
         if key not in entries:
             entries[key] = build()
         return entries[key]
 
     def __len__(self) -> int:
-        return sum(len(v) for v in self.store.values())
+        return sum(len(v) for _, v in self.store.items())
 
     def clear(self) -> None:
         self.store.clear()

@@ -24,7 +24,8 @@ Run
 ---
     python -u studies/stability/run_systems.py           # full: ~10 min on 2 shared cores
     python -u studies/stability/run_systems.py --quick   # two rows (the test)
-    options: --out DIR (default studies/stability/out/systems/), --timeout S (per cell)
+    options: --out DIR (default studies/stability/out/systems/), --timeout S (per cell),
+             --case module|tow (only that case's rows)
 
 Writes ``results.csv`` and ``summary.md``; ``main(argv)`` returns the numbers as a dict.
 """
@@ -178,8 +179,8 @@ def run_row(row: Row, timeout: float, log=print) -> dict:
     t0 = time.perf_counter()
     d = row.make()
     dt0 = None
-    if row.case == "tow":  # simulate's default step for the tow (the static solve and a step)
-        dt0 = sc.simulate(d, 1.0).stats["dt"]
+    if row.case == "tow":  # simulate's default step for the whole run (it depends on the turns)
+        dt0 = sc.simulate(d, cases.tow_duration(d)).stats["dt"]
     out = {"row": row.name, "case": row.case, "param": row.param, "segments": cases.segments(d),
            "cfl_dt_s": cases.moordyn_cfl_step(d), "cells": {}, "refs": {}}
     for key in row.methods:
@@ -262,6 +263,7 @@ def main(argv=None) -> dict:
     ap.add_argument("--quick", action="store_true", help="two rows in the VM (the test)")
     ap.add_argument("--out", type=Path, default=HERE / "out" / "systems", help="output directory")
     ap.add_argument("--timeout", type=float, help="time limit per cell, s")
+    ap.add_argument("--case", choices=("module", "tow"), help="only this case's rows")
     args = ap.parse_args(argv)
     if args.quick:
         os.environ.setdefault("SYMCABLE_CODEGEN", "0")
@@ -272,6 +274,8 @@ def main(argv=None) -> dict:
     t0 = time.perf_counter()
     results = []
     for row in rows(args.quick):
+        if args.case and row.case != args.case:
+            continue
         results.append(run_row(row, timeout))
         print(f"{row.name}: {results[-1]['wall_s']:.1f} s", flush=True)
     res = {"quick": args.quick, "rows": results, "timeout_s": timeout,

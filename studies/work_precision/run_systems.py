@@ -38,7 +38,6 @@ from __future__ import annotations
 
 import math
 import os
-import statistics
 import sys
 import time
 from pathlib import Path
@@ -48,7 +47,6 @@ import numpy as np
 
 import symcable as sc
 from symcable.errors import ConvergenceError
-from symcable.mechanism.codegen import cache_info
 
 HERE = Path(__file__).resolve().parent
 for _p in (HERE, HERE.parent):
@@ -56,11 +54,11 @@ for _p in (HERE, HERE.parent):
         sys.path.append(str(_p))
 import cable3d_case as case3d  # noqa: E402
 import study_io  # noqa: E402
+from run3d import _timed  # noqa: E402  (warm-cache medians, as the 3D rows)
 import systems_case as cases  # noqa: E402
 import wp_systems_report as report  # noqa: E402
 
 T = cases.PERIOD
-CHEAP_S = 2.0
 
 
 class Grid(NamedTuple):
@@ -88,24 +86,6 @@ FULL = Grid(ga1_steps=(25, 50, 100, 200, 400, 800), rk4=True, shoot_steps=(25, 5
 QUICK = Grid(ga1_steps=(50, 100, 200), rk4=False, shoot_steps=(50, 100), collocation=(20,),
              hb_harmonics=(), ref_method="generalized-alpha", ref_steps=2048, ref_collocation=30,
              tow_factors=(2.0, 1.0, 0.5), tow_ref=8, periods=4, repeats=1, codegen=False)
-
-
-def _timed(call, repeats: int):
-    """(result, median wall s, n): a call that compiled something new into the build cache
-    is made again (warm cache); repeated while under CHEAP_S s."""
-    runs = []
-    while True:
-        before = cache_info()["entries"]
-        t0 = time.perf_counter()
-        out = call()
-        wall = time.perf_counter() - t0
-        if cache_info()["entries"] != before:
-            continue
-        runs.append((wall, out))
-        if len(runs) >= repeats or runs[0][0] >= CHEAP_S:
-            break
-    runs.sort(key=lambda r: r[0])
-    return runs[(len(runs) - 1) // 2][1], statistics.median(w for w, _ in runs), len(runs)
 
 
 # --------------------------------------------------------------------------- the module

@@ -21,12 +21,19 @@ from __future__ import annotations
 import casadi as ca
 import numpy as np
 
-__all__ = ["dense_rows", "jacobian", "norm_inf", "sparse_solve"]
+__all__ = ["dense_rows", "flush_tiny", "jacobian", "norm_inf", "qr_solve", "sparse_solve"]
 
 #: a row with more structural nonzeros than this fraction of the columns (and than
 #: DENSE_MIN) counts as dense
 DENSE_FRACTION = 0.25
 DENSE_MIN = 16
+
+#: CasADi's sparse QR sums a column's squared entries for its Householder reflection:
+#: entries between about 1e-162 and 1e-154 square to subnormal numbers and the solution comes
+#: out NaN (casadi 3.8: the 2 x 2 matrix [[2, 1e-160], [1e-160, 3]] suffices; a 3D line
+#: hanging straight down has mass-matrix entries of 1e-165 and below). Entries smaller than
+#: this are zeroed before a QR factorisation: in any unit, they change no digit of a solve.
+TINY = 1e-150
 
 
 def dense_rows(sparsity: ca.Sparsity) -> np.ndarray:
@@ -37,6 +44,23 @@ def dense_rows(sparsity: ca.Sparsity) -> np.ndarray:
     return np.flatnonzero(counts > max(DENSE_MIN, DENSE_FRACTION * n))
 
 
+def flush_tiny(J):
+    """``J`` (DM, SX or MX) with every nonzero of magnitude below :data:`TINY` set to zero
+    (same sparsity)."""
+    if isinstance(J, ca.DM):
+        nz = np.array(J.nonzeros(), dtype=float)
+        nz[np.abs(nz) < TINY] = 0.0
+        return ca.DM(J.sparsity(), nz)
+    nz = J.nz[:]
+    return type(J)(J.sparsity(), ca.if_else(ca.fabs(nz) < TINY, 0, nz))
+
+
+def qr_solve(J, b, linsol: str = "qr"):
+    """``casadi.solve(J, b, linsol)``, the tiny entries of ``J`` flushed first for the sparse
+    QR (see :data:`TINY`)."""
+    return ca.solve(flush_tiny(J) if linsol == "qr" else J, b, linsol)
+
+
 def sparse_solve(J: ca.MX, b: ca.MX, linsol: str = "qr") -> ca.MX:
     """``J^-1 b`` for a square sparse ``J`` (MX), with dense rows split off as described in
     the module docstring; plain ``casadi.solve`` when there are none."""
@@ -44,7 +68,7 @@ def sparse_solve(J: ca.MX, b: ca.MX, linsol: str = "qr") -> ca.MX:
     n = sp.size1()
     D = dense_rows(sp)
     if D.size == 0 or D.size > n // 4:
-        return ca.solve(J, b, linsol)
+        return qr_solve(J, b, linsol)
     rows, cols = (np.asarray(v, dtype=int) for v in sp.get_triplet())  # in nonzero order
     keep = np.flatnonzero(~np.isin(rows, D))
     r_s = np.concatenate([rows[keep], D])
@@ -56,10 +80,10 @@ def sparse_solve(J: ca.MX, b: ca.MX, linsol: str = "qr") -> ca.MX:
     k = D.size
     E = ca.DM(ca.Sparsity.triplet(n, k, D.tolist(), list(range(k))), 1.0)
     Wt = J[D.tolist(), :] - E.T
-    X = ca.solve(Js, ca.horzcat(b, E), linsol)
+    X = qr_solve(Js, ca.horzcat(b, E), linsol)
     y, Z = X[:, 0], X[:, 1:]
     C = ca.DM.eye(k) + ca.mtimes(Wt, Z)
-    return y - ca.mtimes(Z, ca.solve(C, ca.mtimes(Wt, y), linsol))
+    return y - ca.mtimes(Z, qr_solve(C, ca.mtimes(Wt, y), linsol))
 
 
 #: smallest expression (rows) whose Jacobian takes its dense rows apart (below it the

@@ -25,7 +25,7 @@ import numpy as np
 
 from .attached import Attached
 from .static_functions import StaticSolver, static_solver
-from ..linalg.sparse import sparse_solve
+from ..linalg.sparse import qr_solve, sparse_solve
 from .mechanism import Mechanism
 
 __all__ = ["FUNCTIONS", "FunctionCache", "MechanismFunctions", "functions"]
@@ -137,7 +137,7 @@ class MechanismFunctions:
         n = m.n_q + m.n_z
         x, p, c = ca.MX.sym("x", n), ca.MX.sym("p", m.params.n), ca.MX.sym("c", n)
         r, J = self.static_jacobian(x, p)
-        dx = ca.solve(ca.diag(c) - J, r, "qr")
+        dx = qr_solve(ca.diag(c) - J, r)
         return ca.Function(f"{m.fname}_static_ptc_step", [x, p, c], [r, dx], ["x", "p", "c"],
                            ["r", "dx"])
 

@@ -60,7 +60,7 @@ from ..mechanism.functions import functions
 from ..errors import SymcableError
 from ..linalg.banded import BandedLU, bandwidths, reverse_cuthill
 from ..linalg.schur import SchurBandedLU, lead_blocks
-from ..linalg.sparse import jacobian as _jacobian, norm_inf, sparse_solve
+from ..linalg.sparse import jacobian as _jacobian, norm_inf, qr_solve, sparse_solve
 from ..linalg.sxlu import block_lu, block_plan
 from ..mechanism.element_form import split_mismatch
 from ..mechanism.mechanism import Mechanism
@@ -332,10 +332,10 @@ def _taylor_lte(mech, y0, y1, t, h, p, rho, y_scale):
     q0, v0 = y0[:nq] if nq else ca.MX(0, 1), y0[nq:ny] if nv else ca.MX(0, 1)
     M0 = F.tangents(q0, v0, z0, t, p)[2]
     r_f, _ = F.acc_residual(q0, v0, ca.MX.zeros(nv), z0, t, p)  # = -f
-    a0 = ca.solve(M0, -r_f) if nv else ca.MX(0, 1)
+    a0 = qr_solve(M0, -r_f) if nv else ca.MX(0, 1)
     qd0 = F.qdot(q0, v0, z0, t, p)
     qdd0, b0 = _taylor_jet(mech)(q0, v0, a0, z0, t, p)
-    ad0 = ca.solve(M0, b0) if nv else ca.MX(0, 1)
+    ad0 = qr_solve(M0, b0) if nv else ca.MX(0, 1)
     y_pred = y0 + h * ca.vertcat(qd0, a0) + 0.5 * h ** 2 * ca.vertcat(qdd0, ad0)
     C = _error_constant(rho)
     return norm_inf(C / (C + 1.0 / 6.0) * (y1 - y_pred) / y_scale)
@@ -543,7 +543,6 @@ def galpha1_kernel(mech: Mechanism, opts: GeneralizedAlphaFirstOrder, *, lte: bo
         raise SymcableError(f"mechanism {mech.name!r} has {mech.n_z} constraints: "
                             "GeneralizedAlphaFirstOrder takes n_z = 0 only for now; use "
                             "GeneralizedAlpha()")
-    ny = mech.n_q + mech.n_v
     if opts.newton is NewtonScheme.ROOTFINDER:
         return STEP_CACHE.get(mech, ("ga1_rootfinder", opts.tol, opts.max_iter, lte),
                               lambda: _rootfinder(mech, opts.tol, opts.max_iter, lte))

@@ -25,6 +25,7 @@ from ..mechanism.functions import functions
 from ..errors import ConvergenceError, SymcableError
 from ..mechanism.codegen import FastCall
 from ..limits import check as check_limit
+from ..linalg.sparse import qr_solve
 from ..mechanism.mechanism import Mechanism
 from ..results.generic import Equilibrium, MechanismTrajectory
 from .galpha1 import galpha1_kernel, galpha1_step
@@ -105,7 +106,7 @@ def start_rates(mech: Mechanism, q0, v0, t0: float, p) -> tuple[np.ndarray, np.n
     scale = 1.0 / np.sqrt(np.where(scale > 0.0, scale, 1.0))
     S = ca.DM(ca.Sparsity.diag(mech.n_v), scale)
     try:
-        y = ca.solve(ca.mtimes([S, M, S]), ca.DM(scale * f), "qr")
+        y = qr_solve(ca.mtimes([S, M, S]), ca.DM(scale * f))
     except RuntimeError as exc:
         raise ConvergenceError(f"the mass matrix is singular at the start (t = {t0:g} s): "
                                f"v' = M^-1 f has no solution ({exc})".replace("\n", " "),

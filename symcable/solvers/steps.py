@@ -40,7 +40,7 @@ import numpy as np
 
 from ..mechanism.functions import functions
 from ..errors import SymcableError
-from ..linalg.sparse import norm_inf
+from ..linalg.sparse import norm_inf, qr_solve
 from ..mechanism.mechanism import Mechanism
 from .newton import best_start
 from .options import GeneralizedAlpha
@@ -185,7 +185,7 @@ def _rk4_step(mech):
             q, v = _seg(x, 0, nq), _seg(x, nq, nq + nv)
             M = tan(q, v, z0, tt, p)[2]
             r_f, _ = F.acc_residual(q, v, ca.MX.zeros(nv), z0, tt, p)  # = -f
-            return ca.vertcat(F.qdot(q, v, z0, tt, p), ca.solve(M, -r_f))
+            return ca.vertcat(F.qdot(q, v, z0, tt, p), qr_solve(M, -r_f))
     else:
         def rhs(x, tt):
             return rate(x, tt, p)
@@ -242,7 +242,7 @@ def _linear_parts(mech, q, v, t, p):
     K, C, M = (ca.DM(a) for a in F.tangents(q, v, z, t, p)[:3])
     H, G = (ca.DM(a) for a in F.kinematics_jacobian(q, v, z, t, p))
     if ca.depends_on(ca.vec(mech.mass), mech.q):
-        a = ca.solve(M, -ca.DM(F.acc_residual(q, v, np.zeros(mech.n_v), z, t, p)[0]))
+        a = qr_solve(M, -ca.DM(F.acc_residual(q, v, np.zeros(mech.n_v), z, t, p)[0]))
         dMa = STEP_CACHE.get(mech, ("dMa_dq",), lambda: _dma(mech))
         K = K + ca.DM(dMa(q, a, t, p))
     return H, G, K, C, M
@@ -295,7 +295,7 @@ def _rk4_limit(mech, q, v, t, p) -> float:
         xq, xv = x[:nq], x[nq:]
         top = np.array((ca.mtimes(H, xq) + ca.mtimes(G, xv)).full()).ravel()
         b = -(ca.mtimes(K, xq) + ca.mtimes(C, xv))
-        low = np.array(b.full()).ravel() / m_diag if diag else np.array(ca.solve(M, b, "qr").full()).ravel()
+        low = np.array(b.full()).ravel() / m_diag if diag else np.array(qr_solve(M, b).full()).ravel()
         return np.concatenate([top, low])
     rho = _spectral_radius(matvec, n)
     return math.inf if rho == 0.0 else 2.6 / rho

@@ -329,8 +329,12 @@ def solve_periodic(scene, method="shooting", *, model: DynamicModel | None = Non
         started = time.perf_counter()
         s3 = _nonlinear(scene, model=model, params=params, initial=initial,
                         ipopt_options=ipopt_options)
+        state = None
         if s3 is not None:
-            res = _c3p.solve_periodic_3d(s3, method, codegen=codegen, tol=tol, **options)
+            kw = {k: v for k, v in options.items() if k != "stability"}
+            res, state = _c3p.solve_periodic_3d_state(s3, method, codegen,
+                                                      options.get("stability", False), None,
+                                                      dict(kw, tol=tol))
         else:
             if model is None:
                 scene = load_scene(scene)
@@ -345,6 +349,9 @@ def solve_periodic(scene, method="shooting", *, model: DynamicModel | None = Non
         others.pop("stability", None)
         again = dict(model=model, params=params, resolution=resolution, tol=tol, codegen=codegen,
                      ipopt_options=ipopt_options, estimate=False, **others)
+        if state is not None:  # from the cycle just found: a few iterations, not a new start
+            return with_time_error(res, opts, lambda o: _c3p.solve_periodic_3d_state(
+                s3, o, codegen, False, state, {"tol": tol})[0])
         return with_time_error(res, opts, lambda o: solve_periodic(s3 or scene, o, **again))
 
 

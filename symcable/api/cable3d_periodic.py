@@ -27,7 +27,7 @@ from ..solvers.floquet import floquet
 from ..solvers.options import Shooting
 from ..solvers.periodic_mech import solve_periodic_mech
 
-__all__ = ["solve_periodic_3d", "sweep_periodic_3d"]
+__all__ = ["solve_periodic_3d", "solve_periodic_3d_state", "sweep_periodic_3d"]
 
 
 def solve_periodic_3d(scene: Scene, method="collocation", *, codegen: bool | None = None,
@@ -46,13 +46,15 @@ def solve_periodic_3d(scene: Scene, method="collocation", *, codegen: bool | Non
     ``floquet_max`` (the largest modulus), ``stable`` (``floquet_max < 1 + 1e-4``) and the
     other ``floquet_*`` entries of :meth:`~symcable.solvers.floquet.Floquet.stats`.
     """
-    return _solve_3d(scene, method, codegen, stability, None, options)[0]
+    return solve_periodic_3d_state(scene, method, codegen, stability, None, options)[0]
 
 
-def _solve_3d(scene: Scene, method, codegen, stability, start, options) -> tuple:
-    """(LineTrajectory, MechanismPeriodic) of :func:`solve_periodic_3d`; ``start``: a
-    periodic solution of this scene's mechanism at any period (its samples stretched to this
-    period) to start from, the method's own start where that fails (a sweep's continuation)."""
+def solve_periodic_3d_state(scene: Scene, method, codegen, stability, start, options) -> tuple:
+    """(PeriodicLine or PeriodicSystem, MechanismPeriodic) of :func:`solve_periodic_3d`;
+    ``start``: a periodic solution of this scene's mechanism (the second of a previous
+    call's pair) at any period and resolution (its samples stretched to this period) to
+    start from, the method's own start where that fails (a sweep's continuation, the error
+    estimate's second solve)."""
     started = time.perf_counter()
     if not isinstance(stability, bool):
         raise SymcableError(f"stability = {stability!r}: must be True or False")
@@ -222,7 +224,7 @@ def sweep_periodic_3d(scene: Scene, periods, method="collocation", *, resolution
     for i, T in enumerate(periods):
         t0 = time.perf_counter()
         try:
-            per, mp = _solve_3d(_with_period(scene, float(T)), method, codegen, stability,
+            per, mp = solve_periodic_3d_state(_with_period(scene, float(T)), method, codegen, stability,
                                 prev if continuation else None, dict(options))
         except (ConvergenceError, SymcableError) as exc:
             statuses.append("failed")

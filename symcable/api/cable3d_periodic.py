@@ -14,7 +14,7 @@ import time
 
 import numpy as np
 
-from .cable3d import RHO_INF, _line_result, _motions, _period
+from .cable3d import NEWTON_TOL, RHO_INF, _line_result, _motions, _period
 from .scene3d import check_moves, check_periodic_scene, dynamics_mechanism, scene_equilibrium
 from ..errors import ConvergenceError, SymcableError
 from ..limits import current as current_limits, past_deadline
@@ -76,6 +76,11 @@ def solve_periodic_3d_state(scene: Scene, method, codegen, stability, start, opt
         # pulled by a taut rope (EA 5e7 N, T/100) came out with a tension range 26 % smaller
         # than the time run's and collocation's (positions 3 mm apart); at 0 within 1 %
         opts = dataclasses.replace(opts, rho_inf=RHO_INF)
+    if isinstance(opts, Shooting) and opts.newton_tol is None:
+        # simulate's step tolerance: at the generic 1e-10, below the roundoff floor of many
+        # lines (a step's residual stalls near 5e-9 on a 36-segment mooring), every period
+        # "failed" where simulate ran the same steps
+        opts = dataclasses.replace(opts, newton_tol=NEWTON_TOL)
     mech, eq = scene_equilibrium(scene, codegen=codegen)
     mech = dynamics_mechanism(scene, mech)
     check_moves(scene, mech)
@@ -124,7 +129,7 @@ def solve_periodic_3d_state(scene: Scene, method, codegen, stability, start, opt
     stats = dict(res.stats, period=period)
     if stability:  # every method's solution judged on one map: shooting's, at its rho_inf
         stats.update(floquet(mech, res, rho_inf=opts.rho_inf if isinstance(opts, Shooting)
-                             else RHO_INF).stats())
+                             else RHO_INF, newton_tol=NEWTON_TOL).stats())
     stats["wall_time"] = time.perf_counter() - started
     if start is not None:
         stats["start_kind"] = ("neighbour" if str(res.stats.get("start", ""))

@@ -123,8 +123,8 @@ class Floquet:
 
 
 def floquet(mech: Mechanism, per: MechanismPeriodic, *, steps: int | None = None,
-            rho_inf: float | None = None, margin: float = STABILITY_MARGIN,
-            refine: int = 3) -> Floquet:
+            rho_inf: float | None = None, newton_tol: float | None = None,
+            margin: float = STABILITY_MARGIN, refine: int = 3) -> Floquet:
     """The Floquet multipliers of ``per``, a periodic solution of ``mech`` (any method).
 
     Parameters
@@ -138,6 +138,9 @@ def floquet(mech: Mechanism, per: MechanismPeriodic, *, steps: int | None = None
     rho_inf : float, optional
         The integrator's spectral radius at infinite step (default: the solution's own if
         shooting, else the integrator's default).
+    newton_tol : float, optional
+        Each step's scaled Newton tolerance (default: the solution's own if shooting, else
+        the integrator's default).
     margin : float
         Stable when max |mu| < 1 + margin.
     refine : int
@@ -164,12 +167,15 @@ def floquet(mech: Mechanism, per: MechanismPeriodic, *, steps: int | None = None
         steps = int(per.stats.get("steps", Shooting().steps)) if own else Shooting().steps
     if rho_inf is None and own:
         rho_inf = per.stats.get("rho_inf")
-    opts = Shooting(steps=steps, rho_inf=rho_inf)
+    if newton_tol is None and own:
+        newton_tol = per.stats.get("newton_tol")
+    opts = Shooting(steps=steps, rho_inf=rho_inf, newton_tol=newton_tol)
     pm = period_map(mech, opts, codegen=False)
     T, p = float(per.period), np.asarray(per.p, float)
     nu = pm.n_u
     if own and per.stats.get("steps") == steps and (
-            opts.rho_inf is None or per.stats.get("rho_inf") == opts.rho_inf):
+            opts.rho_inf is None or per.stats.get("rho_inf") == opts.rho_inf) and (
+            opts.newton_tol is None or per.stats.get("newton_tol") == opts.newton_tol):
         x0 = np.asarray(per.stats["state0"], float)
     else:
         x0, _ = pm.initial_state(per.q[0], per.v[0], per.z[0], 0.0, p)

@@ -176,12 +176,18 @@ class Shooting:
     """Shooting on the period map of generalized-alpha with ``steps`` steps per period (at
     least 8) and spectral radius ``rho_inf`` in [0, 1] at infinite step; None: the
     integrator's own default (0.8 for :class:`GeneralizedAlpha`, 0.5 for
-    :class:`GeneralizedAlphaFirstOrder`, as ``simulate``)."""
+    :class:`GeneralizedAlphaFirstOrder`, as ``simulate``); ``newton_tol`` (> 0) each step's
+    scaled Newton tolerance, None: the integrator's default (a cable3d scene: ``simulate``'s,
+    :data:`symcable.api.cable3d.NEWTON_TOL`)."""
 
     steps: int = 100
     rho_inf: float | None = None
+    newton_tol: float | None = None
 
     def __post_init__(self):
         object.__setattr__(self, "steps", _number("steps", self.steps, 8, integer=True))
         if self.rho_inf is not None:
             object.__setattr__(self, "rho_inf", _number("rho_inf", self.rho_inf, 0, 1))
+        if self.newton_tol is not None:
+            object.__setattr__(self, "newton_tol",
+                               _number("newton_tol", self.newton_tol, 0.0, lo_open=True))

@@ -26,6 +26,9 @@ __all__ = ["START_PERIODS", "START_STEPS", "transient_start"]
 #: the start's time run: periods marched from the static state, steps per period
 START_PERIODS = 6
 START_STEPS = 64
+#: the start run's scaled Newton tolerance: a start, not an answer (at the integrator's
+#: default 1e-10, below the roundoff floor of many 3D lines, its every period "failed")
+START_NEWTON_TOL = 1e-8
 
 
 def _substepped_period(mech: Mechanism, pm, x, period: float, p, codegen) -> tuple | None:
@@ -55,7 +58,8 @@ def transient_start(mech: Mechanism, period: float, p, q0, z0, *,
     displaced at full amplitude jerks the line at its first step). ``info``: ``start`` (what
     it is), ``start_periods`` and ``start_substepped_periods`` (periods marched again with
     substeps)."""
-    pm = period_map(mech, Shooting(steps=steps, rho_inf=0.8), codegen)
+    pm = period_map(mech, Shooting(steps=steps, rho_inf=0.8, newton_tol=START_NEWTON_TOL),
+                    codegen)
     nv = mech.n_v
     q0, z0 = np.asarray(q0, float), np.asarray(z0, float)
     # the rates at t = 0 from the first period's parameters: from the full motion's (an end

@@ -142,12 +142,12 @@ class PeriodMap:
     rootfinder-based step (exact, by the implicit function theorem)."""
 
     def __init__(self, mech: Mechanism, steps: int, rho_inf: float | None, first_order: bool,
-                 codegen: bool = False):
+                 codegen: bool = False, newton_tol: float | None = None):
         self.mech, self.steps, self.first_order = mech, steps, first_order
         nq, nv, nz = mech.n_q, mech.n_v, mech.n_z
+        given = {k: v for k, v in (("rho_inf", rho_inf), ("tol", newton_tol)) if v is not None}
         if first_order:
-            self.method = (GeneralizedAlphaFirstOrder() if rho_inf is None
-                           else GeneralizedAlphaFirstOrder(rho_inf=rho_inf))
+            self.method = GeneralizedAlphaFirstOrder(**given)
             # the step kernel itself, mapped: a wrapper Function per step would cost a
             # virtual-machine call per step around the compiled one
             kern = galpha1_kernel(mech, self.method, lte=False, codegen=codegen)
@@ -159,8 +159,7 @@ class PeriodMap:
             self.n_u = 2 * (nq + nv)
             n_x = self.n_u
         else:
-            self.method = (GeneralizedAlpha() if rho_inf is None
-                           else GeneralizedAlpha(rho_inf=rho_inf))
+            self.method = GeneralizedAlpha(**given)
             fast = exact = galpha_step(mech, self.method)
             self.compiled = False
             self.n_u = 2 * nq + 2 * nv
@@ -243,8 +242,9 @@ def period_map(mech: Mechanism, opts: Shooting, codegen: bool | None = False) ->
     fallback stays in the virtual machine)."""
     fo = first_order(mech)
     cg = bool(use_codegen(codegen)) if fo else False
-    return PERIODIC_CACHE.get(mech, ("shooting", opts.steps, opts.rho_inf, fo, cg),
-                              lambda: PeriodMap(mech, opts.steps, opts.rho_inf, fo, cg))
+    return PERIODIC_CACHE.get(mech, ("shooting", opts.steps, opts.rho_inf, fo, cg, opts.newton_tol),
+                              lambda: PeriodMap(mech, opts.steps, opts.rho_inf, fo, cg,
+                                                opts.newton_tol))
 
 
 def _rate_note(history: list, last: int = 20) -> str:
@@ -321,6 +321,7 @@ def solve_shooting(mech: Mechanism, period: float, opts: Shooting, p, start: Sta
                   "periodicity_defect": res, "integrator": "generalized-alpha" +
                   (" (first order)" if pm.first_order else ""),
                   "history": history, "steps": N, "rho_inf": pm.method.rho_inf,
+                  "newton_tol": pm.method.tol,
                   "tolerance": tol, "unknowns": nu, "wall_time": time.perf_counter() - t0,
                   "compiled": pm.compiled,
                   "state0": np.concatenate([X[:nu, -1], sh.z_of(X)])})

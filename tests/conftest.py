@@ -13,6 +13,10 @@ import pytest
 # cache of its own for this session.
 os.environ.setdefault("SYMCABLE_CODEGEN", "0")
 os.environ.setdefault("SYMCABLE_CACHE_DIR", tempfile.mkdtemp(prefix="symcable-test-cache-"))
+# what is compiled, at -O0: the tests check what the C computes, not how fast it runs, and
+# gcc builds a large straight-line kernel several times faster at -O0 (the performance
+# study's --quick: 65 s at the default levels, 25 s at -O0)
+os.environ.setdefault("SYMCABLE_CC_OPT", "-O0")
 
 OC3 = {
     "name": "OC3 line",

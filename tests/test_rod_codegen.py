@@ -11,6 +11,7 @@ import pytest
 
 import symcable as sc
 from symcable.mechanism import codegen
+from symcable.errors import SymcableError
 from symcable.models.rod.spin import with_reference_spin, with_reference_spin_ad
 from symcable.scene import load_scene
 from symcable.api.scene3d import scene_mechanism
@@ -72,9 +73,15 @@ def test_closed_form_spin_equals_casadi_lagrange_terms(case, tmp_path):
     assert size[0] < size[1]
 
 
-def test_optimisation_level_follows_graph_size():
+def test_optimisation_level_follows_graph_size(monkeypatch):
     """Graphs that the default compiles keep -O2 (FLAGS, the same cache keys as before);
-    larger ones get -O1, then -O0."""
+    larger ones get -O1, then -O0; $SYMCABLE_CC_OPT (the suite's -O0) overrides all."""
+    monkeypatch.setenv("SYMCABLE_CC_OPT", "-O1")
+    assert codegen.flags_for(1000)[0] == "-O1"
+    monkeypatch.setenv("SYMCABLE_CC_OPT", "-O9")
+    with pytest.raises(SymcableError, match="SYMCABLE_CC_OPT = '-O9'"):
+        codegen.flags_for(1000)
+    monkeypatch.delenv("SYMCABLE_CC_OPT")
     assert codegen.flags_for(1000) == codegen.FLAGS
     assert codegen.flags_for(codegen.DEFAULT_MAX_SIZE) == codegen.FLAGS
     assert codegen.flags_for(codegen.DEFAULT_MAX_SIZE + 1)[0] == "-O1"

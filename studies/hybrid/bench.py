@@ -19,7 +19,7 @@ import symcable as sc
 import symcable.solvers.equilibrium as _equilibrium
 from symcable.api.cable3d_static import cable3d_mechanism
 from symcable.data import scene_path
-from symcable.errors import ConvergenceError, SymcableError
+from symcable.errors import SymcableError
 from symcable.models.rod.reanchor import reanchor_hook
 from symcable.api.rod_static import rod_mechanism
 from symcable.scene import load_scene

@@ -31,7 +31,6 @@ over time, and the differences from MoorDyn's finest run). ``main(argv)`` return
 from __future__ import annotations
 
 import importlib.util
-import math
 import sys
 from pathlib import Path
 

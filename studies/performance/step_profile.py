@@ -49,7 +49,6 @@ import sys
 import time
 from pathlib import Path
 
-import casadi as ca
 import numpy as np
 
 from symcable.models.cable3d.line import build_cable3d

@@ -3,7 +3,7 @@ energy on N edges with (d) each edge's frame from its own anchor (as symcable.mo
 (b) space-parallel transport along the rod from the clamp (every frame a function of all the
 edges before it). Prints (nnz of the Hessian, n_q, SX instructions, seconds to build it).
 Run: PYTHONPATH=. python studies/rod_notes/rod14_frames_measure.py"""
-import casadi as ca, numpy as np, time
+import casadi as ca, time
 from symcable.models.rod.frames import transport
 def build(N, chain):
     X = ca.SX.sym('x', 3, N + 1); th = ca.SX.sym('th', N)

@@ -14,7 +14,6 @@ import tempfile
 import time
 
 import casadi as ca
-import numpy as np
 
 from symcable.scene import load_scene
 from symcable.api.scene3d import scene_mechanism

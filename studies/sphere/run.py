@@ -21,7 +21,6 @@ JSON files there. ``--quick``: 5 segments, 0.807 and 1.27 Hz, shooting only, a 3
 from __future__ import annotations
 
 import json
-import math
 import statistics
 import sys
 import time
@@ -91,11 +90,11 @@ def lateral_share(vec, n_q):
 
 def periodic(s, method, T0, **opts):
     """One periodic solve with stability: its metrics, stats and the mode that goes unstable."""
-    from symcable.api.cable3d_periodic import _solve_3d
+    from symcable.api.cable3d_periodic import solve_periodic_3d_state
     from symcable.api.cable3d_static import static_equilibrium
     from symcable.solvers.floquet import floquet
     t = time.perf_counter()
-    per, mp = _solve_3d(s, method, None, False, None, dict(opts))
+    per, mp = solve_periodic_3d_state(s, method, None, False, None, dict(opts))
     wall = time.perf_counter() - t
     mech, _ = static_equilibrium(s)
     fl = floquet(mech, mp, steps=opts.get("steps", 200))

@@ -40,7 +40,6 @@ Writes ``results.csv``, ``summary.md`` and ``work_precision_3d.png`` to the out 
 from __future__ import annotations
 
 import math
-import statistics
 import sys
 import time
 from pathlib import Path
@@ -50,7 +49,6 @@ import numpy as np
 
 import symcable as sc
 from symcable.api.cable3d_static import static_equilibrium
-from symcable.mechanism.codegen import cache_info
 from symcable.errors import ConvergenceError
 from symcable.scene import load_scene
 from symcable.solvers.integrate import integrate
@@ -97,21 +95,8 @@ QUICK = Grid(ga1_steps=(100, 200, 400), ga2_steps=(100, 200), rk4_factors=(0.8,)
 
 # --------------------------------------------------------------------------- timing
 def _timed(call, repeats: int) -> tuple:
-    """(result, median wall s, n) of ``call()``; a call that compiled something new into the
-    build cache is not timed but made again (warm cache); repeated while under CHEAP_S."""
-    runs = []
-    while True:
-        before = cache_info()["entries"]
-        t0 = time.perf_counter()
-        out = call()
-        wall = time.perf_counter() - t0
-        if cache_info()["entries"] != before:
-            continue
-        runs.append((wall, out))
-        if len(runs) >= repeats or runs[0][0] >= CHEAP_S:
-            break
-    runs.sort(key=lambda r: r[0])
-    return runs[(len(runs) - 1) // 2][1], statistics.median(w for w, _ in runs), len(runs)
+    """(result, median wall s, n): :func:`study_io.warm_median` with CHEAP_S."""
+    return study_io.warm_median(call, repeats, CHEAP_S)
 
 
 # --------------------------------------------------------------------------- the runs

@@ -54,11 +54,11 @@ for _p in (HERE, HERE.parent):
         sys.path.append(str(_p))
 import cable3d_case as case3d  # noqa: E402
 import study_io  # noqa: E402
-from run3d import _timed  # noqa: E402  (warm-cache medians, as the 3D rows)
 import systems_case as cases  # noqa: E402
 import wp_systems_report as report  # noqa: E402
 
 T = cases.PERIOD
+_timed = study_io.warm_median  # warm-cache medians, as the 3D rows
 
 
 class Grid(NamedTuple):

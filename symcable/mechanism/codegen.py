@@ -39,7 +39,10 @@ Loading a library runs its code, so the cache loads only what it built itself:
 
 Compiler: ``$CC`` if set, else the first of ``cc``, ``gcc``, ``clang`` on the PATH. When
 none is found, :func:`use_codegen` warns once and every analysis falls back to the CasADi
-virtual machine (same results, slower).
+virtual machine (same results, slower). Optimisation: by graph size (:data:`OPTIMISATION`),
+or ``$SYMCABLE_CC_OPT`` (one of -O0, -O1, -O2, -O3, -Os) for every build: -O0 compiles
+several times faster and runs slower (the test suite uses it: it checks what C computes,
+not how fast).
 """
 from __future__ import annotations
 
@@ -88,6 +91,8 @@ DEFAULT_MAX_SIZE = 5_000_000
 #: level: the performance study, in the docs).
 OPTIMISATION = ((DEFAULT_MAX_SIZE, "-O2"), (10 * DEFAULT_MAX_SIZE, "-O1"), (math.inf, "-O0"))
 _ENV_CACHE = "SYMCABLE_CACHE_DIR"
+_ENV_OPT = "SYMCABLE_CC_OPT"
+_OPT_LEVELS = ("-O0", "-O1", "-O2", "-O3", "-Os")
 _ENV_DEFAULT = "SYMCABLE_CODEGEN"
 
 
@@ -281,8 +286,12 @@ _cc_ids: dict = {}
 
 def flags_for(size: int) -> tuple:
     """The compiler flags for Functions of graph size ``size`` (:func:`graph_size`): FLAGS
-    with the optimisation level of :data:`OPTIMISATION`."""
-    level = next(flag for top, flag in OPTIMISATION if size <= top)
+    with the optimisation level of :data:`OPTIMISATION`, or of ``$SYMCABLE_CC_OPT``."""
+    level = os.environ.get(_ENV_OPT, "").strip()
+    if level and level not in _OPT_LEVELS:
+        raise SymcableError(f"{_ENV_OPT} = {level!r}: must be one of {', '.join(_OPT_LEVELS)} "
+                            "(or unset: by graph size)")
+    level = level or next(flag for top, flag in OPTIMISATION if size <= top)
     return (level,) + tuple(f for f in FLAGS if not f.startswith("-O"))
 
 

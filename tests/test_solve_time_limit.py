@@ -76,3 +76,19 @@ def test_a_solve_inside_a_spent_deadline_stops_at_once(kw):
         with pytest.raises(ConvergenceError) as info:
             sc.solve_periodic("seed001", estimate=False, **kw)
     assert "time limit" in str(info.value) and "solve_seconds" in str(info.value)
+
+
+def test_shooting_starts_no_monodromy_that_would_pass_the_limit():
+    """A period with its monodromy is one long call (tens of plain periods in the virtual
+    machine): shooting does not start one that would end past the deadline, judged by the
+    last one's time, else MONODROMY_PERIODS plain periods. (Before, a fuzz scene stopped
+    for its 180 s limit at 193 s.)"""
+    import time
+
+    from symcable.solvers import shooting_mech as sm
+    sh = sm._Shots(pm=None, march=None, period=1.0, p=None, su=None, z0=None, nz=0, n_x=0,
+                   step_tol=1e-8, deadline=time.perf_counter() + 100.0)
+    sh.t_plain = 1.0  # s: a first monodromy taken as 30 s, inside the 100 s left
+    assert not sh.late() and not sh.late(monodromy=True)
+    sh.t_jac = 200.0  # s: the last one took longer than what is left
+    assert sh.late(monodromy=True) and sh.timed_out and sh.late()  # and stays stopped

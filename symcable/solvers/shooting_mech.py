@@ -111,6 +111,9 @@ ANDERSON_STALL_PERIODS = 20
 #: residual is near the round-off of the steps' Newton solves (1e-8 of the state's scale),
 #: where Newton cannot do better either, and Anderson keeps its budget
 ANDERSON_STALL_FLOOR = 1e-6
+#: a first period with its monodromy is taken to cost this many plain periods when judging
+#: whether it fits before the call's time limit (in the virtual machine it costs a few tens)
+MONODROMY_PERIODS = 30
 
 
 def stalled(history: list) -> bool:
@@ -302,7 +305,7 @@ def solve_shooting(mech: Mechanism, period: float, opts: Shooting, p, start: Sta
     if not solved and not why:
         why = (f"{anderson_periods} Anderson periods and {iters} Newton iterations: residual "
                f"{res:.3g} > tol = {tol:.3g}")
-    if not solved and sh.late():
+    if not solved and (sh.timed_out or sh.late()):
         why = (f"stopped at the time limit of {limit} s, {periods} periods marched "
                f"(residual {res:.3g} > tol = {tol:.3g}): the response may have no period (a "
                "line that snaps, a subharmonic); run simulate to see what it does, or raise "
@@ -350,14 +353,35 @@ class _Shots:
     n_x: int
     step_tol: float
     deadline: float = math.inf  #: time.perf_counter() past which no more periods are marched
+    #: wall time (s) of the last plain period and of the last period with its monodromy
+    t_plain: float = 0.0
+    t_jac: float = 0.0
+    #: set once :meth:`late` has said so (the solve stopped for the time limit)
+    timed_out: bool = False
 
-    def late(self) -> bool:
-        return time.perf_counter() > self.deadline
+    def late(self, monodromy: bool = False) -> bool:
+        """Whether the deadline has passed, or (``monodromy``) would pass during a period
+        with its monodromy: as long as the last one, or MONODROMY_PERIODS plain periods
+        before the first (one such call can take tens of seconds on a large system)."""
+        cost = (self.t_jac or MONODROMY_PERIODS * self.t_plain) if monodromy else 0.0
+        if time.perf_counter() + cost > self.deadline:
+            self.timed_out = True
+        return self.timed_out
 
     def evaluate(self, u_, z_, jac):
         """(X (n_x, N+1) the states over the period, residual max |r|, r (n_u,) the scaled
         periodicity defect, J (n_u, n_u) the monodromy with ``jac``, else None); residual inf
         and r None where a step failed."""
+        t0 = time.perf_counter()
+        try:
+            return self._evaluate(u_, z_, jac)
+        finally:
+            if jac:
+                self.t_jac = time.perf_counter() - t0
+            else:
+                self.t_plain = time.perf_counter() - t0
+
+    def _evaluate(self, u_, z_, jac):
         pm, nu = self.pm, self.pm.n_u
         if jac:
             out = pm.with_jacobian(np.concatenate([u_, z_]), self.period, self.p)
@@ -427,13 +451,15 @@ def _newton_phase(sh: _Shots, u, X, res: float, r, tol: float, max_iter: int, hi
     stopped short or "")."""
     nu, su = sh.pm.n_u, sh.su
     iters, J, why = 0, None, ""
-    if res > tol and np.isfinite(res) and not sh.late():
+    if res > tol and np.isfinite(res) and not sh.late(monodromy=True):
         z = sh.z_of(X)
         X, res, r, J = sh.evaluate(u, z, True)
         periods += 1
     while res > tol and iters < max_iter and not sh.late():
         if r is None:
             why = "a generalized-alpha step failed inside the period"
+            break
+        if J is None:  # not evaluated: the time limit would have passed during it
             break
         Jr = (J - np.eye(nu)) * su[None, :] / su[:, None]
         try:
@@ -457,6 +483,8 @@ def _newton_phase(sh: _Shots, u, X, res: float, r, tol: float, max_iter: int, hi
         u, X, res, r = u_try, X_t, res_t, r_t
         z = sh.z_of(X)
         history.append(res)
+        if res > tol and sh.late(monodromy=True):
+            break  # the time limit would pass during the next monodromy
         if res > tol:  # the monodromy at the new iterate for the next step
             _, _, _, J = sh.evaluate(u, z, True)
             periods += 1

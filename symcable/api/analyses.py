@@ -276,8 +276,8 @@ def solve_periodic(scene, method="shooting", *, model: DynamicModel | None = Non
         ("ipopt" or "newton"); harmonic balance ``harmonics`` (10), ``samples``
         (4 harmonics + 4); shooting ``steps`` per period (100, >= 8), ``rho_inf`` (0.5;
         cable3d scenes: 0, simulate's), ``newton_tol`` (each step's scaled Newton
-        tolerance: 1e-10; cable3d scenes: 1e-8, simulate's). cable3d scenes also take ``stability=True``: the
-        solution's Floquet multipliers in ``stats`` (``floquet_max``, ``stable``,
+        tolerance: 1e-10; cable3d scenes: 1e-8, simulate's). cable3d scenes also take
+        ``stability=True``: the solution's Floquet multipliers in ``stats`` (``floquet_max``, ``stable``,
         :mod:`symcable.solvers.floquet`). An option of another method is an error naming
         it.
     model : DynamicModel, optional

@@ -128,8 +128,9 @@ def solve_periodic_3d_state(scene: Scene, method, codegen, stability, start, opt
             "solved from a start with the motion ramped in over its first period",))
     stats = dict(res.stats, period=period)
     if stability:  # every method's solution judged on one map: shooting's, at its rho_inf
-        stats.update(floquet(mech, res, rho_inf=opts.rho_inf if isinstance(opts, Shooting)
-                             else RHO_INF, newton_tol=NEWTON_TOL).stats())
+        shoot = isinstance(opts, Shooting)
+        stats.update(floquet(mech, res, rho_inf=opts.rho_inf if shoot else RHO_INF,
+                             newton_tol=opts.newton_tol if shoot else NEWTON_TOL).stats())
     stats["wall_time"] = time.perf_counter() - started
     if start is not None:
         stats["start_kind"] = ("neighbour" if str(res.stats.get("start", ""))
@@ -229,8 +230,9 @@ def sweep_periodic_3d(scene: Scene, periods, method="collocation", *, resolution
     for i, T in enumerate(periods):
         t0 = time.perf_counter()
         try:
-            per, mp = solve_periodic_3d_state(_with_period(scene, float(T)), method, codegen, stability,
-                                prev if continuation else None, dict(options))
+            per, mp = solve_periodic_3d_state(_with_period(scene, float(T)), method, codegen,
+                                              stability, prev if continuation else None,
+                                              dict(options))
         except (ConvergenceError, SymcableError) as exc:
             statuses.append("failed")
             warnings.append(f"period {T:g} s: {str(exc).splitlines()[0]}")

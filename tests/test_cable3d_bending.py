@@ -204,7 +204,9 @@ def test_bending_forces_are_the_energy_gradient():
     mech = cable3d_mechanism(load_scene(d))
     assert "bending" in mech.terms
     U = mech.outputs["potential_energy"].expr
-    f = ca.Function("f", [mech.q, mech.t, mech.p], [mech.force, -ca.gradient(U, mech.q)])
+    # (at rest: the drag on v stays in the force with its Cd a parameter, here 0)
+    f = ca.Function("f", [mech.q, mech.t, mech.p], ca.substitute(
+        [mech.force, -ca.gradient(U, mech.q)], [mech.v], [ca.DM.zeros(mech.n_v)]))
     s = np.linspace(0, 1, 10)[1:-1]
     q = np.column_stack([0.3 * s ** 2, 2.3 * s + 0.05 * np.sin(7 * s), 0.2 * s ** 3]).ravel()
     force, grad = (np.asarray(x, float).ravel() for x in f(q, 0.0, mech.params.values))

@@ -177,12 +177,15 @@ def test_streaming_line_balanced_by_hand():
 def test_morison_as_loading_functions_gives_the_same_static_line():
     """The streaming line with Morison's law and with it written as loading functions
     (Pode's law here: f_n = 1.5 sin^2 psi, no tangential drag): the same nodes to the
-    solver's tolerance (1e-9 of the force scale; measured to 1e-10 m)."""
+    solver's tolerance (a residual below 1e-9 of the force scale, 4.4e-3 N, moves a node
+    by up to r ds / T, about 1e-4 m; measured 1e-10 to 2e-6 m as the two Newton paths end
+    one iteration apart)."""
     law = {"cd": 1.5, "normal_cos": [0.5, 0.0, -0.5], "tangential_cos": [0.0]}
     a = sc.solve_static(_streaming(None), codegen=False)
     b = sc.solve_static(_streaming(law), codegen=False)
-    np.testing.assert_allclose(b.positions, a.positions, rtol=0, atol=1e-6)
-    assert b.anchor_tension == pytest.approx(a.anchor_tension, rel=1e-8)
+    np.testing.assert_allclose(b.positions, a.positions, rtol=0, atol=1e-5)
+    # (the tension to the same residual: 4.4e-3 N on 564 N; measured 3e-5 N)
+    assert b.anchor_tension == pytest.approx(a.anchor_tension, abs=4.4e-3)
 
 
 def test_scene_round_trip_and_defaults():

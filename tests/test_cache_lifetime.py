@@ -31,7 +31,8 @@ def test_a_value_referring_to_its_owner_is_freed_with_it():
 
 def test_step_cache_entries_go_with_their_mechanism():
     """A Mechanism with a step-cache entry that holds it, and its Functions, is collected
-    once the caller and the scene caches let go of it."""
+    once the caller and the scene caches let go of it (the scene caches: by content, and the
+    templates of each structure, :mod:`symcable.models.structure`)."""
     mech = cable3d_mechanism(load_scene(sc.demo_scene_path("sphere")))
     STEP_CACHE.get(mech, ("test_back_reference",), functools.partial(dict, held=mech))
     functions(mech)
@@ -39,7 +40,9 @@ def test_step_cache_entries_go_with_their_mechanism():
     n = len(STEP_CACHE)
     del mech
     from symcable.api import cable3d_static
+    from symcable.models import structure
     cable3d_static._CACHE.clear()
+    structure.TEMPLATES.clear()
     gc.collect()
     assert ref() is None
     assert len(STEP_CACHE) < n

@@ -92,7 +92,9 @@ def _mechanism_slopes(scene: Scene, sol) -> dict:
     _, J = F.static_jacobian(x, p)
     colind, row = J.sparsity().get_ccs()
     Jsp = csc_matrix((np.asarray(J.nonzeros(), float), row, colind), shape=J.shape)
-    r_bed = np.asarray(F.static_parameter_jacobian(x, p), float)[:, cols].sum(axis=1)
+    along = np.zeros(mech.params.n)  # every bed block together
+    along[cols] = 1.0
+    r_bed = np.asarray(F.static_parameter_slope(x, p, along), float).ravel()
     with np.errstate(all="ignore"):
         dx = np.atleast_1d(spsolve(Jsp, -r_bed))
     if not np.all(np.isfinite(dx)):
@@ -107,10 +109,8 @@ def _mechanism_slopes(scene: Scene, sol) -> dict:
         dy = ca.jtimes(y, ca.vertcat(m.q, m.p), ca.vertcat(dq, dp))
         fn = F.__dict__[key] = ca.Function("bed_end_slopes", [m.q, m.v, m.z, m.t, m.p, dq, dp],
                                            [y, dy])
-    dp = np.zeros(mech.params.n)
-    dp[cols] = 1.0
     y, dy = (np.asarray(a, float).ravel() for a in fn(x, np.zeros(mech.n_v), np.zeros(0), 0.0,
-                                                        p, dx, dp))
+                                                        p, dx, along))
     out = {}
     for k, name in enumerate(ends):
         slopes = []

@@ -30,6 +30,7 @@ import casadi as ca
 import numpy as np
 
 from .cable3d_static import cable3d_mechanism, static_equilibrium
+from ..mechanism.bounds import bound_numbers
 from ..mechanism.functions import functions
 from ..mechanism.static_functions import SOLVE_MAX_ITER
 from ..errors import ConvergenceError, SceneError, SymcableError
@@ -104,7 +105,7 @@ def _pose_params(mech, p0, pos, R0, ends) -> ca.Function:
 PREDICTOR_STEP = 1e-4
 
 
-def _batch(S, pose_p, n_x: int, n_p: int, n: int) -> ca.Function:
+def _batch(S, pose_p, n_x: int, n_p: int, n: int, bounds: np.ndarray) -> ca.Function:
     """``offset_batch(acc0, offsets (6, n), reset (1, n), x_base, p_base, tol)``: the fused
     Newton of each offset from the previous one's solution (or ``x_base`` where ``reset`` or
     where the previous failed) moved by the tangent predictor, and its check,
@@ -114,7 +115,8 @@ def _batch(S, pose_p, n_x: int, n_p: int, n: int) -> ca.Function:
     same pattern, where starting from the previous solution itself moves only the held ends
     (a taut line's end segment stretched by the whole move: plain Newton diverges from
     there). The accumulator is (x; ok; p) per offset; also returned: iterations, residual
-    norm, bound margin and outputs."""
+    norm, bound margin (for the limits ``bounds``,
+    :func:`~symcable.mechanism.bounds.bound_numbers`) and outputs."""
     acc, O, reset = ca.MX.sym("acc", n_x + 1 + n_p), ca.MX.sym("offset", 6), ca.MX.sym("reset")
     XB, PB, TOL = ca.MX.sym("x_base", n_x), ca.MX.sym("p_base", n_p), ca.MX.sym("tol")
     restart = ca.logic_or(reset, acc[n_x] < 0.5)
@@ -123,7 +125,7 @@ def _batch(S, pose_p, n_x: int, n_p: int, n: int) -> ca.Function:
     p = pose_p(O)
     _, dx = S.step(x_from, p_from + PREDICTOR_STEP * (p - p_from))
     x, its, _, packed = S.solve(x_from + dx / PREDICTOR_STEP, p, TOL)
-    nr, probe, margin = S.check(x, p)
+    nr, probe, margin = S.check(x, p, ca.DM(bounds))
     ok = ca.logic_and(ca.logic_and(nr <= TOL, margin >= 0), probe - probe == 0)
     step = ca.Function("offset_step", [acc, O, reset, XB, PB, TOL],
                        [ca.vertcat(x, ok, p), its, nr, margin, packed],
@@ -332,7 +334,7 @@ def offset_sweep(scene, body: str, offsets, *, about: str = "equilibrium",
     n, n_x = len(off), len(x_base)
     order, reset = _tour(off)
     if (n, S.compiled) not in funcs:
-        funcs[n, S.compiled] = _batch(S, pose_p, n_x, mech.params.n, n)
+        funcs[n, S.compiled] = _batch(S, pose_p, n_x, mech.params.n, n, bound_numbers(mech))
     tb = time.perf_counter()
     acc, its, nr, _, packed = funcs[n, S.compiled](np.r_[x_base, 1.0, eq.p], off[order].T,
                                                    reset[None, :].astype(float), x_base, eq.p, tol)

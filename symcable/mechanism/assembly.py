@@ -125,7 +125,8 @@ def _node_dofs(parts, ref, what) -> list:
 
 
 def assemble(parts: Iterable[Mechanism], joints: Iterable = (), *, name: str = "assembly",
-             starts: Callable[[], Iterable[Start]] | None = None) -> Mechanism:
+             starts: Callable[[], Iterable[Start]] | None = None,
+             symbols: bool = True) -> Mechanism:
     """One Mechanism from several parts and joints (see the module docstring).
 
     Parameters
@@ -137,6 +138,10 @@ def assemble(parts: Iterable[Mechanism], joints: Iterable = (), *, name: str = "
     name : str
     starts : callable, optional
         Static starts of the whole; by default the parts' first starts, put together.
+    symbols : bool
+        False: the numbers of the whole alone (parameters, scales, layout, starts, bounds'
+        limits) on placeholder expressions, from parts built likewise
+        (:mod:`symcable.models.structure`).
     """
     parts = list(parts)
     by_name, dim, kind = _check_parts(parts)
@@ -161,6 +166,9 @@ def assemble(parts: Iterable[Mechanism], joints: Iterable = (), *, name: str = "
 
     motion = _prescribed_motion(presc_joints, params, p, t)
     kinematic = [m for m in parts if m.kinematics is not None]
+    if not symbols:
+        return _numbers_only(parts, joints, num, params, name, kind, (q, v, z, t, p),
+                             motion, kinematic, starts)
     qdot, rest_rows = _kinematics(kinematic, num, kind, q, v, z_at, p_at, t)
     # a node on a body: its position, velocity and the acceleration at v' = 0
     for j in joints:
@@ -169,6 +177,7 @@ def assemble(parts: Iterable[Mechanism], joints: Iterable = (), *, name: str = "
             xd = j.velocity(qb, vb)
             motion[j.name] = (j.position(qb), xd, ca.jtimes(xd, q, qdot))
 
+    made: dict = {}  # Functions of the parts, shared by parts of shared expressions
     M = kind(n_v, n_v)  # structurally zero: each part adds its own (sparse) block
     f = kind.zeros(n_v, 1)
     g_rows, outputs, bounds, when = [], {}, {}, []
@@ -180,8 +189,8 @@ def assemble(parts: Iterable[Mechanism], joints: Iterable = (), *, name: str = "
         q_loc, v_loc, a_pres, rows_free, cols_free, rows_att = _part_coords(
             m, num, motion, kind, q, v, q_scale, v_scale)
         local = (q_loc, v_loc, z_at[m.name], t, p_at[m.name])
-        fn = ca.Function(f"part_{m.fname}", [m.q, m.v, m.z, m.t, m.p],
-                         [m.mass, m.force, m.constraint])
+        fn = _shared(made, ("dyn", id(m.force)), lambda: ca.Function(
+            f"part_{m.fname}", [m.q, m.v, m.z, m.t, m.p], [m.mass, m.force, m.constraint]))
         Mp, fp, gp = fn(*local)
         fp_eff = fp - ca.mtimes(Mp, a_pres)  # prescribed and attached accelerations' inertia
         T = ca.DM(ca.Sparsity.triplet(m.n_v, n_v, rows_free, cols_free), 1.0)
@@ -193,8 +202,8 @@ def assemble(parts: Iterable[Mechanism], joints: Iterable = (), *, name: str = "
         f = f + ca.mtimes(T.T, fp_eff)
         g_rows.append(gp)
         _add_joint_force(m, num, fp_eff, joint_force)
-        outputs.update(_part_outputs(m, local))
-        _part_bounds(m, local, bounds, when)
+        outputs.update(_part_outputs(m, local, made))
+        _part_bounds(m, local, bounds, when, made)
         part_layouts.update(_part_layouts(m, num))
     for j in presc_joints:
         outputs[f"{j.name}.force"] = Output(ca.vertcat(*joint_force[j.name]), "N", j.name,
@@ -218,6 +227,33 @@ def assemble(parts: Iterable[Mechanism], joints: Iterable = (), *, name: str = "
                      stability_when=_least(when) if len(when) == len(parts) else None,
                      kinematics=qdot if kinematic else None,
                      rest=ca.vertcat(*rest_rows) if rest_rows else None)
+
+
+def _numbers_only(parts, joints, num, params, name, kind, syms, motion, kinematic,
+                  starts) -> Mechanism:  # noqa: ARG001 (joints, motion: as assemble's)
+    """``assemble(symbols=False)``: the whole's numbers on placeholder expressions."""
+    q, v, z, t, p = syms
+    n_v, n_q = num.n_v, num.n_q
+    q_scale, v_scale = np.zeros(n_q), np.zeros(n_v)
+    bounds, part_layouts = {}, {}
+    for m in parts:
+        _part_scales(m, num, q_scale, v_scale)
+        for k, b in m.bounds.items():
+            bounds[f"{m.name}.{k}"] = b
+        part_layouts.update(_part_layouts(m, num))
+    n_z_total = sum(m.n_z for m in parts)
+    static_params = {f"{m.name}.{k}": val for m in parts for k, val in m.static_params.items()}
+    rest = [m for m in kinematic if m.rest is not None]
+    return Mechanism(
+        name=name, q=q, v=v, z=z, t=t, p=p, params=params, mass=kind(n_v, n_v),
+        force=kind.zeros(n_v, 1), constraint=kind.zeros(n_z_total if n_z_total else 0, 1),
+        scales=_scales(parts, q_scale, v_scale, n_z_total),
+        starts=starts or functools.partial(_default_starts, parts, num, params, static_params),
+        layout=Layout(parts[0].layout.dim, part_layouts, _states(parts)),
+        terms=tuple(dict.fromkeys(t_ for m in parts for t_ in m.terms)),
+        static_params=static_params, bounds=bounds,
+        kinematics=kind.zeros(n_q, 1) if kinematic else None,
+        rest=kind.zeros(sum(m.n_q - m.n_v for m in rest), 1) if rest else None)
 
 
 def _check_parts(parts: list) -> tuple[dict, int, type]:
@@ -393,6 +429,18 @@ def _part_coords(m: Mechanism, num: _Numbering, motion: dict, kind, q, v, q_scal
             rows_att)
 
 
+def _part_scales(m: Mechanism, num: _Numbering, q_scale, v_scale) -> None:
+    """What :func:`_part_coords` does to ``q_scale``, ``v_scale``, alone (numbers only)."""
+    for jloc in range(m.n_v):
+        r = num.dof.find((m.name, jloc))
+        if r not in num.roots_prescribed:
+            gi = num.global_index[r]
+            q_scale[gi] = max(q_scale[gi], m.scales.q[jloc])
+            v_scale[gi] = max(v_scale[gi], m.scales.v[jloc])
+    for jloc in range(m.n_v, m.n_q):
+        q_scale[num.tail_index[(m.name, jloc)]] = m.scales.q[jloc]
+
+
 def _add_joint_force(m: Mechanism, num: _Numbering, fp_eff, joint_force: dict) -> None:
     """Adds to ``joint_force`` (joint name -> dim entries, N, in place) the force this part
     exerts on each prescribed node, ``fp_eff`` = f_part - M_part a_part at its rows, with the
@@ -405,14 +453,22 @@ def _add_joint_force(m: Mechanism, num: _Numbering, fp_eff, joint_force: dict) -
             joint_force[jt.name][k] = joint_force[jt.name][k] + fp_eff[jloc]
 
 
-def _part_outputs(m: Mechanism, local: tuple) -> dict:
+def _shared(made: dict, key: tuple, build):
+    """``made[key]``, built once: parts that share their expressions (a mooring's identical
+    lines, :mod:`symcable.models.structure`) share the Functions that evaluate them."""
+    if key not in made:
+        made[key] = build()
+    return made[key]
+
+
+def _part_outputs(m: Mechanism, local: tuple, made: dict) -> dict:
     """The part's outputs, namespaced ``part.name``, at ``local`` = its (q, v, z, t, p) in
     the assembled symbols."""
     outputs = {}
     if m.outputs:
         names_o = list(m.outputs)
-        fo = ca.Function(f"part_{m.fname}_out", [m.q, m.v, m.z, m.t, m.p],
-                         [m.outputs[k].expr for k in names_o])
+        fo = _shared(made, ("out", id(m.force)), lambda: ca.Function(
+            f"part_{m.fname}_out", [m.q, m.v, m.z, m.t, m.p], [m.outputs[k].expr for k in names_o]))
         vals = fo(*local)
         vals = vals if isinstance(vals, (list, tuple)) else [vals]
         for k, val in zip(names_o, vals):
@@ -421,7 +477,7 @@ def _part_outputs(m: Mechanism, local: tuple) -> dict:
     return outputs
 
 
-def _part_bounds(m: Mechanism, local: tuple, bounds: dict, when: list) -> None:
+def _part_bounds(m: Mechanism, local: tuple, bounds: dict, when: list, made: dict) -> None:
     """Adds the part's admissibility bounds, namespaced, to ``bounds`` and its
     ``stability_when`` to ``when`` (in place), at ``local`` = its (q, v, z, t, p) in the
     assembled symbols."""
@@ -430,7 +486,8 @@ def _part_bounds(m: Mechanism, local: tuple, bounds: dict, when: list) -> None:
         exprs = [m.bounds[k].expr for k in names_b]
         if m.stability_when is not None:
             exprs.append(m.stability_when)
-        vals = ca.Function(f"part_{m.fname}_bounds", [m.q, m.v, m.z, m.t, m.p], exprs)(*local)
+        vals = _shared(made, ("bounds", id(m.force)), lambda: ca.Function(
+            f"part_{m.fname}_bounds", [m.q, m.v, m.z, m.t, m.p], exprs))(*local)
         vals = list(vals) if isinstance(vals, (list, tuple)) else [vals]
         for k, val in zip(names_b, vals):
             bounds[f"{m.name}.{k}"] = dataclasses.replace(m.bounds[k], expr=val)

@@ -26,9 +26,11 @@ import numpy as np
 from .attached import Attached
 from .static_functions import StaticSolver, static_solver
 from ..linalg.sparse import qr_solve, sparse_solve
+from .bounds import bound_margins, bound_numbers
 from .mechanism import Mechanism
 
-__all__ = ["FUNCTIONS", "FunctionCache", "MechanismFunctions", "functions"]
+__all__ = ["FUNCTIONS", "FunctionCache", "MechanismFunctions", "bound_margins", "bound_numbers",
+           "bound_violations", "functions"]
 
 
 def _sym_like(x, name: str, n: int):
@@ -99,6 +101,17 @@ class MechanismFunctions:
         x = ca.vertcat(m.q, m.z)
         return ca.Function(f"{m.fname}_static_dp", [x, m.p],
                            [ca.jacobian(self.static_expr(), m.p)], ["x", "p"], ["R_p"])
+
+    @cached_property
+    def static_parameter_slope(self) -> ca.Function:
+        """``static_parameter_slope(x, p, dp) -> dR``: (dr/dp) dp, the static residual's
+        directional derivative along parameter change ``dp`` (one forward sweep: the whole
+        dr/dp of a long line's per-segment parameters is large)."""
+        m = self.mech
+        x = ca.vertcat(m.q, m.z)
+        dp = _sym_like(m.p, "dp", m.params.n)
+        return ca.Function(f"{m.fname}_static_dp_slope", [x, m.p, dp],
+                           [ca.jtimes(self.static_expr(), m.p, dp)], ["x", "p", "dp"], ["dR"])
 
     @cached_property
     def static_jacobian(self) -> ca.Function:
@@ -247,47 +260,15 @@ class MechanismFunctions:
 
     # -- admissibility bounds -------------------------------------------------------------
     @cached_property
-    def bound_margins(self) -> ca.Function:
-        """``(q, v, z, t, p) -> (m, values)``: for every entry of every :class:`Bound` of
-        the mechanism, min(expr - lower, upper - expr) / scale, stacked in the order of
-        ``mech.bounds`` (negative: violated, by that many scales; empty without bounds),
-        and the expressions' values themselves, stacked alike."""
+    def bound_values(self) -> ca.Function:
+        """``(q, v, z, t, p) -> values``: every :class:`Bound`'s expression, stacked in the
+        order of ``mech.bounds`` (their limits are numbers of the scene, not of the
+        expressions: :func:`bound_numbers`)."""
         m = self.mech
-        parts = []
-        for b in m.bounds.values():
-            k = int(b.expr.numel())
-            lo, hi = (ca.DM(np.broadcast_to(np.asarray(x, float), (k,)).copy())
-                      for x in (b.lower, b.upper))
-            e = ca.vec(b.expr)
-            parts.append(ca.fmin(e - lo, hi - e) / float(b.scale))
-        y = ca.vertcat(*parts) if parts else ca.DM.zeros(0)
         values = [ca.vec(b.expr) for b in m.bounds.values()]
         v = ca.vertcat(*values) if values else ca.DM.zeros(0)
-        return ca.Function(f"{m.fname}_bound_margins", self._args, [y, v], self._names,
-                           ["m", "values"])
-
-    def bound_violations(self, q, v, z, t, p, slack: float = 0.0) -> list:
-        """One line per violated :class:`Bound` at the state (its worst entry, value, allowed
-        range and meaning); ``slack`` (in scales) tolerated below a bound."""
-        margins, values = (np.asarray(a, float).ravel()
-                           for a in self.bound_margins(q, v, z, t, p))
-        out, i = [], 0
-        for name, b in self.mech.bounds.items():
-            k = int(b.expr.numel())
-            mk = margins[i:i + k]
-            i += k
-            if not k or np.all(mk >= -slack):
-                continue
-            worst = int(np.argmin(np.where(np.isnan(mk), -np.inf, mk)))
-            val = values[i - k + worst]
-            lo = np.broadcast_to(np.asarray(b.lower, float), (k,))[worst]
-            hi = np.broadcast_to(np.asarray(b.upper, float), (k,))[worst]
-            rng = (f">= {lo:.4g}" if np.isinf(hi) else f"<= {hi:.4g}" if np.isinf(lo)
-                   else f"in [{lo:.4g}, {hi:.4g}]")
-            n_bad = int(np.sum(~(mk >= -slack)))
-            out.append(f"{name} = {val:.4g} {b.unit} at entry {worst} (must be {rng}: "
-                       f"{b.what}; {n_bad} of {k} entries violate it)")
-        return out
+        return ca.Function(f"{m.fname}_bound_values", self._args, [v], self._names,
+                           ["values"])
 
     # -- outputs --------------------------------------------------------------------------
     @cached_property
@@ -351,6 +332,30 @@ class MechanismFunctions:
         return self.unpack(np.asarray(y).ravel())
 
 
+def bound_violations(mech: Mechanism, q, v, z, t, p, slack: float = 0.0) -> list:
+    """One line per violated :class:`Bound` of ``mech`` at the state (its worst entry, value,
+    allowed range and meaning); ``slack`` (in scales) tolerated below a bound."""
+    values = np.asarray(functions(mech).bound_values(q, v, z, t, p), float).ravel()
+    margins = bound_margins(bound_numbers(mech), values)
+    out, i = [], 0
+    for name, b in mech.bounds.items():
+        k = int(b.expr.numel())
+        mk = margins[i:i + k]
+        i += k
+        if not k or np.all(mk >= -slack):
+            continue
+        worst = int(np.argmin(np.where(np.isnan(mk), -np.inf, mk)))
+        val = values[i - k + worst]
+        lo = np.broadcast_to(np.asarray(b.lower, float), (k,))[worst]
+        hi = np.broadcast_to(np.asarray(b.upper, float), (k,))[worst]
+        rng = (f">= {lo:.4g}" if np.isinf(hi) else f"<= {hi:.4g}" if np.isinf(lo)
+               else f"in [{lo:.4g}, {hi:.4g}]")
+        n_bad = int(np.sum(~(mk >= -slack)))
+        out.append(f"{name} = {val:.4g} {b.unit} at entry {worst} (must be {rng}: "
+                   f"{b.what}; {n_bad} of {k} entries violate it)")
+    return out
+
+
 class FunctionCache:
     """Functions per Mechanism, built once and kept on the Mechanism
     (:class:`~symcable.mechanism.attached.Attached`), so they go with it."""
@@ -359,7 +364,10 @@ class FunctionCache:
         self._store = Attached("functions")
 
     def get(self, mech: Mechanism) -> MechanismFunctions:
-        return self._store.setdefault(mech, lambda: MechanismFunctions(mech))
+        """The Functions of ``mech``: those of the Mechanism whose expressions it shares
+        (``mech.functions_of``), else its own."""
+        owner = mech.functions_of or mech
+        return self._store.setdefault(owner, lambda: MechanismFunctions(owner))
 
     def __len__(self) -> int:
         return len(self._store)

@@ -388,6 +388,10 @@ class Mechanism:
         (:class:`~symcable.mechanism.element_form.ElementForm`), for solvers that evaluate the
         iteration matrix as a loop over elements; the expressions above stay the definition.
         A Mechanism rebuilt from another with a changed mass or force must drop it.
+    functions_of : Mechanism or None
+        The Mechanism whose expressions these are, with other numbers (the same structure:
+        :mod:`symcable.models.structure`); its derived Functions serve this one too. None:
+        its own.
     rest : expression (n_q - n_v, 1) of (q, z, t, p) or None
         For a mechanism with first-order states (the last n_q - n_v entries of q, their
         rates in ``kinematics``): the rows that fix them at rest, in N like the force rows;
@@ -419,6 +423,7 @@ class Mechanism:
     rest: object = None
     reanchor: Reanchor | None = None
     elements: object = None
+    functions_of: object = None
 
     def __post_init__(self):
         n_q, n_v, n_z = self.n_q, self.n_v, self.n_z

@@ -37,6 +37,7 @@ import casadi as ca
 import numpy as np
 
 from . import codegen as _codegen
+from .bounds import bound_margins
 from .codegen import FastCall
 from ..linalg.sparse import norm_inf, sparse_solve
 from ..linalg.sxlu import block_lu, block_plan
@@ -74,9 +75,11 @@ class StaticSolver:
         :meth:`~symcable.mechanism.functions.MechanismFunctions.unpack`)
     outputs : casadi.Function   ``static_outputs(x, p) -> (one output per named output of
         the Mechanism)`` at rest (v = 0, t = 0)
-    check : casadi.Function     ``static_check(x, p) -> (residual_norm, probe)``: max |R(x)|
-        (N) evaluated afresh, and ``probe = sum(x) + sum(R)``, finite exactly when x and R
-        are (CasADi's max-norm passes over a NaN; a sum does not), for a solver's
+    check : casadi.Function     ``static_check(x, p, b) -> (residual_norm, probe,
+        bound_margin)``: max |R(x)| (N) evaluated afresh, ``probe = sum(x) + sum(R)``, finite
+        exactly when x and R are (CasADi's max-norm passes over a NaN; a sum does not), and
+        the admissibility bounds' worst margin (scales; inf without bounds) for their limits
+        ``b`` (:func:`~symcable.mechanism.functions.bound_numbers`), for a solver's
         independent check of a claimed solution in one call
     compiled : bool             True when residual, step, solve, outputs and check are
         generated C
@@ -148,6 +151,10 @@ def _vm(F) -> StaticSolver:
     # the outputs keep their names (an output may be called "x" or "p" too)
     outputs = ca.Function("static_outputs", [x, m.p], exprs, ["x", "p"], names,
                           {**opts, "allow_duplicate_io_names": True})
+    # the same residual and Jacobian serve F's own (one symbolic differentiation, not two:
+    # the Jacobian of a long line is most of the build)
+    F.__dict__.setdefault("static_residual", residual)
+    F.__dict__.setdefault("static_jacobian", jacobian)
     W, P = ca.MX.sym("x", n), ca.MX.sym("p", n_p)
     rm, Jm = jacobian(W, P)
     step = ca.Function("static_newton_step", [W, P], [rm, -sparse_solve(Jm, rm, LINSOL)],
@@ -180,14 +187,17 @@ def _vm(F) -> StaticSolver:
     packed = ca.vertcat(*[ca.vec(o) for o in outs]) if outs else ca.MX(0, 1)
     solve = ca.Function("static_solve", [X0, P, tol], [z, k, norm_inf(rz), packed],
                         ["x0", "p", "tol"], ["x", "iterations", "residual_norm", "outputs"])
-    # the admissibility bounds' worst margin at the same point (inf without bounds)
-    bm = F.bound_margins(m.q, ca.DM.zeros(m.n_v), m.z, 0.0, m.p)[0]
-    worst = ca.mmin(bm) if bm.numel() else ca.DM(np.inf)
+    # the admissibility bounds' worst margin at the same point (inf without bounds), their
+    # limits an input (numbers of the scene: :func:`~.functions.bound_numbers`)
+    values = F.bound_values(m.q, ca.DM.zeros(m.n_v), m.z, 0.0, m.p)
+    b = ca.SX.sym("b", 3 * int(values.numel()))
+    worst = ca.mmin(bound_margins(b, values)) if values.numel() else ca.DM(np.inf)
     # (a 0 appended: a mechanism with no unknowns, one segment between held ends, still
     # gives scalars)
     r0 = ca.vertcat(r, 0.0)
-    check = ca.Function("static_check", [x, m.p], [norm_inf(r0), ca.sum1(ca.vertcat(x, r0)), worst],
-                        ["x", "p"], ["residual_norm", "probe", "bound_margin"], opts)
+    check = ca.Function("static_check", [x, m.p, b], [norm_inf(r0), ca.sum1(ca.vertcat(x, r0)),
+                                                      worst],
+                        ["x", "p", "b"], ["residual_norm", "probe", "bound_margin"], opts)
     return StaticSolver(residual=residual, jacobian=jacobian, step=step, solve=solve,
                         outputs=outputs, check=check)
 
@@ -211,7 +221,9 @@ def static_solver(F, codegen: bool | None = False) -> StaticSolver:
     if not _codegen.use_codegen(codegen, lambda: _size(F, store)):
         return vm
     c = store.get("c")
-    if c is None:
+    if c is not None:  # (a scene of the same structure compiled it: the library in memory)
+        _codegen.build_counts["memory"] += 1
+    else:
         lib = _codegen.compile_functions(vm.group(), what="the static solve")
         c = store["c"] = StaticSolver(
             residual=lib["static_residual"], jacobian=vm.jacobian, step=lib["static_newton_step"],

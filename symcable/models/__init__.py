@@ -28,6 +28,7 @@ from .planar.dynamics import build_planar_dynamics
 from .planar.static import static_mechanism
 from .planar.in_plane import nonlinear_stand_in
 from .rod.hybrid import build_hybrid, is_cable
+from .structure import shared_build
 from .system import build_system
 
 __all__ = ["FORMULATIONS", "DynamicModel", "Formulation", "formulation_of", "Guess", "Model", "build_mechanism", "build_model",
@@ -103,8 +104,10 @@ def _planar(scene: Scene):
 
 
 def _cable3d(scene: Scene):
-    """One cable3d line, or a scene of several lines, points and bodies assembled."""
-    return build_system(scene) if scene.version == 2 else build_cable3d(scene)
+    """One cable3d line, or a scene of several lines, points and bodies assembled; a scene
+    whose structure was built before takes that Mechanism's expressions with its own
+    numbers (:mod:`symcable.models.structure`)."""
+    return shared_build(scene, build_system if scene.version == 2 else build_cable3d)
 
 
 def _rod(scene: Scene):

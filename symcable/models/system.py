@@ -71,6 +71,7 @@ from ..mechanism.mechanism import Layout, Mechanism, Output, ParamBlocks, PartLa
 from .common.segments import segment_table, slack_law
 from .common.relax import _ramp_integral, drag_loads, relaxed_network
 from .common.seabed import CONTACT_SMOOTHING
+from .structure import rebind, structure_key
 
 __all__ = ["build_system", "line_scene", "point_contact", "point_part"]
 
@@ -149,14 +150,16 @@ def point_part(pt: Point, env: Environment, seabed=None, contact=None) -> Mechan
     contact (the lines' pressure per speed over the same footprint), and regularised Coulomb
     friction -mu N v_h / sqrt(|v_h|^2 + v_eps^2) with the isotropic ``friction`` (or, when only
     friction_axial / friction_lateral are given, the larger). Parameter blocks ``load`` (1),
-    ``current`` (3, m/s) and ``bed`` (1, scales K). Outputs ``position``, ``own_force`` (those loads),
+    ``current`` (3, m/s), ``bed`` (1, scales K) and ``contact`` (K, N/m, and the smoothing
+    width, m: numbers of the lines attached, so parameters). Outputs ``position``, ``own_force`` (those loads),
     ``contact_force`` (N, upward), ``potential_energy`` (of the weight, buoyancy, applied
     force and contact, J), ``kinetic_energy`` (J)."""
     weight, applied, rho = _point_loads(pt, env)
     q, v = ca.SX.sym("q", 3), ca.SX.sym("v", 3)
     t = ca.SX.sym("t")
-    params = ParamBlocks(("load", "current", "bed"), (1, 3, 1),
-                         np.concatenate([[1.0], env.current, [1.0]]))
+    params = ParamBlocks(("load", "current", "bed", "contact"), (1, 3, 1, 2),
+                         np.concatenate([[1.0], env.current, [1.0],
+                                         contact if contact is not None else [0.0, 1.0]]))
     p = ca.SX.sym("p", params.n)
     load, current, bed = p[0], p[1:4], p[4]
     u = current - v
@@ -170,7 +173,7 @@ def point_part(pt: Point, env: Environment, seabed=None, contact=None) -> Mechan
     potential = load * (weight * q[2] - ca.dot(ca.DM(applied), q))
     normal = ca.SX(0.0)
     if seabed is not None and contact is not None:
-        K, width = contact
+        K, width = p[5], p[6]
         pen = -env.depth - q[2]
         normal = bed * K * terms.smooth_ramp(pen, width)
         names.append("point seabed")
@@ -205,15 +208,17 @@ def point_part(pt: Point, env: Environment, seabed=None, contact=None) -> Mechan
         terms=tuple(names), stability_when=ca.SX(1.0))
 
 
-def build_system(scene: Scene) -> Mechanism:
+def build_system(scene: Scene, *, symbols: bool = True) -> Mechanism:
     """The lines, points and bodies of a version-2 cable3d scene as one Mechanism (module
-    docstring)."""
+    docstring). ``symbols``: False builds the numbers alone on placeholder expressions
+    (:mod:`symcable.models.structure`)."""
     env = scene.environment
     parts, joints = [], []
+    built: dict = {}  # a line's structure -> the first line part of it (its template)
     for line in scene.lines:
         joined = tuple(isinstance(e, str) and scene.points[e].is_free
                        for e in (line.end_a, line.end_b))
-        parts.append(build_cable3d(line_scene(scene, line), part=line.name, joined=joined))
+        parts.append(_line_part(line_scene(scene, line), line.name, joined, symbols, built))
     for name, pt in scene.points.items():
         if pt.is_free:
             parts.append(point_part(pt, env, scene.seabed, point_contact(scene, name)))
@@ -239,7 +244,10 @@ def build_system(scene: Scene) -> Mechanism:
                 attached[end].append((line.name, key, node))
                 if scene.points[end].is_free:
                     joints.append(Shared((end, 0), (line.name, node)))
-    mech = assemble(parts, joints, name="cable3d_system")
+    mech = assemble(parts, joints, name="cable3d_system", symbols=symbols)
+    if not symbols:
+        return dataclasses.replace(mech, bounds=_bounds(scene, mech, symbols=False),
+                                   starts=lambda: _starts(scene, mech))
     out = dict(mech.outputs)
     for name, pt in scene.points.items():
         force = sum(out[f"{ln}.end_force_{key}"].expr for ln, key, _ in attached[name])
@@ -264,7 +272,29 @@ def build_system(scene: Scene) -> Mechanism:
                                starts=lambda: _starts(scene, mech))
 
 
-def _bounds(scene: Scene, mech: Mechanism) -> dict:
+def _line_part(ls: Scene, name: str, joined: tuple, symbols: bool, built: dict) -> Mechanism:
+    """The line part ``name`` of one-line scene ``ls`` (:func:`line_scene`): built, or, when
+    a line of the same structure is in ``built`` (the mooring's identical lines), that
+    part's expressions with this line's numbers and name (:mod:`symcable.models.structure`:
+    the lines of a system share one graph as scenes do)."""
+    if not symbols:
+        return build_cable3d(ls, part=name, joined=joined, symbols=False)
+    key = structure_key(ls)
+    key = None if key is None else (key, joined)
+    first = built.get(key)
+    if first is not None:
+        part = rebind(first, build_cable3d(ls, part=name, joined=joined, symbols=False))
+        if part is not None:
+            return dataclasses.replace(
+                part, name=name, functions_of=None,
+                outputs={k: dataclasses.replace(o, owner=name) for k, o in part.outputs.items()})
+    part = build_cable3d(ls, part=name, joined=joined)
+    if key is not None:
+        built[key] = part
+    return part
+
+
+def _bounds(scene: Scene, mech: Mechanism, symbols: bool = True) -> dict:
     """The parts' bounds, with the lines' seabed reactions summed into one: the seabed
     carries at most what presses on it, and a line's share of that includes the free points
     (a clump on the bed) and whatever else hangs from them."""
@@ -272,7 +302,7 @@ def _bounds(scene: Scene, mech: Mechanism) -> dict:
     parts = [b for k, b in mech.bounds.items() if k.endswith(".seabed_reaction")]
     if parts:
         points = [mech.outputs[f"{n}.contact_force"].expr for n, p in scene.points.items()
-                  if p.is_free]
+                  if p.is_free] if symbols else []
         env = scene.environment
         press = 0.0
         for pt in scene.points.values():
@@ -288,7 +318,7 @@ def _bounds(scene: Scene, mech: Mechanism) -> dict:
                 press += max((body.mass - rho * body.volume) * env.gravity, 0.0) \
                     + 0.5 * rho * float(np.max(body.cd_area)) * u * u
         bounds["seabed_reaction"] = dataclasses.replace(
-            parts[0], expr=sum(b.expr for b in parts) + sum(points),
+            parts[0], expr=sum(b.expr for b in parts) + sum(points) if symbols else parts[0].expr,
             upper=sum(float(b.upper) for b in parts) + 1.01 * press,
             scale=max(b.scale for b in parts))
     return bounds

@@ -257,7 +257,7 @@ def trace_branch(mech: Mechanism, block: str, values, *, component: int | None =
     S = F.static_solver(codegen)
     if tol is None:
         tol = mech.scales.static_tolerance()
-    opts = dict(tol=tol, max_iter=max_iter, x_scale=_x_scale(F), merit_weights=mech.scales.merit)
+    opts = dict(tol=tol, max_iter=max_iter, x_scale=_x_scale(mech), merit_weights=mech.scales.merit)
     branch = Branch(mech.name, block, component,
                     stats={"reanchored": [], "halvings": 0, "snaps": []})
     tr = _Tracer(mech, F, S, S.fast("step"), opts, tol, charts,

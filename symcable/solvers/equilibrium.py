@@ -17,7 +17,8 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from ..mechanism.functions import functions
+from ..mechanism.bounds import bound_numbers
+from ..mechanism.functions import bound_violations, functions
 from ..mechanism.static_functions import SOLVE_MAX_ITER
 from ..errors import ConvergenceError, SymcableError
 from ..mechanism.mechanism import Mechanism
@@ -316,7 +317,7 @@ def solve_equilibrium(mech: Mechanism, p=None, *, tol: float | None = None,
     S = F.static_solver(codegen)
     if tol is None:
         tol = mech.scales.static_tolerance()
-    opts = dict(tol=tol, max_iter=max_iter, x_scale=_x_scale(F), merit_weights=mech.scales.merit)
+    opts = dict(tol=tol, max_iter=max_iter, x_scale=_x_scale(mech), merit_weights=mech.scales.merit)
     step = S.fast("step")
     attempts, best, iterations = [], None, 0
 
@@ -373,15 +374,12 @@ def solve_equilibrium(mech: Mechanism, p=None, *, tol: float | None = None,
         diagnostics={"attempts": attempts, "best": info, "iterations": iterations})
 
 
-def _x_scale(F) -> np.ndarray:
+def _x_scale(mech) -> np.ndarray:
     """The largest move of each unknown per Newton step (coordinates: their scale;
-    constraint forces: 1000 times theirs), built once per Mechanism."""
-    xs = F.__dict__.get("_eq_x_scale")
-    if xs is None:
-        m = F.mech
-        xs = F.__dict__["_eq_x_scale"] = (np.concatenate([m.scales.q, m.scales.z * 1e3])
-                                          if m.n_z else np.asarray(m.scales.q, float))
-    return xs
+    constraint forces: 1000 times theirs): numbers of the scene, not of its Functions."""
+    if not mech.n_z:
+        return np.asarray(mech.scales.q, float)
+    return np.concatenate([mech.scales.q, mech.scales.z * 1e3])
 
 
 def _x0(mech, start) -> np.ndarray:
@@ -424,7 +422,7 @@ def _cont(step, x0, p0, p1, opts, polish, dt0, dt_max):
 def _check(S, F, mech, x, p, tol, require_stable):
     """Independent checks of a claimed solution: (ok, reason, info)."""
     try:  # R(x) afresh, its max-norm, and whether x and R(x) are finite, in one call
-        nr, probe, margin = S.fast("check")(x, p)
+        nr, probe, margin = S.fast("check")(x, p, bound_numbers(mech))
     except RuntimeError as exc:
         return False, f"residual not evaluated ({exc})", {}
     nr = float(nr[0])
@@ -433,7 +431,7 @@ def _check(S, F, mech, x, p, tol, require_stable):
     if nr > tol:
         return False, f"residual {nr:.3g} N > tolerance {tol:.3g} N", {}
     if not margin[0] >= 0.0:  # an admissibility bound violated (or NaN)
-        why = F.bound_violations(x[:mech.n_q], np.zeros(mech.n_v), x[mech.n_q:], 0.0, p)
+        why = bound_violations(mech, x[:mech.n_q], np.zeros(mech.n_v), x[mech.n_q:], 0.0, p)
         return False, "not admissible: " + "; ".join(why or ["a bound is NaN"]), {}
     stable, lam = _stability(F, mech, x[:mech.n_q], x[mech.n_q:], p)
     info = {"residual_norm": nr, "stable": stable, "min_stiffness": lam, "warnings": ()}

@@ -8,12 +8,14 @@ with a depth profile of current (the water speed of an element then depends on i
 """
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import casadi as ca
 import numpy as np
 
 from ...mechanism.element_form import ElementForm
 
-__all__ = ["element_form"]
+__all__ = ["FormNumbers", "element_form", "form_constants"]
 
 #: the per-element constants of the form's kernel, in the order of its input ``c``
 CONSTANTS = ("L0", "EA", "BA", "EAs", "delta", "wall", "w", "d", "cdn", "cdt", "rho",
@@ -45,6 +47,25 @@ def _form_kernel(base: ca.Function, n_law: int) -> ca.Function:
                        ["u", "c", "s"], ["r"])
 
 
+@dataclass(frozen=True)
+class FormNumbers:
+    """The numbers of a line's :class:`ElementForm` alone (``constants`` (n_c, N)), on a
+    Mechanism built with ``symbols=False`` (:mod:`symcable.models.structure`)."""
+
+    constants: np.ndarray
+
+
+def form_constants(columns: dict, law, consistent: bool) -> np.ndarray:
+    """The form's constants (n_c, N): ``columns`` (name -> (N,) or a scalar for every entry
+    of CONSTANTS but ``self`` and ``other``), the mass weights, then the drag law's rows
+    ``law`` (n_law, N) or None."""
+    N = len(columns["L0"])
+    weights = (2.0 / 3.0, 1.0 / 3.0) if consistent else (1.0, 0.0)
+    cols = [np.broadcast_to(np.asarray(columns[n], float), (N,)) for n in CONSTANTS[:-2]]
+    cols += [np.full(N, weights[0]), np.full(N, weights[1])]
+    return np.vstack(cols + ([np.asarray(law, float)] if law is not None else []))
+
+
 def element_form(base: ca.Function, columns: dict, law, shared, node_index: np.ndarray,
                  held, force_rest, consistent: bool) -> ElementForm:
     """The line's :class:`ElementForm`. ``base``: the single element kernel (not mapped);
@@ -54,10 +75,7 @@ def element_form(base: ca.Function, columns: dict, law, shared, node_index: np.n
     m/s^2); ``force_rest`` (n_v, 1); ``consistent``: Sun, Zhu & LaRosa's consistent mass, else
     lumped."""
     N = len(columns["L0"])
-    weights = (2.0 / 3.0, 1.0 / 3.0) if consistent else (1.0, 0.0)
-    cols = [np.broadcast_to(np.asarray(columns[n], float), (N,)) for n in CONSTANTS[:-2]]
-    cols += [np.full(N, weights[0]), np.full(N, weights[1])]
-    C = np.vstack(cols + ([np.asarray(law, float)] if law is not None else []))
+    C = form_constants(columns, law, consistent)
     n_law = 0 if law is None else int(np.asarray(law).shape[0])
     conn = np.column_stack([np.arange(N), np.arange(1, N + 1)])
     return ElementForm(_form_kernel(base, n_law), conn, C, shared, node_index, held, force_rest)

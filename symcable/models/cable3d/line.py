@@ -35,7 +35,10 @@ entries of q, node by node, their rates in the kinematics, zero at rest or, with
 shape). The free end carries its applied force. The lumped mass of an element next to a
 moving end turns with it, so the mass matrix depends on t as well as q.
 
-Parameters (blocks): ``load`` (scales weight, buoyancy and applied forces; 1),
+Parameters (blocks): ``line`` (the line's own numbers, :data:`SEGMENT_ROWS` per segment,
+:data:`NODE_ROWS` per node and :data:`SCALARS`: every number of its sections, line types and
+seabed contact that its expressions read, so that lines of one structure share one graph),
+``load`` (scales weight, buoyancy and applied forces; 1),
 ``end_a.position``, ``end_b.position`` (3 each, m), ``current`` (3, m/s), ``slack`` (the
 tension-only law's continuation, as planar), ``motion`` (scales the prescribed motions, a
 tow's included; 0 in statics), ``ramp`` (1: a harmonic motion ramps in over its first
@@ -54,30 +57,46 @@ import numpy as np
 
 from ...errors import SymcableError
 from ...scene import EndCondition, Scene
-from ..common.bending import bending_terms, linear_axial_law
+from ..common.bending import bending_nodes, bending_terms, linear_axial_law
 from ..common.drag import law_table
 from ..common.terms import fluid_term_names
-from .elements import element_form
+from .elements import FormNumbers, element_form, form_constants
 from ..common.starts import force_scale, starts_of
 from ..common.relax import _ramp_integral
 from ...mechanism.mechanism import (Bound, Layout, Mechanism, Output, ParamBlocks, PartLayout,
                                    Scales, StateNames)
 from ..common.seabed import (bristle_scale, friction_setup, lumped as _lumped, node_resolution,
-                       profile_current, reaction_bound, seabed_forces)
+                             profile_current, reaction_bound, reaction_drag, seabed_forces,
+                             seabed_numbers)
 from ..common.segments import (CABLE_COMPRESSION, FOLD_PUSH, SLACK_CONTINUATION, segment_table,
                               slack_law)
 from ..common.elements import DRAG_SPEED, element_kernel, held_end
 
-__all__ = ["DRAG_SPEED", "build_cable3d", "force_scale"]
+__all__ = ["DRAG_SPEED", "NODE_ROWS", "SCALARS", "SEGMENT_ROWS", "build_cable3d",
+           "force_scale"]
 
 
-P_NAMES = ("load", "end_a.position", "end_b.position", "current", "slack", "motion", "ramp",
-           "bed")
-P_SIZES = (1, 3, 3, 3, 1, 1, 1, 1)
+P_NAMES = ("line", "load", "end_a.position", "end_b.position", "current", "slack", "motion",
+           "ramp", "bed")
+P_SIZES = (None, 1, 3, 3, 3, 1, 1, 1, 1)
+
+#: the ``line`` block's rows of one entry per segment, in order: unstretched length (m), EA
+#: (N), submerged weight per length (N/m), diameter (m), normal and tangential drag
+#: coefficients, mass per length (kg/m), normal and tangential added-mass coefficients,
+#: material damping BA (N s), the tension-only law's EA_slack (N) and corner width delta
+#: (:func:`~symcable.models.common.segments.slack_law`)
+SEGMENT_ROWS = ("ds", "EA", "w", "d", "cdn", "cdt", "mass", "can", "cat", "BA", "EAs", "delta")
+#: ... of one entry per node: seabed contact area (m^2) and submerged weight lumped on the
+#: node (N) (:func:`~symcable.models.common.seabed.seabed_numbers`; zeros without a seabed)
+NODE_ROWS = ("area", "lumped")
+#: ... and its scalars: the force scale F (N), the seabed contact's smoothing width and
+#: sink (m) and the most a unit current's drag presses the line onto the bed (N s^2/m^2)
+SCALARS = ("F", "width", "sink", "drag")
 
 
 def build_cable3d(scene: Scene, part: str | None = None,
-                  joined: tuple[bool, bool] = (False, False)) -> Mechanism:
+                  joined: tuple[bool, bool] = (False, False), *,
+                  symbols: bool = True) -> Mechanism:
     """The scene's line as a cable3d Mechanism (module docstring).
 
     ``part``: build the line as a part of an assembly
@@ -89,6 +108,9 @@ def build_cable3d(scene: Scene, part: str | None = None,
     point has its own contact, :func:`~symcable.models.system.point_contact`; this
     part of the contact is not conservative, and the potential energy output counts it at
     the node's own penetration).
+    ``symbols``: False builds the numbers alone (parameter values, scales, starts, layout,
+    bounds' limits, the element form's constants) on placeholder expressions, for a scene
+    whose structure's expressions exist already (:mod:`symcable.models.structure`).
     """
     owner = part or "line"
     if any(e.position is not None and len(e.position) != 3 for e in (scene.end_a, scene.end_b)):
@@ -102,41 +124,48 @@ def build_cable3d(scene: Scene, part: str | None = None,
     if all(free) and part is None:
         raise SymcableError(f"scene {scene.name!r}: both ends free; hold one end")
     rubs, bristle, laid = friction_setup(scene, seg)
-    params = _param_blocks(scene, laid)
-    p = ca.SX.sym("p", params.n)
-    load, pa, pb = p[0], p[1:4], p[4:7]
-    current, sigma, motion, ramp_on, bed = p[7:10], p[10], p[11], p[12], p[13]
-    t = ca.SX.sym("t")
-    moving, q_all, v, X, V = _node_symbols(scene, N, free, bristle, pa, pb, motion, t, ramp_on)
-    n_v = 3 * len(moving)
-    state = q_all[n_v:]
-    Xm, Vm = ca.horzcat(*X), ca.horzcat(*V)  # (3, N+1)
-
     F = force_scale(scene, seg)
     law = linear_axial_law(seg, slack_law(seg, F))
-    width = ca.exp(math.log(SLACK_CONTINUATION) * (1.0 - sigma))
     rho = 0.0 if env.in_air else env.water_density
     drag_law = law_table(scene)
     if drag_law is not None:
         seg["drag_law"] = dict(drag_law, eps=DRAG_SPEED)  # for the starts' frozen drag
     BA = _axial_damping(scene, seg)
-    fa, fb, T, e = _element_forces(scene, seg, Xm, Vm, current, load, law, width, F, rho,
-                                   drag_law, BA)
+    sea_numbers = seabed_numbers(scene, seg) if sb is not None else None
+    cdn_bound = seg["cdn"] if drag_law is None else drag_law["normal_bound"]
+    params = _param_blocks(scene, laid, _line_values(seg, law, BA, F, rho, sea_numbers,
+                                                     cdn_bound, _added_mass_coefficients(scene)))
+    p = ca.SX.sym("p", params.n)
+    L = _line_view(p[params.slice("line")], N)
+    load, pa, pb = (p[params.slice(k)] for k in ("load", "end_a.position", "end_b.position"))
+    current, sigma, motion, ramp_on, bed = (p[params.slice(k)] for k in (
+        "current", "slack", "motion", "ramp", "bed"))
+    t = ca.SX.sym("t")
+    if not symbols:
+        return _numbers_only(scene, seg, part, params, p, t, _moving(N, free), bristle, laid,
+                             law, F, BA, rho, drag_law, cdn_bound)
+    moving, q_all, v, X, V = _node_symbols(scene, N, free, bristle, pa, pb, motion, t, ramp_on)
+    n_v = 3 * len(moving)
+    state = q_all[n_v:]
+    Xm, Vm = ca.horzcat(*X), ca.horzcat(*V)  # (3, N+1)
+
+    width = ca.exp(math.log(SLACK_CONTINUATION) * (1.0 - sigma))
+    fa, fb, T, e = _element_forces(scene, Xm, Vm, current, load, L, width, rho, drag_law)
     elements = ca.horzcat(fa, ca.SX.zeros(3, 1)) + ca.horzcat(ca.SX.zeros(3, 1), fb)  # (3, N+1)
     nodal = ca.SX.zeros(3, N + 1)  # what the elements do not give (the element form's rest)
     contact = ca.SX.zeros(1, N + 1)
-    term_names = ["elastic", "weight"] + (["material damping"] if np.any(BA) else [])
+    term_names = _term_names(scene, seg, BA, rho)
     bending = bending_terms(scene, seg, Xm)
     if bending is not None:
-        term_names.append("bending")
         nodal = nodal + bending[0]
-    term_names += fluid_term_names(scene.sections, rho)
     fr = sea = None
     if sb is not None:  # contact, damper and friction on the nodes (.seabed3d)
-        sea = seabed_forces(scene, seg, Xm, Vm, nodal, term_names, state=state,
+        sea_rows = dict(sea_numbers, area=L["area"], weight=ca.fabs(L["lumped"]),
+                        width=L["width"], sink=L["sink"])
+        sea = seabed_forces(scene, seg, Xm, Vm, nodal, [], state=state,
                             laid=None if laid is None else p[params.slice("laid")],
                             gate=None if laid is None else p[params.slice("static_friction")],
-                            joined=joined, bed=bed)
+                            joined=joined, bed=bed, numbers=sea_rows)
         nodal, contact, fr = sea.nodal, sea.contact, sea.friction
     # what the line exerts on each end (N): its element's pull and the loads lumped on the
     # end node, which the support takes (as the planar line's end forces); on a free end the
@@ -149,25 +178,40 @@ def build_cable3d(scene: Scene, part: str | None = None,
     end_force_b = elements[:, N] + nodal[:, N] + (bending[1].get(N, 0.0) if bending else 0.0)
     applied = _applied_forces(scene, N)
     if np.any(applied):
-        term_names.append("end force")
         nodal = nodal + load * ca.DM(applied)
     force_rest = ca.vertcat(*[nodal[:, i] for i in moving])
     nodal = elements + nodal
     force = ca.vertcat(*[nodal[:, i] for i in moving])
 
-    mass, inertia, acc = _mass(scene, seg, Xm, V, t, rho, moving)
+    mass, inertia, acc = _mass(scene, L, Xm, V, t, rho, moving)
     if inertia is not None:
         force = force + inertia
     form = None
-    if not env.current_profile:  # the elements' kernel as a loop (.cable3d_elements)
+    if not env.current_profile and part is None:  # the elements' kernel as a loop (an
+        # assembly's part has none: assemble drops it)
         form = _form(scene, seg, X, V, acc, moving, drag_law, BA, law, F, rho, current, load,
                      width, force_rest)
     outputs = _line_outputs(owner, Xm, Vm, T, e, contact, fr if rubs else None, end_force_a,
                             end_force_b)
-    _add_energies(outputs, owner, seg, law, e, width, F, load, Xm, sea, bending, v, mass)
+    _add_energies(outputs, owner, L, e, width, load, Xm, sea, bending, v, mass)
     cable = seg["EI"] <= 0.0
-    bounds = _bounds(scene, seg, T, e, F, contact, applied, drag_law, rho, current)
-    scales = _scales(scene, seg, N, n_v, bristle, F)
+    bounds = _bounds(scene, seg, T, e, F, contact, applied, cdn_bound, rho, current, L["drag"])
+    return Mechanism(
+        name=part or "cable3d", q=q_all, v=v, z=ca.SX.sym("z", 0), t=t, p=p, params=params,
+        mass=mass, force=force, constraint=ca.SX.zeros(0, 1), outputs=outputs,
+        terms=tuple(term_names), bounds=bounds,
+        stability_when=ca.SX(1.0) if np.all(cable) else None,
+        kinematics=ca.vertcat(v, fr.rate) if bristle else None,
+        rest=fr.rest if bristle else None, elements=form,
+        stability_coordinates=np.arange(n_v) if bristle else None,
+        **_numbers(scene, seg, part, params, moving, bristle, laid, F, int(q_all.numel()), free))
+
+
+def _numbers(scene: Scene, seg: dict, part, params: ParamBlocks, moving: list, bristle: bool,
+             laid, F: float, n_q: int, free: list) -> dict:
+    """The line Mechanism's numeric fields: scales, starts, layout, static parameters."""
+    N = len(seg["ds"])
+    n_v = 3 * len(moving)
     static = {"motion": np.zeros(1)}
     if laid is not None:
         static["static_friction"] = np.ones(1)
@@ -175,30 +219,108 @@ def build_cable3d(scene: Scene, part: str | None = None,
 
     def starts():
         for st in starts_of(scene, seg, params, moving):
-            yield dataclasses.replace(st, q=np.concatenate([st.q, np.zeros(q_all.numel() - n_v)]),
+            yield dataclasses.replace(st, q=np.concatenate([st.q, np.zeros(n_q - n_v)]),
                                       p=p_static)
+    return dict(scales=_scales(scene, seg, N, n_v, bristle, F),
+                starts=starts if not all(free) else tuple,
+                layout=_layout(part or "line", seg, N, moving, bristle), static_params=static)
+
+
+def _term_names(scene: Scene, seg: dict, BA: np.ndarray, rho: float) -> list:
+    """The terms the line's equations build, by name, in order."""
+    names = ["elastic", "weight"] + (["material damping"] if np.any(BA) else [])
+    if bending_nodes(scene, seg):
+        names.append("bending")
+    names += fluid_term_names(scene.sections, rho)
+    sb = scene.seabed
+    if sb is not None:
+        names.append("seabed")
+        if sb.damping > 0:
+            names.append("seabed damping")
+        if sb.mu_axial > 0 or sb.mu_lateral > 0:
+            names += ["seabed friction"] + (["friction bristles"] if sb.friction_law == "bristle"
+                                            else []) \
+                + (["static friction"] if sb.static_friction == "laid" else [])
+    if np.any(_applied_forces(scene, len(seg["ds"]))):
+        names.append("end force")
+    return names
+
+
+def _numbers_only(scene: Scene, seg: dict, part, params: ParamBlocks, p, t, moving: list,
+                  bristle: bool, laid, law: dict, F: float, BA: np.ndarray, rho: float,
+                  drag_law, cdn_bound) -> Mechanism:
+    """The line's Mechanism with its numbers and placeholder expressions
+    (``build_cable3d(symbols=False)``)."""
+    N = len(seg["ds"])
+    n_v = 3 * len(moving)
+    n_q = n_v + (2 * (N + 1) if bristle else 0)
+    free = [scene.end_a.condition is EndCondition.FREE, scene.end_b.condition is EndCondition.FREE]
+    q, v = ca.SX.sym("q", n_q), ca.SX.sym("v", n_v)
+    zero = ca.SX.zeros(1, N)
+    bounds = _bounds(scene, seg, zero, zero, F, ca.SX.zeros(1, N + 1), _applied_forces(scene, N),
+                     cdn_bound, rho, ca.SX.zeros(3, 1), 0.0)
+    form = None  # (a part of an assembly has none: assemble drops it)
+    if not scene.environment.current_profile and part is None:
+        form = FormNumbers(form_constants(_form_columns(scene, seg, BA, law, F, rho),
+                                          drag_law["law"].T if drag_law else None,
+                                          scene.mass_matrix != "lumped"))
     return Mechanism(
-        name=part or "cable3d", q=q_all, v=v, z=ca.SX.sym("z", 0), t=t, p=p, params=params,
-        mass=mass, force=force, constraint=ca.SX.zeros(0, 1), scales=scales,
-        starts=starts if not all(free) else tuple, outputs=outputs,
-        layout=_layout(owner, seg, N, moving, bristle), terms=tuple(term_names),
-        static_params=static, bounds=bounds,
-        stability_when=ca.SX(1.0) if np.all(cable) else None,
-        kinematics=ca.vertcat(v, fr.rate) if bristle else None,
-        rest=fr.rest if bristle else None, elements=form,
-        stability_coordinates=np.arange(n_v) if bristle else None)
+        name=part or "cable3d", q=q, v=v, z=ca.SX.sym("z", 0), t=t, p=p, params=params,
+        mass=ca.SX(n_v, n_v), force=ca.SX.zeros(n_v, 1), constraint=ca.SX.zeros(0, 1),
+        terms=tuple(_term_names(scene, seg, BA, rho)), bounds=bounds,
+        kinematics=ca.SX.zeros(n_q, 1) if bristle else None,
+        rest=ca.SX.zeros(n_q - n_v, 1) if bristle else None, elements=form,
+        stability_coordinates=np.arange(n_v) if bristle else None,
+        **_numbers(scene, seg, part, params, moving, bristle, laid, F, n_q, free))
 
 
-def _param_blocks(scene: Scene, laid: np.ndarray | None) -> ParamBlocks:
-    """The parameter blocks (module docstring) at the scene's values; with ``laid`` (the
-    as-laid horizontal node positions, m) the static friction's two blocks too."""
+def _line_values(seg: dict, law: dict, BA: np.ndarray, F: float, rho: float,
+                 sea: dict | None, cdn_bound, added: tuple) -> np.ndarray:
+    """The ``line`` block's values (module docstring; :data:`SEGMENT_ROWS`, then
+    :data:`NODE_ROWS`, then :data:`SCALARS`)."""
+    N = len(seg["ds"])
+    cols = dict(seg, can=added[0], cat=added[1], BA=BA, EAs=law["EA_slack"], delta=law["delta"])
+    rows = [np.asarray(cols[k], float) for k in SEGMENT_ROWS]
+    if sea is not None:
+        rows += [sea["area"], _lumped(seg)]
+        scalars = [F, sea["width"], sea["sink"], reaction_drag(seg, cdn_bound, rho)]
+    else:
+        rows += [np.zeros(N + 1), _lumped(seg)]
+        scalars = [F, 0.0, 0.0, 0.0]
+    return np.concatenate(rows + [np.asarray(scalars, float)])
+
+
+def _line_view(block, N: int) -> dict:
+    """The ``line`` block's entries by name: (1, N) rows, (1, N+1) rows and scalars."""
+    out, i = {}, 0
+    for k in SEGMENT_ROWS:
+        out[k] = block[i:i + N].T
+        i += N
+    for k in NODE_ROWS:
+        out[k] = block[i:i + N + 1].T
+        i += N + 1
+    for k in SCALARS:
+        out[k] = block[i]
+        i += 1
+    return out
+
+
+def _param_blocks(scene: Scene, laid: np.ndarray | None, line: np.ndarray) -> ParamBlocks:
+    """The parameter blocks (module docstring) at the scene's values, ``line`` the line
+    block's (:func:`_line_values`); with ``laid`` (the as-laid horizontal node positions, m)
+    the static friction's two blocks too."""
     env, a, b = scene.environment, scene.end_a, scene.end_b
     names, sizes = P_NAMES + (("static_friction", "laid") if laid is not None else ()), \
-        P_SIZES + ((1, laid.size) if laid is not None else ())
+        (line.size,) + P_SIZES[1:] + ((1, laid.size) if laid is not None else ())
     return ParamBlocks(names, sizes, np.concatenate([
-        [1.0], a.position if a.position is not None else np.zeros(3),
+        line, [1.0], a.position if a.position is not None else np.zeros(3),
         b.position if b.position is not None else np.zeros(3), env.current, [1.0], [1.0], [1.0],
         [1.0]] + ([[0.0], laid] if laid is not None else [])))
+
+
+def _moving(N: int, free: list) -> list:
+    """The nodes that move (interior nodes and free ends), in order."""
+    return [i for i in range(N + 1) if (i == 0 and free[0]) or (i == N and free[1]) or 0 < i < N]
 
 
 def _node_symbols(scene: Scene, N: int, free: list, bristle: bool, pa, pb, motion, t, ramp_on):
@@ -206,7 +328,7 @@ def _node_symbols(scene: Scene, N: int, free: list, bristle: bool, pa, pb, motio
     deflections per node with ``bristle``), the velocities v (3 per moving node), and each
     node's position and velocity (lists of N+1 (3, 1): q and v's entries, or a held end's
     prescribed motion, m and m/s)."""
-    moving = [i for i in range(N + 1) if (i == 0 and free[0]) or (i == N and free[1]) or 0 < i < N]
+    moving = _moving(N, free)
     n_v = 3 * len(moving)
     q_all = ca.SX.sym("q", n_v + (2 * (N + 1) if bristle else 0))
     q = q_all[:n_v]
@@ -229,22 +351,21 @@ def _axial_damping(scene: Scene, seg: dict) -> np.ndarray:
     return np.where(BA < 0, -BA * np.sqrt(seg["EA"] * seg["mass"]) * seg["ds"], BA)
 
 
-def _element_forces(scene: Scene, seg: dict, Xm, Vm, current, load, law: dict, width, F: float,
-                    rho: float, drag_law: dict | None, BA: np.ndarray):
-    """The element kernel mapped over the N segments: the forces on each segment's first
-    and second node (3, N), N; its axial force T (1, N), N, and strain e (1, N)."""
-    N = len(seg["ds"])
+def _element_forces(scene: Scene, Xm, Vm, current, load, L: dict, width, rho: float,
+                    drag_law: dict | None):
+    """The element kernel mapped over the N segments, its numbers the ``line`` block's
+    (``L``, :func:`_line_view`): the forces on each segment's first and second node (3, N),
+    N; its axial force T (1, N), N, and strain e (1, N)."""
+    N = Xm.shape[1] - 1
     env = scene.environment
     kernel = element_kernel(drag_law["shape"] if drag_law else None).map(N)
-    row = lambda key: ca.DM(seg[key]).T  # noqa: E731  (1, N)
     water = ca.repmat(current, 1, N)
     if env.current_profile:  # the current at each element's mid-depth
         water = water + profile_current(env.current_profile,
                                         0.5 * (Xm[2, :-1] + Xm[2, 1:]))
     return kernel(Xm[:, :-1], Xm[:, 1:], Vm[:, :-1], Vm[:, 1:], water,
-                  row("ds"), row("EA"), ca.DM(BA).T, ca.DM(law["EA_slack"]).T,
-                  width * ca.DM(law["delta"]).T, F, row("w"), row("d"), row("cdn"),
-                  row("cdt"), rho, load,
+                  L["ds"], L["EA"], L["BA"], L["EAs"], width * L["delta"], L["F"], L["w"],
+                  L["d"], L["cdn"], L["cdt"], rho, load,
                   *([ca.DM(drag_law["law"]).T] if drag_law else []))
 
 
@@ -264,22 +385,23 @@ def _added_mass_coefficients(scene: Scene) -> tuple[np.ndarray, np.ndarray]:
     return can, cat
 
 
-def _mass(scene: Scene, seg: dict, Xm, V: list, t, rho: float, moving: list):
+def _mass(scene: Scene, L: dict, Xm, V: list, t, rho: float, moving: list):
     """The mass matrix over the moving nodes (3 n_moving square), structural and added
-    (normal, tangential), lumped (3 x 3 per node) or consistent (``scene.mass_matrix``);
+    (normal, tangential), lumped (3 x 3 per node) or consistent (``scene.mass_matrix``),
+    its numbers the ``line`` block's (``L``, :func:`_line_view`);
     the force of the held ends' accelerations through the consistent mass's coupling (None
     when lumped); and the held ends' accelerations ``{node: (3, 1)}``, m/s^2."""
-    N = len(seg["ds"])
-    A_w = math.pi * seg["d"] ** 2 / 4.0
+    N = Xm.shape[1] - 1
+    m_half = 0.5 * L["mass"] * L["ds"]
+    ma_half = 0.5 * rho * (math.pi / 4.0) * L["d"] * L["d"] * L["ds"]
     blocks = [ca.SX.zeros(3, 3) for _ in range(N + 1)]
     halves = []  # each element's L0 B / 2
-    can, cat = _added_mass_coefficients(scene)
+    can, cat = L["can"], L["cat"]
     for j in range(N):
         dx = Xm[:, j + 1] - Xm[:, j]
         tt = ca.mtimes(dx, dx.T) / ca.dot(dx, dx)
-        m_j = 0.5 * seg["mass"][j] * seg["ds"][j]
-        ma = 0.5 * rho * A_w[j] * seg["ds"][j]
-        blk = m_j * ca.SX.eye(3) + ma * (can[j] * (ca.SX.eye(3) - tt) + cat[j] * tt)
+        blk = m_half[j] * ca.SX.eye(3) + ma_half[j] * (can[j] * (ca.SX.eye(3) - tt)
+                                                       + cat[j] * tt)
         blocks[j] += blk
         blocks[j + 1] += blk
         halves.append(blk)
@@ -299,20 +421,26 @@ def _form(scene: Scene, seg: dict, X: list, V: list, acc: dict, moving: list,
     """The elements' kernel as a loop (:func:`.elements.element_form`), the held ends'
     position, velocity and acceleration (9, N+1) fed in."""
     N = len(seg["ds"])
-    A_w = math.pi * seg["d"] ** 2 / 4.0
-    can, cat = _added_mass_coefficients(scene)
     held = ca.SX.zeros(9, N + 1)
     for i in (0, N):
         if i not in moving:
             held[:, i] = ca.vertcat(X[i], V[i], acc[i])
     return element_form(
         element_kernel(drag_law["shape"] if drag_law else None),
-        dict(L0=seg["ds"], EA=seg["EA"], BA=BA, EAs=law["EA_slack"], delta=law["delta"],
-             wall=F, w=seg["w"], d=seg["d"], cdn=seg["cdn"], cdt=seg["cdt"], rho=rho,
-             structural_half=0.5 * seg["mass"] * seg["ds"],
-             added_half=0.5 * rho * A_w * seg["ds"], ca_normal=can, ca_tangential=cat),
+        _form_columns(scene, seg, BA, law, F, rho),
         drag_law["law"].T if drag_law else None, ca.vertcat(current, load, width),
         _node_index(N, moving), held, force_rest, scene.mass_matrix != "lumped")
+
+
+def _form_columns(scene: Scene, seg: dict, BA: np.ndarray, law: dict, F: float,
+                  rho: float) -> dict:
+    """The element form's per-element constants by name (:func:`.elements.element_form`)."""
+    A_w = math.pi * seg["d"] ** 2 / 4.0
+    can, cat = _added_mass_coefficients(scene)
+    return dict(L0=seg["ds"], EA=seg["EA"], BA=BA, EAs=law["EA_slack"], delta=law["delta"],
+                wall=F, w=seg["w"], d=seg["d"], cdn=seg["cdn"], cdt=seg["cdt"], rho=rho,
+                structural_half=0.5 * seg["mass"] * seg["ds"],
+                added_half=0.5 * rho * A_w * seg["ds"], ca_normal=can, ca_tangential=cat)
 
 
 def _line_outputs(owner: str, Xm, Vm, T, e, contact, fr, end_force_a, end_force_b) -> dict:
@@ -334,18 +462,18 @@ def _line_outputs(owner: str, Xm, Vm, T, e, contact, fr, end_force_a, end_force_
     }
 
 
-def _add_energies(outputs: dict, owner: str, seg: dict, law: dict, e, width, F: float, load,
-                  Xm, sea, bending, v, mass) -> None:
+def _add_energies(outputs: dict, owner: str, L: dict, e, width, load, Xm, sea, bending, v,
+                  mass) -> None:
     """Adds the bending moment (where the line bends) and the energies (J) to ``outputs``:
     kinetic 0.5 v^T M v of the moving nodes; potential: the law's integral over each
     element, the submerged weight's height, the contact's integral (the conservative
     forces' potential: with no drag, damping, friction or moving end the sum is
-    conserved)."""
+    conserved); the numbers the ``line`` block's (``L``)."""
     ec = e.T  # (N, 1)
-    U = (0.5 * ca.DM(law["EA_slack"]) * ec * ec
-         + ca.DM(seg["EA"] - law["EA_slack"]) * _ramp_integral(ec, width * ca.DM(law["delta"]))
-         + F * 0.005 * ca.exp(-(1.0 + ec) / 0.005))
-    potential = ca.dot(ca.DM(seg["ds"]), U) + load * ca.dot(ca.DM(_lumped(seg)), Xm[2, :].T)
+    EAs, EA = L["EAs"].T, L["EA"].T
+    U = (0.5 * EAs * ec * ec + (EA - EAs) * _ramp_integral(ec, width * L["delta"].T)
+         + L["F"] * 0.005 * ca.exp(-(1.0 + ec) / 0.005))
+    potential = ca.dot(L["ds"].T, U) + load * ca.dot(L["lumped"], Xm[2, :])
     if sea is not None:
         potential += sea.energy
     if bending is not None:
@@ -359,9 +487,12 @@ def _add_energies(outputs: dict, owner: str, seg: dict, law: dict, e, width, F: 
 
 
 def _bounds(scene: Scene, seg: dict, T, e, F: float, contact, applied: np.ndarray,
-            drag_law: dict | None, rho: float, current) -> dict:
+            cdn, rho: float, current, drag) -> dict:
     """The admissibility bounds: positive segment lengths, no compression in cable segments
-    (EI = 0), and with a seabed its reaction (:func:`~symcable.models.common.seabed.reaction_bound`)."""
+    (EI = 0), and with a seabed its reaction
+    (:func:`~symcable.models.common.seabed.reaction_bound`, ``cdn`` the normal drag
+    coefficients it reads, ``drag`` its expression's
+    :func:`~symcable.models.common.seabed.reaction_drag`)."""
     N = len(seg["ds"])
     cable = seg["EI"] <= 0.0
     push = np.maximum(CABLE_COMPRESSION * F, FOLD_PUSH * np.abs(seg["w"]) * seg["ds"])
@@ -373,9 +504,8 @@ def _bounds(scene: Scene, seg: dict, T, e, F: float, contact, applied: np.ndarra
                                             lower=-push[cab], unit="N", scale=F,
                                             what="a cable (EI = 0) carries no compression")
     if scene.seabed is not None:
-        cdn = seg["cdn"] if drag_law is None else drag_law["normal_bound"]
         bounds["seabed_reaction"] = reaction_bound(scene, seg, contact, applied, cdn, rho,
-                                                   current, F)
+                                                   current, F, drag)
     return bounds
 
 

@@ -107,12 +107,19 @@ def power(s2):
     return ca.if_else(s2 <= 1.0, s2 ** (m // 2), 1.0 + m * x + A * x * x / (1.0 + A * x / m))
 
 
+def _row(x):
+    """``x`` (n,) as a (1, n) row: an expression as it is (a row of parameters), numbers as
+    a constant."""
+    return x if isinstance(x, (ca.SX, ca.MX, ca.DM)) else ca.DM(np.asarray(x, float)).T
+
+
 def friction(sb, Xm, Vm, contact, area, weight, state=None, laid=None, gate=None) -> Friction:
     """The seabed friction of ``sb`` (:class:`~symcable.scene.Seabed`) on the nodes (module
     docstring).
 
-    ``Xm``, ``Vm`` (3, n) node positions and velocities; ``contact`` (1, n) N; ``area`` (n,)
-    each node's contact area, m^2; ``weight`` (n,) its submerged weight, N; ``state`` (2 n, 1)
+    ``Xm``, ``Vm`` (3, n) node positions and velocities; ``contact`` (1, n) N; ``area`` (n,) or
+    (1, n) each node's contact area, m^2; ``weight`` (n,) or (1, n) its submerged weight
+    magnitude, N (numbers or parameters); ``state`` (2 n, 1)
     the bristle deflections (m; the bristle law), node by node; ``laid`` (2 n, 1) the as-laid
     horizontal positions (m) and ``gate`` (the static spring's on-off, 1 in statics) when
     ``sb.static_friction`` is ``"laid"``."""
@@ -122,9 +129,9 @@ def friction(sb, Xm, Vm, contact, area, weight, state=None, laid=None, gate=None
         tau, nrm = ca.repmat(ca.DM([1.0, 0.0]), 1, n), ca.repmat(ca.DM([0.0, 1.0]), 1, n)
     else:
         tau, nrm = _frame(Xm)
-    k = ca.DM(sb.tangential_stiffness * np.asarray(area, float)).T  # (1, n), N/m
-    floor = BRISTLE_FLOOR * np.maximum(np.abs(np.asarray(weight, float)), 1e-12)
-    Ne = ca.sqrt(contact * contact + ca.DM(floor * floor).T)
+    k = sb.tangential_stiffness * _row(area)  # (1, n), N/m
+    floor = BRISTLE_FLOOR * ca.fmax(ca.fabs(_row(weight)), 1e-12)
+    Ne = ca.sqrt(contact * contact + floor * floor)
     mu_a, mu_l = sb.mu_axial, sb.mu_lateral
 
     def along(a):

@@ -43,7 +43,8 @@ from .friction import Friction, friction
 CONTACT_SMOOTHING = 0.1
 
 __all__ = ["CONTACT_SMOOTHING", "SeabedTerms", "bristle_scale", "friction_setup", "joined_on",
-           "lumped", "node_resolution", "profile_current", "reaction_bound", "seabed_damper", "seabed_forces"]
+           "lumped", "node_resolution", "profile_current", "reaction_bound", "reaction_drag", "seabed_damper", "seabed_forces",
+           "seabed_numbers"]
 
 
 @dataclass(frozen=True)
@@ -94,12 +95,39 @@ def bristle_scale(sb, seg: dict) -> float:
     return float(np.median(mob)) or 1e-3
 
 
+def seabed_numbers(scene: Scene, seg: dict) -> dict:
+    """The numbers of a line's seabed terms (:func:`seabed_forces`): ``area`` (N+1,) each
+    node's contact area, half of each adjacent segment's diameter x length, m^2; ``weight``
+    (N+1,) its submerged weight magnitude, N (:func:`lumped`); ``width`` the contact ramp's
+    smoothing width, m; ``sink`` how far a held end may sit above the bed and still rest on
+    it, m (:func:`~symcable.models.common.segments.seabed_sink`); ``probe`` (N+1 ints) whose
+    penetration each node's contact takes (its own, or a held end's resting on the bed its
+    neighbour's): a choice, not a number."""
+    sb, env = scene.seabed, scene.environment
+    N = len(seg["ds"])
+    area = np.zeros(N + 1)
+    area[:-1] += 0.5 * seg["d"] * seg["ds"]
+    area[1:] += 0.5 * seg["d"] * seg["ds"]
+    width = terms.contact_smoothing(float(np.max(seg["w"])), sb.stiffness,
+                                    float(np.min(seg["d"])), CONTACT_SMOOTHING)
+    sink = max(abs(float(np.max(seg["w"]))) / (sb.stiffness * float(np.min(seg["d"]))),
+               1e-6 * scene.length)
+    probe = list(range(N + 1))
+    for end, i, nb in ((scene.end_a, 0, 1), (scene.end_b, N, N - 1)):
+        if end.condition is not EndCondition.FREE and end.position[2] <= -env.depth + sink:
+            probe[i] = nb
+    return {"area": area, "weight": np.abs(lumped(seg)), "width": width, "sink": sink,
+            "probe": probe}
+
+
 def seabed_forces(scene: Scene, seg: dict, Xm, Vm, nodal, term_names: list, *, state=None,
                   laid=None, gate=None, joined: tuple[bool, bool] = (False, False),
-                  bed=1.0) -> SeabedTerms:
+                  bed=1.0, numbers: dict | None = None) -> SeabedTerms:
     """The seabed's contact, damper and friction on the nodes (module docstring), added to
     ``nodal`` (3, N+1), N. ``Xm``, ``Vm`` (3, N+1) node positions (m) and velocities (m/s),
-    held ends included; ``seg`` the segment table (``ds``, ``d``, ``w``); ``state`` the
+    held ends included; ``seg`` the segment table (``ds``, ``d``, ``w``); ``numbers`` the
+    terms' numbers (:func:`seabed_numbers`; default: from ``seg``), where ``area``,
+    ``weight`` ((1, N+1) rows), ``width`` and ``sink`` may be parameters; ``state`` the
     bristle deflections (2 (N+1), 1), m; ``laid`` (2 (N+1), 1) the as-laid positions and
     ``gate`` the static spring's on-off (``static_friction`` parameters); ``joined``:
     whether end A / B is joined to a free point of an assembly (its contact then takes the
@@ -118,37 +146,34 @@ def seabed_forces(scene: Scene, seg: dict, Xm, Vm, nodal, term_names: list, *, s
     the scene's; a stiffer bed, with the smoothing kept, measures how far the penalty's
     penetration moves the answer from a rigid bed's (:mod:`symcable.api.bed_error`)."""
     sb, env = scene.seabed, scene.environment
-    a, b = scene.end_a, scene.end_b
     N = len(seg["ds"])
     rubs, bristle = sb.mu_axial > 0 or sb.mu_lateral > 0, sb.friction_law == "bristle"
     term_names.append("seabed")
-    trib = np.zeros(N + 1)
-    trib[:-1] += 0.5 * seg["d"] * seg["ds"]
-    trib[1:] += 0.5 * seg["d"] * seg["ds"]
-    dlt = terms.contact_smoothing(float(np.max(seg["w"])), sb.stiffness, float(np.min(seg["d"])),
-                                  CONTACT_SMOOTHING)
-    sink = max(abs(float(np.max(seg["w"]))) / (sb.stiffness * float(np.min(seg["d"]))),
-               1e-6 * scene.length)
-    probe = list(range(N + 1))
-    for end, i, nb in ((a, 0, 1), (b, N, N - 1)):
-        if end.condition is not EndCondition.FREE and end.position[2] <= -env.depth + sink:
-            probe[i] = nb
+    nums = seabed_numbers(scene, seg) if numbers is None else numbers
+    area, weight = (_row(nums[k]) for k in ("area", "weight"))
+    dlt, sink, probe = nums["width"], nums["sink"], nums["probe"]
     pen = ca.horzcat(*[-env.depth - Xm[2, i] for i in probe])
     ramp = [terms.smooth_ramp(pen[i], dlt) for i in range(N + 1)]
     for k, (i, nb) in enumerate(((0, 1), (N, N - 1))):
         if joined[k] and N > 0:
             ramp[i] = terms.smooth_ramp(pen[nb], dlt) * joined_on(pen[i], sink, dlt)
-    contact = bed * ca.DM(trib * sb.stiffness).T * ca.horzcat(*ramp)
+    contact = bed * sb.stiffness * area * ca.horzcat(*ramp)
     nodal = nodal + ca.vertcat(ca.SX.zeros(2, N + 1), contact)
-    nodal = nodal + seabed_damper(sb, Vm, pen, dlt, trib, term_names)
+    nodal = nodal + seabed_damper(sb, Vm, pen, dlt, area, term_names)
     fr = None
     if rubs:
         term_names += ["seabed friction"] + (["friction bristles"] if bristle else []) \
             + (["static friction"] if laid is not None else [])
-        fr = friction(sb, Xm, Vm, contact, trib, np.abs(lumped(seg)), state, laid, gate)
+        fr = friction(sb, Xm, Vm, contact, area, weight, state, laid, gate)
         nodal = nodal + ca.vertcat(fr.force, ca.SX.zeros(1, N + 1))
-    energy = bed * ca.dot(ca.DM(trib * sb.stiffness), _ramp_integral(pen, dlt).T)
+    energy = bed * sb.stiffness * ca.dot(area, _ramp_integral(pen, dlt))
     return SeabedTerms(nodal, contact, fr, energy)
+
+
+def _row(x):
+    """``x`` (n,) numbers as a constant (1, n) row; an expression (a row of parameters) as
+    it is."""
+    return x if isinstance(x, (ca.SX, ca.MX, ca.DM)) else ca.DM(np.asarray(x, float)).T
 
 
 def joined_on(pen, sink, width):
@@ -168,22 +193,31 @@ def joined_on(pen, sink, width):
     return 0.5 * (1.0 + ca.tanh((pen + sink) / width))
 
 
+def reaction_drag(seg: dict, cdn: np.ndarray, rho: float) -> float:
+    """The most a unit current's drag presses a line onto the bed, N s^2/m^2: the sum of
+    0.5 rho Cd_n d L0 over its segments (normal drag coefficients ``cdn``)."""
+    return float(np.sum(0.5 * rho * cdn * seg["d"] * seg["ds"]))
+
+
 def reaction_bound(scene: Scene, seg: dict, contact, applied: np.ndarray, cdn: np.ndarray,
-                   rho: float, current, F: float) -> Bound:
+                   rho: float, current, F: float, drag=None) -> Bound:
     """The bound ``seabed_reaction``: the bed's reaction (the sum of ``contact``, N) is at
     most the line's submerged weight, the applied end forces (``applied`` (3, N+1), N) and
     the most the current's drag presses (normal drag coefficients ``cdn`` per segment, water
     density ``rho``; the profile's fastest row, and the uniform ``current`` parameter (3,),
     m/s), with 1 % margin. The uniform current's share is on the expression's side, in the
     parameter, not a constant of the bound: scenes that differ only in their current then
-    share one graph, and one compiled library (a sweep of current speeds compiles once)."""
+    share one graph, and one compiled library (a sweep of current speeds compiles once).
+    ``drag``: the :func:`reaction_drag` that expression reads (default: the number; a
+    parameter, for graphs shared by scenes of other line properties)."""
     env = scene.environment
     press = float(np.sum(np.maximum(seg["w"], 0.0) * seg["ds"])) + float(np.abs(applied).sum())
     u2 = max((float(np.dot(r[1:], r[1:])) for r in env.current_profile), default=0.0) * 2.0
-    drag = float(np.sum(0.5 * rho * cdn * seg["d"] * seg["ds"]))
-    press += drag * u2
+    press_drag = reaction_drag(seg, cdn, rho)
+    press += press_drag * u2
     return Bound(
-        ca.sum2(contact) - 1.01 * drag * ca.dot(current, current),
+        ca.sum2(contact) - 1.01 * (press_drag if drag is None else drag)
+        * ca.dot(current, current),
         upper=1.01 * press + 1e-6 * F, unit="N", scale=F,
         what="the seabed carries at most what presses the line onto it (the value: its "
              "reaction less 1.01 times the most the uniform current's drag presses)")
@@ -198,7 +232,7 @@ def seabed_damper(sb, Vm, pen, dlt, area, term_names):
     if sb.damping > 0:
         term_names.append("seabed damping")
         on = 0.5 * (1.0 + pen / ca.sqrt(pen * pen + dlt * dlt))
-        out[2, :] = -sb.damping * ca.DM(area).T * Vm[2, :] * on
+        out[2, :] = -sb.damping * _row(area) * Vm[2, :] * on
     return out
 
 

@@ -1,0 +1,211 @@
+"""Scenes of one structure share one Mechanism's expressions and Functions
+(:mod:`symcable.models.structure`): a scene rebound to a template must be the scene's own
+Mechanism in every number and every value, and whatever changes the structure must build
+afresh."""
+from __future__ import annotations
+
+import copy
+import math
+
+import numpy as np
+import pytest
+
+import symcable as sc
+from symcable.mechanism.bounds import bound_numbers
+from symcable.mechanism.functions import FUNCTIONS, functions
+from symcable.models import build_mechanism, structure
+from symcable.models.cable3d.line import build_cable3d
+from symcable.models.system import build_system
+
+ENV = {"gravity": 9.80665, "water_density": 1025.0, "depth": 320.0, "current": [0.3, 0.1, 0.0]}
+CHAIN = {"EA": 3.84243e8, "mass": 77.7066, "diameter": 0.09, "cd_normal": 1.6,
+         "cd_tangential": 0.1, "ca_normal": 1.0}
+
+
+def _three_lines(n: int = 12) -> dict:
+    points, lines = {}, []
+    for i, ang in enumerate((0.0, 120.0, 240.0)):
+        a = math.radians(ang)
+        points[f"anchor{i}"] = {"kind": "fixed",
+                                "position": [853.87 * math.cos(a), 853.87 * math.sin(a), -320.0]}
+        points[f"fair{i}"] = {"kind": "fixed",
+                              "position": [5.2 * math.cos(a), 5.2 * math.sin(a), -70.0]}
+        lines.append({"name": f"line{i}", "end_a": f"anchor{i}", "end_b": f"fair{i}",
+                      "sections": [{"type": "chain", "length": 902.2, "segments": n}]})
+    return {"model": "cable3d", "environment": ENV, "seabed": {"stiffness": 1e5},
+            "line_types": {"chain": dict(CHAIN)}, "points": points, "lines": lines}
+
+
+def _clump() -> dict:
+    """Two lines meeting at a free clump on the seabed, friction and damping on the bed."""
+    return {"model": "cable3d", "environment": ENV,
+            "seabed": {"stiffness": 1e5, "friction": 0.6, "damping": 2e3},
+            "line_types": {"chain": dict(CHAIN, damping=-0.8),
+                           "wire": {"EA": 6e8, "mass": 30.0, "diameter": 0.08,
+                                    "cd_normal": 1.2, "cd_tangential": 0.01}},
+            "points": {"anchor": {"kind": "fixed", "position": [-600.0, 0.0, -320.0]},
+                       "clump": {"kind": "free", "position": [-250.0, 0.0, -315.0],
+                                 "mass": 8000.0, "volume": 1.0},
+                       "fair": {"kind": "fixed", "position": [0.0, 0.0, -20.0]}},
+            "lines": [{"name": "lower", "end_a": "anchor", "end_b": "clump",
+                       "sections": [{"type": "chain", "length": 360.0, "segments": 9}]},
+                      {"name": "upper", "end_a": "clump", "end_b": "fair",
+                       "sections": [{"type": "chain", "length": 120.0, "segments": 4},
+                                    {"type": "wire", "length": 260.0, "segments": 6}]}]}
+
+
+def _one_line() -> dict:
+    return {"model": "cable3d", "environment": ENV, "seabed": {"stiffness": 1e5},
+            "line_types": {"chain": dict(CHAIN)},
+            "sections": [{"type": "chain", "length": 902.2, "segments": 15}],
+            "end_a": {"condition": "pinned", "position": [-853.87, 0.0, -320.0]},
+            "end_b": {"condition": "pinned", "position": [-5.2, 0.0, -70.0]}}
+
+
+def _perturbed(d: dict, rng) -> dict:
+    """Every number the parameters carry moved at random (lengths, line types, positions,
+    current), the structure kept."""
+    d = copy.deepcopy(d)
+    f = lambda: float(rng.uniform(0.9, 1.1))  # noqa: E731
+    for lt in d["line_types"].values():
+        for k in ("EA", "mass", "diameter", "cd_normal", "cd_tangential", "ca_normal"):
+            if k in lt:
+                lt[k] *= f()
+    for sec in d.get("sections", []) + [s for ln in d.get("lines", []) for s in ln["sections"]]:
+        sec["length"] *= f()
+    def moved(pos):  # horizontally, and up where above the bed (at most 3 m)
+        return [pos[0] + float(rng.uniform(-3.0, 3.0)), pos[1] + float(rng.uniform(-3.0, 3.0)),
+                pos[2] + (float(rng.uniform(0.0, 3.0)) if pos[2] < -325.0 + 30.0 else 0.0)
+                if pos[2] > -310.0 else pos[2]]
+    for pt in d.get("points", {}).values():
+        pt["position"] = moved(pt["position"])
+    for end in ("end_a", "end_b"):
+        if end in d:
+            d[end]["position"] = moved(d[end]["position"])
+    d["environment"] = dict(d["environment"],
+                            current=[u * f() for u in d["environment"]["current"]])
+    return d
+
+
+def _fresh(scene):
+    return (build_system if scene.version == 2 else build_cable3d)(scene)
+
+
+CASES = {"three lines": _three_lines, "clump, friction, damping": _clump,
+         "one line": _one_line}
+
+
+@pytest.mark.parametrize("case", list(CASES))
+def test_rebound_mechanism_is_the_scenes_own(case):
+    """A scene rebound to the template of another scene of its structure has the numbers
+    (parameters, scales, bounds' limits, starts, arc lengths) and the values (static
+    residual, its Jacobian, outputs, bounds) of the scene's own Mechanism built afresh. The
+    same arithmetic on the same parameter values: agreement to round-off (1e-9 relative)."""
+    rng = np.random.default_rng(34)
+    structure.TEMPLATES.clear()
+    template = build_mechanism(sc.load_scene(CASES[case]()))
+    for _ in range(3):
+        scene = sc.load_scene(_perturbed(CASES[case](), rng))
+        mech = build_mechanism(scene)
+        assert mech.functions_of is template, "the scene did not share its structure's template"
+        own = _fresh(scene)
+        np.testing.assert_array_equal(mech.params.values, own.params.values)
+        assert mech.params.names == own.params.names
+        for k in ("q", "v"):
+            np.testing.assert_array_equal(getattr(mech.scales, k), getattr(own.scales, k))
+        assert (mech.scales.force, mech.scales.mass) == (own.scales.force, own.scales.mass)
+        np.testing.assert_array_equal(bound_numbers(mech), bound_numbers(own))
+        for part, lay in own.layout.parts.items():
+            np.testing.assert_array_equal(mech.layout.parts[part].s, lay.s)
+        s_m, s_o = next(iter(mech.starts())), next(iter(own.starts()))
+        np.testing.assert_array_equal(s_m.q, s_o.q)
+        np.testing.assert_array_equal(s_m.p, s_o.p)
+        p = mech.static_p
+        F_m, F_o = functions(mech), functions(own)
+        assert F_m is functions(template) and F_o is not F_m
+        x = np.asarray(s_o.q, float) + rng.normal(0.0, 0.5, own.n_q)
+        r_m, J_m = F_m.static_jacobian(x, p)
+        r_o, J_o = F_o.static_jacobian(x, p)
+        scale = float(np.max(np.abs(np.asarray(r_o))))
+        np.testing.assert_allclose(np.asarray(r_m), np.asarray(r_o), rtol=1e-9, atol=1e-9 * scale)
+        np.testing.assert_allclose(J_m.full(), J_o.full(), rtol=1e-9,
+                                   atol=1e-9 * float(np.max(np.abs(J_o.full()))))
+        args = (x, np.zeros(own.n_v), np.zeros(0), 0.0, p)
+        y_m, y_o = (np.asarray(F.outputs(*args), float) for F in (F_m, F_o))
+        np.testing.assert_allclose(y_m, y_o, rtol=1e-9, atol=1e-9 * float(np.max(np.abs(y_o))))
+        b_m, b_o = (np.asarray(F.bound_values(*args), float) for F in (F_m, F_o))
+        np.testing.assert_allclose(b_m, b_o, rtol=1e-9, atol=1e-9 * float(np.max(np.abs(b_o))))
+
+
+def test_a_solve_with_changed_numbers_reuses_the_functions_and_equals_a_fresh_one():
+    """The three-line mooring solved, then again with the lines 3 m longer and a fairlead
+    moved 5 m: the second solve builds no Function (the template's static solve serves it)
+    and its answer is the fresh build's to round-off (the same arithmetic)."""
+    structure.TEMPLATES.clear()
+    sc.solve_static(_three_lines())
+    changed = _three_lines()
+    for ln in changed["lines"]:
+        ln["sections"][0]["length"] += 3.0
+    changed["points"]["fair0"]["position"][0] += 5.0
+    before = len(FUNCTIONS)
+    got = sc.solve_static(changed)
+    assert len(FUNCTIONS) == before  # no new Functions object
+    structure.TEMPLATES.clear()
+    ref = sc.solve_static(_three_lines() | {"lines": changed["lines"], "points": changed["points"]})
+    for name, line in ref.lines.items():
+        np.testing.assert_allclose(got.lines[name].positions, line.positions, rtol=0, atol=1e-9)
+        assert got.lines[name].fairlead_tension == pytest.approx(line.fairlead_tension, rel=1e-12)
+
+
+def test_what_the_parameters_do_not_carry_changes_the_structure():
+    """Segment counts, depth, seabed stiffness, a drag coefficient set to zero (a term
+    dropped) and a held end lowered onto the bed (its contact then takes its neighbour's
+    penetration) each give another structure; bodies and bending are not shared."""
+    base = structure.structure_key(sc.load_scene(_one_line()))
+    assert base is not None
+    changes = []
+    d = _one_line()
+    d["sections"][0]["segments"] = 16
+    changes.append(d)
+    d = _one_line()
+    d["environment"] = dict(ENV, depth=330.0)
+    changes.append(d)
+    d = _one_line()
+    d["seabed"] = {"stiffness": 2e5}
+    changes.append(d)
+    d = _one_line()
+    d["line_types"]["chain"]["cd_tangential"] = 0.0
+    changes.append(d)
+    d = _one_line()
+    d["end_b"]["position"] = [-5.2, 0.0, -320.0]
+    changes.append(d)
+    keys = [structure.structure_key(sc.load_scene(c)) for c in changes]
+    assert base not in keys and len(set(keys)) == len(keys)
+    same = _one_line()
+    same["sections"][0]["length"] = 950.0
+    same["end_a"]["position"] = [-900.0, 10.0, -320.0]
+    assert structure.structure_key(sc.load_scene(same)) == base
+    bent = _one_line()
+    bent["line_types"]["chain"]["EI"] = 1e4
+    assert structure.structure_key(sc.load_scene(bent)) is None
+
+
+def test_lines_of_one_structure_in_a_system_share_a_part_and_keep_their_own_numbers():
+    """The three lines of a mooring, each with its own length and anchor (one structure:
+    their parts share one graph, :func:`symcable.models.system.build_system`), solved as one
+    system equal each line solved alone as a one-line scene (fixed ends: the lines do not
+    meet), node for node to the solver's tolerance (1e-9 of the force scale: 1e-6 m here)."""
+    rng = np.random.default_rng(5)
+    structure.TEMPLATES.clear()
+    d = _perturbed(_three_lines(), rng)
+    for ln in d["lines"]:
+        ln["sections"][0]["length"] *= float(rng.uniform(0.97, 1.03))
+    system = sc.solve_static(d)
+    for ln in d["lines"]:
+        alone = {"model": "cable3d", "environment": d["environment"], "seabed": d["seabed"],
+                 "line_types": d["line_types"], "sections": ln["sections"],
+                 "end_a": {"condition": "pinned", "position": d["points"][ln["end_a"]]["position"]},
+                 "end_b": {"condition": "pinned", "position": d["points"][ln["end_b"]]["position"]}}
+        one = sc.solve_static(alone)
+        np.testing.assert_allclose(system.lines[ln["name"]].positions, one.positions, rtol=0,
+                                   atol=1e-6)

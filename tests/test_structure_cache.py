@@ -12,7 +12,8 @@ import pytest
 
 import symcable as sc
 from symcable.mechanism.bounds import bound_numbers
-from symcable.mechanism.functions import FUNCTIONS, functions
+from symcable.api.cable3d_static import cable3d_mechanism
+from symcable.mechanism.functions import functions
 from symcable.models import build_mechanism, structure
 from symcable.models.cable3d.line import build_cable3d
 from symcable.models.system import build_system
@@ -143,13 +144,16 @@ def test_a_solve_with_changed_numbers_reuses_the_functions_and_equals_a_fresh_on
     and its answer is the fresh build's to round-off (the same arithmetic)."""
     structure.TEMPLATES.clear()
     sc.solve_static(_three_lines())
+    template = structure.TEMPLATES[structure.structure_key(sc.load_scene(_three_lines()))]
+    built = functions(template).__dict__["_static_solver"]["vm"]
     changed = _three_lines()
     for ln in changed["lines"]:
         ln["sections"][0]["length"] += 3.0
     changed["points"]["fair0"]["position"][0] += 5.0
-    before = len(FUNCTIONS)
     got = sc.solve_static(changed)
-    assert len(FUNCTIONS) == before  # no new Functions object
+    mech = cable3d_mechanism(sc.load_scene(changed))
+    assert mech.functions_of is template and functions(mech) is functions(template)
+    assert functions(mech).static_solver(False) is built  # the first scene's, not rebuilt
     structure.TEMPLATES.clear()
     ref = sc.solve_static(_three_lines() | {"lines": changed["lines"], "points": changed["points"]})
     for name, line in ref.lines.items():

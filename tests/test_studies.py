@@ -205,3 +205,19 @@ def test_stability_rod_quick(tmp_path):
     seed = next(c for c in res["cells"] if c["group"] == "seed dt")
     assert seed["dt_s" if seed["ok"] else "exc_type"] == (1.0 if seed["ok"] else "ConvergenceError")
     assert seed["ok"] or "dt = 1 s" in seed["message"], seed
+
+
+def test_first_answer_quick_writes_its_table(tmp_path):
+    """The first-answer study's --quick mode solves the three-line OC3 mooring in fresh
+    processes and again with changed numbers beside MoorPy, random systems and simulate's
+    first three calls, and writes its table. Times are reported, never asserted; asserted is
+    that symcable's fairlead tensions are MoorPy's to 2e-3 (100 segments against MoorPy's
+    exact elastic catenary with a rigid bed: measured 5e-4) in the fresh process and on
+    every changed design (the reused template with new numbers)."""
+    study = load_study("performance", "first_answer.py")
+    res = study.main(["--quick", "--out", str(tmp_path)])
+    assert (tmp_path / "summary.md").read_text().count("|") > 20
+    assert res["cold_tension_diff"] < 2e-3
+    assert res["resolve_tension_diff_max"] < 2e-3
+    assert res["resolve_cases"] == 3 and res["random_n"] == 2
+    assert all(res[f"simulate_{k}_s"] > 0 for k in ("first", "second", "third"))

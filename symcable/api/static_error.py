@@ -75,14 +75,18 @@ def _free_ends(scene: Scene, points: bool = False) -> dict:
     return {ln.name: (loose(ln.end_a), loose(ln.end_b)) for ln in scene.lines}
 
 
-def _turn_sin(pos: np.ndarray, m: int) -> float:
-    """Sine of the angle the line turns through at interior node ``m`` (1 past 90 deg)."""
-    u, v = pos[m] - pos[m - 1], pos[m + 1] - pos[m]
-    nu, nv = np.linalg.norm(u), np.linalg.norm(v)
-    if nu == 0.0 or nv == 0.0:
-        return 0.0
-    cos = float(np.dot(u, v) / (nu * nv))
-    return math.sqrt(max(0.0, 1.0 - cos * cos)) if cos > 0 else 1.0
+def _turn_sines(pos: np.ndarray) -> np.ndarray:
+    """Sine of the angle the line turns through at each node (n,): 1 past 90 deg, 0 at the
+    ends and where a segment has no length."""
+    d = np.diff(pos, axis=0)
+    nd = np.linalg.norm(d, axis=1)
+    u, v, nu, nv = d[:-1], d[1:], nd[:-1], nd[1:]
+    out = np.zeros(len(pos))
+    with np.errstate(all="ignore"):
+        cos = np.einsum("ij,ij->i", u, v) / (nu * nv)
+        inner = np.where(cos > 0, np.sqrt(np.maximum(0.0, 1.0 - cos * cos)), 1.0)
+    out[1:-1] = np.where((nu == 0.0) | (nv == 0.0), 0.0, inner)
+    return out
 
 
 def _on_bed(ln, weights: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -109,14 +113,15 @@ def _corner(ln, weights: np.ndarray, loose: tuple = (False, False)) -> tuple[flo
     pos = np.asarray(ln.positions, float)
     n = len(pos)
     share, on = _on_bed(ln, weights)
+    turn = _turn_sines(pos)
     worst, sharpest = 0.0, 0.0
     for i in np.flatnonzero(on[:-1] != on[1:]):
         up = 1 if on[i] else -1            # towards the suspended part
         far = i + (4 if up > 0 else -3)    # a node of the suspended part, past the corner
-        smooth = _turn_sin(pos, far) if 0 < far < n - 1 else 0.0
+        smooth = turn[far] if 0 < far < n - 1 else 0.0
         for m in (i - 1, i, i + 1, i + 2):
             if 0 < m < n - 1:
-                excess = max(0.0, _turn_sin(pos, m) - smooth)
+                excess = max(0.0, turn[m] - smooth)
                 worst = max(worst, 0.5 * max(weights[m - 1], weights[m]) * excess)
                 sharpest = max(sharpest, excess)
     contact = np.asarray(ln.contact_force, float)
@@ -146,16 +151,21 @@ def _fold(ln, weights: np.ndarray, free: tuple = (False, False)) -> tuple[float,
     n = len(pos)
     share, on = _on_bed(ln, weights)
     worst, sharpest = 0.0, 0.0
-    for m in range(1, n - 1):
-        if on[m]:
-            continue
-        near = [_turn_sin(pos, k) for k in (m - 2, m + 2) if 0 < k < n - 1]
-        if not near:
-            continue
-        excess = max(0.0, _turn_sin(pos, m) - max(near))
-        if excess > SHARP:
-            worst = max(worst, 0.5 * max(weights[m - 1], weights[m]) * excess)
-            sharpest = max(sharpest, excess)
+    turn = _turn_sines(pos)
+    # the larger turn two nodes away on either side (-inf where there is no such interior
+    # node; a node with neither is skipped)
+    near = np.full(n, -np.inf)
+    near[3:n - 1] = turn[1:n - 3]
+    near[1:n - 3] = np.maximum(near[1:n - 3], turn[3:n - 1])
+    m = np.arange(1, n - 1)
+    m = m[~on[m] & np.isfinite(near[m])]
+    if m.size:
+        excess = np.maximum(0.0, turn[m] - near[m])
+        sharp = excess > SHARP
+        if np.any(sharp):
+            heavy = np.maximum(weights[m - 1], weights[m])
+            worst = float(np.max(0.5 * heavy[sharp] * excess[sharp]))
+            sharpest = float(np.max(excess[sharp]))
     tension = np.asarray(ln.tension, float)
     for m in range(1, n - 1):
         if on[m] or (free[0] and m <= 2) or (free[1] and m >= n - 3):

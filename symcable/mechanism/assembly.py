@@ -151,11 +151,15 @@ def assemble(parts: Iterable[Mechanism], joints: Iterable = (), *, name: str = "
     presc_joints = [j for j in joints if isinstance(j, Prescribed)]
     params = _param_blocks(parts, presc_joints, dim)
 
+    n_z_total = sum(m.n_z for m in parts)
+    if not symbols:  # (placeholders of the symbols' shapes)
+        return _numbers_only(parts, num, params, name, kind,
+                             tuple(kind(n, 1) for n in (n_q, n_v, n_z_total, 1, params.n)),
+                             [m for m in parts if m.kinematics is not None], starts)
     q = _sym(kind, "q", n_q)
     v = _sym(kind, "v", n_v)
     t = _sym(kind, "t", 1)
     p = _sym(kind, "p", params.n)
-    n_z_total = sum(m.n_z for m in parts)
     z = _sym(kind, "z", n_z_total)
     z_at, p_at, off_z, off_p = {}, {}, 0, 0
     for m in parts:
@@ -166,9 +170,6 @@ def assemble(parts: Iterable[Mechanism], joints: Iterable = (), *, name: str = "
 
     motion = _prescribed_motion(presc_joints, params, p, t)
     kinematic = [m for m in parts if m.kinematics is not None]
-    if not symbols:
-        return _numbers_only(parts, joints, num, params, name, kind, (q, v, z, t, p),
-                             motion, kinematic, starts)
     qdot, rest_rows = _kinematics(kinematic, num, kind, q, v, z_at, p_at, t)
     # a node on a body: its position, velocity and the acceleration at v' = 0
     for j in joints:
@@ -229,8 +230,7 @@ def assemble(parts: Iterable[Mechanism], joints: Iterable = (), *, name: str = "
                      rest=ca.vertcat(*rest_rows) if rest_rows else None)
 
 
-def _numbers_only(parts, joints, num, params, name, kind, syms, motion, kinematic,
-                  starts) -> Mechanism:  # noqa: ARG001 (joints, motion: as assemble's)
+def _numbers_only(parts, num, params, name, kind, syms, kinematic, starts) -> Mechanism:
     """``assemble(symbols=False)``: the whole's numbers on placeholder expressions."""
     q, v, z, t, p = syms
     n_v, n_q = num.n_v, num.n_q

@@ -30,8 +30,10 @@ from typing import Callable
 import numpy as np
 
 from ..mechanism.mechanism import Mechanism
-from ..scene import Scene
-from ..scene import Model as ModelKind
+from ..scene import Model as ModelKind, Scene
+from ..scene.one_line import line_scene
+from .common.seabed import seabed_numbers
+from .common.segments import segment_table
 
 __all__ = ["TEMPLATES", "rebind", "shared_build", "structure_key"]
 
@@ -91,9 +93,6 @@ def _choices(scene: Scene) -> tuple:
     seabed, which of its held ends rests on it (:func:`~symcable.models.common.seabed.seabed_numbers`)."""
     if scene.seabed is None:
         return ()
-    from .common.seabed import seabed_numbers
-    from .common.segments import segment_table
-    from .system import line_scene
     scenes = [scene] if scene.version == 1 else [line_scene(scene, ln) for ln in scene.lines]
     out = []
     for ls in scenes:

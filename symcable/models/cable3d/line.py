@@ -135,15 +135,15 @@ def build_cable3d(scene: Scene, part: str | None = None,
     cdn_bound = seg["cdn"] if drag_law is None else drag_law["normal_bound"]
     params = _param_blocks(scene, laid, _line_values(seg, law, BA, F, rho, sea_numbers,
                                                      cdn_bound, _added_mass_coefficients(scene)))
+    if not symbols:
+        return _numbers_only(scene, seg, part, params, _moving(N, free), bristle, laid, law, F,
+                             BA, rho, drag_law, cdn_bound)
     p = ca.SX.sym("p", params.n)
     L = _line_view(p[params.slice("line")], N)
     load, pa, pb = (p[params.slice(k)] for k in ("load", "end_a.position", "end_b.position"))
     current, sigma, motion, ramp_on, bed = (p[params.slice(k)] for k in (
         "current", "slack", "motion", "ramp", "bed"))
     t = ca.SX.sym("t")
-    if not symbols:
-        return _numbers_only(scene, seg, part, params, p, t, _moving(N, free), bristle, laid,
-                             law, F, BA, rho, drag_law, cdn_bound)
     moving, q_all, v, X, V = _node_symbols(scene, N, free, bristle, pa, pb, motion, t, ramp_on)
     n_v = 3 * len(moving)
     state = q_all[n_v:]
@@ -246,16 +246,16 @@ def _term_names(scene: Scene, seg: dict, BA: np.ndarray, rho: float) -> list:
     return names
 
 
-def _numbers_only(scene: Scene, seg: dict, part, params: ParamBlocks, p, t, moving: list,
+def _numbers_only(scene: Scene, seg: dict, part, params: ParamBlocks, moving: list,
                   bristle: bool, laid, law: dict, F: float, BA: np.ndarray, rho: float,
                   drag_law, cdn_bound) -> Mechanism:
-    """The line's Mechanism with its numbers and placeholder expressions
-    (``build_cable3d(symbols=False)``)."""
+    """The line's Mechanism with its numbers and placeholder expressions (zeros of the
+    symbols' and expressions' shapes; ``build_cable3d(symbols=False)``)."""
     N = len(seg["ds"])
     n_v = 3 * len(moving)
     n_q = n_v + (2 * (N + 1) if bristle else 0)
     free = [scene.end_a.condition is EndCondition.FREE, scene.end_b.condition is EndCondition.FREE]
-    q, v = ca.SX.sym("q", n_q), ca.SX.sym("v", n_v)
+    q, v, p, t = ca.SX(n_q, 1), ca.SX(n_v, 1), ca.SX(params.n, 1), ca.SX(1, 1)
     zero = ca.SX.zeros(1, N)
     bounds = _bounds(scene, seg, zero, zero, F, ca.SX.zeros(1, N + 1), _applied_forces(scene, N),
                      cdn_bound, rho, ca.SX.zeros(3, 1), 0.0)

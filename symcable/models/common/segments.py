@@ -10,20 +10,15 @@ from ...scene import Scene
 
 def segment_table(scene: Scene) -> dict[str, np.ndarray]:
     """Per-segment properties (arrays of shape (N,)) and node arc lengths (N+1,)."""
-    cols: dict[str, list] = {k: [] for k in ("ds", "EA", "EI", "w", "d", "cdn", "cdt", "mass", "can")}
-    for sec in scene.sections:
-        lt = sec.line_type
-        for _ in range(sec.segments):
-            cols["ds"].append(sec.ds)
-            cols["EA"].append(lt.EA)
-            cols["EI"].append(lt.EI)
-            cols["w"].append(lt.weight)
-            cols["d"].append(lt.diameter)
-            cols["cdn"].append(lt.cd_normal)
-            cols["cdt"].append(lt.cd_tangential)
-            cols["mass"].append(lt.mass)
-            cols["can"].append(lt.ca_normal)
-    table = {k: np.asarray(v, dtype=float) for k, v in cols.items()}
+    secs = scene.sections
+    counts = [sec.segments for sec in secs]
+    rows = np.array([[sec.ds, sec.line_type.EA, sec.line_type.EI, sec.line_type.weight,
+                      sec.line_type.diameter, sec.line_type.cd_normal,
+                      sec.line_type.cd_tangential, sec.line_type.mass, sec.line_type.ca_normal]
+                     for sec in secs], dtype=float).reshape(len(secs), 9)
+    cols = np.repeat(rows, counts, axis=0)
+    table = {k: np.ascontiguousarray(cols[:, i])
+             for i, k in enumerate(("ds", "EA", "EI", "w", "d", "cdn", "cdt", "mass", "can"))}
     table["s"] = np.concatenate([[0.0], np.cumsum(table["ds"])])
     return table
 

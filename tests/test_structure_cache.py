@@ -213,3 +213,35 @@ def test_lines_of_one_structure_in_a_system_share_a_part_and_keep_their_own_numb
         one = sc.solve_static(alone)
         np.testing.assert_allclose(system.lines[ln["name"]].positions, one.positions, rtol=0,
                                    atol=1e-6)
+
+
+def _moving_mooring(n: int, extra: float) -> dict:
+    d = _three_lines(n)
+    for ln in d["lines"]:
+        ln["sections"][0]["length"] += extra
+    d["points"]["fair0"]["kind"] = "vessel"
+    d["points"]["fair0"]["motion"] = {"kind": "harmonic", "period": 10.0,
+                                      "amplitude": [2.0, 0.0, 1.0], "phase_deg": [0.0, 0.0, -90.0]}
+    return d
+
+
+def test_simulate_with_changed_numbers_reuses_the_step_and_equals_a_fresh_run():
+    """A time run of the mooring with a moving fairlead, then of the same mooring with its
+    lines 2 m longer: the second takes the first's generalized-alpha step (built from the
+    expressions alone; the scene's scales enter as inputs) and its fairlead tension history
+    equals a run built afresh to round-off (1e-9 of the tension range: the same arithmetic)."""
+    from symcable.solvers.stepcache import STEP_CACHE
+    structure.TEMPLATES.clear()
+    sc.simulate(_moving_mooring(8, 0.0), 20.0, dt=0.2, codegen=False)
+    template = structure.TEMPLATES[structure.structure_key(sc.load_scene(_moving_mooring(8, 0.0)))]
+    steps = {k for k in STEP_CACHE.store.setdefault(template, dict) if k[0] == "ga1_unrolled"}
+    assert steps, "the first run kept no step on its structure's template"
+    got = sc.simulate(_moving_mooring(8, 2.0), 20.0, dt=0.2, codegen=False)
+    assert {k for k in STEP_CACHE.store.setdefault(template, dict)
+            if k[0] == "ga1_unrolled"} == steps  # no step built again
+    structure.TEMPLATES.clear()
+    from symcable.api import cable3d_static
+    cable3d_static._CACHE.clear()
+    ref = sc.simulate(_moving_mooring(8, 2.0), 20.0, dt=0.2, codegen=False)
+    a, b = (np.asarray(r.outputs["fair0.force"], float) for r in (got, ref))
+    np.testing.assert_allclose(a, b, rtol=0, atol=1e-9 * float(np.ptp(b)))

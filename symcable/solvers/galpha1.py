@@ -67,7 +67,7 @@ from ..mechanism.mechanism import Mechanism
 from .element_jacobian import element_jacobian, element_residual
 from .newton import best_start, best_start_residual
 from .options import GeneralizedAlphaFirstOrder, NewtonScheme
-from .stepcache import STEP_CACHE, maybe_compiled
+from .stepcache import STEP_CACHE, maybe_compiled, structure_owner
 
 __all__ = ["CHORD_ITERATIONS", "ELEMENT_MIN_STATES", "NEWTON_DAMPING", "SXLU_MAX_STATES",
            "SXLU_MAX_STATES_C", "coefficients", "galpha1_kernel", "galpha1_residual",
@@ -543,15 +543,17 @@ def galpha1_kernel(mech: Mechanism, opts: GeneralizedAlphaFirstOrder, *, lte: bo
         raise SymcableError(f"mechanism {mech.name!r} has {mech.n_z} constraints: "
                             "GeneralizedAlphaFirstOrder takes n_z = 0 only for now; use "
                             "GeneralizedAlpha()")
+    # (built from the expressions alone: kept for every scene of the structure)
+    owner = structure_owner(mech)
     if opts.newton is NewtonScheme.ROOTFINDER:
-        return STEP_CACHE.get(mech, ("ga1_rootfinder", opts.tol, opts.max_iter, lte),
-                              lambda: _rootfinder(mech, opts.tol, opts.max_iter, lte))
-    lu, by_elements = solver_choice(mech, codegen)
+        return STEP_CACHE.get(owner, ("ga1_rootfinder", opts.tol, opts.max_iter, lte),
+                              lambda: _rootfinder(owner, opts.tol, opts.max_iter, lte))
+    lu, by_elements = solver_choice(owner, codegen)
     key = ("ga1_unrolled", opts.max_iter, lte, lu)
-    vm = STEP_CACHE.get(mech, key, lambda: _unrolled(mech, opts.max_iter, lte, lu))
+    vm = STEP_CACHE.get(owner, key, lambda: _unrolled(owner, opts.max_iter, lte, lu))
     # sparse QR is C++ in the virtual machine already: C does not pay by default
     size = (lambda: math.inf) if not lu and not by_elements else None
-    return maybe_compiled(mech, key, vm, codegen, "the generalized-α step", size)
+    return maybe_compiled(owner, key, vm, codegen, "the generalized-α step", size)
 
 
 def galpha1_step(mech: Mechanism, opts: GeneralizedAlphaFirstOrder,

@@ -13,7 +13,7 @@ from typing import Callable
 from ..mechanism.attached import Attached
 from ..mechanism.codegen import compile_functions, graph_size, use_codegen
 
-__all__ = ["STEP_CACHE", "StepCache", "maybe_compiled"]
+__all__ = ["STEP_CACHE", "StepCache", "maybe_compiled", "structure_owner"]
 
 
 class StepCache:
@@ -41,6 +41,18 @@ class StepCache:
 
 #: the integrators' cache
 STEP_CACHE = StepCache()
+
+
+def structure_owner(mech):
+    """The Mechanism on which to keep what is built from ``mech``'s expressions alone: the
+    Mechanism whose expressions it shares (``mech.functions_of``, a scene of the same
+    structure: :mod:`symcable.models.structure`), so a scene with other numbers reuses the
+    step; ``mech`` itself where it has an element form (its constants, numbers of the scene,
+    enter the step built from it)."""
+    owner = getattr(mech, "functions_of", None)
+    if owner is None or getattr(mech, "elements", None) is not None:
+        return mech
+    return owner
 
 
 def maybe_compiled(mech, key: tuple, vm, codegen: bool | None, what: str, size=None):

@@ -245,3 +245,36 @@ def test_simulate_with_changed_numbers_reuses_the_step_and_equals_a_fresh_run():
     ref = sc.simulate(_moving_mooring(8, 2.0), 20.0, dt=0.2, codegen=False)
     a, b = (np.asarray(r.outputs["fair0.force"], float) for r in (got, ref))
     np.testing.assert_allclose(a, b, rtol=0, atol=1e-9 * float(np.ptp(b)))
+
+
+@pytest.mark.parametrize("segments", [12, 80])
+def test_a_single_line_in_time_shares_its_step_across_numbers(segments):
+    """One line with a moving fairlead, in time, then the same line 5 m longer and 5 % heavier:
+    the second run takes the first's step (its element form's constants are expressions of
+    the ``line`` parameters, so the step built from them holds for any numbers: at 80
+    segments the step's matrix comes from the element form, at 12 it is written out) and
+    equals a run built afresh to round-off (1e-9 of the tension range)."""
+    from symcable.api import cable3d_static
+    from symcable.solvers.stepcache import STEP_CACHE
+
+    def line(extra: float, heavier: float) -> dict:
+        d = _one_line()
+        d["sections"][0]["segments"] = segments
+        d["sections"][0]["length"] += extra
+        d["line_types"]["chain"]["mass"] *= heavier
+        d["end_b"]["motion"] = {"kind": "harmonic", "period": 10.0,
+                                "amplitude": [2.0, 0.0, 1.0], "phase_deg": [0.0, 0.0, -90.0]}
+        return d
+    structure.TEMPLATES.clear()
+    sc.simulate(line(0.0, 1.0), 12.0, dt=0.2, codegen=False)
+    template = structure.TEMPLATES[structure.structure_key(sc.load_scene(line(0.0, 1.0)))]
+    steps = {k for k in STEP_CACHE.store.setdefault(template, dict) if k[0] == "ga1_unrolled"}
+    assert steps
+    got = sc.simulate(line(5.0, 1.05), 12.0, dt=0.2, codegen=False)
+    assert {k for k in STEP_CACHE.store.setdefault(template, dict)
+            if k[0] == "ga1_unrolled"} == steps
+    structure.TEMPLATES.clear()
+    cable3d_static._CACHE.clear()
+    ref = sc.simulate(line(5.0, 1.05), 12.0, dt=0.2, codegen=False)
+    a, b = np.asarray(got.fairlead_tension, float), np.asarray(ref.fairlead_tension, float)
+    np.testing.assert_allclose(a, b, rtol=0, atol=1e-9 * float(np.ptp(b)))

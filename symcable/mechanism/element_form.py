@@ -55,6 +55,11 @@ class ElementForm:
         others may hold anything: zeros).
     force_rest : expression (n_v, 1) of ``(q, v, z, t, p)``
         The force the elements do not give (contact, bending, point loads), N.
+    parametric : expression (n_c, n_el) of ``p`` or None
+        The constants as the parameters give them (``constants`` are its values at the
+        Mechanism's parameters): what solvers build into Functions, so that scenes of one
+        structure with other numbers share them (:mod:`symcable.models.structure`); None:
+        ``constants`` are numbers of this Mechanism alone.
     """
 
     kernel: ca.Function
@@ -64,6 +69,7 @@ class ElementForm:
     node_index: np.ndarray
     held: object
     force_rest: object
+    parametric: object = None
 
     def __post_init__(self):
         conn = np.asarray(self.connectivity, dtype=int)
@@ -87,6 +93,13 @@ class ElementForm:
     @property
     def dim(self) -> int:
         return int(self.node_index.shape[1])
+
+    def constants_at(self, mech, p):
+        """The constants (n_c, n_el) at parameters ``p`` of ``mech`` (a symbol or values):
+        the parametric expression where there is one, else the numbers."""
+        if self.parametric is None:
+            return ca.DM(self.constants)
+        return ca.Function("element_constants", [mech.p], [ca.densify(self.parametric)])(p)
 
 
 def split_mismatch(mech, form: ElementForm, points: int = 2, seed: int = 0) -> float:
@@ -129,7 +142,7 @@ def split_residual(mech, form: ElementForm, q, v, a, t, p):
     X = node_values(mech, form, q, v, a, t, p)
     U = gather(form, X)
     s = ca.Function("shared", [mech.t, mech.p], [form.shared])(t, p)
-    R = form.kernel.map(form.connectivity.shape[0], "serial")(U, ca.DM(form.constants), s)
+    R = form.kernel.map(form.connectivity.shape[0], "serial")(U, form.constants_at(mech, p), s)
     rest = ca.Function("rest", list(mech.symbols), [form.force_rest])(
         q, v, ca.DM.zeros(mech.n_z), t, p)
     return ca.mtimes(ca.DM(scatter_matrix(form, mech.n_v)), ca.vec(R)) - rest

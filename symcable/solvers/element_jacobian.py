@@ -90,10 +90,11 @@ def element_jacobian(mech, rest_jac: ca.SX, rest_args: list, point: ca.Function)
     U = gather(form, node_values(mech, form, q, v, a, t, p))
     s = ca.Function("element_shared", [mech.t, mech.p], [form.shared])(t, p)
     prepare = ca.Function(f"{mech.fname}_element_inputs", rest_args,
-                          [U, s, cy, cm, rest_jac.nz[:]], {"cse": True})
+                          [U, s, cy, cm, rest_jac.nz[:], form.constants_at(mech, p)],
+                          {"cse": True})
     margs = [ca.MX.sym(f"a{n}", a.sparsity()) for n, a in enumerate(rest_args)]
-    U, s, cy, cm, jr = prepare(*margs)
-    B = block_kernel(form).map(n_el, "serial")(U, ca.DM(form.constants), s, cy, cm)
+    U, s, cy, cm, jr, C = prepare(*margs)
+    B = block_kernel(form).map(n_el, "serial")(U, C, s, cy, cm)
     by = sum_map(sp.nnz(), nz_el + nz_rest,
                  pos.tolist() + [B.numel() + i for i in range(len(nz_rest))])
     # the sources end with a 0 and a 1, for the gathers' padding and the band's padding
@@ -123,11 +124,11 @@ def element_residual(mech, rest_res: ca.SX, rest_args: list, point: ca.Function)
     q, v, a, t, p, _, _ = point(*rest_args)
     U = gather(form, node_values(mech, form, q, v, a, t, p))
     s = ca.Function("element_shared", [mech.t, mech.p], [form.shared])(t, p)
-    prepare = ca.Function(f"{mech.fname}_element_res_inputs", rest_args, [U, s, rest_res],
-                          {"cse": True})
+    prepare = ca.Function(f"{mech.fname}_element_res_inputs", rest_args,
+                          [U, s, rest_res, form.constants_at(mech, p)], {"cse": True})
     margs = [ca.MX.sym(f"a{n}", a_.sparsity()) for n, a_ in enumerate(rest_args)]
-    U, s, rr = prepare(*margs)
-    R = form.kernel.map(n_el, "serial")(U, ca.DM(form.constants), s)
+    U, s, rr, C = prepare(*margs)
+    R = form.kernel.map(n_el, "serial")(U, C, s)
     n_r = R.numel()
     r = summed(ca.vertcat(ca.vec(R), rr), ny, rows + list(range(ny)),
                pos + [n_r + j for j in range(ny)])

@@ -260,9 +260,11 @@ def run_fixed(stepper, x, t0, h, p, idx, scale, progress, label, tau, reanchor=N
                         break
                     continue
                 count -= m
-                if stepper.sec_per_step is None and m > 1:
-                    stepper.sec_per_step = elapsed / (S * m)
                 sec_per_step = sec_per_step or elapsed / (S * m)
+                # kept as this run sized its batches by it (not re-measured: on a loaded
+                # machine a later measurement sizes batches the first run never built)
+                if stepper.sec_per_step is None:
+                    stepper.sec_per_step = sec_per_step
                 bar.update(k)
             if failure is not None:
                 break

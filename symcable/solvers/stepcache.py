@@ -47,10 +47,11 @@ def structure_owner(mech):
     """The Mechanism on which to keep what is built from ``mech``'s expressions alone: the
     Mechanism whose expressions it shares (``mech.functions_of``, a scene of the same
     structure: :mod:`symcable.models.structure`), so a scene with other numbers reuses the
-    step; ``mech`` itself where it has an element form (its constants, numbers of the scene,
-    enter the step built from it)."""
+    step; ``mech`` itself where it has an element form whose constants are numbers of the
+    scene alone (not parameters: they enter the step built from it)."""
     owner = getattr(mech, "functions_of", None)
-    if owner is None or getattr(mech, "elements", None) is not None:
+    form = getattr(mech, "elements", None)
+    if owner is None or (form is not None and getattr(form, "parametric", None) is None):
         return mech
     return owner
 

@@ -60,7 +60,7 @@ from ...scene import EndCondition, Scene
 from ..common.bending import bending_nodes, bending_terms, linear_axial_law
 from ..common.drag import law_table
 from ..common.terms import fluid_term_names
-from .elements import FormNumbers, element_form, form_constants
+from .elements import CONSTANTS, FormNumbers, element_form, form_constants
 from ..common.starts import force_scale, starts_of
 from ..common.relax import _ramp_integral
 from ...mechanism.mechanism import (Bound, Layout, Mechanism, Output, ParamBlocks, PartLayout,
@@ -190,7 +190,7 @@ def build_cable3d(scene: Scene, part: str | None = None,
     if not env.current_profile and part is None:  # the elements' kernel as a loop (an
         # assembly's part has none: assemble drops it)
         form = _form(scene, seg, X, V, acc, moving, drag_law, BA, law, F, rho, current, load,
-                     width, force_rest)
+                     width, force_rest, L)
     outputs = _line_outputs(owner, Xm, Vm, T, e, contact, fr if rubs else None, end_force_a,
                             end_force_b)
     _add_energies(outputs, owner, L, e, width, load, Xm, sea, bending, v, mass)
@@ -417,7 +417,7 @@ def _mass(scene: Scene, L: dict, Xm, V: list, t, rho: float, moving: list):
 
 def _form(scene: Scene, seg: dict, X: list, V: list, acc: dict, moving: list,
           drag_law: dict | None, BA: np.ndarray, law: dict, F: float, rho: float, current, load,
-          width, force_rest):
+          width, force_rest, L: dict | None = None):
     """The elements' kernel as a loop (:func:`.elements.element_form`), the held ends'
     position, velocity and acceleration (9, N+1) fed in."""
     N = len(seg["ds"])
@@ -425,11 +425,22 @@ def _form(scene: Scene, seg: dict, X: list, V: list, acc: dict, moving: list,
     for i in (0, N):
         if i not in moving:
             held[:, i] = ca.vertcat(X[i], V[i], acc[i])
-    return element_form(
+    form = element_form(
         element_kernel(drag_law["shape"] if drag_law else None),
         _form_columns(scene, seg, BA, law, F, rho),
         drag_law["law"].T if drag_law else None, ca.vertcat(current, load, width),
         _node_index(N, moving), held, force_rest, scene.mass_matrix != "lumped")
+    if L is None or drag_law:  # (the loading functions' table is numbers of the scene)
+        return form
+    ones = ca.DM.ones(1, N)
+    half = form.constants[-2:]  # the mass weights on a node's own and its neighbour's
+    rows = dict(L0=L["ds"], EA=L["EA"], BA=L["BA"], EAs=L["EAs"], delta=L["delta"],
+                wall=L["F"] * ones, w=L["w"], d=L["d"], cdn=L["cdn"], cdt=L["cdt"],
+                rho=rho * ones, structural_half=0.5 * L["mass"] * L["ds"],
+                added_half=0.5 * rho * (math.pi / 4.0) * L["d"] * L["d"] * L["ds"],
+                ca_normal=L["can"], ca_tangential=L["cat"])
+    parametric = ca.vertcat(*[rows[k] for k in CONSTANTS[:-2]], ca.DM(half))
+    return dataclasses.replace(form, parametric=parametric)
 
 
 def _form_columns(scene: Scene, seg: dict, BA: np.ndarray, law: dict, F: float,

@@ -221,3 +221,4 @@ def test_first_answer_quick_writes_its_table(tmp_path):
     assert res["resolve_tension_diff_max"] < 2e-3
     assert res["resolve_cases"] == 3 and res["random_n"] == 2
     assert all(res[f"simulate_{k}_s"] > 0 for k in ("first", "second", "third"))
+    assert res["run_line_first_s"] > 0 and res["run_line_changed_s"] > 0

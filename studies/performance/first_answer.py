@@ -18,6 +18,10 @@ against a MoorDyn run? Every figure is a median of repeats taken side by side in
 4. **simulate, first, second and third call** on the seed-001 line (30 periods of 10 s,
    dt = T/100, generated C) in a fresh process whose build cache an earlier process filled,
    against MoorDyn's 30-period run (RK2 at its largest stable step, its set-up included).
+5. **Time runs with changed numbers**: one OC3 line (80 segments, 3D) and the mooring (3 x 40
+   segments) with a harmonic fairlead motion, 60 s at dt = 0.1 s in the virtual machine: the
+   first scene, then scenes of the same structure with the lines 3, 6 and 9 m longer (the
+   step reused from the first).
 
 Run ``python studies/performance/first_answer.py [--quick] [--out DIR]``; needs
 ``symcable[bench]``.
@@ -206,6 +210,42 @@ def simulate_calls(cache: str, repeats: int, codegen: bool | None = True) -> dic
     return out
 
 
+MOTION = {"kind": "harmonic", "period": 10.0, "amplitude": [2.0, 0.0, 1.0],
+          "phase_deg": [0.0, 0.0, -90.0]}
+
+
+def moving_line(extra: float) -> dict:
+    """One OC3 line, 80 segments, its fairlead moving; ``extra`` m longer."""
+    return {"model": "cable3d", "environment": {"gravity": G, "water_density": RHO, "depth": DEPTH},
+            "seabed": {"stiffness": 1e5}, "line_types": {"chain": dict(CHAIN)},
+            "sections": [{"type": "chain", "length": LENGTH + extra, "segments": 80}],
+            "end_a": {"condition": "pinned", "position": [-RADIUS, 0.0, -DEPTH]},
+            "end_b": {"condition": "pinned", "position": [-FAIR_R, 0.0, FAIR_Z], "motion": MOTION}}
+
+
+def moving_mooring(extra: float) -> dict:
+    """The mooring at 40 segments a line, fairlead 0 moving; its lines ``extra`` m longer."""
+    d = mooring(segments=40, length=LENGTH + extra)
+    d["points"]["fair0"].update(kind="vessel", motion=MOTION)
+    return d
+
+
+def changed_runs(scenes: dict) -> dict:
+    """Section 5: each scene maker's first run, then the median of three with other numbers."""
+    out = {}
+    for name, make in scenes.items():
+        t0 = time.perf_counter()
+        sc.simulate(make(0.0), 60.0, dt=0.1, codegen=False)
+        out[f"run_{name}_first_s"] = time.perf_counter() - t0
+        later = []
+        for extra in (3.0, 6.0, 9.0):
+            t0 = time.perf_counter()
+            sc.simulate(make(extra), 60.0, dt=0.1, codegen=False)
+            later.append(time.perf_counter() - t0)
+        out[f"run_{name}_changed_s"] = statistics.median(later)
+    return out
+
+
 def main(argv=None) -> dict:
     args = study_io.parse(__doc__, "fewer repeats and designs (a minute)",
                           HERE / "out_first_answer", argv)
@@ -224,6 +264,8 @@ def main(argv=None) -> dict:
         rows.update(simulate_calls(cache, 1 if quick else 5, None if quick else True))
     rows.update(changed_numbers(3 if quick else 30, 1 if quick else 3))
     rows.update(random_systems(2 if quick else 30))
+    rows.update(changed_runs({"line": moving_line} if quick
+                             else {"line": moving_line, "mooring": moving_mooring}))
     rows["second_over_third"] = rows["simulate_second_s"] / rows["simulate_third_s"]
     text = "\n".join([
         "| measurement | symcable | peer | ratio |", "|---|---|---|---|",
@@ -241,6 +283,9 @@ def main(argv=None) -> dict:
         f"{rows['simulate_first_s'] / rows['moordyn_s']:.2f} / "
         f"{rows['simulate_second_s'] / rows['moordyn_s']:.2f} / "
         f"{rows['simulate_third_s'] / rows['moordyn_s']:.2f} |",
+        *[f"| 60 s time run, {name}: first scene / later ones of other numbers | "
+          f"{rows[f'run_{name}_first_s']:.2f} / {rows[f'run_{name}_changed_s']:.2f} s | - | - |"
+          for name in ("line", "mooring") if f"run_{name}_first_s" in rows],
         "",
         f"Fairlead tensions against MoorPy's: largest difference "
         f"{rows['resolve_tension_diff_max']:.2e} (relative; 100 segments against its exact "

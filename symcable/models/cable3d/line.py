@@ -67,7 +67,7 @@ from ...mechanism.mechanism import (Bound, Layout, Mechanism, Output, ParamBlock
                                    Scales, StateNames)
 from ..common.seabed import (bristle_scale, friction_setup, lumped as _lumped, node_resolution,
                              profile_current, reaction_bound, reaction_drag, seabed_forces,
-                             seabed_numbers)
+                             seabed_numbers, seabed_term_names)
 from ..common.segments import (CABLE_COMPRESSION, FOLD_PUSH, SLACK_CONTINUATION, segment_table,
                               slack_law)
 from ..common.elements import DRAG_SPEED, element_kernel, held_end
@@ -232,15 +232,8 @@ def _term_names(scene: Scene, seg: dict, BA: np.ndarray, rho: float) -> list:
     if bending_nodes(scene, seg):
         names.append("bending")
     names += fluid_term_names(scene.sections, rho)
-    sb = scene.seabed
-    if sb is not None:
-        names.append("seabed")
-        if sb.damping > 0:
-            names.append("seabed damping")
-        if sb.mu_axial > 0 or sb.mu_lateral > 0:
-            names += ["seabed friction"] + (["friction bristles"] if sb.friction_law == "bristle"
-                                            else []) \
-                + (["static friction"] if sb.static_friction == "laid" else [])
+    if scene.seabed is not None:
+        names += seabed_term_names(scene.seabed, friction_setup(scene, seg)[2] is not None)
     if np.any(_applied_forces(scene, len(seg["ds"]))):
         names.append("end force")
     return names

@@ -44,6 +44,7 @@ CONTACT_SMOOTHING = 0.1
 
 __all__ = ["CONTACT_SMOOTHING", "SeabedTerms", "bristle_scale", "friction_setup", "joined_on",
            "lumped", "node_resolution", "profile_current", "reaction_bound", "reaction_drag", "seabed_damper", "seabed_forces",
+           "seabed_term_names",
            "seabed_numbers"]
 
 
@@ -147,8 +148,8 @@ def seabed_forces(scene: Scene, seg: dict, Xm, Vm, nodal, term_names: list, *, s
     penetration moves the answer from a rigid bed's (:mod:`symcable.api.bed_error`)."""
     sb, env = scene.seabed, scene.environment
     N = len(seg["ds"])
-    rubs, bristle = sb.mu_axial > 0 or sb.mu_lateral > 0, sb.friction_law == "bristle"
-    term_names.append("seabed")
+    rubs = sb.mu_axial > 0 or sb.mu_lateral > 0
+    term_names += seabed_term_names(sb, laid is not None)
     nums = seabed_numbers(scene, seg) if numbers is None else numbers
     area, weight = (_row(nums[k]) for k in ("area", "weight"))
     dlt, sink, probe = nums["width"], nums["sink"], nums["probe"]
@@ -159,11 +160,9 @@ def seabed_forces(scene: Scene, seg: dict, Xm, Vm, nodal, term_names: list, *, s
             ramp[i] = terms.smooth_ramp(pen[nb], dlt) * joined_on(pen[i], sink, dlt)
     contact = bed * sb.stiffness * area * ca.horzcat(*ramp)
     nodal = nodal + ca.vertcat(ca.SX.zeros(2, N + 1), contact)
-    nodal = nodal + seabed_damper(sb, Vm, pen, dlt, area, term_names)
+    nodal = nodal + seabed_damper(sb, Vm, pen, dlt, area)
     fr = None
     if rubs:
-        term_names += ["seabed friction"] + (["friction bristles"] if bristle else []) \
-            + (["static friction"] if laid is not None else [])
         fr = friction(sb, Xm, Vm, contact, area, weight, state, laid, gate)
         nodal = nodal + ca.vertcat(fr.force, ca.SX.zeros(1, N + 1))
     energy = bed * sb.stiffness * ca.dot(area, _ramp_integral(pen, dlt))
@@ -223,14 +222,23 @@ def reaction_bound(scene: Scene, seg: dict, contact, applied: np.ndarray, cdn: n
              "reaction less 1.01 times the most the uniform current's drag presses)")
 
 
-def seabed_damper(sb, Vm, pen, dlt, area, term_names):
+def seabed_term_names(sb, laid: bool) -> list:
+    """The terms :func:`seabed_forces` builds for seabed ``sb``, by name, in order (``laid``:
+    with the static spring of ``seabed.static_friction = "laid"``)."""
+    names = ["seabed"] + (["seabed damping"] if sb.damping > 0 else [])
+    if sb.mu_axial > 0 or sb.mu_lateral > 0:
+        names += ["seabed friction"] + (["friction bristles"] if sb.friction_law == "bristle"
+                                        else []) + (["static friction"] if laid else [])
+    return names
+
+
+def seabed_damper(sb, Vm, pen, dlt, area):
     """Nodal forces (3, N+1) of the seabed's normal damper, N: -damping b v_z times the
     contact's smooth on-off factor 0.5 (1 + g / sqrt(g^2 + delta^2)) (b = ``area``, the node's
     contact width x length, m^2; g the penetration, m); zero at rest, built only where the
     scene asks."""
     out = ca.SX.zeros(3, Vm.shape[1])
     if sb.damping > 0:
-        term_names.append("seabed damping")
         on = 0.5 * (1.0 + pen / ca.sqrt(pen * pen + dlt * dlt))
         out[2, :] = -sb.damping * _row(area) * Vm[2, :] * on
     return out

@@ -239,3 +239,14 @@ def test_schur_eliminates_two_by_two_blocks(pair, nb):
     assert sum(len(bl) for bl in lead_blocks(_nonzeros(C)[0], k + nb)) == k
     with pytest.raises(ValueError, match=r"is not \[\[P, 0\], \[X, Q\]\]"):
         SchurBandedLU(_nonzeros(C)[0], k + nb)
+
+
+def test_the_loops_graph_does_not_grow_with_the_unknowns():
+    """The factor loop is CasADi's nested mapaccum, whose graph grows with log n: one flat
+    loop of n / ROWS_PER_CALL calls is a graph of one node per two calls (3,001 nodes at 6,000
+    unknowns, 13 s and 2.4 GB to build where the nested one takes 0.05 s; measured 55 and 60
+    nodes nested at 600 and 6,000). At most 2x over 10x the unknowns."""
+    small, big = (BandedLU(ca.Sparsity.banded(n, 5)) for n in (600, 6000))
+    for name in ("_eliminate", "_forward", "_backward"):
+        a, b = getattr(small, name).n_nodes(), getattr(big, name).n_nodes()
+        assert b <= 2 * a, (name, a, b)

@@ -199,3 +199,34 @@ def test_cli_codegen_sources_compile_with_wall_and_run(tmp_path, capsys):
     st = sc.solve_static(scene, codegen=False)
     assert f"static: {st.stats['iterations']} Newton iterations" in run.stdout
     assert "dynamics: 100 steps done, t = 10 s" in run.stdout
+
+
+def test_graph_estimate_tracks_the_serialised_size_without_serialising():
+    # the estimate decides the default codegen of large steps; off by more than a fifth it
+    # would move the DEFAULT_MAX_SIZE crossover by more than a fifth of its segments
+    from symcable.api.cable3d_static import cable3d_mechanism
+    from symcable.mechanism.functions import functions
+    from conftest import two_point
+    d = two_point([0.0, 0.0, -50.0], [80.0, 0.0, 0.0], segments=20, depth=50.0,
+                  model="cable3d")
+    mech = cable3d_mechanism(sc.load_scene(d))
+    F = functions(mech)
+    for group in (F.static_solver(False).group(), [F.outputs]):
+        exact = codegen.graph_size(group)
+        assert 0.8 <= codegen.graph_estimate(group) / exact <= 1.2
+        # far below the limit: serialised as before; far above it: the estimate
+        assert codegen.graph_size(group, limit=10 * exact) == exact
+        assert codegen.graph_size(group, limit=exact / 10) == codegen.graph_estimate(group)
+
+
+def test_codegen_true_refuses_a_graph_too_large_to_compile(monkeypatch, tmp_path):
+    # a 2000-segment step asked for in C took the compiler past 20 GB: above
+    # MAX_COMPILE_SIZE the virtual machine runs it, with one warning, and nothing compiles
+    monkeypatch.setenv("SYMCABLE_CACHE_DIR", str(tmp_path))
+    monkeypatch.setattr(codegen, "MAX_COMPILE_SIZE", 1000)
+    before = dict(codegen.build_counts)
+    with pytest.warns(codegen.CodegenWarning, match="MAX_COMPILE_SIZE"):
+        sol = sc.solve_static(small_seed(12), codegen=True)
+    assert sol.status == "converged" and not sol.stats["compiled"]
+    assert codegen.build_counts["compiled"] == before["compiled"]
+    assert not list(tmp_path.glob("*.so"))

@@ -69,8 +69,9 @@ from ..errors import SymcableError
 from ..progress import notice
 
 __all__ = ["CodegenWarning", "FastCall", "cache_dir", "cache_info", "cached_only", "clear_cache",
-           "compile_functions", "compiler", "export_sources", "graph_size", "use_codegen",
-           "DEFAULT_MAX_SIZE", "FLAGS", "OPTIMISATION", "flags_for"]
+           "compile_functions", "compiler", "export_sources", "graph_estimate", "graph_size",
+           "use_codegen", "DEFAULT_MAX_SIZE", "FLAGS", "MAX_COMPILE_SIZE", "OPTIMISATION",
+           "flags_for"]
 
 #: compiler flags of cached libraries (part of the cache key). -O2: on the generated step
 #: and Newton functions it is within a few % of -O3 and compiles faster.
@@ -90,6 +91,13 @@ DEFAULT_MAX_SIZE = 5_000_000
 #: 10 DEFAULT_MAX_SIZE, where -O1 would take many minutes (compile and step times at each
 #: level: the performance study, in the docs).
 OPTIMISATION = ((DEFAULT_MAX_SIZE, "-O2"), (10 * DEFAULT_MAX_SIZE, "-O1"), (math.inf, "-O0"))
+#: largest graph (:func:`graph_estimate`) compiled even when asked (``codegen=True``): the C
+#: compiler's memory grows faster than the C's length, and beyond this it needs many GB and
+#: many minutes; such Functions run in the virtual machine with a :class:`CodegenWarning`
+MAX_COMPILE_SIZE = 20 * DEFAULT_MAX_SIZE
+#: characters of a serialised graph per SX instruction or MX node, about (85 to 98 on the
+#: statics, steps and outputs of cable3d lines): :func:`graph_estimate`'s factor
+CHARS_PER_NODE = 90
 _ENV_CACHE = "SYMCABLE_CACHE_DIR"
 _ENV_OPT = "SYMCABLE_CC_OPT"
 _OPT_LEVELS = ("-O0", "-O1", "-O2", "-O3", "-Os")
@@ -189,9 +197,31 @@ def _trusted_folder(stacklevel: int = 3) -> Path | None:
     return real
 
 
-def graph_size(functions: Sequence[ca.Function]) -> int:
+def graph_estimate(functions: Sequence[ca.Function]) -> int:
+    """About :func:`graph_size` without serialising (a large step's serialisation takes
+    seconds and its length in memory; this, milliseconds): :data:`CHARS_PER_NODE` times the
+    SX instructions and MX nodes of the Functions and of every Function they call, each
+    counted once (other kinds, such as maps and linear solvers, as one node)."""
+    seen = {}
+    for f in functions:
+        for g in (f, *f.find_functions()):
+            seen[hash(g)] = g
+    nodes = 0
+    for g in seen.values():
+        nodes += (g.n_instructions() if g.is_a("SXFunction") else
+                  g.n_nodes() if g.is_a("MXFunction") else 1)
+    return CHARS_PER_NODE * nodes
+
+
+def graph_size(functions: Sequence[ca.Function], limit: float | None = None) -> int:
     """Size of Functions' graphs, every Function they call included: the length of their
-    serialisation, characters (about proportional to the generated C)."""
+    serialisation, characters (about proportional to the generated C). With ``limit``, a
+    graph whose :func:`graph_estimate` exceeds twice the limit is not serialised: the
+    estimate is returned (far above the limit either way)."""
+    if limit is not None:
+        est = graph_estimate(functions)
+        if est > 2 * limit:
+            return est
     return sum(len(f.serialize()) for f in functions)
 
 
@@ -216,7 +246,8 @@ def use_codegen(codegen: bool | None, functions=None) -> bool:
         if compiler() is None:
             return False
         if functions is not None:
-            size = functions() if callable(functions) else graph_size(functions)
+            size = functions() if callable(functions) else graph_size(functions,
+                                                                      DEFAULT_MAX_SIZE)
             if size > DEFAULT_MAX_SIZE:
                 return False
         return _trusted_folder(stacklevel=4) is not None
@@ -438,6 +469,16 @@ def compile_functions(functions: Sequence[ca.Function], *, jacobians: bool = Fal
     funcs = list(functions)
     if jacobians:
         funcs = funcs + [f.jacobian() for f in funcs]
+    size = graph_estimate(funcs)
+    if size > MAX_COMPILE_SIZE:
+        last_build.update(key=None, action="vm", seconds=0.0)
+        build_counts["vm"] += 1
+        warnings.warn(f"{what}: about {size / 1e6:.0f} million characters of C "
+                      f"(MAX_COMPILE_SIZE: {MAX_COMPILE_SIZE / 1e6:.0f} million), which the C "
+                      "compiler would need many GB and minutes to compile; running it in the "
+                      "CasADi virtual machine instead (same results, slower)", CodegenWarning,
+                      stacklevel=3)
+        return {f.name(): f for f in functions}
     key, flags = _key(funcs, cc)
     with _lock:
         if key in _loaded:

@@ -228,7 +228,7 @@ def static_solver(F, codegen: bool | None = False) -> StaticSolver:
         c = store["c"] = StaticSolver(
             residual=lib["static_residual"], jacobian=vm.jacobian, step=lib["static_newton_step"],
             solve=lib["static_solve"], outputs=lib["static_outputs"], check=lib["static_check"],
-            compiled=True)
+            compiled=lib["static_solve"].is_a("External"))
     return c
 
 
@@ -239,5 +239,5 @@ def _size(F, store) -> float:
     if "size" not in store:
         vm = store["vm"]
         store["size"] = (math.inf if F.mech.n_q + F.mech.n_z > SXLU_MAX_UNKNOWNS else
-                         _codegen.graph_size(vm.group()))
+                         _codegen.graph_size(vm.group(), _codegen.DEFAULT_MAX_SIZE))
     return store["size"]

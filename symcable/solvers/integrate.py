@@ -16,7 +16,6 @@ from __future__ import annotations
 
 import math
 import time
-from collections import OrderedDict
 
 import casadi as ca
 import numpy as np
@@ -43,6 +42,10 @@ __all__ = ["BLOWUP", "ERROR_TARGET", "accurate_dt", "check_positive", "check_ste
 
 #: steps per mapaccum call of the adaptive run (bounds the compiled/generated graph)
 BATCH = 256
+#: samples per call of the mapped outputs: building CasADi's map of a long line's outputs
+#: grows with its instances (601 samples of a 2000-segment line: 1.8 s and 0.7 GB), while a
+#: chunk of them costs as much per sample to evaluate
+OUTPUT_CHUNK = 32
 #: a run whose error estimate (relative to the range of its motion) exceeds this warns
 ERROR_TARGET = 0.01
 #: safety factor on the step order 2 suggests for ERROR_TARGET (see :func:`accurate_dt`)
@@ -312,7 +315,7 @@ def integrate(mech: Mechanism, duration: float, dt: float | None = None, *, meth
     if ra is not None:  # each sample in the chart it was stepped in
         stats.update(ra.stats(), p_final=ra.p.tolist())
         P = ra.p_of(ks, p) if tol is None else ra.p_at_times(T, p)
-    outputs = F.unpack(_outputs_fn(mech, codegen, T.size)(q, v, z, T, P)[0].reshape(T.size, -1).T)
+    outputs = F.unpack(_outputs(mech, codegen, q, v, z, T, P).T)
     if mech.n_z:
         g = np.asarray(F.acc_residual.map(T.size)(q.T, v.T, np.zeros((nv, T.size)), z.T,
                                                    T[None, :], p)[1])
@@ -340,16 +343,24 @@ def substep_warning(label: str, stats: dict) -> str:
             "jerked taut) or an impact; its peak is resolved only as far as the steps around it")
 
 
-def _outputs_fn(mech, codegen, n_t) -> FastCall:
-    """The outputs mapped over n_t samples (the last few sample counts kept)."""
+def _outputs(mech, codegen, q, v, z, T, P) -> np.ndarray:
+    """The stacked outputs (:meth:`~symcable.mechanism.functions.MechanismFunctions.unpack`)
+    at every sample, (n_t, n_y): ``q``, ``v``, ``z`` (n_t, n) and ``T`` (n_t,) the samples,
+    ``P`` the parameters, (n_p,) or one row per sample. Evaluated OUTPUT_CHUNK samples per
+    call of one map kept per Mechanism, the last chunk padded with its last sample."""
     fn = maybe_compiled(mech, ("outputs",), functions(mech).outputs, codegen, "the outputs")
-    maps = STEP_CACHE.get(mech, ("output_maps",), OrderedDict)
-    key = (fn.name(), id(fn), n_t)
-    if key not in maps:
-        maps[key] = FastCall(fn.map(n_t))
-        if len(maps) > 16:
-            maps.popitem(last=False)
-    return maps[key]
+    n_t = T.size
+    k = max(1, min(OUTPUT_CHUNK, n_t))
+    call = STEP_CACHE.get(mech, ("output_map", fn.name(), id(fn), k),
+                          lambda: FastCall(fn.map(k)))
+    P = np.asarray(P, dtype=float)
+    out = np.empty((n_t, fn.nnz_out(0)))
+    for s in range(0, n_t, k):
+        e = min(s + k, n_t)
+        idx = np.minimum(np.arange(s, s + k), n_t - 1)
+        out[s:e] = call(q[idx], v[idx], z[idx], T[idx], P[idx] if P.ndim == 2 else P)[0] \
+            .reshape(k, -1)[:e - s]
+    return out
 
 
 def _message(failure, label, method, stats) -> str:

@@ -11,7 +11,7 @@ import itertools
 from typing import Callable
 
 from ..mechanism.attached import Attached
-from ..mechanism.codegen import compile_functions, graph_size, use_codegen
+from ..mechanism.codegen import DEFAULT_MAX_SIZE, compile_functions, graph_size, use_codegen
 
 __all__ = ["STEP_CACHE", "StepCache", "maybe_compiled", "structure_owner"]
 
@@ -64,7 +64,7 @@ def maybe_compiled(mech, key: tuple, vm, codegen: bool | None, what: str, size=N
     def judged():
         if size is not None:
             return size()
-        return STEP_CACHE.get(mech, ("graph_size",) + key, lambda: graph_size([vm]))
+        return STEP_CACHE.get(mech, ("graph_size",) + key, lambda: graph_size([vm], DEFAULT_MAX_SIZE))
     if not use_codegen(codegen, judged):
         return vm
     return STEP_CACHE.get(mech, ("compiled",) + key,

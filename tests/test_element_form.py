@@ -87,7 +87,7 @@ def test_step_residual_and_matrix_equal_the_written_out_ones(variant):
     x, t, h, p, st, _ = ga._symbols(mech, ca.SX)
     w = ca.SX.sym("w", ny)
     args = [w, x, t, h, p, st]
-    R, (sp, jac, _) = ga._element_parts(mech, args, ny)
+    R, (sp, jac, _) = ga._element_loops(mech, args, ny, False)
     r = ga._step_residual(ga._sx_residual(mech), w, x, t, h, p, st[0], ny)
     J = ga._jacobian(r, w)
     sx = ca.Function("sx", args, [r, J])
@@ -170,4 +170,36 @@ def test_the_compiled_step_equals_the_virtual_machine():
             [np.asarray(ca.DM(o)).ravel() for o in out] for out in outs)
         assert fail_vm[0] == fail_c[0] == 0 and it_vm[0] == it_c[0]
         assert np.max(np.abs(x_vm[:ny] - x_c[:ny]) / scale) < 1e-10
+        x = x_vm
+
+
+def test_a_step_too_large_to_compile_calls_its_kernels_in_c(monkeypatch):
+    """A step whose graph is too large to compile whole (here: DEFAULT_MAX_SIZE lowered
+    below the 40-segment line's) runs its loops in the virtual machine, calling the element
+    and banded LU kernels' generated C: the same iterations and states as the virtual
+    machine's step to 1e-10 of their scales (the same arithmetic in another order)."""
+    from symcable.mechanism import codegen
+    from symcable.solvers.galpha1 import galpha1_kernel, step_scales
+    monkeypatch.delenv("SYMCABLE_CODEGEN", raising=False)
+    if not codegen.use_codegen(True):
+        pytest.fail("no C compiler on this machine: CI installs one")
+    monkeypatch.setattr(codegen, "DEFAULT_MAX_SIZE", 1000)
+    mech = build_cable3d(load_scene(_scene(segments=40)))
+    opts = GeneralizedAlphaFirstOrder(tol=1e-8)
+    vm = galpha1_kernel(mech, opts, codegen=False)
+    mixed = galpha1_kernel(mech, opts, codegen=None)
+    assert not mixed.is_a("External") and mixed is not vm
+    called = {f.name(): f for f in mixed.find_functions()}
+    assert sum(f.is_a("External") for f in called.values()) >= 4  # 2 element, 3 band kernels
+    eq = solve_equilibrium(mech)
+    ny = mech.n_q + mech.n_v
+    x = np.concatenate([eq.q, np.zeros(mech.n_v), np.zeros(ny)])
+    consts = ([opts.rho_inf, opts.tol], step_scales(mech))
+    scale = np.concatenate([mech.scales.q, mech.scales.v])
+    for k in range(3):
+        (x_vm, _, _, it_vm, _), (x_k, _, _, it_k, _) = (
+            [np.asarray(ca.DM(o)).ravel() for o in f(x, 0.25 * k, 0.25, mech.params.values,
+                                                     *consts)] for f in (vm, mixed))
+        assert it_vm[0] == it_k[0]
+        assert np.max(np.abs(x_vm[:ny] - x_k[:ny]) / scale) < 1e-10
         x = x_vm

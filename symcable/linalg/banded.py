@@ -68,9 +68,12 @@ class BandedLU:
 
     Attributes: ``n``, ``perm`` (the order), ``l``, ``u``, ``n_factors`` (= n (l + u + 1)).
     Methods: ``factor(a) -> f`` (MX: ``a`` the matrix's nonzeros in CasADi's column-major
-    order), ``solve(f, b) -> x`` (MX, ``b`` an n-vector)."""
+    order), ``solve(f, b) -> x`` (MX, ``b`` an n-vector). ``kernels``: optional, a callable
+    that maps the list of the three row kernels (elimination, forward, backward
+    substitution) to the Functions the loops call instead (their generated C)."""
 
-    def __init__(self, sp: ca.Sparsity, name: str = "band", rows: int | None = None):
+    def __init__(self, sp: ca.Sparsity, name: str = "band", rows: int | None = None,
+                 kernels=None):
         self.n = n = sp.size1()
         self.perm = reverse_cuthill(sp)
         self.l, self.u = bandwidths(sp, self.perm)
@@ -97,10 +100,15 @@ class BandedLU:
         # CasADi's default nesting of the loop (a loop of loops): one flat loop of all the
         # calls ("base" = calls) took 13 s and 2.4 GB to build for 6,000 unknowns, against
         # 0.05 s and 0.1 GB nested, and was slower to call
-        opts = {}
-        self._eliminate = self._elimination_kernel(name).mapaccum(f"{name}_factor", self.calls, 1, opts)
-        self._forward = self._forward_kernel(name).mapaccum(f"{name}_forward", self.calls, 1, opts)
-        self._backward = self._backward_kernel(name).mapaccum(f"{name}_backward", self.calls, 1, opts)
+        # ``kernels``: a callable taking the three kernels and returning their replacements
+        # (the same Functions compiled: the loops stay in the caller's graph)
+        ks = [self._elimination_kernel(name), self._forward_kernel(name),
+              self._backward_kernel(name)]
+        if kernels is not None:
+            ks = list(kernels(ks))
+        self._eliminate = ks[0].mapaccum(f"{name}_factor", self.calls, 1, {})
+        self._forward = ks[1].mapaccum(f"{name}_forward", self.calls, 1, {})
+        self._backward = ks[2].mapaccum(f"{name}_backward", self.calls, 1, {})
 
     # kernels (SX, small: ``rows`` rows per call) ------------------------------------------
     def _elimination_kernel(self, name):

@@ -100,9 +100,10 @@ class SchurBandedLU:
     docstring). G = L^-1 B by blocks: G_P = P^-1 B_P, G_Q = Q^-1 (B_Q - X G_P).
 
     ``factor(a) -> f`` packs S's banded factors, P^-1 and Q^-1's blocks, and the nonzeros
-    of X, B and C; ``factor_sum`` the same from a source vector; ``solve(f, b) -> x``."""
+    of X, B and C; ``factor_sum`` the same from a source vector; ``solve(f, b) -> x``.
+    ``kernels``: as :class:`~symcable.linalg.banded.BandedLU`'s, for S's."""
 
-    def __init__(self, sp: ca.Sparsity, k: int, name: str = "band"):
+    def __init__(self, sp: ca.Sparsity, k: int, name: str = "band", kernels=None):
         self.k, self.n, self.sp = k, sp.size1(), sp
         if not 0 < k < self.n:
             raise ValueError(f"SchurBandedLU: the lead k = {k} must be in 1 .. n - 1 = "
@@ -135,7 +136,7 @@ class SchurBandedLU:
         n1 = len(self._ones)
         self.n_inv = n1 + 4 * len(self._twos)
         self._index(D)
-        self.lu = BandedLU(self._sp_S, name)
+        self.lu = BandedLU(self._sp_S, name, kernels=kernels)
         self.l, self.u = self.lu.l, self.lu.u
         self.n_factors = self.lu.n_factors + self.n_inv + len(self._X) + B.nnz() + C.nnz()
 

@@ -29,7 +29,8 @@ import numpy as np
 from ..linalg.gather import gather_sum, sum_map, summed
 from ..mechanism.element_form import ElementForm, gather, node_values
 
-__all__ = ["block_kernel", "element_jacobian", "element_residual"]
+__all__ = ["block_kernel", "element_jacobian", "element_residual", "jacobian_inputs",
+           "jacobian_loop", "residual_inputs", "residual_loop"]
 
 
 def block_kernel(form: ElementForm) -> ca.Function:
@@ -48,7 +49,8 @@ def block_kernel(form: ElementForm) -> ca.Function:
                        ["u", "c", "s", "c_y", "c_m"], ["B"], {"cse": True})
 
 
-def element_jacobian(mech, rest_jac: ca.SX, rest_args: list, point: ca.Function):
+def element_jacobian(mech, rest_jac: ca.SX, rest_args: list, point: ca.Function,
+                     block: ca.Function | None = None):
     """``(sparsity, jac, (blocks, by, zero, one))``: the step's iteration matrix (n_y x n_y,
     y = (q, v)) as a pattern and an MX Function ``jac(*rest_args) -> nonzeros`` in that
     pattern's order; and the same as its sources: ``blocks(*rest_args)``, the elements'
@@ -60,7 +62,17 @@ def element_jacobian(mech, rest_jac: ca.SX, rest_args: list, point: ca.Function)
     ``rest_jac``: the Jacobian (SX, in ``rest_args``) of the step residual of the Mechanism
     with its mass removed and its force replaced by the form's rest (kinematic rows and
     the rest's force rows); ``point``: ``(*rest_args) -> (q, v, a, t, p, c_y, c_m)``, the
-    alpha point of the step, its parameters and its two coefficients (module docstring)."""
+    alpha point of the step, its parameters and its two coefficients (module docstring);
+    ``block``: the element block kernel the loop calls (default :func:`block_kernel`; its
+    generated C, for instance). Built in two parts: :func:`jacobian_inputs` (the
+    straight-line SX, the costly part) and :func:`jacobian_loop`."""
+    return jacobian_loop(jacobian_inputs(mech, rest_jac, rest_args, point), block)
+
+
+def jacobian_inputs(mech, rest_jac: ca.SX, rest_args: list, point: ca.Function) -> dict:
+    """The SX part of :func:`element_jacobian`: the Function giving every element's inputs
+    and the rest's nonzeros, and the indices of the matrix's pattern (a dict, for
+    :func:`jacobian_loop`)."""
     form: ElementForm = mech.elements
     n_q, ny = mech.n_q, mech.n_q + mech.n_v
     dim, conn, idx = form.dim, form.connectivity, form.node_index
@@ -92,27 +104,45 @@ def element_jacobian(mech, rest_jac: ca.SX, rest_args: list, point: ca.Function)
     prepare = ca.Function(f"{mech.fname}_element_inputs", rest_args,
                           [U, s, cy, cm, rest_jac.nz[:], form.constants_at(mech, p)],
                           {"cse": True})
-    margs = [ca.MX.sym(f"a{n}", a.sparsity()) for n, a in enumerate(rest_args)]
-    U, s, cy, cm, jr, C = prepare(*margs)
-    B = block_kernel(form).map(n_el, "serial")(U, C, s, cy, cm)
+    return {"form": form, "name": mech.fname, "prepare": prepare, "sp": sp, "n_el": n_el,
+            "nz_el": nz_el, "nz_rest": nz_rest, "pos": pos,
+            "args": [a.sparsity() for a in rest_args]}
+
+
+def jacobian_loop(inputs: dict, block: ca.Function | None = None):
+    """:func:`element_jacobian`'s result from its :func:`jacobian_inputs`, the loop over
+    the elements calling ``block`` (default :func:`block_kernel` of the form)."""
+    block = block_kernel(inputs["form"]) if block is None else block
+    sp, nz_el, nz_rest, name = inputs["sp"], inputs["nz_el"], inputs["nz_rest"], inputs["name"]
+    margs = [ca.MX.sym(f"a{n}", a) for n, a in enumerate(inputs["args"])]
+    U, s, cy, cm, jr, C = inputs["prepare"](*margs)
+    B = block.map(inputs["n_el"], "serial")(U, C, s, cy, cm)
     by = sum_map(sp.nnz(), nz_el + nz_rest,
-                 pos.tolist() + [B.numel() + i for i in range(len(nz_rest))])
+                 inputs["pos"].tolist() + [B.numel() + i for i in range(len(nz_rest))])
     # the sources end with a 0 and a 1, for the gathers' padding and the band's padding
     # rows, so that no gather copies them to append its own
     n_src = int(B.numel()) + len(nz_rest)
-    blocks = ca.Function(f"{mech.fname}_element_blocks", margs,
+    blocks = ca.Function(f"{name}_element_blocks", margs,
                          [ca.vertcat(ca.vec(B), jr, ca.DM([0.0, 1.0]))])
-    jac = ca.Function(f"{mech.fname}_element_jacobian", margs,
+    jac = ca.Function(f"{name}_element_jacobian", margs,
                       [gather_sum(blocks(*margs), by, n_src)])
     return sp, jac, (blocks, by, n_src, n_src + 1)
 
 
-def element_residual(mech, rest_res: ca.SX, rest_args: list, point: ca.Function) -> ca.Function:
+def element_residual(mech, rest_res: ca.SX, rest_args: list, point: ca.Function,
+                     kernel: ca.Function | None = None) -> ca.Function:
     """An MX Function ``res(*rest_args) -> r`` (n_y,): the step residual, the elements'
     kernel evaluated by a loop over elements, scattered onto their nodes' momentum rows and
     added to ``rest_res`` (SX in ``rest_args``: the step residual of the Mechanism with its
     mass removed and its force replaced by the form's rest); ``point`` as for
-    :func:`element_jacobian`."""
+    :func:`element_jacobian`; ``kernel`` the element kernel the loop calls (default the
+    form's). In two parts, as :func:`element_jacobian`: :func:`residual_inputs` and
+    :func:`residual_loop`."""
+    return residual_loop(residual_inputs(mech, rest_res, rest_args, point), kernel)
+
+
+def residual_inputs(mech, rest_res: ca.SX, rest_args: list, point: ca.Function) -> dict:
+    """The SX part of :func:`element_residual` (a dict, for :func:`residual_loop`)."""
     form: ElementForm = mech.elements
     n_q, ny = mech.n_q, mech.n_q + mech.n_v
     dim, conn, idx = form.dim, form.connectivity, form.node_index
@@ -126,10 +156,19 @@ def element_residual(mech, rest_res: ca.SX, rest_args: list, point: ca.Function)
     s = ca.Function("element_shared", [mech.t, mech.p], [form.shared])(t, p)
     prepare = ca.Function(f"{mech.fname}_element_res_inputs", rest_args,
                           [U, s, rest_res, form.constants_at(mech, p)], {"cse": True})
-    margs = [ca.MX.sym(f"a{n}", a_.sparsity()) for n, a_ in enumerate(rest_args)]
-    U, s, rr, C = prepare(*margs)
-    R = form.kernel.map(n_el, "serial")(U, C, s)
+    return {"form": form, "name": mech.fname, "prepare": prepare, "n_el": n_el, "ny": ny,
+            "rows": rows, "pos": pos, "args": [a_.sparsity() for a_ in rest_args]}
+
+
+def residual_loop(inputs: dict, kernel: ca.Function | None = None) -> ca.Function:
+    """:func:`element_residual`'s Function from its :func:`residual_inputs`, the loop over
+    the elements calling ``kernel`` (default the form's)."""
+    kernel = inputs["form"].kernel if kernel is None else kernel
+    ny, rows, pos = inputs["ny"], inputs["rows"], inputs["pos"]
+    margs = [ca.MX.sym(f"a{n}", a_) for n, a_ in enumerate(inputs["args"])]
+    U, s, rr, C = inputs["prepare"](*margs)
+    R = kernel.map(inputs["n_el"], "serial")(U, C, s)
     n_r = R.numel()
     r = summed(ca.vertcat(ca.vec(R), rr), ny, rows + list(range(ny)),
                pos + [n_r + j for j in range(ny)])
-    return ca.Function(f"{mech.fname}_element_residual", margs, [r])
+    return ca.Function(f"{inputs['name']}_element_residual", margs, [r])

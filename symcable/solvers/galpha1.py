@@ -55,7 +55,7 @@ import warnings
 import casadi as ca
 import numpy as np
 
-from ..mechanism.codegen import use_codegen
+from ..mechanism.codegen import compile_functions, use_codegen
 from ..mechanism.functions import functions
 from ..errors import SymcableError
 from ..linalg.banded import BandedLU, bandwidths, reverse_cuthill
@@ -64,7 +64,8 @@ from ..linalg.sparse import jacobian as _jacobian, norm_inf, qr_solve, sparse_so
 from ..linalg.sxlu import block_lu, block_plan
 from ..mechanism.element_form import split_mismatch
 from ..mechanism.mechanism import Mechanism
-from .element_jacobian import element_jacobian, element_residual
+from .element_jacobian import (block_kernel, jacobian_inputs, jacobian_loop, residual_inputs,
+                               residual_loop)
 from .newton import best_start, best_start_residual
 from .options import GeneralizedAlphaFirstOrder, NewtonScheme
 from .stepcache import STEP_CACHE, maybe_compiled, structure_owner
@@ -211,7 +212,7 @@ def _fill_order(sp: ca.Sparsity) -> np.ndarray:
 
 
 def _linear_solver(J: ca.SX | None, args: list, cache: dict, lu: bool, n_lead: int = 0,
-                   given: tuple | None = None):
+                   given: tuple | None = None, kernels_c: bool = False):
     """``(factor, solve, n_factors, kind)`` for the iteration matrix ``J`` (SX in ``args``):
     ``factor(*args) -> f``, ``solve(f, b) -> J^-1 b`` (see the module docstring), ``kind``
     "block-lu", "banded" or "qr"; the block LU when ``lu`` and the pattern allows it, else
@@ -237,7 +238,7 @@ def _linear_solver(J: ca.SX | None, args: list, cache: dict, lu: bool, n_lead: i
             solve = ca.Function("ga1_solve", [f, b], [xp[np.argsort(perm).tolist()]], opts)
             return factor, solve, lu.n_factors, "block-lu"
     jac = ca.Function("ga1_jacobian", args, [J.nz[:]], opts) if given is None else given[1]
-    band = _banded(sp, n_lead, cache)
+    band = _banded(sp, n_lead, cache, kernels_c)
     if band is not None:
         margs = [ca.MX.sym(f"a{i}", a.sparsity()) for i, a in enumerate(args)]
         if given is None:
@@ -255,12 +256,13 @@ def _linear_solver(J: ca.SX | None, args: list, cache: dict, lu: bool, n_lead: i
 
 
 def _element_parts(mech: Mechanism, args: list, ny: int) -> tuple | None:
-    """``(residual, (pattern, jacobian, sources))`` of the step from the Mechanism's element
-    form (:mod:`symcable.solvers.element_jacobian`): the residual Function of ``args``, and
-    the iteration matrix's pattern, nonzeros Function and sources; or None where it has
-    none, is not SX, or its split does not reproduce its own residual (to SPLIT_TOLERANCE of
-    its force scale at two random states: a Mechanism rebuilt with another force that kept
-    its form)."""
+    """``(residual inputs, jacobian inputs)``: the straight-line SX parts of the step's
+    residual and iteration matrix from the Mechanism's element form
+    (:func:`~symcable.solvers.element_jacobian.residual_inputs`, :func:`~symcable.solvers.
+    element_jacobian.jacobian_inputs`; :func:`_element_loops` adds the loops); or None
+    where it has none, is not SX, or its split does not reproduce its own residual (to
+    SPLIT_TOLERANCE of its force scale at two random states: a Mechanism rebuilt with
+    another force that kept its form)."""
     form = getattr(mech, "elements", None)
     if form is None or not ELEMENT_MATRIX or not isinstance(mech.q, ca.SX) or mech.n_z:
         return None
@@ -277,19 +279,41 @@ def _element_parts(mech: Mechanism, args: list, ny: int) -> tuple | None:
     point = ca.Function("ga1_alpha_point", args, [ya[:nq], ya[nq:], yda[nq:], ta, p,
                                                   af * gamma * h, am])
     r = _step_residual(_sx_residual(rest), w, x, t, h, p, st[0], ny)
-    return (element_residual(mech, r, args, point),
-            element_jacobian(mech, _jacobian(r, w), args, point))
+    return residual_inputs(mech, r, args, point), jacobian_inputs(mech, _jacobian(r, w), args,
+                                                                  point)
 
 
-def _banded(sp: ca.Sparsity, n_lead: int, cache: dict):
+def _element_loops(mech: Mechanism, args: list, ny: int, kernels_c: bool) -> tuple | None:
+    """``(residual, (pattern, jacobian, sources))`` of :func:`_element_parts`, its SX part
+    kept on the Mechanism, the loops calling the element kernels (their generated C with
+    ``kernels_c``)."""
+    parts = STEP_CACHE.get(mech, ("element_parts",), lambda: _element_parts(mech, args, ny))
+    if parts is None:
+        return None
+    res_in, jac_in = parts
+    kernel, block = res_in["form"].kernel, block_kernel(res_in["form"])
+    if kernels_c:
+        kernel, block = _kernels_in_c([kernel, block], "the element kernels")
+    return residual_loop(res_in, kernel), jacobian_loop(jac_in, block)
+
+
+def _kernels_in_c(fns: list, what: str) -> list:
+    """The generated C of small kernel Functions (one library, cached), in their order."""
+    lib = compile_functions(fns, what=what)
+    return [lib[f.name()] for f in fns]
+
+
+def _banded(sp: ca.Sparsity, n_lead: int, cache: dict, kernels_c: bool = False):
     """The banded LU of the pattern ``sp``, or None when its band is wider than
     BANDED_MAX_WIDTH; kept in ``cache``. On the Schur complement of as many of its ``n_lead``
     leading rows as form 1 x 1 or 2 x 2 diagonal blocks (:func:`~symcable.linalg.schur.
     lead_blocks`: the kinematic rows, and a friction bristle's two coupled first-order
     states per node) where that elimination costs less than the whole matrix's
     (n (l + 1) (u + 1) of each: for a cable's nodes half the unknowns at half-band 5 against
-    all of them at 13, with friction bristles all at 14 or 15)."""
-    key = ("banded", n_lead, sp.size1(), sp.nnz())
+    all of them at 13, with friction bristles all at 14 or 15). ``kernels_c``: its loops
+    call their kernels' generated C."""
+    key = ("banded", n_lead, sp.size1(), sp.nnz(), kernels_c)
+    kernels = (lambda ks: _kernels_in_c(ks, "the banded LU's kernels")) if kernels_c else None
     if key not in cache:
         k = sum(len(b) for b in lead_blocks(sp, n_lead))
         l, u = bandwidths(sp, reverse_cuthill(sp))
@@ -297,13 +321,13 @@ def _banded(sp: ca.Sparsity, n_lead: int, cache: dict):
         plain = l + u + 1 <= BANDED_MAX_WIDTH
         solver = None
         if k > 0:
-            schur = SchurBandedLU(sp, k, "ga1")
+            schur = SchurBandedLU(sp, k, "ga1", kernels)
             cost = (n - k) * (schur.l + 1) * (schur.u + 1)
             if (schur.l + schur.u + 1 <= BANDED_MAX_WIDTH
                     and (not plain or cost < n * (l + 1) * (u + 1))):
                 solver = schur
         if solver is None and plain:
-            solver = BandedLU(sp, "ga1")
+            solver = BandedLU(sp, "ga1", kernels=kernels)
         cache[key] = solver
     return cache[key]
 
@@ -395,18 +419,19 @@ def solver_choice(mech: Mechanism, codegen: bool | None) -> tuple[bool, bool]:
     return (ny <= SXLU_MAX_STATES or explicit_c) and not by_elements, by_elements
 
 
-def step_parts(mech: Mechanism, lu: bool) -> tuple:
+def step_parts(mech: Mechanism, lu: bool, kernels_c: bool = False) -> tuple:
     """``(residual, factor, solve, n_factors, kind, jacobian)``: the parts of one Newton
     iteration of the unrolled step as :func:`_unrolled` builds them, Functions of (w, x, t,
     h, p, settings) but ``solve(f, b)`` (:func:`_linear_solver`); from the element form
     where the Mechanism has one (and ``lu`` is off), else written out in SX. ``kind``:
-    "block-lu", "banded" or "qr"; ``jacobian``: the matrix's nonzeros alone."""
+    "block-lu", "banded" or "qr"; ``jacobian``: the matrix's nonzeros alone. ``kernels_c``:
+    the element and banded LU loops call their kernels' generated C."""
     ny = mech.n_q + mech.n_v
     x, t, h, p, st, _ = _symbols(mech, ca.SX)
     w = ca.SX.sym("w", ny)
     args = [w, x, t, h, p, st]
     cache = STEP_CACHE.get(mech, ("block_lu",), dict)
-    elements = None if lu else _element_parts(mech, args, ny)
+    elements = None if lu else _element_loops(mech, args, ny, kernels_c)
     if elements is None:
         r = _step_residual(_sx_residual(mech), w, x, t, h, p, st[0], ny)
         opts = {"cse": ny <= CSE_MAX_STATES}
@@ -416,16 +441,18 @@ def step_parts(mech: Mechanism, lu: bool) -> tuple:
         jac = factor if kind == "qr" else ca.Function("ga1_jacobian", args, [J.nz[:]], opts)
     else:
         R, given = elements
-        factor, solve, n_f, kind = _linear_solver(None, args, cache, lu, mech.n_q, given)
+        factor, solve, n_f, kind = _linear_solver(None, args, cache, lu, mech.n_q, given,
+                                                  kernels_c)
         jac = given[1]
     return R, factor, solve, n_f, kind, jac
 
 
-def _unrolled(mech: Mechanism, max_iter: int, with_lte: bool, lu: bool) -> ca.Function:
+def _unrolled(mech: Mechanism, max_iter: int, with_lte: bool, lu: bool,
+              kernels_c: bool = False) -> ca.Function:
     """The kernel of the unrolled Newton loop (see :func:`galpha1_kernel`)."""
     ny = mech.n_q + mech.n_v
     name = f"{mech.fname}_ga1"
-    R, factor, solve, n_f, _, _ = step_parts(mech, lu)
+    R, factor, solve, n_f, _, _ = step_parts(mech, lu, kernels_c)
 
     # the loop's state: z (y'1), rz = F(z) and res its scaled norm (evaluated where the loop
     # goes on, zero where it stops), done, it (linear solves), measure, f (the factors), the
@@ -553,7 +580,13 @@ def galpha1_kernel(mech: Mechanism, opts: GeneralizedAlphaFirstOrder, *, lte: bo
     vm = STEP_CACHE.get(owner, key, lambda: _unrolled(owner, opts.max_iter, lte, lu))
     # sparse QR is C++ in the virtual machine already: C does not pay by default
     size = (lambda: math.inf) if not lu and not by_elements else None
-    return maybe_compiled(owner, key, vm, codegen, "the generalized-α step", size)
+    step = maybe_compiled(owner, key, vm, codegen, "the generalized-α step", size)
+    if step is vm and by_elements and codegen is not False and use_codegen(codegen, []):
+        # too large to compile whole (a long line): its loops stay in the virtual machine
+        # and call their kernels' generated C, small and compiled in about a second
+        step = STEP_CACHE.get(owner, key + ("kernels_c",),
+                              lambda: _unrolled(owner, opts.max_iter, lte, lu, True))
+    return step
 
 
 def galpha1_step(mech: Mechanism, opts: GeneralizedAlphaFirstOrder,

@@ -283,12 +283,21 @@ def run_fixed(stepper, x, t0, h, p, idx, scale, progress, label, tau, reanchor=N
 def _saved_samples(saved_k: list, saved_x: list, wanted, failed: bool, x: np.ndarray, k: int,
                    keep_cols: slice, reanchor) -> tuple[np.ndarray, np.ndarray]:
     """(ks (n,), Xs (n, n_keep)): the saved steps (``saved_k``, ``saved_x``: lists of
-    arrays) that were asked for (``wanted``) and, after a failure, the last good state
-    ``x`` at step ``k`` (in its chart), saved or not."""
+    arrays, ``saved_x`` emptied) that were asked for (``wanted``) and, after a failure, the
+    last good state ``x`` at step ``k`` (in its chart), saved or not."""
     ks = np.concatenate(saved_k) if saved_k else np.zeros(0, int)
-    Xs = np.concatenate(saved_x) if saved_x else np.zeros((0, x[keep_cols].size))
     chosen = np.isin(ks, wanted)
-    ks, Xs = ks[chosen], Xs[chosen]
+    # filled piece by piece, each batch's array let go once copied: a long line's samples
+    # are 100 MB, and concatenating then choosing held three copies at once
+    Xs = np.empty((int(np.count_nonzero(chosen)), x[keep_cols].size))
+    row = start = 0
+    for i, piece in enumerate(saved_x):
+        c = chosen[start:start + len(piece)]
+        n = int(np.count_nonzero(c))
+        Xs[row:row + n] = piece[c]
+        row, start = row + n, start + len(piece)
+        saved_x[i] = None
+    ks = ks[chosen]
     if failed and (not ks.size or ks[-1] != k):
         last = x if reanchor is None else reanchor.state_at(k, x)
         ks, Xs = np.append(ks, k), np.vstack([Xs, last[None, keep_cols]])

@@ -150,7 +150,7 @@ def test_the_compiled_step_equals_the_virtual_machine():
     same iterations and states to 1e-10 of their scales (round-off through Newton's
     iterations; the same graph evaluated in another order)."""
     from symcable.mechanism.codegen import use_codegen
-    from symcable.solvers.galpha1 import galpha1_kernel, step_scales
+    from symcable.solvers.galpha1 import galpha1_kernel
     if not use_codegen(True):
         pytest.fail("no C compiler on this machine: CI installs one")
     mech = build_cable3d(load_scene(_scene(segments=40)))
@@ -159,17 +159,24 @@ def test_the_compiled_step_equals_the_virtual_machine():
     vm = galpha1_kernel(mech, opts, codegen=False)
     c = galpha1_kernel(mech, opts, codegen=True)
     assert c.is_a("External") and not vm.is_a("External")
+    _same_steps(mech, opts, vm, c)
+
+
+def _same_steps(mech, opts, vm, other):
+    """Three steps of 0.25 s from the static state by the step Functions ``vm`` and
+    ``other``: no failure, the same iterations, states equal to 1e-10 of their scales."""
+    from symcable.solvers.galpha1 import step_scales
     eq = solve_equilibrium(mech)
     ny = mech.n_q + mech.n_v
     x = np.concatenate([eq.q, np.zeros(mech.n_v), np.zeros(ny)])
     consts = ([opts.rho_inf, opts.tol], step_scales(mech))
     scale = np.concatenate([mech.scales.q, mech.scales.v])
     for k in range(3):
-        outs = [f(x, 0.25 * k, 0.25, mech.params.values, *consts) for f in (vm, c)]
-        (x_vm, _, _, it_vm, fail_vm), (x_c, _, _, it_c, fail_c) = (
+        outs = [f(x, 0.25 * k, 0.25, mech.params.values, *consts) for f in (vm, other)]
+        (x_vm, _, _, it_vm, fail_vm), (x_o, _, _, it_o, fail_o) = (
             [np.asarray(ca.DM(o)).ravel() for o in out] for out in outs)
-        assert fail_vm[0] == fail_c[0] == 0 and it_vm[0] == it_c[0]
-        assert np.max(np.abs(x_vm[:ny] - x_c[:ny]) / scale) < 1e-10
+        assert fail_vm[0] == fail_o[0] == 0 and it_vm[0] == it_o[0]
+        assert np.max(np.abs(x_vm[:ny] - x_o[:ny]) / scale) < 1e-10
         x = x_vm
 
 
@@ -179,7 +186,7 @@ def test_a_step_too_large_to_compile_calls_its_kernels_in_c(monkeypatch):
     and banded LU kernels' generated C: the same iterations and states as the virtual
     machine's step to 1e-10 of their scales (the same arithmetic in another order)."""
     from symcable.mechanism import codegen
-    from symcable.solvers.galpha1 import galpha1_kernel, step_scales
+    from symcable.solvers.galpha1 import galpha1_kernel
     monkeypatch.delenv("SYMCABLE_CODEGEN", raising=False)
     if not codegen.use_codegen(True):
         pytest.fail("no C compiler on this machine: CI installs one")
@@ -191,15 +198,4 @@ def test_a_step_too_large_to_compile_calls_its_kernels_in_c(monkeypatch):
     assert not mixed.is_a("External") and mixed is not vm
     called = {f.name(): f for f in mixed.find_functions()}
     assert sum(f.is_a("External") for f in called.values()) >= 4  # 2 element, 3 band kernels
-    eq = solve_equilibrium(mech)
-    ny = mech.n_q + mech.n_v
-    x = np.concatenate([eq.q, np.zeros(mech.n_v), np.zeros(ny)])
-    consts = ([opts.rho_inf, opts.tol], step_scales(mech))
-    scale = np.concatenate([mech.scales.q, mech.scales.v])
-    for k in range(3):
-        (x_vm, _, _, it_vm, _), (x_k, _, _, it_k, _) = (
-            [np.asarray(ca.DM(o)).ravel() for o in f(x, 0.25 * k, 0.25, mech.params.values,
-                                                     *consts)] for f in (vm, mixed))
-        assert it_vm[0] == it_k[0]
-        assert np.max(np.abs(x_vm[:ny] - x_k[:ny]) / scale) < 1e-10
-        x = x_vm
+    _same_steps(mech, opts, vm, mixed)

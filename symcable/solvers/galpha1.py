@@ -55,13 +55,10 @@ import warnings
 import casadi as ca
 import numpy as np
 
-from ..mechanism.codegen import compile_functions, use_codegen
+from ..mechanism.codegen import use_codegen
 from ..mechanism.functions import functions
 from ..errors import SymcableError
-from ..linalg.banded import BandedLU, bandwidths, reverse_cuthill
-from ..linalg.schur import SchurBandedLU, lead_blocks
-from ..linalg.sparse import jacobian as _jacobian, norm_inf, qr_solve, sparse_solve
-from ..linalg.sxlu import block_lu, block_plan
+from ..linalg.sparse import jacobian as _jacobian, norm_inf, qr_solve
 from ..mechanism.element_form import split_mismatch
 from ..mechanism.mechanism import Mechanism
 from .element_jacobian import (block_kernel, jacobian_inputs, jacobian_loop, residual_inputs,
@@ -69,6 +66,8 @@ from .element_jacobian import (block_kernel, jacobian_inputs, jacobian_loop, res
 from .newton import best_start, best_start_residual
 from .options import GeneralizedAlphaFirstOrder, NewtonScheme
 from .stepcache import STEP_CACHE, maybe_compiled, structure_owner
+from .step_solver import (BANDED_MAX_WIDTH, CSE_MAX_STATES, LINSOL, kernels_in_c,  # noqa: F401
+                          linear_solver, linear_solver as _linear_solver)
 
 __all__ = ["CHORD_ITERATIONS", "ELEMENT_MIN_STATES", "NEWTON_DAMPING", "SXLU_MAX_STATES",
            "SXLU_MAX_STATES_C", "coefficients", "galpha1_kernel", "galpha1_residual",
@@ -98,15 +97,6 @@ SXLU_MAX_STATES = 400
 #: C takes minutes to compile there, which the default does not impose (the performance
 #: study, in the docs)
 SXLU_MAX_STATES_C = 1000
-#: largest state whose SX Functions (residual, iteration matrix) are built with common
-#: subexpressions eliminated: fewer instructions and a faster step in the virtual machine,
-#: but CasADi's elimination grows faster than the graph (seconds at thousands of states)
-CSE_MAX_STATES = SXLU_MAX_STATES_C
-#: widest band (l + u + 1, in reverse Cuthill-McKee order) that the banded LU takes above
-#: SXLU_MAX_STATES; wider patterns go to sparse QR. On a long chain (a narrow band on the
-#: Schur complement) a step costs less than with the sparse QR, which refactorises at
-#: every solve
-BANDED_MAX_WIDTH = 40
 #: largest difference (relative to the force scale) between a Mechanism's residual and its
 #: element form's (:func:`~symcable.mechanism.element_form.split_mismatch`) for the step to take
 #: its matrix from the form: far above the round-off between the two
@@ -119,8 +109,6 @@ ELEMENT_MATRIX = True
 #: written out with the block LU: compiled, the loop is slower on short lines and faster
 #: from a few hundred states on (the performance study's step profile, in the docs)
 ELEMENT_MIN_STATES = 200
-#: the sparse linear solver above SXLU_MAX_STATES (CasADi's QR generates C; CSparse's LU does not)
-LINSOL = "qr"
 
 
 def coefficients(rho):
@@ -205,56 +193,6 @@ def galpha1_residual(mech: Mechanism) -> ca.Function:
     return STEP_CACHE.get(mech, ("ga1_residual",), build)
 
 
-def _fill_order(sp: ca.Sparsity) -> np.ndarray:
-    """A fill-reducing symmetric order of a square pattern: approximate minimum degree of
-    the pattern plus its transpose (CSparse's AMD; dense rows go last)."""
-    return np.asarray((sp + sp.T).amd(), dtype=int)
-
-
-def _linear_solver(J: ca.SX | None, args: list, cache: dict, lu: bool, n_lead: int = 0,
-                   given: tuple | None = None, kernels_c: bool = False):
-    """``(factor, solve, n_factors, kind)`` for the iteration matrix ``J`` (SX in ``args``):
-    ``factor(*args) -> f``, ``solve(f, b) -> J^-1 b`` (see the module docstring), ``kind``
-    "block-lu", "banded" or "qr"; the block LU when ``lu`` and the pattern allows it, else
-    the banded LU (Schur on the 1 x 1 and 2 x 2 blocks that lead the ``n_lead`` kinematic
-    rows: :func:`_banded`) when the band is narrow enough, else sparse QR. ``given``: instead of
-    ``J``, its pattern, a Function of ``args`` giving its nonzeros, and the same as sources
-    and a sum map (:func:`~symcable.solvers.element_jacobian.element_jacobian`), which the
-    banded LU gathers straight into its band
-    (:meth:`~symcable.linalg.banded.BandedLU.factor_sum`)."""
-    sp = J.sparsity() if given is None else given[0]
-    n = sp.size1()
-    opts = {"cse": n <= CSE_MAX_STATES}
-    if lu and given is None:
-        perm = _fill_order(sp)
-        Jp = J[perm.tolist(), perm.tolist()]
-        spp = Jp.sparsity()
-        plan = (1, None) if spp.nnz_diag() == n else block_plan(spp)
-        if plan is not None:
-            lu = block_lu(spp, *plan, cache=cache)
-            factor = ca.Function("ga1_factor", args, [lu.factor(Jp.nz[:])], opts)
-            f, b = ca.SX.sym("f", lu.n_factors), ca.SX.sym("b", n)
-            xp = lu.apply(f, b[perm.tolist()])
-            solve = ca.Function("ga1_solve", [f, b], [xp[np.argsort(perm).tolist()]], opts)
-            return factor, solve, lu.n_factors, "block-lu"
-    jac = ca.Function("ga1_jacobian", args, [J.nz[:]], opts) if given is None else given[1]
-    band = _banded(sp, n_lead, cache, kernels_c)
-    if band is not None:
-        margs = [ca.MX.sym(f"a{i}", a.sparsity()) for i, a in enumerate(args)]
-        if given is None:
-            f_band = band.factor(jac(*margs))
-        else:
-            blocks, by, zero, one = given[2]
-            f_band = band.factor_sum(blocks(*margs), by, zero, one)
-        factor = ca.Function("ga1_band_factor", margs, [f_band])
-        f, b = ca.MX.sym("f", band.n_factors), ca.MX.sym("b", n)
-        return factor, ca.Function("ga1_band_solve", [f, b], [band.solve(f, b)]), \
-            band.n_factors, "banded"
-    f, b = ca.MX.sym("f", sp.nnz()), ca.MX.sym("b", n)
-    solve = ca.Function("ga1_qr_solve", [f, b], [sparse_solve(ca.MX(sp, f), b, LINSOL)])
-    return jac, solve, sp.nnz(), "qr"
-
-
 def _element_parts(mech: Mechanism, args: list, ny: int) -> tuple | None:
     """``(residual inputs, jacobian inputs)``: the straight-line SX parts of the step's
     residual and iteration matrix from the Mechanism's element form
@@ -293,43 +231,8 @@ def _element_loops(mech: Mechanism, args: list, ny: int, kernels_c: bool) -> tup
     res_in, jac_in = parts
     kernel, block = res_in["form"].kernel, block_kernel(res_in["form"])
     if kernels_c:
-        kernel, block = _kernels_in_c([kernel, block], "the element kernels")
+        kernel, block = kernels_in_c([kernel, block], "the element kernels")
     return residual_loop(res_in, kernel), jacobian_loop(jac_in, block)
-
-
-def _kernels_in_c(fns: list, what: str) -> list:
-    """The generated C of small kernel Functions (one library, cached), in their order."""
-    lib = compile_functions(fns, what=what)
-    return [lib[f.name()] for f in fns]
-
-
-def _banded(sp: ca.Sparsity, n_lead: int, cache: dict, kernels_c: bool = False):
-    """The banded LU of the pattern ``sp``, or None when its band is wider than
-    BANDED_MAX_WIDTH; kept in ``cache``. On the Schur complement of as many of its ``n_lead``
-    leading rows as form 1 x 1 or 2 x 2 diagonal blocks (:func:`~symcable.linalg.schur.
-    lead_blocks`: the kinematic rows, and a friction bristle's two coupled first-order
-    states per node) where that elimination costs less than the whole matrix's
-    (n (l + 1) (u + 1) of each: for a cable's nodes half the unknowns at half-band 5 against
-    all of them at 13, with friction bristles all at 14 or 15). ``kernels_c``: its loops
-    call their kernels' generated C."""
-    key = ("banded", n_lead, sp.size1(), sp.nnz(), kernels_c)
-    kernels = (lambda ks: _kernels_in_c(ks, "the banded LU's kernels")) if kernels_c else None
-    if key not in cache:
-        k = sum(len(b) for b in lead_blocks(sp, n_lead))
-        l, u = bandwidths(sp, reverse_cuthill(sp))
-        n = sp.size1()
-        plain = l + u + 1 <= BANDED_MAX_WIDTH
-        solver = None
-        if k > 0:
-            schur = SchurBandedLU(sp, k, "ga1", kernels)
-            cost = (n - k) * (schur.l + 1) * (schur.u + 1)
-            if (schur.l + schur.u + 1 <= BANDED_MAX_WIDTH
-                    and (not plain or cost < n * (l + 1) * (u + 1))):
-                solver = schur
-        if solver is None and plain:
-            solver = BandedLU(sp, "ga1", kernels=kernels)
-        cache[key] = solver
-    return cache[key]
 
 
 def _taylor_jet(mech: Mechanism) -> ca.Function:
@@ -422,10 +325,11 @@ def solver_choice(mech: Mechanism, codegen: bool | None) -> tuple[bool, bool]:
 def step_parts(mech: Mechanism, lu: bool, kernels_c: bool = False) -> tuple:
     """``(residual, factor, solve, n_factors, kind, jacobian)``: the parts of one Newton
     iteration of the unrolled step as :func:`_unrolled` builds them, Functions of (w, x, t,
-    h, p, settings) but ``solve(f, b)`` (:func:`_linear_solver`); from the element form
-    where the Mechanism has one (and ``lu`` is off), else written out in SX. ``kind``:
-    "block-lu", "banded" or "qr"; ``jacobian``: the matrix's nonzeros alone. ``kernels_c``:
-    the element and banded LU loops call their kernels' generated C."""
+    h, p, settings) but ``solve(f, b)`` (:func:`~symcable.solvers.step_solver.
+    linear_solver`); from the element form where the Mechanism has one (and ``lu`` is
+    off), else written out in SX. ``kind``: "block-lu", "banded" or "qr"; ``jacobian``:
+    the matrix's nonzeros alone. ``kernels_c``: the element and banded LU loops call their
+    kernels' generated C."""
     ny = mech.n_q + mech.n_v
     x, t, h, p, st, _ = _symbols(mech, ca.SX)
     w = ca.SX.sym("w", ny)
@@ -437,11 +341,11 @@ def step_parts(mech: Mechanism, lu: bool, kernels_c: bool = False) -> tuple:
         opts = {"cse": ny <= CSE_MAX_STATES}
         R = ca.Function(f"{mech.fname}_ga1_res", args, [r], opts)
         J = _jacobian(r, w)
-        factor, solve, n_f, kind = _linear_solver(J, args, cache, lu, mech.n_q)
+        factor, solve, n_f, kind = linear_solver(J, args, cache, lu, mech.n_q)
         jac = factor if kind == "qr" else ca.Function("ga1_jacobian", args, [J.nz[:]], opts)
     else:
         R, given = elements
-        factor, solve, n_f, kind = _linear_solver(None, args, cache, lu, mech.n_q, given,
+        factor, solve, n_f, kind = linear_solver(None, args, cache, lu, mech.n_q, given,
                                                   kernels_c)
         jac = given[1]
     return R, factor, solve, n_f, kind, jac

@@ -278,3 +278,23 @@ def test_a_single_line_in_time_shares_its_step_across_numbers(segments):
     ref = sc.simulate(line(5.0, 1.05), 12.0, dt=0.2, codegen=False)
     a, b = np.asarray(got.fairlead_tension, float), np.asarray(ref.fairlead_tension, float)
     np.testing.assert_allclose(a, b, rtol=0, atol=1e-9 * float(np.ptp(b)))
+
+
+def test_a_long_lines_estimate_scenes_are_not_kept(monkeypatch):
+    """The error estimate's comparison scene (half the segments) of a line longer than
+    RELEASE_SEGMENTS is forgotten after its solve (a 2000-segment line's held 0.1 GB), the
+    solved scene's own Mechanism kept; below the bound the comparison is kept, so that a
+    re-solve with changed numbers reuses it (the design-loop case)."""
+    from symcable.api import cable3d_static as cs
+    from symcable.api.static_error import _other
+    scene = sc.load_scene(_three_lines(12))
+    coarse, _ = _other(scene)  # the estimate's comparison scene
+    for bound, kept in ((1000, True), (10, False)):
+        monkeypatch.setattr(cs, "RELEASE_SEGMENTS", bound)
+        cs._CACHE.clear()
+        structure.TEMPLATES.clear()
+        sol = sc.solve_static(scene)
+        assert sol.stats["discretisation_error"]["max_relative"] is not None
+        assert repr(scene.to_dict()) in cs._CACHE
+        assert (repr(coarse.to_dict()) in cs._CACHE) is kept
+        assert (structure.structure_key(coarse) in structure.TEMPLATES) is kept

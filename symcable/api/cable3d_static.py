@@ -34,6 +34,8 @@ START_MODES = ("steady", "rest")
 RTOL = 1e-9
 _CACHE: "OrderedDict[str, Mechanism]" = OrderedDict()
 _CACHE_SIZE = 16
+#: segments above which an error estimate's one-off scene is not kept (:func:`release`)
+RELEASE_SEGMENTS = 500
 
 
 def cached_mechanism(scene: Scene, build=build_mechanism) -> Mechanism:
@@ -48,6 +50,22 @@ def cached_mechanism(scene: Scene, build=build_mechanism) -> Mechanism:
     else:
         _CACHE.move_to_end(key)
     return mech
+
+
+def release(scene: Scene) -> None:
+    """Forget the cached Mechanism of ``scene`` (and its structure's template,
+    :mod:`symcable.models.structure`) when its lines have more than RELEASE_SEGMENTS
+    segments in all: for the one-off scenes of an error estimate (half the segments, a
+    stiffer bed), whose Mechanism and Functions of a long line take a hundred MB or more and
+    serve no later analysis of the scene."""
+    from ..models.structure import TEMPLATES, structure_key
+    from ..scene.refine import line_segments
+    if sum(line_segments(scene).values()) <= RELEASE_SEGMENTS:
+        return
+    mech = _CACHE.pop(repr(scene.to_dict()), None)
+    key = structure_key(scene)
+    if key is not None and mech is not None and TEMPLATES.get(key) is (mech.functions_of or mech):
+        del TEMPLATES[key]
 
 
 def cable3d_mechanism(scene: Scene) -> Mechanism:

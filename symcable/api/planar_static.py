@@ -110,7 +110,11 @@ def solve_static(scene, *, tol: float | None = None, max_iter: int = 50,
     once = dict(options, codegen=bool(options["codegen"]))
 
     def solve(s):
-        return _solve_once(s, model=None, **once)
+        sol_s = _solve_once(s, model=None, **once)
+        if not formulation_of(s).linearised:  # a long line's one-off scene is not kept
+            from .cable3d_static import release
+            release(s)
+        return sol_s
     return with_error_estimate(scene, sol, solve, accuracy, after=lambda s, x: with_bed_estimate(
         s, x, solve, target, once))
 

@@ -180,18 +180,21 @@ def _same_steps(mech, opts, vm, other):
         x = x_vm
 
 
-def test_a_step_too_large_to_compile_calls_its_kernels_in_c(monkeypatch):
+@pytest.mark.parametrize("variant", ["lumped", "bending", "bristle",
+                                     "free end, loading functions"])
+def test_a_step_too_large_to_compile_calls_its_kernels_in_c(monkeypatch, variant):
     """A step whose graph is too large to compile whole (here: DEFAULT_MAX_SIZE lowered
     below the 40-segment line's) runs its loops in the virtual machine, calling the element
     and banded LU kernels' generated C: the same iterations and states as the virtual
-    machine's step to 1e-10 of their scales (the same arithmetic in another order)."""
+    machine's step to 1e-10 of their scales (the same arithmetic in another order), for
+    each kind of element kernel (drag laws, bending, a bristle's states)."""
     from symcable.mechanism import codegen
     from symcable.solvers.galpha1 import galpha1_kernel
     monkeypatch.delenv("SYMCABLE_CODEGEN", raising=False)
     if not codegen.use_codegen(True):
         pytest.fail("no C compiler on this machine: CI installs one")
     monkeypatch.setattr(codegen, "DEFAULT_MAX_SIZE", 1000)
-    mech = build_cable3d(load_scene(_scene(segments=40)))
+    mech = build_cable3d(load_scene(_scene(segments=40, **VARIANTS[variant])))
     opts = GeneralizedAlphaFirstOrder(tol=1e-8)
     vm = galpha1_kernel(mech, opts, codegen=False)
     mixed = galpha1_kernel(mech, opts, codegen=None)

@@ -202,3 +202,8 @@ def test_a_step_too_large_to_compile_calls_its_kernels_in_c(monkeypatch, variant
     called = {f.name(): f for f in mixed.find_functions()}
     assert sum(f.is_a("External") for f in called.values()) >= 4  # 2 element, 3 band kernels
     _same_steps(mech, opts, vm, mixed)
+    if variant == "lumped":  # what a run says of its step
+        eq = solve_equilibrium(mech)
+        tr = integrate(mech, 0.5, 0.25, start=eq, p=mech.params.values, codegen=None,
+                       method=opts, progress=False)
+        assert tr.stats["compiled_kernels"] and not tr.stats["compiled"]

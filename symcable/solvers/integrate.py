@@ -206,7 +206,9 @@ def integrate(mech: Mechanism, duration: float, dt: float | None = None, *, meth
         (total) and ``newton_iterations_max`` (per step; first-order generalized-alpha),
         ``max_step_residual``, ``max_error_estimate`` (the largest ``tol`` estimate: adaptive
         runs), ``step_time`` (s in the step calls), ``us_per_step``, ``samples``,
-        ``compiled``, ``max_constraint``, ``wall_time``; fixed steps: ``substepped_steps``
+        ``compiled`` (the step is generated C), ``compiled_kernels`` (it is not, but its
+        loops call their kernels' generated C: a step too large to compile whole),
+        ``max_constraint``, ``wall_time``; fixed steps: ``substepped_steps``
         (steps whose Newton iteration failed and that converged as 2, 4, ... up to
         MAX_SUBSTEPS = 16 equal substeps, with a warning: a snap or an impact),
         ``max_substeps`` and ``first_substep_time`` (s); and the run's error estimate
@@ -307,6 +309,7 @@ def integrate(mech: Mechanism, duration: float, dt: float | None = None, *, meth
         stats["error_memory"] = tau
         stats["dt_accurate"] = accurate_dt(stats["dt"], stats["error_estimate"])
     stats["compiled"] = stepr.compiled
+    stats["compiled_kernels"] = stepr.compiled_kernels
     nq, nv = mech.n_q, mech.n_v
     q, v = Xs[:, :nq], Xs[:, nq:nq + nv]
     z = Xs[:, -mech.n_z:].copy() if (mech.n_z and isinstance(method, GeneralizedAlpha)) \

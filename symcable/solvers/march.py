@@ -73,6 +73,9 @@ class _Stepper:
         # what a trajectory keeps of x: (q, v), and with GeneralizedAlpha also z (last)
         self.n_keep = mech.n_q + mech.n_v if self.full or isinstance(method, RK4) else None
         self.compiled = bool(self.fn.is_a("External"))
+        #: not compiled whole, but calling its kernels' generated C (galpha1_kernel)
+        self.compiled_kernels = not self.compiled and any(
+            f.is_a("External") for f in self.fn.find_functions())
         #: the size of the method's state x; the batches carry x and a flag, 1 once a step
         #: failed, after which the rest of the batch is skipped (``extend``)
         self.n_x = self.fn.size1_in(0)

@@ -485,7 +485,7 @@ def galpha1_kernel(mech: Mechanism, opts: GeneralizedAlphaFirstOrder, *, lte: bo
     # sparse QR is C++ in the virtual machine already: C does not pay by default
     size = (lambda: math.inf) if not lu and not by_elements else None
     step = maybe_compiled(owner, key, vm, codegen, "the generalized-α step", size)
-    if step is vm and by_elements and codegen is not False and use_codegen(codegen, []):
+    if step is vm and by_elements and codegen is not False and use_codegen(codegen):
         # too large to compile whole (a long line): its loops stay in the virtual machine
         # and call their kernels' generated C, small and compiled in about a second
         step = STEP_CACHE.get(owner, key + ("kernels_c",),

@@ -39,11 +39,13 @@ def reference():
 
 
 def test_simulate_gives_a_line_trajectory(tmp_path):
-    tr = sc.simulate(_scene(), 2 * T, codegen=True)
+    # a fixed step (the default step for tol, period / 100): the trajectory's shape, saving,
+    # plots and exports are the subject here (tests/test_time_tolerance.py: the default)
+    tr = sc.simulate(_scene(), 2 * T, dt=T / 100, codegen=True)
     assert isinstance(tr, LineTrajectory) and tr.status == "converged"
     n_t = len(tr.time)
     assert tr.positions.shape == (n_t, 11, 3) and tr.axial_force.shape == (n_t, 10)
-    assert tr.dt == pytest.approx(T / 100)  # the default: period / 100
+    assert tr.dt == pytest.approx(T / 100)
     # the fairlead follows its motion exactly (ramped in over the first period)
     t = tr.time
     ramp = np.where(t < T, 0.5 * (1 - np.cos(np.pi * t / T)), 1.0)

@@ -7,13 +7,16 @@ On random dynamic scenes (single lines taut, slack, on the seabed, in several se
 current; two lines to one moving point; lines in series through a buoy or a clump; three
 lines at a joint; a taut wire nearly slack at the bottom of each cycle; a harmonic motion of
 period 5-20 s and amplitude 0.5-5 m in any direction; 10-40 segments a line), how many
-answers of ``simulate`` (8 periods at its default dt = T/100) and ``solve_periodic``
+answers of ``simulate`` (8 periods at its defaults: the step chosen for its default
+tolerance, 1 % of the end tensions' range, from T/100) and ``solve_periodic``
 (shooting, 100 steps a period) are correct, warned, silently wrong, clean errors, crashes
 or hangs, and are their own error estimates within a factor of 3 of the true error?
 
 The true error is measured against ``simulate`` at dt / 8 (and dt / 16 where a verdict
 could depend on the reference's error, and on every ``--check16-every``-th scene; the
-periodic answer against a run of 20 periods when 8 had not settled into a period):
+periodic answer against a run of 20 periods when 8 had not settled into a period), where
+dt is the smaller of T/100 and 4 times the time run's own step (a reference at least 4 times
+finer than the answer):
 :mod:`dyn_classify` says how; the scenes: :mod:`dyn_scenes`; one scene's runs:
 :mod:`dyn_work`; the worker pool with a time limit per stage: :mod:`dyn_pool`.
 

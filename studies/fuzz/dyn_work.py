@@ -4,13 +4,15 @@ under test and the finer reference runs, reduced to the numbers the classifier n
 
 Stages, each announced to the parent before it starts (its own time limit there):
 
-1. ``simulate``: ``sc.simulate(scene, PERIODS * T)`` at its defaults (dt = T/100);
-2. ``reference``: ``simulate`` at dt / 8, every step saved;
+1. ``simulate``: ``sc.simulate(scene, PERIODS * T)`` at its defaults (its step chosen for
+   its default tolerance, from T/100: ``stats["dt_runs"]``), dt its step;
+2. ``reference``: ``simulate`` at the finer of dt / 4 and T/800 (dt / 8 when dt is the
+   default T/100), every step saved;
 3. ``periodic``: ``sc.solve_periodic(scene)`` at its defaults (shooting, 100 steps a period,
    with its time-discretisation estimate) within ``sc.limits(solve_seconds=SOLVE_SECONDS)``;
 4. ``reference_long``: at dt / 8 over LONG_PERIODS, its last two periods saved, when the
    8-period reference has not settled into a period (and the periodic solve answered);
-5. ``reference16``: at dt / 16, on the scenes the parent picks (``item["check16"]``) and on
+5. ``reference16``: at half the reference's step, on the scenes the parent picks (``item["check16"]``) and on
    every scene whose verdict could depend on the reference's own error
    (:func:`dyn_classify.needs_finer`).
 
@@ -70,7 +72,8 @@ def _run_record(res, rec: dict) -> dict:
     st = res.stats
     keep = ("dt", "steps", "error_estimate", "tension_error_estimate", "error_estimate_states",
             "motion_range", "substepped_steps", "max_substeps", "newton_iterations_max",
-            "static_time", "slack_fraction", "snaps")
+            "static_time", "slack_fraction", "snaps", "tol", "error_measured", "dt_runs",
+            "wall_time")
     rec.update(status=res.status, warnings=list(res.warnings),
                stats={k: st.get(k) for k in keep if k in st})
     lines = dict(res.lines)
@@ -126,8 +129,10 @@ def run_scene(item: dict, notify=lambda *a: None) -> dict:
     dt = T / 100.0
     if res is not None:
         _run_record(res, rec["sim"])
-        dt = float(res.stats["dt"])
         series["a"] = (np.asarray(res.time, float), _ends(res))
+        # the references' "dt": 8 times their step, which is at most a quarter of the
+        # answer's and at most T/800 (the default step's eighth)
+        dt = min(4.0 * float(res.stats["dt"]), dt)
     del res
 
     _reference(scene, duration, dt, "b", 8, rec, series, T, notify)

@@ -9,6 +9,7 @@ functions (``sc.simulate(scene, ...)``); their options are those of the solvers 
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 import time
 import warnings as _warnings
@@ -38,6 +39,7 @@ from ..limits import call_deadline
 from ..results.generic import Equilibrium, SceneLinearization
 from .planar_static import solve_static
 from . import cable3d as _c3
+from .time_tolerance import run_to_tolerance, step_tolerance
 from .scene3d import scene_mechanism
 from . import cable3d_periodic as _c3p
 
@@ -139,7 +141,7 @@ def simulate(scene, duration: float, dt: float | None = None, method: str = "gen
              rho_inf: float | None = None, save_every: int | None = None, save_times=None,
              progress: bool | None = None, model: DynamicModel | None = None, params=None,
              newton_tol: float | None = None, codegen: bool | None = None,
-             start: str | None = None) -> Trajectory:
+             start: str | None = None, tol: float | None = None) -> Trajectory:
     """Time response of a line from rest at t = 0 (where its excitation starts): its
     dynamics Mechanism (:func:`~symcable.models.planar.mechanism.mechanism_of`) marched by
     :func:`symcable.integrate`.
@@ -153,11 +155,21 @@ def simulate(scene, duration: float, dt: float | None = None, method: str = "gen
     duration : float
         Simulated time, s.
     dt : float, optional
-        Time step, s, shortened when needed so that a whole number of steps fills
+        A fixed time step, s, shortened when needed so that a whole number of steps fills
         ``duration`` (``stats['dt_requested']`` keeps the value asked for). Default:
-        generalized-α ``period / 100`` (``duration / 100`` when nothing moves); RK4 0.8 times
-        its stability limit (:func:`symcable.api.planar_time.rk4_stability_limit`), at most that
-        same value.
+        generalized-α the step chosen for ``tol``; RK4 0.8 times its stability limit
+        (:func:`symcable.api.planar_time.rk4_stability_limit`), at most that same value.
+    tol : float, optional
+        Generalized-α: the error asked of the end tensions, relative to their range over the
+        run, in (0, 1); default 0.01 when neither ``dt`` nor ``save_times`` is given. The run
+        at the default step (``period / 100``; ``duration / 100`` when nothing moves; a tow's
+        and a motion table's own) is compared with one at twice the step, then the step is
+        halved, at most 5 times, until two runs agree within ``tol``
+        (:mod:`symcable.api.time_tolerance`); the finer of the two is returned.
+        ``stats["error_measured"]``: its error bound (relative; None when ``tol`` was not
+        reached, with a warning), ``stats["dt_runs"]``: each run's step (s) and its
+        difference to the run before, ``stats["tol"]``. Not with ``dt``, ``save_times`` or
+        RK4.
     method : {"generalized-alpha", "rk4"}
         Implicit generalized-α (first order on the DAE residual, Jansen, Whiting & Hulbert
         2000: second order, A-stable, numerical damping set by ``rho_inf``) or explicit
@@ -229,18 +241,26 @@ def simulate(scene, duration: float, dt: float | None = None, method: str = "gen
                                rho_inf=_c3.RHO_INF if rho_inf is None else rho_inf,
                                save_every=save_every,
                                save_times=save_times, progress=progress, newton_tol=newton_tol,
-                               codegen=codegen, start=start)
+                               codegen=codegen, start=start, tol=tol)
     if start is not None:
         raise SymcableError(f"start = {start!r}: the planar line's dynamics start from rest "
                             "(start applies to cable3d scenes)")
+    tol = step_tolerance(tol, dt, save_times, _planar_time.Method.parse(method).value)
     if model is None and scene is not None:
         scene = load_scene(scene)
         model = build_dynamic_model(scene)
-    return _planar_time.simulate(scene, duration, dt, method,
-                                 rho_inf=0.5 if rho_inf is None else rho_inf,
-                                 save_every=save_every, save_times=save_times,
-                                 progress=progress, model=model, params=params,
-                                 newton_tol=newton_tol, codegen=codegen, started=started)
+
+    def run(h):
+        return _planar_time.simulate(scene, duration, h if h is not None else dt, method,
+                                     rho_inf=0.5 if rho_inf is None else rho_inf,
+                                     save_every=save_every, save_times=save_times,
+                                     progress=progress, model=model, params=params,
+                                     newton_tol=newton_tol, codegen=codegen, started=started)
+    if tol is None:
+        return run(None)
+    out = run_to_tolerance(run, tol, _planar_time.Method.parse(method).value)
+    return dataclasses.replace(out, stats=dict(out.stats,
+                                               wall_time=time.perf_counter() - started))
 
 
 def solve_periodic(scene, method="shooting", *, model: DynamicModel | None = None,

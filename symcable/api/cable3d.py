@@ -33,6 +33,7 @@ from .scene3d import (check_moves, check_rk4_limit, dynamics_mechanism, has_twis
 from ..solvers.integrate import (ERROR_TARGET, accurate_dt, check_steps, error_warning,
                                 integrate)
 from ..solvers.march import leaky_sum
+from .time_tolerance import run_to_tolerance, step_tolerance
 from ..solvers.time_estimate import MOTION_FLOOR
 from ..solvers.linearize import MAX_DENSE, mechanism_modes, output_sensitivity
 from ..solvers.options import RK4, GeneralizedAlphaFirstOrder
@@ -284,8 +285,8 @@ def simulate_3d(scene: Scene, duration: float, dt: float | None = None,
                 method: str = "generalized-alpha", *, rho_inf: float | None = None,
                 save_every: int | None = None, save_times=None, progress: bool | None = None,
                 newton_tol: float | None = None, codegen: bool | None = None,
-                t_start: float | None = None,
-                start: str | None = None) -> LineTrajectory | SystemTrajectory:
+                t_start: float | None = None, start: str | None = None,
+                tol: float | None = None) -> LineTrajectory | SystemTrajectory:
     """Time response of a cable3d line from its static state (see :func:`symcable.simulate`).
 
     The run starts at ``t_start`` s (default :func:`run_start`: a motion table's first row
@@ -297,9 +298,13 @@ def simulate_3d(scene: Scene, duration: float, dt: float | None = None,
     velocity at the start (m/s).
     ``rho_inf`` (default :data:`RHO_INF` = 0) is generalized-alpha's numerical damping: the
     high-frequency axial waves a snap releases need it (with little damping, rho_inf near 1,
-    a snap's peak can come out many times the converged one). Returns a :class:`LineTrajectory` (a scene of
-    several lines and points: a :class:`SystemTrajectory`, ``.lines[name]`` each line's);
-    a failed step raises ConvergenceError whose ``partial`` is one too.
+    a snap's peak can come out many times the converged one).
+    ``tol`` (generalized-alpha, not with ``dt`` or ``save_times``): the step chosen for the end
+    tensions' error relative to their range (:func:`~symcable.api.time_tolerance.run_to_tolerance`);
+    default :data:`~symcable.api.time_tolerance.DEFAULT_TOL` when neither ``dt`` nor
+    ``save_times`` is given. Returns a :class:`LineTrajectory` (a scene of several lines and
+    points: a :class:`SystemTrajectory`, ``.lines[name]`` each line's); a failed step raises
+    ConvergenceError whose ``partial`` is one too.
     """
     started = time.perf_counter()
     name = str(getattr(method, "value", method)).strip().lower().replace("_", "-")
@@ -308,6 +313,7 @@ def simulate_3d(scene: Scene, duration: float, dt: float | None = None,
     rho_inf = RHO_INF if rho_inf is None else rho_inf
     if not (isinstance(rho_inf, (int, float)) and 0.0 <= rho_inf <= 1.0):
         raise SymcableError(f"rho_inf = {rho_inf!r}: must be a number in [0, 1]")
+    tol = step_tolerance(tol, dt, save_times, name)
     # before the static solve: a bad duration or step is refused at once (check_steps)
     duration, dt = check_steps(duration, dt, _period(scene))
     if name == "rk4":
@@ -328,18 +334,25 @@ def simulate_3d(scene: Scene, duration: float, dt: float | None = None,
               save_times=save_times, progress=progress, codegen=codegen, label=name,
               period=_period(scene),
               reanchor=reanchor_hook(mech) if has_twists(scene) else None)
-    try:
-        tr = integrate(mech, duration, dt, **kw)
-    except ConvergenceError as exc:
-        part = exc.partial
-        if part is not None and len(part.time):
-            part = _line_result(scene, mech, part, name, part.stats.get("dt", dt or 0.0),
-                                dict(part.stats), part.warnings)
-        raise ConvergenceError(str(exc), partial=part, diagnostics=exc.diagnostics) from None
-    stats = dict(tr.stats, static_time=t_static, wall_time=time.perf_counter() - started,
-                 rho_inf=float(rho_inf) if name != "rk4" else None, **how)
-    return _line_result(scene, mech, tr, name, tr.stats["dt"], stats,
-                        tuple(notes) + tuple(tr.warnings), opts, _period(scene))
+
+    def run(h):
+        h = dt if h is None else check_steps(duration, h, _period(scene))[1]
+        try:
+            tr = integrate(mech, duration, h, **kw)
+        except ConvergenceError as exc:
+            part = exc.partial
+            if part is not None and len(part.time):
+                part = _line_result(scene, mech, part, name, part.stats.get("dt", h or 0.0),
+                                    dict(part.stats), part.warnings)
+            raise ConvergenceError(str(exc), partial=part, diagnostics=exc.diagnostics) from None
+        stats = dict(tr.stats, static_time=t_static, rho_inf=float(rho_inf) if name != "rk4"
+                     else None, **how)
+        return _line_result(scene, mech, tr, name, tr.stats["dt"], stats,
+                            tuple(notes) + tuple(tr.warnings), opts, _period(scene))
+
+    out = run(None) if tol is None else run_to_tolerance(run, tol, name)
+    return dataclasses.replace(out, stats=dict(out.stats,
+                                               wall_time=time.perf_counter() - started))
 
 
 def modal_analysis_3d(scene: Scene, n_modes: int = 10, *, max_dense: int = MAX_DENSE,

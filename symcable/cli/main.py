@@ -214,7 +214,18 @@ def _simulate(args) -> int:
     # the options as given, in one line each (the API would name its parameters instead)
     check_steps(duration, args.dt, min((m.period for m in motions if m.kind == "harmonic"),
                                        default=None), names=("--duration", "--dt"))
-    traj = simulate(scene, duration, dt=args.dt, method=args.method)
+    if args.tol is not None:  # (named as the option, before any solve)
+        from ..api.time_tolerance import check_tol
+        if args.dt is not None:
+            raise SymcableError(f"--tol {args.tol:g} with --dt {args.dt:g}: give one (--dt a "
+                                "fixed step, --tol the step chosen for it)")
+        try:
+            check_tol(args.tol)
+        except SymcableError:
+            raise SymcableError(f"--tol {args.tol!r}: must be a number in (0, 1), the error "
+                                "asked of the end tensions relative to their range (e.g. 0.01)"
+                                ) from None
+    traj = simulate(scene, duration, dt=args.dt, method=args.method, tol=args.tol)
     if tow is not None:  # a tow: tracks in plan, towed depth, towpoint tension / T0
         from ..plotting.tows import plot_tow
         _emit(traj, args, lambda path: plot_tow(traj, scene, path))
@@ -360,7 +371,10 @@ def build_parser() -> argparse.ArgumentParser:
     _output_options(p, "trajectory")
     p.add_argument("--duration", type=float, help="s (default 10 excitation periods; a table's "
                    "span; a tow's turns plus 60 s)")
-    p.add_argument("--dt", type=float, help="time step, s (default: chosen by the method)")
+    p.add_argument("--dt", type=float, help="a fixed time step, s (default: generalized-alpha "
+                   "chosen for --tol, RK4 its stability limit)")
+    p.add_argument("--tol", type=float, help="generalized-alpha: the end tensions' error asked, "
+                   "a fraction of their range (default 0.01; not with --dt)")
     p.add_argument("--method", default="generalized-alpha", choices=["generalized-alpha", "rk4"])
     p = sub.add_parser("periodic", help="periodic steady state over one excitation period")
     p.add_argument("scene")

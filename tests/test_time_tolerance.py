@@ -112,14 +112,22 @@ def test_no_convergence_is_warned_not_claimed():
     assert len(calls) == 2 + tt.STALLED  # (the first comparison gives no order)
 
 
+def test_without_partner_the_default_is_compared_with_half_it():
+    """``partner=False`` (runs saved at given times, which a coarser run's steps would not
+    contain): the default step's run is compared with half its step first."""
+    run, calls = fake(2.0, C=0.001)
+    out = tt.run_to_tolerance(run, 0.01, partner=False)
+    assert calls == [0.1, 0.05] and out.dt == pytest.approx(0.05)
+    assert out.stats["dt_runs"][0] == [0.1, None]
+
+
 def test_bad_tolerances_refused():
     for bad in (0, 1.0, -0.1, "x", True, float("nan"), None if False else [0.1]):
         with pytest.raises(SymcableError, match="tol = "):
             tt.check_tol(bad)
     with pytest.raises(SymcableError, match="not both"):
         tt.step_tolerance(0.01, 0.1, None, "generalized-alpha")
-    with pytest.raises(SymcableError, match="save_times"):
-        tt.step_tolerance(0.01, None, [1.0, 2.0], "generalized-alpha")
+    assert tt.step_tolerance(0.02, None, [1.0, 2.0], "generalized-alpha") == 0.02
     with pytest.raises(SymcableError, match="rk4"):
         tt.step_tolerance(0.01, None, None, "rk4")
     assert tt.step_tolerance(None, None, None, "generalized-alpha") == tt.DEFAULT_TOL
@@ -134,6 +142,18 @@ def test_simulate_tol_refusals_through_api():
         sc.simulate(scene, 20.0, dt=0.1, tol=0.01)
     with pytest.raises(SymcableError, match="tol = 2"):
         sc.simulate(scene, 20.0, tol=2)
+
+
+def test_tol_at_save_times():
+    """With save_times (a window after the start-up), every run is saved at the first run's
+    samples and compared there: the result's samples are those times, its bound the
+    difference at them."""
+    scene = sc.load_scene(sc.demo_scene_path("seed001"))
+    times = np.arange(10.0, 30.0 + 1e-9, 0.5)
+    out = sc.simulate(scene, 30.0, tol=0.01, save_times=times, codegen=False)
+    assert np.allclose(out.time, times, atol=1e-9)
+    assert out.stats["dt_runs"][0][1] is None and len(out.stats["dt_runs"]) >= 2
+    assert out.stats["error_measured"] is not None and out.stats["error_measured"] <= 0.01
 
 
 def _max_error(run, ref) -> float:

@@ -168,8 +168,9 @@ def simulate(scene, duration: float, dt: float | None = None, method: str = "gen
         (:mod:`symcable.api.time_tolerance`); the finer of the two is returned.
         ``stats["error_measured"]``: its error bound (relative; None when ``tol`` was not
         reached, with a warning), ``stats["dt_runs"]``: each run's step (s) and its
-        difference to the run before, ``stats["tol"]``. Not with ``dt``, ``save_times`` or
-        RK4.
+        difference to the run before, ``stats["tol"]``. With ``save_times``, the error at
+        those times only (the window a user reads: after a start-up, say); then the default
+        step is compared with half it. Not with ``dt`` or RK4.
     method : {"generalized-alpha", "rk4"}
         Implicit generalized-α (first order on the DAE residual, Jansen, Whiting & Hulbert
         2000: second order, A-stable, numerical damping set by ``rho_inf``) or explicit
@@ -250,15 +251,21 @@ def simulate(scene, duration: float, dt: float | None = None, method: str = "gen
         scene = load_scene(scene)
         model = build_dynamic_model(scene)
 
+    grid = {"times": save_times}
+
     def run(h):
-        return _planar_time.simulate(scene, duration, h if h is not None else dt, method,
-                                     rho_inf=0.5 if rho_inf is None else rho_inf,
-                                     save_every=save_every, save_times=save_times,
-                                     progress=progress, model=model, params=params,
-                                     newton_tol=newton_tol, codegen=codegen, started=started)
+        tr = _planar_time.simulate(scene, duration, h if h is not None else dt, method,
+                                   rho_inf=0.5 if rho_inf is None else rho_inf,
+                                   save_every=save_every, save_times=grid["times"],
+                                   progress=progress, model=model, params=params,
+                                   newton_tol=newton_tol, codegen=codegen, started=started)
+        if save_times is not None:  # every later run at the first run's samples
+            grid["times"] = np.asarray(tr.time, float) if h is None else grid["times"]
+        return tr
     if tol is None:
         return run(None)
-    out = run_to_tolerance(run, tol, _planar_time.Method.parse(method).value)
+    out = run_to_tolerance(run, tol, _planar_time.Method.parse(method).value,
+                           partner=save_times is None)
     return dataclasses.replace(out, stats=dict(out.stats,
                                                wall_time=time.perf_counter() - started))
 

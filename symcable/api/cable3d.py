@@ -299,8 +299,9 @@ def simulate_3d(scene: Scene, duration: float, dt: float | None = None,
     ``rho_inf`` (default :data:`RHO_INF` = 0) is generalized-alpha's numerical damping: the
     high-frequency axial waves a snap releases need it (with little damping, rho_inf near 1,
     a snap's peak can come out many times the converged one).
-    ``tol`` (generalized-alpha, not with ``dt`` or ``save_times``): the step chosen for the end
-    tensions' error relative to their range (:func:`~symcable.api.time_tolerance.run_to_tolerance`);
+    ``tol`` (generalized-alpha, not with ``dt``): the step chosen for the end tensions' error
+    relative to their range over the run, or at ``save_times`` when given
+    (:func:`~symcable.api.time_tolerance.run_to_tolerance`);
     default :data:`~symcable.api.time_tolerance.DEFAULT_TOL` when neither ``dt`` nor
     ``save_times`` is given. Returns a :class:`LineTrajectory` (a scene of several lines and
     points: a :class:`SystemTrajectory`, ``.lines[name]`` each line's); a failed step raises
@@ -335,22 +336,29 @@ def simulate_3d(scene: Scene, duration: float, dt: float | None = None,
               period=_period(scene),
               reanchor=reanchor_hook(mech) if has_twists(scene) else None)
 
+    grid = {}
+
     def run(h):
-        h = dt if h is None else check_steps(duration, h, _period(scene))[1]
+        if h is not None:
+            h = check_steps(duration, h, _period(scene))[1]
+            if save_times is not None:  # every run at the first run's samples
+                kw["save_times"] = grid["times"]
         try:
-            tr = integrate(mech, duration, h, **kw)
+            tr = integrate(mech, duration, dt if h is None else h, **kw)
         except ConvergenceError as exc:
             part = exc.partial
             if part is not None and len(part.time):
                 part = _line_result(scene, mech, part, name, part.stats.get("dt", h or 0.0),
                                     dict(part.stats), part.warnings)
             raise ConvergenceError(str(exc), partial=part, diagnostics=exc.diagnostics) from None
+        grid.setdefault("times", np.asarray(tr.time, float) - t0)
         stats = dict(tr.stats, static_time=t_static, rho_inf=float(rho_inf) if name != "rk4"
                      else None, **how)
         return _line_result(scene, mech, tr, name, tr.stats["dt"], stats,
                             tuple(notes) + tuple(tr.warnings), opts, _period(scene))
 
-    out = run(None) if tol is None else run_to_tolerance(run, tol, name)
+    out = run(None) if tol is None else run_to_tolerance(run, tol, name,
+                                                         partner=save_times is None)
     return dataclasses.replace(out, stats=dict(out.stats,
                                                wall_time=time.perf_counter() - started))
 

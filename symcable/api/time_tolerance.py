@@ -13,7 +13,10 @@ converging: a snap, axial waves the finer step starts to resolve) verifies nothi
 The comparison is on the coarser run's sample times (the finer run's samples there, or
 linear interpolation between its samples where its saved grid is not a refinement of the
 other's), each end tension relative to its range over the run (at least
-TENSION_RANGE_FLOOR of the largest end tension). This module is generic over formulations:
+TENSION_RANGE_FLOOR of the largest end tension). A run saved at given times (``save_times``:
+the window a user reads, such as the span after a start-up) is compared at those times only:
+the caller saves every run at the first run's sample times, which every finer run's steps
+contain, and no coarser partner is run (its steps would not contain them). This module is generic over formulations:
 it sees a ``run(dt) -> trajectory`` and the trajectories' end tensions.
 """
 from __future__ import annotations
@@ -60,19 +63,15 @@ def check_tol(tol) -> float:
 
 def step_tolerance(tol, dt, save_times, method: str) -> float | None:
     """The tolerance a run is stepped for: ``tol`` checked (:func:`check_tol`), refused with
-    ``dt`` (a fixed step), ``save_times`` (each run would round them to its own steps) or a
-    method other than generalized-alpha (RK4's step is its stability limit); DEFAULT_TOL when
-    none of ``tol``, ``dt`` and ``save_times`` is given and the method is generalized-alpha;
-    else None (a fixed step)."""
+    ``dt`` (a fixed step) or a method other than generalized-alpha (RK4's step is its
+    stability limit); DEFAULT_TOL when none of ``tol``, ``dt`` and ``save_times`` is given and
+    the method is generalized-alpha; else None (a fixed step)."""
     ga = method == "generalized-alpha"
     if tol is None:
         return DEFAULT_TOL if ga and dt is None and save_times is None else None
     if dt is not None:
         raise SymcableError(f"tol = {tol!r} with dt = {dt!r}: give dt (a fixed step) or tol (the "
                             "step chosen for it), not both")
-    if save_times is not None:
-        raise SymcableError(f"tol = {tol!r} with save_times: the runs compared for tol each keep "
-                            "their own steps; give save_every, or dt with save_times")
     if not ga:
         raise SymcableError(f"tol = {tol!r}: not with method = {method!r} (its step is its "
                             "stability limit); use method = 'generalized-alpha'")
@@ -113,10 +112,11 @@ def tension_difference(coarse, fine) -> float:
     return worst
 
 
-def run_to_tolerance(run, tol: float, label: str = "simulate"):
+def run_to_tolerance(run, tol: float, label: str = "simulate", partner: bool = True):
     """The run of ``run(dt)`` (None: the default step) whose end tensions are within ``tol``
     of their range, verified against a run at twice its step (module docstring): the default
-    step first, compared with twice it, then halving while the difference exceeds ``tol``, at
+    step first, compared with twice it (``partner``; else with half it), then halving while
+    the difference exceeds ``tol``, at
     most MAX_HALVINGS times, and no more once STALLED comparisons in a row show no
     convergence. ``run`` raises ConvergenceError for a step that fails and
     SymcableError for a step it refuses (twice the default past half the motion's period);
@@ -128,11 +128,11 @@ def run_to_tolerance(run, tol: float, label: str = "simulate"):
     first = run(None)
     h0 = float(first.dt)
     tried = []
-    d_prev = None
+    d_prev, coarse = None, None
     try:
-        coarse = run(2.0 * h0)
+        coarse = run(2.0 * h0) if partner else None
     except (ConvergenceError, SymcableError):
-        coarse = None
+        pass
     if coarse is not None:
         d_prev = tension_difference(coarse, first)
         tried.append([float(coarse.dt), None])

@@ -25,9 +25,9 @@ Run ``python studies/chains/tolerance.py [--quick] [--tols 0.02 0.01 0.005] [--r
 from __future__ import annotations
 
 import argparse
-import importlib.util
 import json
 import statistics
+import sys
 import time
 import warnings
 from pathlib import Path
@@ -37,17 +37,12 @@ import numpy as np
 import symcable as sc
 
 HERE = Path(__file__).resolve().parent
+if str(HERE.parent) not in sys.path:
+    sys.path.append(str(HERE.parent))
+import study_io  # noqa: E402  (studies/study_io.py)
 
-
-def _load(name: str):
-    spec = importlib.util.spec_from_file_location(f"chains_{name}", HERE / f"{name}.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
-cases = _load("cases")
-peers = _load("peers")
+cases = study_io.load_module(HERE / "cases.py", "chains_cases")
+peers = study_io.load_module(HERE / "peers.py", "chains_peers")
 T_END = 20.0  # s: the OrcaFlex series' last sample
 #: the times read, from the run's start at T0 = -10 s: OrcaFlex's samples over t = 0..20 s
 #: (the tolerance is then met where the errors are read, not in the start-up from rest into

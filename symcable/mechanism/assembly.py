@@ -36,7 +36,7 @@ from __future__ import annotations
 
 import dataclasses
 import functools
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Callable, Iterable, Sequence
 
 import casadi as ca
@@ -285,6 +285,22 @@ class _Numbering:
     tail_index: dict
     n_v: int
     n_q: int
+    _local: dict = field(default_factory=dict)
+
+    def local(self, m: Mechanism) -> tuple[np.ndarray, dict]:
+        """``(index, moved)`` of part ``m``'s first n_v coordinates: ``index`` (n_v,) their
+        index in the assembled q and v, -1 where a joint moves them; ``moved`` maps those
+        local j to the (joint, component k) that moves them. Computed once per part."""
+        if m.name not in self._local:
+            index, moved = np.full(m.n_v, -1, dtype=int), {}
+            for jloc in range(m.n_v):
+                r = self.dof.find((m.name, jloc))
+                if r in self.roots_prescribed:
+                    moved[jloc] = self.roots_prescribed[r]
+                else:
+                    index[jloc] = self.global_index[r]
+            self._local[m.name] = (index, moved)
+        return self._local[m.name]
 
 
 def _number(parts: list, by_name: dict, joints: list) -> _Numbering:
@@ -431,12 +447,10 @@ def _part_coords(m: Mechanism, num: _Numbering, motion: dict, kind, q, v, q_scal
 
 def _part_scales(m: Mechanism, num: _Numbering, q_scale, v_scale) -> None:
     """What :func:`_part_coords` does to ``q_scale``, ``v_scale``, alone (numbers only)."""
-    for jloc in range(m.n_v):
-        r = num.dof.find((m.name, jloc))
-        if r not in num.roots_prescribed:
-            gi = num.global_index[r]
-            q_scale[gi] = max(q_scale[gi], m.scales.q[jloc])
-            v_scale[gi] = max(v_scale[gi], m.scales.v[jloc])
+    index, _ = num.local(m)
+    free = index >= 0
+    np.maximum.at(q_scale, index[free], np.asarray(m.scales.q, float)[:m.n_v][free])
+    np.maximum.at(v_scale, index[free], np.asarray(m.scales.v, float)[:m.n_v][free])
     for jloc in range(m.n_v, m.n_q):
         q_scale[num.tail_index[(m.name, jloc)]] = m.scales.q[jloc]
 
@@ -498,18 +512,15 @@ def _part_bounds(m: Mechanism, local: tuple, bounds: dict, when: list, made: dic
 def _part_layouts(m: Mechanism, num: _Numbering) -> dict:
     """The part's layout parts in assembled indices (-1 where a node is prescribed or
     attached; ``moved_by`` names the joint or the part's own prescribed motion)."""
+    index, moved = num.local(m)
     part_layouts = {}
     for pname, lay in m.layout.parts.items():
-        node_q = np.full(lay.node_q.shape, -1, dtype=int)
+        local = np.asarray(lay.node_q, dtype=int)
+        node_q = np.where(local >= 0, index[np.maximum(local, 0)], -1) if index.size else \
+            np.full(local.shape, -1, dtype=int)
         moved_by = {i: f"{m.name}.{j}" for i, j in lay.prescribed.items()}
-        for ii in np.ndindex(lay.node_q.shape):
-            jloc = int(lay.node_q[ii])
-            if jloc >= 0:
-                r = num.dof.find((m.name, jloc))
-                if r in num.roots_prescribed:
-                    moved_by[int(ii[0])] = num.roots_prescribed[r][0].name
-                else:
-                    node_q[ii] = num.global_index[r]
+        for ii in zip(*np.nonzero((local >= 0) & (node_q < 0))):
+            moved_by[int(ii[0])] = moved[int(local[ii])][0].name
         part_layouts[pname] = PartLayout(lay.kind, lay.s, node_q, node_q.copy(), moved_by)
     return part_layouts
 

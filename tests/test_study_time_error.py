@@ -38,3 +38,17 @@ def test_time_error_quick(tmp_path):
     # already at 1.3 %, T/50 at 0.45 %)
     n_ok = int(re.search(r"= T/(\d+) should", msg).group(1))
     assert 25 < n_ok <= 60, msg
+
+
+def test_tolerance_quick(tmp_path):
+    """studies/time_error/tolerance.py --quick: simulate at its defaults on the built-in
+    scene, two periods, against a run at a quarter of its step: within its tolerance, and
+    its bound at least 0.8 of the true error (the reference's own error, a sixteenth of the
+    answer's at order 2, aside)."""
+    study = load_study("time_error", "tolerance.py")
+    res = study.main(["--quick", "--out", str(tmp_path)])
+    assert (tmp_path / "tolerance.md").stat().st_size > 0
+    (row,) = res["rows"]
+    assert row["scene"] == "seed001" and row["runs"] >= 2
+    assert row["error_measured"] is not None and row["true_error"] <= 0.01
+    assert row["error_measured"] >= 0.8 * row["true_error"]

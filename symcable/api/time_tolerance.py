@@ -123,11 +123,13 @@ def run_to_tolerance(run, tol: float, label: str = "simulate", partner: bool = T
     such a partner is skipped. Returns the accepted run, or the finest with a warning when
     none is verified; its ``stats`` add ``tol``, ``error_measured`` (the accepted run's error
     bound, relative; None when not verified), ``dt_runs`` ([dt s, difference to the run
-    before or None] for each run, coarsest first) and ``tol_wall_time`` (s, all runs)."""
+    before or None] for each run, coarsest first), ``dt_default`` (s, the first run's) and
+    ``tol_wall_time`` (s, all runs)."""
     started = time.perf_counter()
     first = run(None)
     h0 = float(first.dt)
     tried = []
+    started = (started, h0)
     d_prev, coarse = None, None
     try:
         coarse = run(2.0 * h0) if partner else None
@@ -187,6 +189,7 @@ def _accepted(traj, tol, error, tried, started, note):
         warnings = tuple(w for w in warnings if OWN_ESTIMATE_MARK not in w)
     if note:
         warnings = (note,) + warnings
-    stats = dict(traj.stats, tol=tol, error_measured=error, dt_runs=tried,
+    started, h0 = started
+    stats = dict(traj.stats, tol=tol, error_measured=error, dt_runs=tried, dt_default=h0,
                  tol_wall_time=time.perf_counter() - started)
     return dataclasses.replace(traj, stats=stats, warnings=warnings)

@@ -210,3 +210,14 @@ def test_cli_tol(tmp_path, capsys):
         assert main(["simulate", str(p), "--duration", "20", *bad]) == 2
         err = capsys.readouterr().err.strip()
         assert err.count("\n") == 0 and "--tol" in err, err
+
+
+def test_thinned_samples_are_kept_by_every_run():
+    """A run of more steps than the planar line keeps (2000: its samples thinned) is compared
+    at its own samples: no coarser partner (whose steps would not hold them), the finer run
+    saved at exactly those times, so no interpolated value is compared."""
+    scene = sc.load_scene(sc.demo_scene_path("seed001"))
+    out = sc.simulate(scene, 250.0, codegen=False)
+    assert len(out.time) < 2500 and not tt.every_step(out)
+    assert out.stats["dt_runs"][0] == [pytest.approx(0.1), None]
+    assert out.stats["error_measured"] is not None and out.stats["error_measured"] <= 0.01

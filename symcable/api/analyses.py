@@ -39,7 +39,7 @@ from ..limits import call_deadline
 from ..results.generic import Equilibrium, SceneLinearization
 from .planar_static import solve_static
 from . import cable3d as _c3
-from .time_tolerance import run_to_tolerance, step_tolerance
+from .time_tolerance import every_step, run_to_tolerance, step_tolerance
 from .scene3d import scene_mechanism
 from . import cable3d_periodic as _c3p
 
@@ -251,16 +251,17 @@ def simulate(scene, duration: float, dt: float | None = None, method: str = "gen
         scene = load_scene(scene)
         model = build_dynamic_model(scene)
 
-    grid = {"times": save_times}
+    grid = {"times": save_times, "every": save_every}
 
     def run(h):
         tr = _planar_time.simulate(scene, duration, h if h is not None else dt, method,
                                    rho_inf=0.5 if rho_inf is None else rho_inf,
-                                   save_every=save_every, save_times=grid["times"],
+                                   save_every=grid["every"], save_times=grid["times"],
                                    progress=progress, model=model, params=params,
                                    newton_tol=newton_tol, codegen=codegen, started=started)
-        if save_times is not None:  # every later run at the first run's samples
-            grid["times"] = np.asarray(tr.time, float) if h is None else grid["times"]
+        if h is None and (save_times is not None or not every_step(tr)):
+            # every later run at the first run's samples (which its steps contain)
+            grid.update(times=np.asarray(tr.time, float), every=None)
         return tr
     if tol is None:
         return run(None)

@@ -33,7 +33,7 @@ from .scene3d import (check_moves, check_rk4_limit, dynamics_mechanism, has_twis
 from ..solvers.integrate import (ERROR_TARGET, accurate_dt, check_steps, error_warning,
                                 integrate)
 from ..solvers.march import leaky_sum
-from .time_tolerance import run_to_tolerance, step_tolerance
+from .time_tolerance import every_step, run_to_tolerance, step_tolerance
 from ..solvers.time_estimate import MOTION_FLOOR
 from ..solvers.linearize import MAX_DENSE, mechanism_modes, output_sensitivity
 from ..solvers.options import RK4, GeneralizedAlphaFirstOrder
@@ -341,8 +341,8 @@ def simulate_3d(scene: Scene, duration: float, dt: float | None = None,
     def run(h):
         if h is not None:
             h = check_steps(duration, h, _period(scene))[1]
-            if save_times is not None:  # every run at the first run's samples
-                kw["save_times"] = grid["times"]
+            if save_times is not None or not grid["every"]:  # at the first run's samples
+                kw.update(save_times=grid["times"], save_every=None)
         try:
             tr = integrate(mech, duration, dt if h is None else h, **kw)
         except ConvergenceError as exc:
@@ -351,7 +351,8 @@ def simulate_3d(scene: Scene, duration: float, dt: float | None = None,
                 part = _line_result(scene, mech, part, name, part.stats.get("dt", h or 0.0),
                                     dict(part.stats), part.warnings)
             raise ConvergenceError(str(exc), partial=part, diagnostics=exc.diagnostics) from None
-        grid.setdefault("times", np.asarray(tr.time, float) - t0)
+        if not grid:
+            grid.update(times=np.asarray(tr.time, float) - t0, every=every_step(tr))
         stats = dict(tr.stats, static_time=t_static, rho_inf=float(rho_inf) if name != "rk4"
                      else None, **how)
         return _line_result(scene, mech, tr, name, tr.stats["dt"], stats,

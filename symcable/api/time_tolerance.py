@@ -16,7 +16,9 @@ other's), each end tension relative to its range over the run (at least
 TENSION_RANGE_FLOOR of the largest end tension). A run saved at given times (``save_times``:
 the window a user reads, such as the span after a start-up) is compared at those times only:
 the caller saves every run at the first run's sample times, which every finer run's steps
-contain, and no coarser partner is run (its steps would not contain them). This module is generic over formulations:
+contain, and no coarser partner is run (its steps would not contain them). So too when the
+first run did not keep every step (a long run thinned to a number of samples): later runs
+keep its samples, and the comparison reads no interpolated value. This module is generic over formulations:
 it sees a ``run(dt) -> trajectory`` and the trajectories' end tensions.
 """
 from __future__ import annotations
@@ -29,8 +31,8 @@ import numpy as np
 
 from ..errors import ConvergenceError, SymcableError
 
-__all__ = ["DEFAULT_TOL", "MAX_HALVINGS", "check_tol", "end_tensions", "run_to_tolerance",
-           "step_tolerance", "tension_difference"]
+__all__ = ["DEFAULT_TOL", "MAX_HALVINGS", "check_tol", "end_tensions", "every_step",
+           "run_to_tolerance", "step_tolerance", "tension_difference"]
 
 #: the end tensions' error a run at simulate's default asks for (no dt, no tol), relative to
 #: their range
@@ -115,7 +117,8 @@ def tension_difference(coarse, fine) -> float:
 def run_to_tolerance(run, tol: float, label: str = "simulate", partner: bool = True):
     """The run of ``run(dt)`` (None: the default step) whose end tensions are within ``tol``
     of their range, verified against a run at twice its step (module docstring): the default
-    step first, compared with twice it (``partner``; else with half it), then halving while
+    step first, compared with twice it (``partner``, when the first run kept every step:
+    :func:`every_step`; else with half it), then halving while
     the difference exceeds ``tol``, at
     most MAX_HALVINGS times, and no more once STALLED comparisons in a row show no
     convergence. ``run`` raises ConvergenceError for a step that fails and
@@ -132,7 +135,7 @@ def run_to_tolerance(run, tol: float, label: str = "simulate", partner: bool = T
     started = (started, h0)
     d_prev, coarse = None, None
     try:
-        coarse = run(2.0 * h0) if partner else None
+        coarse = run(2.0 * h0) if partner and every_step(first) else None
     except (ConvergenceError, SymcableError):
         pass
     if coarse is not None:
@@ -166,6 +169,13 @@ def run_to_tolerance(run, tol: float, label: str = "simulate", partner: bool = T
                        ", and the difference does not fall with the step (a snap, a contact "
                        "or axial waves the steps resolve only in part)"))
     return _accepted(prev, tol, None, tried, started, note)
+
+
+def every_step(traj) -> bool:
+    """Whether a run kept every step (its samples one step apart), so that a run at twice
+    its step has its samples among them."""
+    t = np.asarray(traj.time, float)
+    return t.size > 1 and bool(np.allclose(np.diff(t), float(traj.dt), rtol=1e-6, atol=0.0))
 
 
 def _bound(d: float, d_prev: float | None) -> float:

@@ -351,12 +351,13 @@ def simulate_3d(scene: Scene, duration: float, dt: float | None = None,
                 part = _line_result(scene, mech, part, name, part.stats.get("dt", h or 0.0),
                                     dict(part.stats), part.warnings)
             raise ConvergenceError(str(exc), partial=part, diagnostics=exc.diagnostics) from None
-        if not grid:
-            grid.update(times=np.asarray(tr.time, float) - t0, every=every_step(tr))
         stats = dict(tr.stats, static_time=t_static, rho_inf=float(rho_inf) if name != "rk4"
                      else None, **how)
-        return _line_result(scene, mech, tr, name, tr.stats["dt"], stats,
-                            tuple(notes) + tuple(tr.warnings), opts, _period(scene))
+        res = _line_result(scene, mech, tr, name, tr.stats["dt"], stats,
+                           tuple(notes) + tuple(tr.warnings), opts, _period(scene))
+        if not grid:
+            grid.update(times=np.asarray(res.time, float) - t0, every=every_step(res))
+        return res
 
     out = run(None) if tol is None else run_to_tolerance(run, tol, name,
                                                          partner=save_times is None)

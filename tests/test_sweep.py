@@ -208,6 +208,10 @@ def _sweep(**changes):
     (dict(analysis="simulate"), "simulate.duration: required key missing"),
     (dict(analysis="simulate", simulate={"duration": 10.0, "dt": -1}),
      "simulate.dt = -1: must be a number, s > 0"),
+    (dict(analysis="simulate", simulate={"duration": 10.0, "tol": 2}),
+     "simulate.tol = 2: must be a number in (0, 1), not with dt"),
+    (dict(analysis="simulate", simulate={"duration": 10.0, "tol": 0.01, "dt": 0.1}),
+     "simulate.tol = 0.01: give dt (a fixed step) or tol"),
     (dict(analysis="periodic", periodic={"method": "newton"}), "periodic.method = 'newton': "
      "must be 'shooting', 'collocation' or 'harmonic-balance'"),
     (dict(grid={"end_b.position": [-5.2, 0.0, -70.0]}), None),  # numbers: 3 (invalid) cases

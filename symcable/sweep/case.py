@@ -119,7 +119,7 @@ def _analyse(scene, analysis: str, options: Mapping, codegen) -> tuple:
         sol = solve_static(scene, codegen=codegen)
         return _per_line(sol, _static_values, several), sol.status
     if analysis == "simulate":
-        res = simulate(scene, options["duration"], dt=options.get("dt"),
+        res = simulate(scene, options["duration"], dt=options.get("dt"), tol=options.get("tol"),
                        method=options.get("method", "generalized-alpha"), progress=False,
                        codegen=codegen)
         discard = float(options.get("discard", 0.0))

@@ -78,7 +78,7 @@ _TOP_KEYS = ("name", "scene", "analysis", "outputs", "codegen", "grid", "cases",
 _OPTIONS = {
     "static": {},
     "simulate": {"duration": "s > 0 (required)", "dt": "s > 0", "discard": "s >= 0, < duration",
-                 "method": "'generalized-alpha' or 'rk4'"},
+                 "tol": "in (0, 1), not with dt", "method": "'generalized-alpha' or 'rk4'"},
     "periodic": {"method": "'shooting', 'collocation' or 'harmonic-balance'"},
 }
 _METHODS = {"simulate": ("generalized-alpha", "rk4"),
@@ -240,6 +240,14 @@ def _options(analysis: str, raw: Any, where: str) -> dict:
             if not ok or (v < 0 if key == "discard" else v <= 0) or v == float("inf"):
                 raise _err(f"{analysis}.{key}", v, f"must be a number, {allowed[key]}", where)
             out[key] = float(v)
+    if "tol" in out:
+        v = out["tol"]
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not 0.0 < v < 1.0:
+            raise _err(f"{analysis}.tol", v, f"must be a number {allowed['tol']}", where)
+        if "dt" in out:
+            raise _err(f"{analysis}.tol", v, "give dt (a fixed step) or tol (the step chosen "
+                       "for it), not both", where)
+        out["tol"] = float(v)
     if analysis == "simulate":
         if "duration" not in out:
             raise SceneError(f"{where}simulate.duration: required key missing (s > 0: how long "

@@ -39,7 +39,7 @@ from ..limits import call_deadline
 from ..results.generic import Equilibrium, SceneLinearization
 from .planar_static import solve_static
 from . import cable3d as _c3
-from .time_tolerance import every_step, run_to_tolerance, step_tolerance
+from .time_tolerance import step_tolerance, tolerance_runs
 from .scene3d import scene_mechanism
 from . import cable3d_periodic as _c3p
 
@@ -160,17 +160,13 @@ def simulate(scene, duration: float, dt: float | None = None, method: str = "gen
         generalized-α the step chosen for ``tol``; RK4 0.8 times its stability limit
         (:func:`symcable.api.planar_time.rk4_stability_limit`), at most that same value.
     tol : float, optional
-        Generalized-α: the error asked of the end tensions, relative to their range over the
-        run, in (0, 1); default 0.01 when neither ``dt`` nor ``save_times`` is given. The run
-        at the default step (``period / 100``; ``duration / 100`` when nothing moves; a tow's
-        and a motion table's own) is compared with one at twice the step, then the step is
-        halved, at most 5 times, until two runs agree within ``tol``
-        (:mod:`symcable.api.time_tolerance`); the finer of the two is returned.
-        ``stats["error_measured"]``: its error bound (relative; None when ``tol`` was not
-        reached, with a warning), ``stats["dt_runs"]``: each run's step (s) and its
-        difference to the run before, ``stats["tol"]``. With ``save_times``, the error at
-        those times only (the window a user reads: after a start-up, say); then the default
-        step is compared with half it. Not with ``dt`` or RK4.
+        Generalized-α: the error asked of the end tensions, relative to their range, in
+        (0, 1); default 0.01 when neither ``dt`` nor ``save_times`` is given. Runs from the
+        default step (``period / 100``, a table's or a tow's own) are compared at twice and
+        half steps until two agree within ``tol`` (:mod:`symcable.api.time_tolerance`); the
+        finer is returned, ``stats["error_measured"]`` its bound (None, with a warning,
+        when not reached), ``stats["dt_runs"]`` each run's step (s) and difference. With
+        ``save_times``, the error at those times only. Not with ``dt`` or RK4.
     method : {"generalized-alpha", "rk4"}
         Implicit generalized-α (first order on the DAE residual, Jansen, Whiting & Hulbert
         2000: second order, A-stable, numerical damping set by ``rho_inf``) or explicit
@@ -251,22 +247,16 @@ def simulate(scene, duration: float, dt: float | None = None, method: str = "gen
         scene = load_scene(scene)
         model = build_dynamic_model(scene)
 
-    grid = {"times": save_times, "every": save_every}
-
-    def run(h):
-        tr = _planar_time.simulate(scene, duration, h if h is not None else dt, method,
-                                   rho_inf=0.5 if rho_inf is None else rho_inf,
-                                   save_every=grid["every"], save_times=grid["times"],
-                                   progress=progress, model=model, params=params,
-                                   newton_tol=newton_tol, codegen=codegen, started=started)
-        if h is None and (save_times is not None or not every_step(tr)):
-            # every later run at the first run's samples (which its steps contain)
-            grid.update(times=np.asarray(tr.time, float), every=None)
-        return tr
+    def run(h, every, times):
+        return _planar_time.simulate(scene, duration, h if h is not None else dt, method,
+                                     rho_inf=0.5 if rho_inf is None else rho_inf,
+                                     save_every=every, save_times=times, progress=progress,
+                                     model=model, params=params, newton_tol=newton_tol,
+                                     codegen=codegen, started=started)
     if tol is None:
-        return run(None)
-    out = run_to_tolerance(run, tol, _planar_time.Method.parse(method).value,
-                           partner=save_times is None)
+        return run(None, save_every, save_times)
+    out = tolerance_runs(run, tol, _planar_time.Method.parse(method).value, save_every,
+                         save_times)
     return dataclasses.replace(out, stats=dict(out.stats,
                                                wall_time=time.perf_counter() - started))
 

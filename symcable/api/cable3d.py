@@ -33,7 +33,7 @@ from .scene3d import (check_moves, check_rk4_limit, dynamics_mechanism, has_twis
 from ..solvers.integrate import (ERROR_TARGET, accurate_dt, check_steps, error_warning,
                                 integrate)
 from ..solvers.march import leaky_sum
-from .time_tolerance import every_step, run_to_tolerance, step_tolerance
+from .time_tolerance import step_tolerance, tolerance_runs
 from ..solvers.time_estimate import MOTION_FLOOR
 from ..solvers.linearize import MAX_DENSE, mechanism_modes, output_sensitivity
 from ..solvers.options import RK4, GeneralizedAlphaFirstOrder
@@ -336,15 +336,12 @@ def simulate_3d(scene: Scene, duration: float, dt: float | None = None,
               period=_period(scene),
               reanchor=reanchor_hook(mech) if has_twists(scene) else None)
 
-    grid = {}
-
-    def run(h):
+    def run(h, every, times):
         if h is not None:
             h = check_steps(duration, h, _period(scene))[1]
-            if save_times is not None or not grid["every"]:  # at the first run's samples
-                kw.update(save_times=grid["times"], save_every=None)
         try:
-            tr = integrate(mech, duration, dt if h is None else h, **kw)
+            tr = integrate(mech, duration, dt if h is None else h,
+                           **dict(kw, save_every=every, save_times=times))
         except ConvergenceError as exc:
             part = exc.partial
             if part is not None and len(part.time):
@@ -353,14 +350,11 @@ def simulate_3d(scene: Scene, duration: float, dt: float | None = None,
             raise ConvergenceError(str(exc), partial=part, diagnostics=exc.diagnostics) from None
         stats = dict(tr.stats, static_time=t_static, rho_inf=float(rho_inf) if name != "rk4"
                      else None, **how)
-        res = _line_result(scene, mech, tr, name, tr.stats["dt"], stats,
-                           tuple(notes) + tuple(tr.warnings), opts, _period(scene))
-        if not grid:
-            grid.update(times=np.asarray(res.time, float) - t0, every=every_step(res))
-        return res
+        return _line_result(scene, mech, tr, name, tr.stats["dt"], stats,
+                            tuple(notes) + tuple(tr.warnings), opts, _period(scene))
 
-    out = run(None) if tol is None else run_to_tolerance(run, tol, name,
-                                                         partner=save_times is None)
+    out = run(None, save_every, save_times) if tol is None else \
+        tolerance_runs(run, tol, name, save_every, save_times, t0)
     return dataclasses.replace(out, stats=dict(out.stats,
                                                wall_time=time.perf_counter() - started))
 

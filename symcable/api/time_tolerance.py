@@ -32,7 +32,7 @@ import numpy as np
 from ..errors import ConvergenceError, SymcableError
 
 __all__ = ["DEFAULT_TOL", "MAX_HALVINGS", "check_tol", "end_tensions", "every_step",
-           "run_to_tolerance", "step_tolerance", "tension_difference"]
+           "run_to_tolerance", "step_tolerance", "tension_difference", "tolerance_runs"]
 
 #: the end tensions' error a run at simulate's default asks for (no dt, no tol), relative to
 #: their range
@@ -176,6 +176,23 @@ def every_step(traj) -> bool:
     its step has its samples among them."""
     t = np.asarray(traj.time, float)
     return t.size > 1 and bool(np.allclose(np.diff(t), float(traj.dt), rtol=1e-6, atol=0.0))
+
+
+def tolerance_runs(run, tol: float, label: str, save_every=None, save_times=None,
+                   t0: float = 0.0):
+    """:func:`run_to_tolerance` of ``run(dt, save_every, save_times)`` (dt None: the default
+    step; ``save_times`` s from the start ``t0``): the first run saved as the user asked,
+    later ones at the first run's samples when it was given ``save_times`` or did not keep
+    every step (module docstring), else as the user asked."""
+    grid = {}
+
+    def at(h):
+        same = h is not None and (save_times is not None or not grid["every"])
+        tr = run(h, None, grid["times"]) if same else run(h, save_every, save_times)
+        if not grid:
+            grid.update(times=np.asarray(tr.time, float) - t0, every=every_step(tr))
+        return tr
+    return run_to_tolerance(at, tol, label, partner=save_times is None)
 
 
 def _bound(d: float, d_prev: float | None) -> float:

@@ -18,8 +18,15 @@ the window a user reads, such as the span after a start-up) is compared at those
 the caller saves every run at the first run's sample times, which every finer run's steps
 contain, and no coarser partner is run (its steps would not contain them). So too when the
 first run did not keep every step (a long run thinned to a number of samples): later runs
-keep its samples, and the comparison reads no interpolated value. This module is generic over formulations:
-it sees a ``run(dt) -> trajectory`` and the trajectories' end tensions.
+keep its samples, and the comparison reads no interpolated value (:func:`tolerance_runs`).
+
+Two coarse runs can agree and both be far off: when both damp (generalized-alpha's rho_inf)
+a response that only much finer steps resolve, such as the stick-slip axial vibration of a
+very stiff chain on a rough bed. The first comparison assumes the runs are in their
+asymptotic range; ``studies/fuzz/README.md`` gives the measured case.
+
+This module is generic over formulations: it sees a ``run(dt) -> trajectory`` and the
+trajectories' end tensions.
 """
 from __future__ import annotations
 

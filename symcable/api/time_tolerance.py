@@ -139,7 +139,6 @@ def run_to_tolerance(run, tol: float, label: str = "simulate", partner: bool = T
     first = run(None)
     h0 = float(first.dt)
     tried = []
-    started = (started, h0)
     d_prev, coarse = None, None
     try:
         coarse = run(2.0 * h0) if partner and every_step(first) else None
@@ -150,7 +149,7 @@ def run_to_tolerance(run, tol: float, label: str = "simulate", partner: bool = T
         tried.append([float(coarse.dt), None])
     tried.append([h0, d_prev])
     if d_prev is not None and d_prev <= tol:
-        return _accepted(first, tol, d_prev, tried, started, None)
+        return _accepted(first, tol, d_prev, tried, started, h0, None)
     prev, error, stalled = first, None, 0
     for _ in range(MAX_HALVINGS):
         h = 0.5 * float(prev.dt)
@@ -159,12 +158,12 @@ def run_to_tolerance(run, tol: float, label: str = "simulate", partner: bool = T
         except ConvergenceError as exc:
             note = (f"{label}: tol = {tol:g} not verified: the run at dt = {h:.4g} s failed "
                     f"({exc}); the run at dt = {float(prev.dt):.4g} s is returned")
-            return _accepted(prev, tol, None, tried, started, note)
+            return _accepted(prev, tol, None, tried, started, h0, note)
         d = tension_difference(prev, fine)
         tried.append([float(fine.dt), d])
         error = _bound(d, d_prev)
         if error <= tol:
-            return _accepted(fine, tol, error, tried, started, None)
+            return _accepted(fine, tol, error, tried, started, h0, None)
         stalled = stalled + 1 if not math.isfinite(error) else 0
         prev, d_prev = fine, d
         if stalled >= STALLED:
@@ -175,7 +174,7 @@ def run_to_tolerance(run, tol: float, label: str = "simulate", partner: bool = T
             "range" + ("" if error is None or math.isfinite(error) else
                        ", and the difference does not fall with the step (a snap, a contact "
                        "or axial waves the steps resolve only in part)"))
-    return _accepted(prev, tol, None, tried, started, note)
+    return _accepted(prev, tol, None, tried, started, h0, note)
 
 
 def every_step(traj) -> bool:
@@ -215,7 +214,7 @@ def _bound(d: float, d_prev: float | None) -> float:
     return d / (2.0 ** order - 1.0)
 
 
-def _accepted(traj, tol, error, tried, started, note):
+def _accepted(traj, tol, error, tried, started, h0, note):
     """``traj`` with the tolerance's stats, its own step-error warning dropped when the
     comparison verified it, and ``note`` added."""
     warnings = tuple(traj.warnings)
@@ -223,7 +222,6 @@ def _accepted(traj, tol, error, tried, started, note):
         warnings = tuple(w for w in warnings if OWN_ESTIMATE_MARK not in w)
     if note:
         warnings = (note,) + warnings
-    started, h0 = started
     stats = dict(traj.stats, tol=tol, error_measured=error, dt_runs=tried, dt_default=h0,
                  tol_wall_time=time.perf_counter() - started)
     return dataclasses.replace(traj, stats=stats, warnings=warnings)

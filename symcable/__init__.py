@@ -129,12 +129,32 @@ __all__ = [
 
 
 def demo_scene_path(name: str = "oc3"):
-    """Path of a built-in scene: ``"oc3"`` (the OC3-Hywind mooring line on its seabed),
+    """Path of a built-in scene's TOML file, found by its name.
+
+    The built-in scenes are ``"oc3"`` (the OC3-Hywind mooring line on its seabed),
     ``"seed001"`` (the planar line of Boral, Hickey & Basu: suspended, current, elliptic
     fairlead motion), or any other of :func:`symcable.data.names`: ``"sphere"``,
     ``"sphere127"`` (the payload sphere of Sun, Zhu & LaRosa at 0.807 and 1.27 Hz),
     ``"towed_body"`` (their towed body: 355 m bare + 125 m faired cable, 12 kn, a 270 degree
-    turn)."""
+    turn), ``"seed000_rod"`` and ``"seed000_hybrid"`` (the 2 m cable of Goyal & Perkins as
+    a Kirchhoff rod, and as a catenary with the rod on its last 0.5 m).
+
+    Parameters
+    ----------
+    name : str
+        The scene's name, one of :func:`symcable.data.names`. Default ``"oc3"``.
+
+    Returns
+    -------
+    Traversable
+        The file (a :class:`pathlib.Path` when the package is installed as files), for
+        :func:`symcable.load_scene` or ``open``.
+
+    Raises
+    ------
+    SymcableError
+        ``name`` is not a built-in scene's name (the message lists them).
+    """
     from .data import names, scene_path
     path = scene_path(name) if isinstance(name, str) else None
     if path is None:

@@ -138,7 +138,29 @@ def limits(value: Limits | None = None, **changes: int) -> Iterator[Limits]:
     """Change the resource limits within a ``with`` block (this thread or task only).
 
     ``with sc.limits(segments=50_000, steps=10**7): ...``, or ``sc.limits(Limits(...))``.
-    Unknown names raise :class:`~symcable.errors.LimitError`.
+    The limits in force before the block are restored when it ends.
+
+    Parameters
+    ----------
+    value : Limits, optional
+        The limits to start from. Default None: those in force here (:func:`current`; the
+        defaults of :class:`Limits` outside any block).
+    **changes : int
+        Limits to change from ``value``, by the names of :class:`Limits`' fields
+        (``segments``, ``rod_segments``, ``steps``, ``sweep_cases``, ``file_bytes`` and
+        ``table_bytes`` in bytes, ``nesting``, ``solve_seconds`` in s), each an integer
+        >= 1.
+
+    Yields
+    ------
+    Limits
+        The limits in force within the block (``with sc.limits(...) as lim``).
+
+    Raises
+    ------
+    LimitError
+        ``value`` is not a :class:`Limits`, a name in ``changes`` is not a limit, or a
+        changed value is not an integer >= 1.
     """
     base = current() if value is None else value
     if not isinstance(base, Limits):

@@ -45,7 +45,7 @@ def test_builtin_scenes_by_name(capsys):
     assert sphere.mass == 12.2 and sphere.diameter == 0.2032 and sphere.ca == 0.18
     assert sphere.volume == pytest.approx(math.pi * 0.2032 ** 3 / 6, rel=1e-7)
     assert main(["check", "sphere"]) == 0
-    assert "seed-003 payload sphere" in capsys.readouterr().out
+    assert "payload sphere on a cable" in capsys.readouterr().out
     with pytest.raises(sc.SymcableError, match="sphere127"):
         sc.demo_scene_path("nope")
 

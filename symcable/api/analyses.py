@@ -25,7 +25,7 @@ from ..scene import Scene, load_scene
 from ..results.static import ModalSolution
 from ..errors import ModelNote, SymcableError
 from ..models import build_model, formulation_of
-from ..mechanism.mechanism import Mechanism, Start
+from ..mechanism.mechanism import Start
 from ..models.planar.static import static_mechanism
 from ..solvers.equilibrium import solve_equilibrium
 from ..solvers.linearize import MAX_DENSE, mechanism_modes, output_sensitivity
@@ -40,7 +40,7 @@ from ..results.generic import Equilibrium, SceneLinearization
 from .planar_static import solve_static
 from . import cable3d as _c3
 from .time_tolerance import step_tolerance, tolerance_runs
-from .scene3d import scene_mechanism
+from .builders import build_dynamic_model, build_mechanism
 from . import cable3d_periodic as _c3p
 
 __all__ = ["build_dynamic_model", "build_mechanism", "dynamics_scene", "modal_analysis", "runs_on_mechanism",
@@ -109,32 +109,6 @@ def _nonlinear(scene, **linearised_only):
                             f"{scene.model.value} scene (its analyses build their own "
                             "Mechanism from the scene)")
     return scene
-
-
-def build_mechanism(scene) -> Mechanism:
-    """The scene's statics as a Mechanism, for any formulation (planar, cable3d, rod, hybrid,
-    a scene of several lines, points and bodies), built once per scene content: the object
-    the generic solvers take (:func:`symcable.solve_equilibrium`,
-    :func:`symcable.linearize_mechanism`, :func:`symcable.mechanism_modes`, ...). A hybrid
-    with ``zones = "auto"`` has its zones chosen first (a static solve)."""
-    scene = load_scene(scene)
-    form = formulation_of(scene)
-    return form.build(scene) if form.linearised else scene_mechanism(scene)
-
-
-def build_dynamic_model(scene, static=None) -> DynamicModel:
-    """The scene's dynamics linearised about its static solution (solved here when not
-    given), as CasADi expressions; ``scene`` a Scene or anything :func:`symcable.load_scene`
-    takes. Cached like :func:`symcable.build_model` when ``static`` is not given."""
-    if not isinstance(scene, Scene):
-        scene = load_scene(scene)
-    if static is not None:
-        return linearised_model(scene, static)
-    model = cached_dynamic_model(scene)
-    if model is None:
-        static = solve_static(scene, estimate=False)
-        model = cache_dynamic_model(scene, linearised_model(scene, static))
-    return model
 
 
 def simulate(scene, duration: float, dt: float | None = None, method: str = "generalized-alpha", *,
@@ -386,20 +360,36 @@ def sweep_periodic(scene, periods: Sequence[float], method="collocation", *,
 
     Each period sets the ``omega`` block of the periodic parameters to 2 pi / T (one set of
     CasADi functions serves the sweep) and starts from the previous period's solution,
-    falling back to the method's own start if that fails. ``scene``, ``method``,
-    ``**options`` and the other arguments as in :func:`solve_periodic`; the model is built
-    once for the whole sweep. A cable3d scene: each period solved from its own start; with
-    several lines and points, ``line="NAME"`` picks the line whose tension at its moving end
-    is swept (default: the first line ending at a moving point; ``stats["swept"]`` says which).
+    falling back to the method's own start if that fails; the model is built once for the
+    whole sweep. A cable3d scene: each period solved from its own start.
+
+    Parameters
+    ----------
+    scene : Scene, dict or path
+        As in :func:`solve_periodic`; it must prescribe a motion.
+    periods : sequence of float
+        Excitation periods, s (a non-empty list of finite values > 0), solved in order.
+    method : str or options object
+        As in :func:`solve_periodic`. Default ``"collocation"``.
+    model, resolution, tol, codegen, ipopt_options
+        As in :func:`solve_periodic` (``resolution``: output times per period, default 200).
+    **options
+        The method's options, as in :func:`solve_periodic`. With several lines and points,
+        ``line="NAME"`` picks the line whose tension at its moving end is swept (default:
+        the first line ending at a moving point; ``stats["swept"]`` says which).
 
     Returns
     -------
     PeriodicSweep
-        A failed period has NaN results and status "failed" (and a warning); ``stats``
-        ``start`` says per period "neighbour" or "own start".
+        Per period (n_p,): tension amplitude, phase (rad), mean, max, min (N), and the
+        tension over each period (n_p, resolution). A failed period has NaN results and
+        status "failed" (and a warning); ``stats["start"]`` says per period "neighbour" or
+        "own start".
 
     Raises
     ------
+    SymcableError
+        Bad periods, method or option (the message names it).
     ConvergenceError
         When every period fails.
     """

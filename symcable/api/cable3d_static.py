@@ -69,9 +69,23 @@ def release(scene: Scene) -> None:
 
 
 def cable3d_mechanism(scene: Scene) -> Mechanism:
-    """The scene's cable3d Mechanism (:func:`symcable.models.build_mechanism`: one line's, or
-    for a scene of several lines and points their assembly), built once per scene content
-    (:func:`cached_mechanism`)."""
+    """The scene's cable3d Mechanism, built once per scene content.
+
+    Built by :func:`symcable.models.build_mechanism`: one line's, or for a scene of several
+    lines and points their assembly; cached by :func:`cached_mechanism` (the 16 most
+    recent scenes).
+
+    Parameters
+    ----------
+    scene : Scene
+        A loaded scene (:func:`symcable.load_scene`), ``model = "cable3d"``.
+
+    Returns
+    -------
+    Mechanism
+        Its statics: the object the generic solvers take
+        (:func:`symcable.solve_equilibrium`, :func:`symcable.linearize_mechanism`, ...).
+    """
     return cached_mechanism(scene)
 
 

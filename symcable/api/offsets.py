@@ -51,9 +51,38 @@ ABOUT = ("equilibrium", "scene")
 
 
 def offsets_along(dof, start: float, stop: float, n: int = 41) -> np.ndarray:
-    """(n, 6) offsets from ``start`` to ``stop`` (m or deg) along ``dof``: a name of
-    :data:`~symcable.results.offsets.DOF_NAMES` (``"surge"`` ... ``"yaw"``) or a direction
-    (6,) (its entries scaled by the amounts)."""
+    """Offsets of a body evenly spaced along one degree of freedom or one direction.
+
+    The (n, 6) rows (dx, dy, dz in m, droll, dpitch, dyaw in deg) run from ``start`` to
+    ``stop`` along ``dof``, for :func:`symcable.offset_sweep`.
+
+    Parameters
+    ----------
+    dof : str or array_like (6,)
+        A name of :data:`~symcable.results.offsets.DOF_NAMES` (``"surge"``, ``"sway"``,
+        ``"heave"`` in m, ``"roll"``, ``"pitch"``, ``"yaw"`` in deg), or a direction of 6
+        finite numbers (m, m, m, deg, deg, deg), its entries scaled by the amounts.
+    start, stop : float
+        The first and last amount along ``dof``: m or deg for a name, a multiple of the
+        direction for a direction.
+    n : int
+        Number of offsets (>= 1, at most the ``steps`` limit), ``start`` and ``stop``
+        included. Default 41.
+
+    Returns
+    -------
+    ndarray (n, 6)
+        Row i is ``linspace(start, stop, n)[i]`` times the unit row of the named degree of
+        freedom (or the direction): m and deg.
+
+    Raises
+    ------
+    SymcableError
+        An unknown name, a direction not of 6 finite numbers, ``n`` not an integer >= 1, or
+        ``start`` or ``stop`` not finite.
+    LimitError
+        ``n`` is more than the ``steps`` limit (:func:`symcable.limits`).
+    """
     if isinstance(dof, str):
         if dof not in DOF_NAMES:
             raise SymcableError(f"dof = {dof!r}: must be one of {', '.join(DOF_NAMES)} or a "

@@ -1,7 +1,7 @@
 """The field variables of Goyal & Perkins' rod (their Sec. 2.2) on a discrete ``model = "rod"``
 solution, and the residuals of its field equations (7)-(10) by finite differences.
 
-Seed 000 writes the rod in its body frames; in world components (the body-frame
+Goyal & Perkins write the rod in its body frames; in world components (the body-frame
 derivative ∂/∂s + kappa x is the world d/ds, and ∂/∂t + omega x the world d/dt) the
 equations read
 

@@ -69,9 +69,9 @@ def check_rk4_limit(scene: Scene, mech, t0: float, q, v) -> float:
     naming the method and the fix where it cannot be computed. Past DENSE_MAX states it is a
     power iteration with sparse QR solves of the mass matrix, which CasADi's QR refuses
     (``Linsol::solve: 'nfact' failed``) when a pivot is below its absolute threshold: a rod's
-    twist inertia (m D^2 ds / 8: 4.9e-13 kg m^2 on seed 000's 5 mm cells, beside node masses
-    of 4e-6 kg) fails at 6.5e-13 and passes at 9.8e-13 (seed000_rod at 300 and 200
-    segments), and the run would stop on a CasADi RuntimeError."""
+    twist inertia (m D^2 ds / 8: 4.9e-13 kg m^2 on 5 mm cells of Goyal & Perkins' cable,
+    beside node masses of 4e-6 kg) fails at 6.5e-13 and passes at 9.8e-13 (seed000_rod at
+    300 and 200 segments), and the run would stop on a CasADi RuntimeError."""
     from ..solvers.steps import rk4_stability_limit
     try:
         return rk4_stability_limit(mech, mech.params.values, t0, q, v)

@@ -56,11 +56,30 @@ def _builder(builders: dict, scene: Scene, what: str):
 
 
 def build_model(scene) -> Model:
-    """The scene's formulation, discretised, as CasADi expressions; ``scene`` a Scene, or
-    anything :func:`symcable.load_scene` takes (a dict, a path to TOML or a MoorDyn deck).
+    """The scene's planar formulation, discretised, as CasADi expressions.
 
     Models are cached by the scene's content (the 16 most recent), so solving the same
     scene twice builds its symbolic graph and functions once.
+
+    Parameters
+    ----------
+    scene : Scene, dict or path
+        A Scene, or anything :func:`symcable.load_scene` takes (a dict, a path to TOML or a
+        MoorDyn deck); ``model = "planar"``.
+
+    Returns
+    -------
+    Model
+        The planar line's static model (:class:`~symcable.models.planar.base.Model`), as
+        :func:`symcable.solve_static` takes it.
+
+    Raises
+    ------
+    SymcableError
+        A scene of another formulation (``cable3d``, ``rod``, ``hybrid``): it has no Model
+        record (:func:`symcable.build_mechanism` builds its Mechanism).
+    SceneError
+        ``scene`` is not a valid scene (from :func:`symcable.load_scene`).
     """
     if not isinstance(scene, Scene):
         scene = load_scene(scene)

@@ -87,7 +87,28 @@ def _tangents(mech: Mechanism, eq: Equilibrium):
 
 
 def linearize_mechanism(mech: Mechanism, eq: Equilibrium) -> Linearization:
-    """K, C, M, B and the kinematics' G, H (dense arrays) about the equilibrium ``eq``."""
+    """K, C, M, B and the kinematics' G, H (dense arrays) about the equilibrium ``eq``.
+
+    Exact: CasADi's derivatives of the Mechanism's force, constraint and kinematics
+    expressions at (q, v = 0, z, t = 0; p) of ``eq``, the constraint forces held at z (so K
+    contains their geometric stiffness); see the module docstring.
+
+    Parameters
+    ----------
+    mech : Mechanism
+        The system (:func:`symcable.build_mechanism`).
+    eq : Equilibrium
+        An equilibrium of ``mech`` (:func:`symcable.solve_equilibrium`): its q (n_q,), z
+        (n_z,) and p (n_p,).
+
+    Returns
+    -------
+    Linearization
+        ``K`` (n_q, n_q) = -df/dq (N/m for a position coordinate), ``C`` (n_v, n_v) =
+        -df/dv (N s/m), ``M`` (n_v, n_v) (kg), ``B`` (n_z, n_q) = dg/dq, ``G`` (n_q, n_v)
+        and ``H`` (n_q, n_q) (1/s) of the kinematics q' = G v + H q (the identity and zero
+        without kinematics), and the equilibrium's q, z, p.
+    """
     K, C, M, B, G, H = (_dense(a) for a in _tangents(mech, eq))
     return Linearization(mech.name, K, C, M, B, eq.q, eq.z, eq.p,
                          {"n_q": mech.n_q, "n_z": mech.n_z}, G=G, H=H)
@@ -256,20 +277,45 @@ def _damping_ratios(C, Hd, GN, Kq, Kv, Mr, N, n, zero_tol) -> np.ndarray:
 
 def mechanism_modes(mech: Mechanism, eq: Equilibrium, n_modes: int | None = None, *,
                     damped: bool = False, max_dense: int = MAX_DENSE) -> MechanismModes:
-    """The lowest undamped natural modes about ``eq`` (frequencies in Hz, ascending; zero
-    frequencies, the rigid modes, left out and counted in ``stats["zero_modes"]``), by the
-    symmetric problem where one exists, else the state matrix (see the module docstring).
+    """The lowest undamped natural modes of ``mech`` about the equilibrium ``eq``.
 
-    ``n_modes`` (default: all) is how many to return; fewer come back, with a warning in
-    ``.warnings``, when the mechanism has fewer. The reduced mass matrix must be positive
-    definite (every free velocity carries mass); an unstable equilibrium (a negative
-    stiffness eigenvalue) is refused. With ``damped=True`` the damping ratios of the complex
-    modes of the system with C are returned too, matched to the undamped modes by order.
-    ``max_dense`` is the largest dense eigenproblem solved: the free velocities of a
-    symmetric problem, else the state size n_q + n_v (O(n^3) time, O(n^2) memory; at the
-    default 3000 a symmetric problem takes about 2 s, the state matrix ~20 s); a symmetric
-    problem up to SPARSE_FACTOR times larger is solved for its ``n_modes`` lowest modes
-    (fewer than half) by sparse shift-invert Lanczos.
+    Frequencies in Hz, ascending; zero frequencies, the rigid modes, are left out and
+    counted in ``stats["zero_modes"]``. Solved by the symmetric problem where one exists,
+    else the state matrix (see the module docstring). The reduced mass matrix must be
+    positive definite (every free velocity carries mass).
+
+    Parameters
+    ----------
+    mech : Mechanism
+        The system (:func:`symcable.build_mechanism`).
+    eq : Equilibrium
+        An equilibrium of ``mech`` (:func:`symcable.solve_equilibrium`).
+    n_modes : int, optional
+        How many modes to return (>= 1). Default None: all. Fewer come back, with a warning
+        in ``.warnings``, when the mechanism has fewer.
+    damped : bool
+        Also return the damping ratios of the complex modes of the system with C, matched
+        to the undamped modes by order. Default False.
+    max_dense : int
+        The largest dense eigenproblem solved: the free velocities of a symmetric problem,
+        else the state size n_q + n_v (O(n^3) time, O(n^2) memory; at the default 3000 a
+        symmetric problem takes about 2 s, the state matrix ~20 s). A symmetric problem up
+        to SPARSE_FACTOR (4) times larger is solved for its ``n_modes`` lowest modes (fewer
+        than half) by sparse shift-invert Lanczos.
+
+    Returns
+    -------
+    MechanismModes
+        ``frequencies`` (k,) Hz, ``shapes`` (k, n_q) in q, ``velocity_shapes`` (k, n_v),
+        ``real_parts`` (k,) 1/s, ``damping_ratios`` (k,) or None, and ``stats``.
+
+    Raises
+    ------
+    SymcableError
+        ``n_modes`` not an integer >= 1, a problem larger than ``max_dense`` allows, a mass
+        matrix singular on the free coordinates, an unstable equilibrium (a negative
+        stiffness eigenvalue, or a real positive eigenvalue of the state matrix), or a
+        sparse eigensolver that did not converge.
     """
     n_state = mech.n_q + mech.n_v
     if isinstance(n_modes, bool) or (n_modes is not None and (int(n_modes) != n_modes
@@ -357,8 +403,32 @@ def mechanism_modes(mech: Mechanism, eq: Equilibrium, n_modes: int | None = None
 def output_sensitivity(mech: Mechanism, eq: Equilibrium, output: str, block: str) -> np.ndarray:
     """d(output)/d(parameter block) at the equilibrium, holding R(x; p) = 0 (exact).
 
-    Returns an (n_y, n_b) array in the output's unit per the block's unit, e.g. N/m for an
-    end force against an end position.
+    By the implicit function theorem: dx/dp = -R_x^-1 R_p and dy/dp = y_x dx/dp + y_p, from
+    CasADi's derivatives (no finite differences).
+
+    Parameters
+    ----------
+    mech : Mechanism
+        The system (:func:`symcable.build_mechanism`).
+    eq : Equilibrium
+        An equilibrium of ``mech`` (:func:`symcable.solve_equilibrium`).
+    output : str
+        A name of ``mech.outputs`` (e.g. ``"end_force_b"``; ``"LINE.end_force_b"`` in a
+        scene of several parts).
+    block : str
+        A parameter block of ``mech`` (e.g. ``"end_b.position"``, or
+        ``"LINE.end_b.position"``).
+
+    Returns
+    -------
+    ndarray (n_y, n_b)
+        n_y the output's size (flattened), n_b the block's; in the output's unit per the
+        block's unit, e.g. N/m for an end force against an end position.
+
+    Raises
+    ------
+    SymcableError
+        An unknown output or parameter block.
     """
     if output not in mech.outputs:
         raise SymcableError(f"output = {output!r}: unknown (outputs: {', '.join(mech.outputs)})")

@@ -387,13 +387,33 @@ def _case(name: str, overrides: dict, raw: dict, folder: Path, analysis: str,
 
 
 def read_sweep(source: Any) -> Sweep:
-    """Read and validate a sweep: the path of a sweep file, a dict in its layout (``scene``
-    a path relative to the current folder, a scene dict or a Scene), or a :class:`Sweep`.
+    """Read and validate a sweep: its scene, analysis, outputs and every case's scene.
+
+    The layout is the sweep file's (module docstring). Every case's scene is loaded here,
+    before anything runs; a case whose scene is invalid is kept with its error (it fails
+    when run), a key the scene does not know is an error of the file.
+
+    Parameters
+    ----------
+    source : str, path, dict or Sweep
+        The path of a sweep file (TOML; its ``scene`` relative to the file), a dict in its
+        layout (``scene`` a path relative to the current folder, a scene dict or a Scene),
+        or a :class:`Sweep` (returned as it is).
+
+    Returns
+    -------
+    Sweep
+        The validated sweep: its cases in run order (``[[cases]]`` and the grid's
+        combinations, in the file's order), each with its scene and content hash; ``out``
+        the results folder ``<stem>-results`` beside the file (None for a dict).
 
     Raises
     ------
     SceneError
         One line naming the file, the key, the value and what is allowed.
+    LimitError
+        More cases than the ``sweep_cases`` limit, a file larger than ``file_bytes`` or
+        nested deeper than ``nesting`` (:func:`symcable.limits`).
     """
     if isinstance(source, Sweep):
         return source

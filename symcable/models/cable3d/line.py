@@ -17,15 +17,15 @@ elements gives:
   mean of its nodes' velocities), split along and across t: 0.5 rho d Cd |u| u sqrt(1+e)
   per unstretched metre (the planar law), |u| smoothed as sqrt(|u|^2 + DRAG_SPEED^2) so the
   force is differentiable at rest, half on each node; or, for a line type with ``drag_law =
-  "loading-functions"``, Sun, Zhu & LaRosa's loading functions (:mod:`.cable3d_drag`);
-- bending where EI > 0 (:mod:`.cable3d_bending`: a discrete curvature energy on node
+  "loading-functions"``, Sun, Zhu & LaRosa's loading functions (:mod:`~symcable.models.common.drag`);
+- bending where EI > 0 (:mod:`~symcable.models.common.bending`: a discrete curvature energy on node
   triplets; a clamped end's tangent held by a ghost node); such segments carry compression
   (the linear law EA e, as the planar line's), cable segments (EI = 0) do not;
 - lumped mass: structural m L0 / 2 per node, and added mass rho A L0 / 2 (Ca_n (I - t t^T) +
   Ca_t t t^T) per node, rho A the displaced water per metre; or, with ``mass_matrix =
   "consistent"``, Sun, Zhu & LaRosa's L0 B / 6 [[2, 1], [1, 2]] per element (:func:`_consistent_mass`).
 
-Each node on a flat seabed at z = -depth gets (:mod:`.seabed3d`, shared with the rod) the
+Each node on a flat seabed at z = -depth gets (:mod:`~symcable.models.common.seabed`, shared with the rod) the
 planar line's smooth penalty contact k d b ramp(-depth - z) (b its tributary length), a
 damper into the bed (:func:`~symcable.models.common.seabed.seabed_damper`) and friction, axial
 and lateral, by the scene's ``seabed.friction_law`` (:mod:`~symcable.models.common.friction`: regularised Coulomb, or an
@@ -546,9 +546,10 @@ def _layout(owner: str, seg: dict, N: int, moving: list, bristle: bool) -> Layou
 
 
 def _consistent_mass(halves, acc, moving, N):
-    """Seed 003's consistent mass: element j's L0 B / 6 [[2, 1], [1, 2]] (B its mass per
-    metre, 3 x 3, structural and added), from ``halves[j]`` = L0 B / 2 (what the lumped mass
-    puts on each of its nodes): two thirds of a half on each node, one third coupling them.
+    """The consistent mass of Sun, Zhu & LaRosa: element j's L0 B / 6 [[2, 1], [1, 2]] (B
+    its mass per metre, 3 x 3, structural and added), from ``halves[j]`` = L0 B / 2 (what
+    the lumped mass puts on each of its nodes): two thirds of a half on each node, one third
+    coupling them.
     Returns (M over the moving nodes, sparse block-tridiagonal; the force -M_ih a_h on a
     moving node i beside a held node h, a_h = ``acc[h]`` the prescribed motion's
     acceleration)."""

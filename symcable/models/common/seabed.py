@@ -186,9 +186,9 @@ def joined_on(pen, sink, width):
     stiffer than the line's (:func:`~symcable.models.system.point_contact`), so a point at
     rest presses in anywhere from 0 to ``sink``, and such a step took from the line's contact
     up to half of its end half segment's weight (13 % at 0.1 ``sink``), which the point's
-    contact carried instead and the line reported as its pull on the point (issue 33: 3.24
-    kN at a clump where the chain pulls 66 N). The tanh's tail is exponential: at pen >= 0,
-    with width = CONTACT_SMOOTHING ``sink``, the factor is 1 to 4e-9."""
+    contact carried instead and the line reported as its pull on the point (at a clump
+    weight, far more than the chain's actual pull). The tanh's tail is exponential: at
+    pen >= 0, with width = CONTACT_SMOOTHING ``sink``, the factor is 1 to 4e-9."""
     return 0.5 * (1.0 + ca.tanh((pen + sink) / width))
 
 

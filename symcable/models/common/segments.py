@@ -129,7 +129,8 @@ def grounded_length(scene: Scene, seg: dict, nodal: tuple | None, pos: np.ndarra
     # contact force: its half segment takes the neighbour's penetration, which on a penalty
     # seabed grows from the end over the length sqrt(T / (k d)) (9 m on the OC3 line), so
     # the neighbour is in contact only on segments longer than about a tenth of that (0.95
-    # m on OC3: issue 33, the OC3 line lost 9 m of grounded length from 1,000 segments on).
+    # m on OC3: without this rule a fine OC3 line, 1,000 segments or more, loses 9 m of
+    # its grounded length).
     # A taut line rising from its anchor does not sink beside it: the anchor then carries
     # its half segment's weight lumped on its node, which is no grounded line (and a node
     # that grazes the bed beside it, in contact by less than a tenth of its weight, none)

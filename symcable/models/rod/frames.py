@@ -22,7 +22,7 @@ At the node between edges j-1 and j (a *vertex*; rest lengths lbar = the mean of
     kappa_1^k = kb . m1_k,  kappa_2^k = kb . m2_k               (k = j-1, j: each edge's frame)
     twist = theta_j - theta_{j-1} + ref,  ref = the angle from P(t_{j-1} -> t_j) d1_{j-1}
             to d1_j about t_j (the reference twist)
-    E = [ 1/2 sum_k (EI_1^k (kappa_1^k)^2 + EI_2^k (kappa_2^k)^2) / 2 + GJ twist^2 ] / (2 lbar)
+    E = [ 1/2 sum_k (EI_1^k (kappa_1^k)^2 + EI_2^k (kappa_2^k)^2) + GJ twist^2 ] / (2 lbar)
 
 so an isotropic rod's bending is cable3d's EI |kb|^2 / (2 lbar)
 (:mod:`~symcable.models.common.bending`) and the twist energy is 0.5 GJ tau^2 over the

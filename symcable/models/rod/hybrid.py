@@ -18,7 +18,7 @@ its scene needs:
   with EI > 0 holds its tangent by cable3d's bending term and a ghost that moves with the
   node; cable3d edges with EI = 0 take the tension-only law at its sharp corner), with
   cable3d's seabed contact, friction and current profile on every node
-  (:mod:`.rod_loads`).
+  (:mod:`.loads`).
 
 ``zones = "auto"`` scenes are resolved first (:func:`symcable.api.rod_static.hybrid_zones`, a
 static solve, which no formulation may call): this module refuses them.

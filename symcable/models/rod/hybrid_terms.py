@@ -12,7 +12,7 @@ Mechanism (:func:`symcable.models.rod.rod.build_rod`, which takes a per-segment 
   element forces of both sides meet there (force transmitted), no bending or twisting
   moment, and the tangent may jump;
 - which nodes carry cable3d's own bending (:func:`cable_vertices`,
-  :mod:`.cable3d_bending`'s kernel): nodes between two cable3d edges with EI > 0 (the
+  :mod:`~symcable.models.common.bending`'s kernel): nodes between two cable3d edges with EI > 0 (the
   harmonic mean, as cable3d), and a clamped or guided end whose edge is cable3d with
   EI > 0 (the guide's ghost moves with its node, as the rod's);
 - the axial law (:func:`axial_law`): rod edges the linear law EA e (a rod carries

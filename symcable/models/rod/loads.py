@@ -1,6 +1,6 @@
 """The rod's (and the hybrid's) mass and its loads from the water and the seabed
 (:mod:`~symcable.models.rod.rod`): what acts on the nodes alone, whatever the formulation
-between them, so cable3d's (:mod:`.seabed3d`) on the rod's nodes.
+between them, so cable3d's (:mod:`~symcable.models.common.seabed`) on the rod's nodes.
 
 - :func:`water_velocity`: the uniform current plus ``environment.current_profile`` at each
   element's mid-depth (as cable3d);
@@ -26,7 +26,7 @@ __all__ = ["RodSeabed", "rod_mass", "rod_seabed", "seabed_setup", "water_velocit
 
 def water_velocity(scene: Scene, current, Xm):
     """The water's velocity at each element (3, N), m/s: the uniform ``current`` parameter
-    (3, 1) plus the profile at the element's mid-depth (:func:`.seabed3d.profile_current`)."""
+    (3, 1) plus the profile at the element's mid-depth (:func:`~symcable.models.common.seabed.profile_current`)."""
     N = Xm.shape[1] - 1
     water = ca.repmat(current, 1, N)
     if scene.environment.current_profile:
@@ -36,7 +36,7 @@ def water_velocity(scene: Scene, current, Xm):
 
 
 def seabed_setup(scene: Scene, seg: dict) -> tuple[bool, bool, np.ndarray | None]:
-    """``(rubs, bristle, laid)`` of :func:`.seabed3d.friction_setup`, (False, False, None)
+    """``(rubs, bristle, laid)`` of :func:`~symcable.models.common.seabed.friction_setup`, (False, False, None)
     without a seabed."""
     if scene.seabed is None:
         return False, False, None
@@ -62,7 +62,7 @@ class RodSeabed:
 
 
 def rod_seabed(scene: Scene, seg: dict, Xm, Vm, nodal, state, laid, gate, bed=1.0) -> RodSeabed:
-    """The seabed on the rod's nodes (:func:`.seabed3d.seabed_forces`), added to ``nodal``
+    """The seabed on the rod's nodes (:func:`~symcable.models.common.seabed.seabed_forces`), added to ``nodal``
     (3, N+1), N. ``state``: the bristle deflections (2 (N+1), 1), m, the last entries of
     q (None without the bristle law); ``laid``, ``gate``: the static friction parameters
     (None without); ``bed`` the contact stiffness's scale (the ``bed`` block). No seabed:

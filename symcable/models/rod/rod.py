@@ -16,10 +16,10 @@ joins nodes j and j+1); v their rates (m/s, rad/s). Terms:
   twist, m d^2 / 8 per metre (a solid circular section) on each edge. The rotary inertia
   of bending (m d^2 / 16 per metre about each transverse axis) is left out (relative
   O((d / wavelength)^2)), as is the spin the anchor map gives the reference frame
-  (:mod:`.rod_frames`; second order in the edge's rotation from its anchor).
+  (:mod:`.frames`; second order in the edge's rotation from its anchor).
 
 End conditions: pinned (position held, no moment, twist free), free (applied force, and
-optionally a dead moment ``moment`` on its edge: :func:`~.rod_frames.end_moment_force`, not
+optionally a dead moment ``moment`` on its edge: :func:`~.frames.end_moment_force`, not
 in the potential energy output), guided (``condition = "guided"``: free, tangent
 ``direction`` held: cable3d's ghost edge on the moving end node, turning with its
 translation, so its force is the node's; it takes the neighbour edge's twist and anchor and
@@ -32,7 +32,7 @@ frame at the end node and M_t = GJ (theta_0 - twist) / (ds / 2)). With no clampe
 edge's twist is held at 0 (the rod's spin about itself is otherwise undetermined); a rod
 needs GJ > 0 (an isotropic rod's twists are otherwise singular).
 
-Seabed and water (:mod:`.rod_loads`, cable3d's :mod:`.seabed3d` on the rod's nodes): a
+Seabed and water (:mod:`.loads`, cable3d's :mod:`~symcable.models.common.seabed` on the rod's nodes): a
 flat seabed's smooth penalty contact, normal damper and friction by ``seabed.friction_law``
 (regularised Coulomb; the bristle law's deflections are first-order states, the last
 entries of q, node by node), static friction ``"laid"``; ``environment.current_profile``

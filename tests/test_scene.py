@@ -13,6 +13,8 @@ from types import MappingProxyType
 
 import pytest
 
+import symcable as sc
+
 from symcable.errors import SceneError
 from symcable.scene import End, EndCondition, LineType, Model, Scene, Seabed
 from symcable.scene import load_scene, scene_to_dict, scene_to_toml
@@ -442,3 +444,28 @@ def test_junk_anywhere_gives_a_purpose_built_scene_error(junk):
         except SceneError as exc:
             msg = str(exc)
             assert "\n" not in msg and "invalid scene (" not in msg, (path, msg)
+
+
+def test_several_lines_only_in_cable3d_and_guided_only_on_rods():
+    """[[lines]] with model = "rod" or "hybrid" (which solve one line) and a guided end on the
+    planar line (which has no tangent to hold on a free end) are refused when the scene is
+    read, naming the key, not later in a solve."""
+    d = sc.load_scene("sphere").to_dict()
+    for model in ("rod", "hybrid"):
+        d["model"] = model
+        with pytest.raises(sc.SceneError, match=r"^lines = .*model = \"cable3d\" only"):
+            sc.load_scene(d)
+    d = sc.load_scene("seed001").to_dict()
+    d["end_b"] = {"condition": "guided"}
+    with pytest.raises(sc.SceneError, match=r"^end_b.condition = 'guided': .*\"rod\""):
+        sc.load_scene(d)
+
+
+def test_a_mistyped_builtin_name_gets_the_closest():
+    """A scene name that is neither a file nor a built-in scene: the closest built-in name
+    is suggested, or all of them when none is close."""
+    with pytest.raises(sc.SceneError, match=r"^seed01: scene file not found \(nor a built-in "
+                       r"scene; did you mean 'seed001'\?\)$"):
+        sc.load_scene("seed01")
+    with pytest.raises(sc.SceneError, match=r"nor a built-in scene: oc3, .*towed_body\)$"):
+        sc.load_scene("zzzz")

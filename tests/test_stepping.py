@@ -167,6 +167,15 @@ def test_bad_arguments():
         simulate(d, 1.0, dt=-1.0)
     with pytest.raises(SymcableError, match="save_every"):
         simulate(d, 1.0, save_every=0)
+    # a number written as text is refused, not read (a sweep file's "10" is a typo)
+    with pytest.raises(SymcableError, match=r"^duration = '10' s: must be > 0"):
+        simulate(d, "10")
+    # solve_static's own options, before any build
+    for kw, msg in ((dict(tol=-1.0), r"^tol = -1.0 N: must be > 0"),
+                    (dict(max_iter="x"), r"^max_iter = 'x': must be a whole number >= 1"),
+                    (dict(max_iter=0), r"^max_iter = 0: must be a whole number >= 1")):
+        with pytest.raises(SymcableError, match=msg):
+            sc.solve_static(d, **kw)
 
 
 def test_saving_and_round_trip(line, tmp_path, capsys):

@@ -19,6 +19,7 @@ from ..models.planar.static import static_mechanism
 from ..results.static import StaticSolution
 from ..scene import Scene, load_scene
 from ..solvers.equilibrium import solve_equilibrium
+from ..solvers.integrate import check_positive
 from .above_water import check_above_water
 
 __all__ = ["RTOL", "solve_static"]
@@ -91,6 +92,11 @@ def solve_static(scene, *, tol: float | None = None, max_iter: int = 50,
         With ``partial`` (a StaticSolution of the best iterate, status "failed") and the
         diagnostics of every attempt.
     """
+    if tol is not None:
+        check_positive("tol", tol, "N")
+    if isinstance(max_iter, bool) or not isinstance(max_iter, (int, np.integer)) or max_iter < 1:
+        raise SymcableError(f"max_iter = {max_iter!r}: must be a whole number >= 1 (Newton "
+                            "iterations per solve)")
     if not isinstance(scene, Scene):
         scene = load_scene(scene)
     options = dict(tol=tol, max_iter=max_iter, continuation=continuation, codegen=codegen)

@@ -43,13 +43,25 @@ _MODELS = tuple(m.value for m in Model)
 
 # ----------------------------------------------------------------------------- public API
 
+def _builtin_hint(path: str) -> str:
+    """For a name without a folder: the built-in scenes, the closest first."""
+    if os.sep in str(path) or "/" in str(path):
+        return ""
+    from difflib import get_close_matches
+
+    from ..data import names
+    close = get_close_matches(str(path).removesuffix(".toml"), names(), n=1)
+    return (f" (nor a built-in scene{f'; did you mean {close[0]!r}?' if close else ':'}"
+            f"{'' if close else ' ' + ', '.join(names())})")
+
+
 def _read_text(path: str) -> tuple[str | None, str]:
     """``(text, error)`` of a scene file: its UTF-8 text (None when it is not UTF-8, then
     ``error`` says why), read as a regular file under the ``file_bytes`` limit."""
     try:
         raw = read_bounded(path, "file_bytes", "scene file")
     except FileNotFoundError:
-        raise SceneError(f"{path}: scene file not found") from None
+        raise SceneError(f"{path}: scene file not found{_builtin_hint(path)}") from None
     except OSError as exc:
         raise SceneError(f"{path}: cannot read scene file ({exc.strerror or exc})") from None
     try:
@@ -187,6 +199,10 @@ def _build(data: Mapping, source: str, base: str = ".") -> Scene:
     if not rod_keys:
         _refuse_rod_keys(types)
     if _get(data, "lines") is not None:  # version 2: several lines and points
+        if model not in (Model.CABLE3D,):
+            raise _err("lines", "[...]", "", f'several lines ([[lines]]) are read by model = '
+                       f'"cable3d" only, not {model.value!r}: give one line ([[sections]], '
+                       'end_a, end_b), or set model = "cable3d"')
         _check_friction_options(seabed, model.value, True, None)
         points, lines, bodies = read_system(data, env, types, dim, model.value, base)
         _check_segments({f"lines[{k}].sections": ln.sections for k, ln in enumerate(lines)},

@@ -26,7 +26,7 @@ LINE TYPES, by column name   ``[line_types.<TypeName>]`` (only the types the lin
   BA/-zeta                   ``damping``: BA >= 0 as given (N s); a negative -zeta as given
                              (:data:`ZETA_FACTOR` = 1: cable3d reads it as MoorDyn does,
                              BA = zeta ds sqrt(EA m))
-  EI                         must be 0 (cable3d has no bending yet): else refused
+  EI                         ``EI``, N m^2 (> 0: cable3d's bending, moment-free ends)
   Cd, Ca / Cdn, Can          ``cd_normal``, ``ca_normal``
   CdAx, CaAx / Cdt, Cat      ``cd_tangential`` = pi CdAx (MoorDyn's axial drag is per surface
                              area pi d l, symcable's per d l), ``ca_tangential`` = CaAx

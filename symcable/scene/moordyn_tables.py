@@ -66,10 +66,9 @@ class _Tables:
                     raise self.fail(n, f"{col} = {row[key]!r}: a nonlinear or viscoelastic {col}"
                                        " (a table, a file or a '|' list) is not representable yet")
             values = {k: self.number(n, v, k) for k, v in row.items()}
-            for key, why in (("EI", "cable3d has no bending yet"), ("Cl", "no VIV lift")):
-                if values.pop(key, 0.0) != 0.0:
-                    raise self.fail(n, f"{key} = {row[key]} in line type {name!r} is not "
-                                       f"representable yet ({why}): {key} must be 0")
+            if values.pop("Cl", 0.0) != 0.0:
+                raise self.fail(n, f"Cl = {row['Cl']} in line type {name!r} is not "
+                                   "representable yet (no VIV lift): Cl must be 0")
             values.pop("dF", None)
             values.pop("cF", None)
             if values["damping"] < 0:

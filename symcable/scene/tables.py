@@ -297,6 +297,10 @@ def _end_table(path: str, raw: Any, dim: int, base: str = ".") -> End:
     raw_cond = _choice(f"{path}.condition", _required(
         path, t, "condition", f"one of {', '.join(map(repr, _CONDITIONS))}"), _CONDITIONS,
         "end condition")
+    if raw_cond == "guided" and dim != 3:
+        raise _err(f"{path}.condition", raw_cond, "", 'a guided end (free, its tangent held) '
+                   'is read by model = "rod" (or a rod section of "hybrid"); the planar line '
+                   'takes "pinned", "clamped" or "free"')
     guided = raw_cond == "guided" or (raw_cond == "free" and dim == 3
                                       and _get(t, "direction") is not None)
     cond = EndCondition.FREE if guided else EndCondition(raw_cond)

@@ -56,7 +56,7 @@ def check_positive(name: str, value, unit: str = "") -> float:
     """``value`` as a finite float > 0, or a SymcableError naming ``name``, the value and its
     unit."""
     try:
-        v = float(value)
+        v = float("nan") if isinstance(value, (str, bytes, bool)) else float(value)
     except (TypeError, ValueError):
         v = float("nan")
     if not (math.isfinite(v) and v > 0.0):

@@ -172,7 +172,7 @@ def test_sweep_matches_the_single_solve(scene, model, colloc):
     solvers = dict(system._solvers)
     ipopt = [v for k, v in solvers.items() if isinstance(k, tuple) and k[0] == "ipopt"]
     assert len(ipopt) == 1
-    sw = sweep_periodic(scene, [8.0, 10.0, 12.0], model=model)
+    sw = sweep_periodic(scene, [8.0, 10.0, 12.0], "collocation", model=model)
     assert isinstance(sw, PeriodicSweep) and sw.status == "converged"
     assert sw.statuses == ("converged",) * 3
     assert sw.stats["start"] == ["own start", "neighbour", "neighbour"]

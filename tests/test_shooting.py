@@ -141,7 +141,7 @@ def test_sweep_by_continuation(scene, model):
     sweep to the integrator's error (< 2e-3 relative; measured 3e-4 to 5e-4)."""
     periods = [8.0, 10.0, 12.0]
     sw = sweep_periodic(scene, periods, "shooting", model=model)
-    ref = sweep_periodic(scene, periods, model=model)
+    ref = sweep_periodic(scene, periods, "collocation", model=model)
     assert sw.stats["start"] == ["own start", "neighbour", "neighbour"]
     assert max(sw.stats["iterations"][1:]) < sw.stats["iterations"][0]
     np.testing.assert_allclose(sw.fairlead_tension_amplitude, ref.fairlead_tension_amplitude,

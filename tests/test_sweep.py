@@ -297,3 +297,11 @@ def test_a_moordyn_deck_as_the_scene(tmp_path):
     assert res["current=0.5_0_0"].values["fairlead_tension"] == pytest.approx(
         sc.solve_static(deck).fairlead_tension, rel=1e-9)
     assert res.column("anchor_tension")[1] != res.column("anchor_tension")[0]
+
+
+def test_a_builtin_scene_by_name():
+    """``scene = "oc3"``: a built-in scene's name, as everywhere a scene is taken."""
+    sw = sc.read_sweep({"scene": "oc3", "analysis": "static", "outputs": ["fairlead_tension"],
+                        "cases": [{"name": "a", "end_b.position": [-5.2, -70.0]}]})
+    assert sw.scene_source == sc.load_scene("oc3").source and len(sw.cases) == 1
+    assert sw.model == "planar"

@@ -352,7 +352,7 @@ def solve_periodic(scene, method="shooting", *, model: DynamicModel | None = Non
 _NOT_METHOD = ("stability", "start")
 
 
-def sweep_periodic(scene, periods: Sequence[float], method="collocation", *,
+def sweep_periodic(scene, periods: Sequence[float], method="shooting", *,
                    model: DynamicModel | None = None, resolution: int = 200,
                    tol: float | None = None, codegen: bool | None = None,
                    ipopt_options: Mapping | None = None, **options) -> PeriodicSweep:
@@ -370,7 +370,7 @@ def sweep_periodic(scene, periods: Sequence[float], method="collocation", *,
     periods : sequence of float
         Excitation periods, s (a non-empty list of finite values > 0), solved in order.
     method : str or options object
-        As in :func:`solve_periodic`. Default ``"collocation"``.
+        As in :func:`solve_periodic` (and the same default, ``"shooting"``).
     model, resolution, tol, codegen, ipopt_options
         As in :func:`solve_periodic` (``resolution``: output times per period, default 200).
     **options

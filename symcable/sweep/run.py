@@ -233,6 +233,8 @@ def run_sweep(cases, out=None, *, workers: int | None = None, scheduler: Any = N
         Local worker processes, one thread each (default: one per core, at most one per case
         to run; at most :func:`max_workers`); 0 runs the cases one by one in this process,
         without Dask. The local cluster listens on 127.0.0.1 only.
+        A script that starts local workers must do so under ``if __name__ ==
+        "__main__":`` (the workers are new processes that import the script).
     scheduler : str or distributed.Client, optional
         A Dask scheduler's address (``"tcp://host:8786"``) or a Client, instead of a local
         cluster; not with ``workers``. It receives the cases pickled and the client unpickles

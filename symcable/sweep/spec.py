@@ -63,6 +63,7 @@ if sys.version_info >= (3, 11):
 else:  # pragma: no cover - exercised on Python 3.10 only
     import tomli as tomllib
 
+from ..data import names, scene_path
 from ..errors import SceneError
 from ..limits import check, check_nesting, check_toml_nesting, read_bounded
 from ..scene import Scene, load_scene, moordyn_deck
@@ -209,10 +210,15 @@ def _base_scene(raw: Any, base: Path, where: str) -> tuple:
         return plain(raw), base, load_scene(raw, base=base), "<dict>"
     if not isinstance(raw, (str, os.PathLike)):
         raise _err("scene", raw, "must be the path of a scene file (TOML or a MoorDyn deck), "
-                   "relative to the sweep file", where)
+                   "relative to the sweep file, or a built-in scene's name", where)
     path = base / Path(raw)
     if not path.exists():
-        raise _err("scene", str(raw), f"no such file ({path})", where)
+        builtin = scene_path(str(raw)) if isinstance(raw, str) else None
+        if builtin is None:
+            raise _err("scene", str(raw), f"no such file ({path}), nor a built-in scene "
+                       f"({', '.join(names())})", where)
+        scene = load_scene(str(raw))
+        return plain(scene.to_dict()), base, scene, scene.source
     try:
         scene = load_scene(path)
     except SceneError as exc:

@@ -56,11 +56,8 @@ print(f"read: model {scene.model.value}, {scene.n_segments} segments, "
 # %%
 # ## Statics
 #
-# End A is the anchor, end B the fairlead. `codegen=False` runs the CasADi virtual
-# machine: small problems like this one run at once instead of first compiling C (the
-# default compiles C once per model structure and reuses it; see the generated-C
-# example).
-static = sc.solve_static(scene, codegen=False)
+# End A is the anchor, end B the fairlead.
+static = sc.solve_static(scene)
 print(f"static fairlead tension {static.fairlead_tension / 1e3:.1f} kN, "
       f"anchor tension {static.anchor_tension / 1e3:.1f} kN, "
       f"{static.grounded_length:.1f} m of chain on the seabed")
@@ -79,7 +76,7 @@ layout["end_b"]["motion"] = {"kind": "harmonic", "period": 10.0,
                              "phase_deg": [0.0, 0.0, -90.0]}  # z = A sin(wt)
 heaving = sc.load_scene(layout)
 
-run = sc.simulate(heaving, duration=40.0, codegen=False)
+run = sc.simulate(heaving, duration=40.0)
 print(run.summary())
 
 t = run.time

@@ -35,8 +35,8 @@ print(f"tow speed {tow['speed']:.2f} m/s ({tow['speed'] * 3600 / 1852:.1f} kn), 
 # static solution in the frame moving with the ship, every node moving at the tow
 # speed, so the first seconds are already the towed state. 280 s cover the straight
 # run, the whole 270° turn (229 s at this speed and radius) and 40 s on the new
-# heading. `codegen=False` runs the CasADi virtual machine (no C to compile first).
-run = sc.simulate(scene, duration=280.0, codegen=False)
+# heading.
+run = sc.simulate(scene, duration=280.0)
 print(run.summary())
 
 t = run.time

@@ -14,13 +14,12 @@ slack phases and the snaps.
 # ## Statics
 #
 # The static tension at the top, T0, is the submerged weight of cable and sphere.
-# `codegen=False` runs the CasADi virtual machine: no C to compile first.
 import matplotlib.pyplot as plt
 
 import symcable as sc
 
 scene = sc.load_scene("sphere127")
-static = sc.solve_static(scene, codegen=False)
+static = sc.solve_static(scene)
 T0 = static.lines["cable"].fairlead_tension           # N, end B of the cable: the top
 motion = scene.points["top"].motion
 print(f"static top tension T0 = {T0:.2f} N")
@@ -34,7 +33,7 @@ print(f"top motion: {motion.amplitude[2] * 1e3:.0f} mm at {1.0 / motion.period:.
 # reports the slack phases and snaps it saw; its warning says that snap peaks converge
 # slowly in the time step.
 period = motion.period
-run = sc.simulate(scene, duration=10 * period, codegen=False)
+run = sc.simulate(scene, duration=10 * period)
 print(run.summary())
 cable = run.lines["cable"]
 dt = run.stats["dt"]
@@ -42,7 +41,7 @@ dt = run.stats["dt"]
 # %%
 # The warning advises checking the peaks at half the step: run again at a fixed `dt / 2`
 # and compare the largest tension over the last three periods.
-check = sc.simulate(scene, duration=10 * period, dt=dt / 2, codegen=False)
+check = sc.simulate(scene, duration=10 * period, dt=dt / 2)
 
 t = run.time
 top = cable.fairlead_tension                          # N

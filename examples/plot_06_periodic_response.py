@@ -22,7 +22,7 @@ import numpy as np
 import symcable as sc
 
 scene = sc.load_scene("seed001")
-static = sc.solve_static(scene, codegen=False)
+static = sc.solve_static(scene)
 print(f"static fairlead tension {static.fairlead_tension / 1e3:.1f} kN, "
       f"anchor tension {static.anchor_tension / 1e3:.1f} kN")
 
@@ -31,10 +31,9 @@ print(f"static fairlead tension {static.fairlead_tension / 1e3:.1f} kN, "
 #
 # Eight periods from 4 s to 22 s (0.045 to 0.25 Hz). Each is solved by shooting: the
 # fixed point of one period of the implicit time integrator (100 steps a period),
-# started from the previous period's solution. `codegen=False` runs the CasADi virtual
-# machine: no C to compile first.
+# started from the previous period's solution.
 periods = np.array([4.0, 5.0, 6.0, 8.0, 10.0, 13.0, 17.0, 22.0])   # s
-sweep = sc.sweep_periodic(scene, periods, method="shooting", codegen=False)
+sweep = sc.sweep_periodic(scene, periods, method="shooting")
 print(sweep.summary())
 
 freq = 1.0 / sweep.periods                        # Hz

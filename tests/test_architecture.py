@@ -52,6 +52,7 @@ LAYERS = {
     "symcable.api": 6,
     "symcable.sweep": 6,
     "symcable.cli": 6,
+    "symcable.__main__": 6,
     "symcable": 6,
 }
 

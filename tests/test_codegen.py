@@ -230,3 +230,39 @@ def test_codegen_true_refuses_a_graph_too_large_to_compile(monkeypatch, tmp_path
     assert sol.status == "converged" and not sol.stats["compiled"]
     assert codegen.build_counts["compiled"] == before["compiled"]
     assert not list(tmp_path.glob("*.so"))
+
+
+def test_default_compiles_in_the_background(monkeypatch, tmp_path):
+    """The default ``codegen=None`` gives its first answer in the virtual machine while a
+    separate process compiles the structure's C into the build cache: the solve after the
+    build, in this process and in a new one, runs the library, with the same answer to
+    round-off (1e-9 of the tension: the same arithmetic, compiled)."""
+    from symcable.mechanism import background_build
+    monkeypatch.delenv("SYMCABLE_CODEGEN", raising=False)
+    monkeypatch.delenv("SYMCABLE_CODEGEN_WAIT", raising=False)
+    monkeypatch.setenv("SYMCABLE_CACHE_DIR", str(tmp_path))
+    d = small_seed(8)
+    before = dict(codegen.build_counts)
+    first = sc.solve_static(d, estimate=False)
+    assert not first.stats["compiled"]
+    assert codegen.build_counts["background"] == before["background"] + 1
+    assert codegen.build_counts["compiled"] == before["compiled"]  # nothing waited for
+    assert background_build.wait(600)
+    later = sc.solve_static(d, estimate=False)
+    assert later.stats["compiled"]
+    assert abs(later.fairlead_tension - first.fairlead_tension) <= 1e-9 * first.fairlead_tension
+    probe = ("import json, sys, symcable as sc\n"
+             "from symcable.mechanism import codegen\n"
+             f"st = sc.solve_static({d!r}, estimate=False)\n"
+             "print(json.dumps([st.stats['compiled'], codegen.build_counts]))\n")
+    out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True,
+                         check=True).stdout
+    compiled, counts = __import__("json").loads(out.strip().splitlines()[-1])
+    assert compiled and counts["cache"] >= 1 and counts["compiled"] == counts["background"] == 0
+    # asked for (codegen=True), or SYMCABLE_CODEGEN_WAIT=1: the compiler is waited for
+    monkeypatch.setenv("SYMCABLE_CODEGEN_WAIT", "1")
+    assert background_build.waits(None) and background_build.waits(True)
+    monkeypatch.delenv("SYMCABLE_CODEGEN_WAIT")
+    assert not background_build.waits(None)
+    with background_build.waiting():
+        assert background_build.waits(None)

@@ -222,3 +222,6 @@ def test_first_answer_quick_writes_its_table(tmp_path):
     assert res["resolve_cases"] == 3 and res["random_n"] == 2
     assert all(res[f"simulate_{k}_s"] > 0 for k in ("first", "second", "third"))
     assert res["run_line_first_s"] > 0 and res["run_line_changed_s"] > 0
+    # with an empty build cache the default answered in the virtual machine while its C
+    # compiled in the background; waiting for the compiler answered in C
+    assert not res["empty_background_compiled"] and res["empty_waiting_compiled"]

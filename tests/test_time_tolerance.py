@@ -110,6 +110,20 @@ def test_no_convergence_is_warned_not_claimed():
     assert out.stats["error_measured"] is None
     assert "not reached" in out.warnings[0] and "does not fall" in out.warnings[0]
     assert len(calls) == 2 + tt.STALLED  # (the first comparison gives no order)
+    # the runs' own (local) estimate is not repeated beside the comparison that measured more
+    assert not any(tt.OWN_ESTIMATE_MARK in w for w in out.warnings)
+
+
+def test_slow_convergence_not_reached_says_its_bound():
+    """Runs that converge slowly (order 0.4) past MAX_HALVINGS: the warning gives the bound
+    d / (2^p - 1) that exceeds tol, not the bare difference, which may be below it."""
+    run, calls = fake(0.4, C=0.2)
+    out = tt.run_to_tolerance(run, 0.003)
+    assert out.stats["error_measured"] is None
+    d = out.stats["dt_runs"][-1][1]
+    assert "not reached" in out.warnings[0] and "bounds its error at" in out.warnings[0]
+    bound = float(out.warnings[0].split("bounds its error at ")[1].split(" %")[0]) / 100
+    assert bound > d and bound > 0.003
 
 
 def test_without_partner_the_default_is_compared_with_half_it():

@@ -4,6 +4,10 @@ Question: how long does a static answer take when the scene is new, against Moor
 and solving the same system, and how long do simulate's first, second and third calls take
 against a MoorDyn run? Every figure is a median of repeats taken side by side in one run.
 
+0. **Empty build cache**: the built-in ``oc3`` line (50 segments, small enough that the
+   default compiles its static solve) in a new process with an empty build cache and a C
+   compiler, the default compiling in the background against waiting for the compiler
+   (``SYMCABLE_CODEGEN_WAIT=1``).
 1. **Cold, fresh process**: the three-line OC3 mooring (902.2 m of chain a line, 100
    segments, fixed fairleads and anchors, 320 m of water) solved by ``sc.solve_static`` with
    its defaults (the answer and its error estimate) in a new Python process, symcable and
@@ -114,6 +118,31 @@ def cold(which: str, segments: int, cache: str) -> dict:
     out = subprocess.run([sys.executable, "-c", _CHILD.format(here=str(HERE), which=which,
                                                               segments=segments)],
                          capture_output=True, text=True, env=env, check=True)
+    return json.loads(out.stdout.strip().splitlines()[-1])
+
+
+_CHILD_EMPTY = r"""
+import json, sys, time
+import symcable as sc
+from symcable.mechanism import background_build
+t0 = time.perf_counter()
+st = sc.solve_static("oc3")
+seconds = time.perf_counter() - t0
+background_build.wait(900)  # (not timed: the build goes on after the answer)
+print(json.dumps({"seconds": seconds, "compiled": bool(st.stats["compiled"])}))
+"""
+
+
+def empty_cache_first(wait: bool) -> dict:
+    """The built-in ``oc3`` line solved at the defaults in a new process with an empty build
+    cache and a C compiler: the default compiling in the background (``wait`` False) or
+    waiting for the compiler (``SYMCABLE_CODEGEN_WAIT=1``, the default before the background
+    build)."""
+    with tempfile.TemporaryDirectory() as cache:
+        env = dict(os.environ, SYMCABLE_CACHE_DIR=cache, SYMCABLE_CODEGEN_WAIT="1" if wait else "0")
+        env.pop("SYMCABLE_CODEGEN", None)
+        out = subprocess.run([sys.executable, "-c", _CHILD_EMPTY], capture_output=True,
+                             text=True, env=env, check=True)
     return json.loads(out.stdout.strip().splitlines()[-1])
 
 
@@ -262,6 +291,13 @@ def main(argv=None) -> dict:
         a, b = runs["symcable"][0]["tension"], runs["moorpy"][0]["tension"]
         rows["cold_tension_diff"] = max(abs(x - y) / y for x, y in zip(a, b))
         rows.update(simulate_calls(cache, 1 if quick else 5, None if quick else True))
+    empty = {"background": [], "waiting": []}
+    for _ in range(1 if quick else 3):
+        for mode in empty:
+            empty[mode].append(empty_cache_first(mode == "waiting"))
+    for mode, got in empty.items():
+        rows[f"empty_{mode}_s"] = statistics.median(r["seconds"] for r in got)
+        rows[f"empty_{mode}_compiled"] = any(r["compiled"] for r in got)
     rows.update(changed_numbers(3 if quick else 30, 1 if quick else 3))
     rows.update(random_systems(2 if quick else 30))
     rows.update(changed_runs({"line": moving_line} if quick
@@ -272,6 +308,10 @@ def main(argv=None) -> dict:
         f"| cold first static solve, fresh process (3 x 100 segments) | "
         f"{rows['cold_symcable_s']:.3f} s | MoorPy {rows['cold_moorpy_s']:.3f} s | "
         f"{rows['cold_ratio']:.1f} |",
+        f"| first static solve of `oc3` (50 segments), fresh process, empty build cache, "
+        f"a C compiler: compiling in the background / waiting for it | "
+        f"{rows['empty_background_s']:.2f} / {rows['empty_waiting_s']:.2f} s | - | "
+        f"{rows['empty_background_s'] / rows['empty_waiting_s']:.2f} |",
         f"| re-solve with changed numbers ({rows['resolve_cases']} designs) | "
         f"{rows['resolve_symcable_s'] * 1e3:.1f} ms | MoorPy {rows['resolve_moorpy_s'] * 1e3:.1f} ms"
         f" | {rows['resolve_ratio']:.2f} |",

@@ -169,11 +169,14 @@ def run_to_tolerance(run, tol: float, label: str = "simulate", partner: bool = T
         if stalled >= STALLED:
             break
     last = tried[-1][1]
+    why = ("" if error is None else
+           f", which bounds its error at {100 * error:.2g} % (the difference falls slowly "
+           "with the step)" if math.isfinite(error) else
+           ", and the difference does not fall with the step (a snap, a contact or axial "
+           "waves the steps resolve only in part)")
     note = (f"{label}: tol = {tol:g} not reached by dt = {float(prev.dt):.4g} s: its end "
             f"tensions differ from the run at twice its step by {100 * last:.2g} % of their "
-            "range" + ("" if error is None or math.isfinite(error) else
-                       ", and the difference does not fall with the step (a snap, a contact "
-                       "or axial waves the steps resolve only in part)"))
+            "range" + why)
     return _accepted(prev, tol, None, tried, started, h0, note)
 
 
@@ -215,10 +218,11 @@ def _bound(d: float, d_prev: float | None) -> float:
 
 
 def _accepted(traj, tol, error, tried, started, h0, note):
-    """``traj`` with the tolerance's stats, its own step-error warning dropped when the
-    comparison verified it, and ``note`` added."""
+    """``traj`` with the tolerance's stats, its own step-error warning dropped when runs
+    were compared (their difference is the better evidence, and ``note`` says it), and
+    ``note`` added."""
     warnings = tuple(traj.warnings)
-    if error is not None:
+    if error is not None or any(d is not None for _, d in tried):
         warnings = tuple(w for w in warnings if OWN_ESTIMATE_MARK not in w)
     if note:
         warnings = (note,) + warnings

@@ -1,5 +1,6 @@
-"""Generated C: the only place in symcable that writes C or calls a compiler
-(:mod:`symcable.api.export` uses it to write the C of a whole scene).
+"""Generated C: the only place in symcable that writes C or calls a compiler (with
+:mod:`.background_build`, which compiles in a process of its own; :mod:`symcable.api.export`
+uses it to write the C of a whole scene).
 
 CasADi writes C for a group of Functions; the system C compiler turns it into a shared
 library in a build cache; ``casadi.external`` loads it back as Functions with the same
@@ -54,6 +55,7 @@ import re
 import shutil
 import stat
 import subprocess
+import sys
 import tempfile
 import threading
 import time
@@ -63,10 +65,11 @@ from pathlib import Path
 from typing import Sequence
 
 import casadi as ca
-import numpy as np
 
 from ..errors import SymcableError
 from ..progress import notice
+from . import background_build
+from .fastcall import FastCall
 
 __all__ = ["CodegenWarning", "FastCall", "cache_dir", "cache_info", "cached_only", "clear_cache",
            "compile_functions", "compiler", "export_sources", "graph_estimate", "graph_size",
@@ -264,46 +267,6 @@ def use_codegen(codegen: bool | None, functions=None) -> bool:
     return codegen and _trusted_folder(stacklevel=4) is not None
 
 
-# --------------------------------------------------------------------------- calling
-
-class FastCall:
-    """Call a Function with dense inputs and outputs through CasADi's buffer interface:
-    NumPy arrays in, NumPy arrays out, no conversion to DM (about 40 us less per call).
-
-    ``f(*args) -> tuple of ndarray (flat, in the output's column-major order)``; an input
-    given with a divisor of its length (a mapped Function's input given for one instance)
-    is repeated. Raises RuntimeError when the evaluation fails, as a Function call does.
-    Works on a virtual-machine Function and on a loaded library's alike.
-    """
-
-    def __init__(self, fn: ca.Function):
-        self.fn = fn
-        self._buf, self._eval = fn.buffer()
-        self._in = [np.zeros(fn.nnz_in(i)) for i in range(fn.n_in())]
-        self._out = [np.zeros(fn.nnz_out(i)) for i in range(fn.n_out())]
-        for i, a in enumerate(self._in):
-            self._buf.set_arg(i, memoryview(a))
-        for i, a in enumerate(self._out):
-            self._buf.set_res(i, memoryview(a))
-
-    def __call__(self, *args) -> tuple:
-        for a, v in zip(self._in, args):
-            if v.__class__ is float or (v.__class__ is np.ndarray and v.shape == a.shape):
-                a[...] = v  # the usual cases, without the checks below
-                continue
-            v = np.ravel(v) if np.ndim(v) else v
-            if np.ndim(v) and v.size != a.size and v.size and a.size % v.size == 0:
-                a.reshape(-1, v.size)[...] = v  # a mapped input given once: repeated
-            else:
-                a[...] = v
-        self._eval()
-        if self._buf.ret() != 0:
-            raise RuntimeError(f"evaluation of {self.fn.name()} failed")
-        return tuple([o.copy() for o in self._out])
-
-
-# --------------------------------------------------------------------------- building
-
 def _compiler_id(cc: str) -> str:
     try:
         out = subprocess.run([cc, "--version"], capture_output=True, text=True, timeout=30)
@@ -410,9 +373,10 @@ _loaded: dict = {}
 last_build: dict = {}
 #: compile_functions calls in this process by what they did: "memory" (already loaded),
 #: "cache" (loaded from the build cache), "compiled" (built now), "vm" (not in the cache
-#: within :func:`cached_only`: the virtual machine's Functions); a sweep reports each
+#: within :func:`cached_only`: the virtual machine's Functions), "background" (its build
+#: started or under way, the virtual machine's Functions meanwhile); a sweep reports each
 #: case's share (:mod:`symcable.sweep`)
-build_counts: dict = {"memory": 0, "cache": 0, "compiled": 0, "vm": 0}
+build_counts: dict = {"memory": 0, "cache": 0, "compiled": 0, "vm": 0, "background": 0}
 _cached_only = threading.local()
 
 
@@ -433,7 +397,7 @@ def cached_only():
 
 
 def compile_functions(functions: Sequence[ca.Function], *, jacobians: bool = False,
-                      what: str = "generated C") -> dict:
+                      what: str = "generated C", wait: bool = True) -> dict:
     """Compile CasADi Functions to one shared library (through the cache) and load them.
 
     Parameters
@@ -448,6 +412,10 @@ def compile_functions(functions: Sequence[ca.Function], *, jacobians: bool = Fal
         What is compiled, for the one-line notice shown while compiling
         (``compiling <what> for this model (once, cached) …``, see
         :func:`symcable.progress.notice`); nothing is shown when the cache has it.
+    wait : bool
+        False: when the cache does not have them, start their build in the background
+        (:mod:`.background_build`) and return ``functions`` as given (the virtual machine's)
+        meanwhile; ``last_build["action"]`` is then ``"background"``.
 
     Returns
     -------
@@ -497,6 +465,13 @@ def compile_functions(functions: Sequence[ca.Function], *, jacobians: bool = Fal
             last_build.update(key=key, action="vm", seconds=0.0)
             build_counts["vm"] += 1
             return {f.name(): f for f in functions}
+        if lib is None and not wait:
+            if background_build.start(key, _background_args(funcs, folder, key, cc, flags)):
+                notice(f"compiling {what} for this model in the background (once, cached); "
+                       "this run uses the CasADi virtual machine …")
+            last_build.update(key=key, action="background", seconds=time.perf_counter() - t0)
+            build_counts["background"] += 1
+            return {f.name(): f for f in functions}
         if lib is None:
             notice(f"compiling {what} for this model (once, cached) …")
             lib = _build(funcs, folder, key, cc, flags)
@@ -518,16 +493,42 @@ def _build(funcs, folder: Path, key: str, cc: str, flags: tuple = FLAGS) -> Path
         proc = subprocess.run(cmd, capture_output=True, text=True)
         if proc.returncode != 0 or not out.exists():
             tail = " | ".join((proc.stderr or proc.stdout).strip().splitlines()[-3:])
-            raise SymcableError(f"the C compiler failed on generated code ({' '.join(cmd[:2])} ...): {tail}")
-        digest = _digest(out)
-        lib = folder / f"{key}-{digest[:16]}.so"
-        if not _own_library(lib, digest):
-            os.replace(out, lib)  # replaces a symbolic link itself, never its target
-        meta = {"key": key, "library": lib.name, "sha256": digest, "casadi": ca.__version__,
-                "compiler": cc, "flags": list(flags), "functions": [f.name() for f in funcs],
-                "created": time.strftime("%Y-%m-%dT%H:%M:%S%z")}
-        _write_atomic(folder / f"{key}.json", json.dumps(meta, indent=1).encode())
-        return lib
+            raise SymcableError(f"the C compiler failed on generated code ({' '.join(cmd[:2])} "
+                                f"...): {tail or f'no output, exit status {proc.returncode}'}")
+        return store_library(out, folder, key, cc, flags, [f.name() for f in funcs])
+
+
+def _background_args(funcs, folder: Path, key: str, cc: str, flags: tuple) -> list:
+    """Write the C of ``funcs`` into a new build folder; the args of :func:`_build_job`."""
+    build = Path(tempfile.mkdtemp(dir=folder, prefix=".build-"))
+    return [folder, key, _generate(funcs, build, f"sc_{key[:16]}"), cc, *flags]
+
+
+def _build_job(folder: str, key: str, src: str, cc: str, *flags: str) -> int:
+    """A background build (:mod:`.background_build`): ``src`` compiled into the entry ``key``
+    (0 when stored), its build folder removed."""
+    build = Path(src).parent
+    try:
+        out = build / "lib.so"
+        proc = subprocess.run([cc, *flags, src, "-o", str(out), "-lm"], capture_output=True)
+        ok = proc.returncode == 0 and out.exists()
+        return 0 if ok and store_library(out, Path(folder), key, cc, flags, []) else 1
+    finally:
+        shutil.rmtree(build, ignore_errors=True)
+
+
+def store_library(out: Path, folder: Path, key: str, cc: str, flags: tuple, names: list) -> Path:
+    """Move the built library ``out`` into the cache ``folder`` as the entry ``key`` (its
+    digest recorded, written atomically); its path."""
+    digest = _digest(out)
+    lib = folder / f"{key}-{digest[:16]}.so"
+    if not _own_library(lib, digest):
+        os.replace(out, lib)  # replaces a symbolic link itself, never its target
+    meta = {"key": key, "library": lib.name, "sha256": digest, "casadi": ca.__version__,
+            "compiler": cc, "flags": list(flags), "functions": names,
+            "created": time.strftime("%Y-%m-%dT%H:%M:%S%z")}
+    _write_atomic(folder / f"{key}.json", json.dumps(meta, indent=1).encode())
+    return lib
 
 
 # --------------------------------------------------------------------------- the cache
@@ -593,3 +594,7 @@ def export_sources(functions: Sequence[ca.Function], folder, stem: str) -> tuple
     folder.mkdir(parents=True, exist_ok=True)
     src = _generate(functions, folder, stem, header=True)
     return src, folder / f"{stem}.h"
+
+
+if __name__ == "__main__" and sys.argv[1:2] == ["--build"]:
+    sys.exit(_build_job(*sys.argv[2:]))

@@ -36,7 +36,7 @@ from dataclasses import dataclass
 import casadi as ca
 import numpy as np
 
-from . import codegen as _codegen
+from . import background_build, codegen as _codegen
 from .bounds import bound_margins
 from .codegen import FastCall
 from ..linalg.sparse import norm_inf, sparse_solve
@@ -223,8 +223,14 @@ def static_solver(F, codegen: bool | None = False) -> StaticSolver:
     c = store.get("c")
     if c is not None:  # (a scene of the same structure compiled it: the library in memory)
         _codegen.build_counts["memory"] += 1
+    elif not background_build.finished(store.get("pending", "")):
+        return vm  # (its C is being compiled in the background)
     else:
-        lib = _codegen.compile_functions(vm.group(), what="the static solve")
+        lib = _codegen.compile_functions(vm.group(), what="the static solve",
+                                         wait=background_build.waits(codegen))
+        if _codegen.last_build.get("action") == "background":
+            store["pending"] = _codegen.last_build["key"]
+            return vm
         c = store["c"] = StaticSolver(
             residual=lib["static_residual"], jacobian=vm.jacobian, step=lib["static_newton_step"],
             solve=lib["static_solve"], outputs=lib["static_outputs"], check=lib["static_check"],

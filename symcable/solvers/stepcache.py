@@ -11,7 +11,9 @@ import itertools
 from typing import Callable
 
 from ..mechanism.attached import Attached
-from ..mechanism.codegen import DEFAULT_MAX_SIZE, compile_functions, graph_size, use_codegen
+from ..mechanism import background_build
+from ..mechanism.codegen import (DEFAULT_MAX_SIZE, compile_functions, graph_size, last_build,
+                                  use_codegen)
 
 __all__ = ["STEP_CACHE", "StepCache", "maybe_compiled", "structure_owner"]
 
@@ -31,6 +33,9 @@ class StepCache:
         if key not in entries:
             entries[key] = build()
         return entries[key]
+
+    def put(self, mech, key: tuple, value) -> None:
+        self.store.setdefault(mech, dict)[key] = value
 
     def __len__(self) -> int:
         return sum(len(v) for _, v in self.store.items())
@@ -60,12 +65,24 @@ def maybe_compiled(mech, key: tuple, vm, codegen: bool | None, what: str, size=N
     """``vm`` (a Function built for ``mech``), or its generated C when ``codegen`` resolves
     to True (:func:`symcable.mechanism.codegen.use_codegen`; ``size()`` the graph size it judges, by
     default the serialised length of ``vm``), compiled once per Mechanism and ``key`` with
-    the one-line notice ``compiling <what> for this model (once, cached) …``."""
+    the one-line notice ``compiling <what> for this model (once, cached) …``; the default
+    (None) does not wait for the compiler (:mod:`symcable.mechanism.background_build`): ``vm``
+    until the library is built."""
     def judged():
         if size is not None:
             return size()
         return STEP_CACHE.get(mech, ("graph_size",) + key, lambda: graph_size([vm], DEFAULT_MAX_SIZE))
     if not use_codegen(codegen, judged):
         return vm
-    return STEP_CACHE.get(mech, ("compiled",) + key,
-                          lambda: compile_functions([vm], what=what)[vm.name()])
+    done = STEP_CACHE.store.setdefault(mech, dict).get(("compiled",) + key)
+    if done is not None:
+        return done
+    pending = STEP_CACHE.get(mech, ("pending",) + key, lambda: [""])
+    if not background_build.finished(pending[0]):
+        return vm  # (its C is being compiled in the background)
+    fn = compile_functions([vm], what=what, wait=background_build.waits(codegen))[vm.name()]
+    if last_build.get("action") == "background":
+        pending[0] = last_build["key"]
+        return vm
+    STEP_CACHE.put(mech, ("compiled",) + key, fn)
+    return fn

@@ -28,7 +28,6 @@ In a scene of several lines (version 2) every output is per line: ``NAME.fairlea
 """
 from __future__ import annotations
 
-import contextlib
 import math
 import os
 import socket
@@ -156,13 +155,14 @@ def run_case(task: Mapping) -> dict:
     reports a number), ``wall_time`` s, ``worker`` (host:pid), ``builds`` (this case's
     compile_functions calls by what they did: memory, cache, compiled, vm).
     """
-    from ..mechanism import codegen as _cg
+    from ..mechanism import background_build, codegen as _cg
 
     started = time.perf_counter()
     before = dict(_cg.build_counts)
     record: dict[str, Any] = {"name": task["name"], "hash": task["hash"]}
     try:
-        with _cg.cached_only() if task.get("cached_only") else contextlib.nullcontext(), \
+        # a case that may compile (the first) waits for the compiler: the rest load its C
+        with _cg.cached_only() if task.get("cached_only") else background_build.waiting(), \
                 limits(task.get("limits")):
             values, status = _analyse(task["scene"], task["analysis"], task["options"],
                                       task.get("codegen"))

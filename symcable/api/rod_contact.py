@@ -29,16 +29,27 @@ __all__ = ["SelfContact", "self_contact", "segment_distances", "writhe"]
 
 @dataclass(frozen=True)
 class SelfContact:
-    """The closest pair of non-neighbouring segments of a rod shape.
+    """The closest pair of non-neighbouring segments of a rod shape
+    (:func:`self_contact`'s answer).
 
-    min_distance : float   m, least distance between their centre lines (inf: no pair)
-    pair : (int, int)      the two segments (0-based, i < j); (-1, -1) without a pair
-    points : ndarray (2, 3)  m, the closest points on each
-    s : (float, float)     m, their arc lengths along the polyline from its first node
-    diameter : float       m, the cable's diameter the distance is compared with
-    skip : int             segments i, j with j - i <= skip were not compared
-    contact : bool         min_distance < diameter: the shape passes into itself
-    gap : float            m, min_distance - diameter (negative: interpenetration)
+    Attributes
+    ----------
+    min_distance : float
+        m, least distance between their centre lines (inf: no pair).
+    pair : (int, int)
+        The two segments (0-based, i < j); (-1, -1) without a pair.
+    points : ndarray (2, 3)
+        m, the closest points on each (NaN without a pair).
+    s : (float, float)
+        m, their arc lengths along the polyline from its first node (NaN without a pair).
+    diameter : float
+        m, the cable's diameter the distance is compared with.
+    skip : int
+        Segments i, j with j - i <= skip were not compared.
+    contact : bool
+        min_distance < diameter: the shape passes into itself.
+    gap : float
+        m, min_distance - diameter (negative: interpenetration; inf without a pair).
     """
 
     min_distance: float

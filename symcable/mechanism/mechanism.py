@@ -233,6 +233,24 @@ class Start:
 
     ``q``, ``z`` are (close to) an equilibrium at the parameters ``p``; when ``p`` differs
     from the target the solver continues from it to the target in the block ``homotopy``.
+
+    Attributes
+    ----------
+    q : ndarray (n_q,)
+        Coordinates, m or rad.
+    z : ndarray (n_z,)
+        Constraint forces, N (empty for a mechanism without constraints).
+    p : ndarray (n_p,)
+        The parameters at which (q, z) is close to an equilibrium.
+    source : str
+        What the start is (``"static solution"``, ``"given position"``), as
+        :func:`~symcable.solvers.equilibrium.solve_equilibrium` names it in its attempts
+        and ``stats["start"]``.
+    homotopy : str
+        What ``p`` differs from the target in (parameter blocks, e.g. ``"bending"``), for
+        messages: the continuation is named ``"continuation in <homotopy>"``
+        (``"continuation in parameters"`` when ""); it moves every parameter along the
+        straight path from ``p`` to the target. Default "".
     """
 
     q: np.ndarray
@@ -314,7 +332,19 @@ class StateNames:
 @dataclass(frozen=True)
 class Layout:
     """Dimension and parts of a mechanism, and the names of its first-order states
-    (``states``, None when it has none or leaves them unnamed)."""
+    (``states``, None when it has none or leaves them unnamed).
+
+    Attributes
+    ----------
+    dim : int
+        Coordinates per node: 3 (x, y, z) or 2 (a planar line, x and z); 1 for a
+        one-dimensional toy, and :class:`Mechanism`'s default.
+    parts : mapping str -> PartLayout
+        Part name -> where that part's nodes sit in q and v (:class:`PartLayout`); empty
+        for a mechanism without nodes.
+    states : StateNames or None
+        Names of the first-order states (the last ``n_q - n_v`` entries of q), or None.
+    """
 
     dim: int
     parts: Mapping[str, PartLayout] = field(default_factory=dict)

@@ -192,6 +192,23 @@ class SweepResult:
     "in-process"), ``out`` (the results folder or None), ``compiled_in_workers`` (cases that
     compiled generated C on a worker, with ``codegen = true``), ``vm_fallback`` (cases that
     ran functions in the virtual machine because the build cache did not have them compiled).
+
+    Attributes
+    ----------
+    name : str
+        The sweep's name (a table loaded from CSV: the file's stem).
+    analysis : str
+        The analysis every case ran: ``"static"``, ``"simulate"`` or ``"periodic"`` (a
+        table loaded from CSV: "").
+    outputs : tuple of str
+        The outputs kept, the table's columns (SI units, see :mod:`symcable.sweep.case`).
+    keys : tuple of str
+        Every scene key (dotted path) or analysis option some case sets, in the order first
+        set: the ``set.<key>`` columns of the CSV.
+    cases : tuple of CaseResult
+        One per case, in the sweep's order, those that failed or were not run included.
+    stats : dict
+        The keys above (a table loaded from CSV: empty).
     """
 
     name: str

@@ -42,15 +42,29 @@ __all__ = ["Branch", "BranchPoint", "trace_branch"]
 class BranchPoint:
     """One equilibrium along a branch.
 
-    value : ndarray (size of the block,) the block's value here (its units: rad for a
-        twist, m for a position, N/m for a load ...)
-    p : ndarray (n_p,)   all parameters (the ``frame`` block as re-anchored here)
-    q, z : ndarray       coordinates (m, rad) and constraint forces (N)
-    outputs : dict       the Mechanism's outputs at the point
-    stable : bool or None   None where stability is not judged (too large a system)
-    min_stiffness : float   lowest eigenvalue of the reduced tangent stiffness (N/m)
-    left : bool          reached by leaving an unstable equilibrium along its unstable mode
-    iterations : int     Newton (and relaxation) iterations of this point
+    Attributes
+    ----------
+    value : ndarray (size of the block,)
+        The block's value here, in its units (rad for a twist, m for a position, N/m for a
+        load ...); with ``component`` given, (1,): that entry's value.
+    p : ndarray (n_p,)
+        All parameters (the ``frame`` block as re-anchored here).
+    q : ndarray (n_q,)
+        Coordinates, m or rad.
+    z : ndarray (n_z,)
+        Constraint forces, N.
+    outputs : dict
+        The Mechanism's outputs at the point, output name -> value (each in its own unit).
+    stable : bool or None
+        Whether the equilibrium is stable; None where stability is not judged (too large a
+        system).
+    min_stiffness : float
+        Lowest eigenvalue of the reduced tangent stiffness, N/m (NaN where not judged).
+    left : bool
+        Reached by leaving an unstable equilibrium along its unstable mode, or by relaxing
+        past a fold (default False).
+    iterations : int
+        Newton (and relaxation) iterations of this point (default 0).
     """
 
     value: np.ndarray
@@ -70,7 +84,22 @@ class Branch:
     ``reanchored`` (points after which the anchors were renewed), ``halvings`` (failed
     steps halved), ``snaps`` ((k, value): point k reached by relaxing past a fold, value the
     last one solved before it, the fold's bracket), ``reached`` (after a stall: the last
-    value at which Newton converged, the fold's bracket)."""
+    value at which Newton converged, the fold's bracket).
+
+    Attributes
+    ----------
+    mechanism : str
+        Name of the Mechanism traced.
+    block : str
+        The parameter block varied along the path.
+    component : int or None
+        The entry of ``block`` varied, or None: the whole block.
+    points : list of BranchPoint
+        One per value of the path, in order (after a stall, a
+        :class:`~symcable.errors.ConvergenceError`'s ``partial``: those solved).
+    stats : dict
+        The keys above.
+    """
 
     mechanism: str
     block: str

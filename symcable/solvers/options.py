@@ -53,7 +53,26 @@ class GeneralizedAlpha(_ImplicitScheme):
     """Implicit generalized-alpha (Chung & Hulbert 1993, in the form of Arnold & Bruels 2007
     for constrained systems): second order, unconditionally stable; ``rho_inf`` in [0, 1] is
     the spectral radius at infinite step (1: no numerical damping, 0: the most);
-    ``tol`` the scaled Newton tolerance of each step; ``max_iter`` Newton iterations."""
+    ``tol`` the scaled Newton tolerance of each step; ``max_iter`` Newton iterations.
+
+    Parameters
+    ----------
+    rho_inf : float, default 0.8
+        Spectral radius at infinite step, in [0, 1] (dimensionless): 1 no numerical
+        damping, 0 the most.
+    tol : float, default 1e-10
+        Newton tolerance of each step, > 0 (dimensionless): the max-norm of the step's
+        residual, force rows divided by the mechanism's force scale and constraint rows by
+        their scales. A step whose residual stays above it has failed.
+    max_iter : int, default 50
+        Newton iterations per step, >= 1 (CasADi's Newton with its line search, then plain
+        Newton where that failed).
+
+    Raises
+    ------
+    SymcableError
+        A value that is not a number or out of its range.
+    """
 
     rho_inf: float = 0.8
     tol: float = 1e-10
@@ -98,7 +117,28 @@ class GeneralizedAlphaFirstOrder(_ImplicitScheme):
     ``simulate(..., method="generalized-alpha")`` runs on a DynamicModel. A class of its
     own, not a field of GeneralizedAlpha: its coefficients (alpha_m, alpha_f in [1/2, 3/2]),
     its carried state (y, y') and what it accepts all differ, and no option of one means
-    anything to the other (an ``isinstance`` tells the solvers which scheme they hold)."""
+    anything to the other (an ``isinstance`` tells the solvers which scheme they hold).
+
+    Parameters
+    ----------
+    rho_inf : float, default 0.5
+        Spectral radius at infinite step, in [0, 1] (dimensionless): 1 no numerical
+        damping, 0 the most.
+    tol : float, default 1e-10
+        Newton tolerance, > 0 (dimensionless): the max-norm of the step residual scaled to
+        a change of y over the step relative to the mechanism's scales (kinematic rows
+        h |F| / scales.q, momentum rows h |F| / (m_i scales.v)).
+    max_iter : int, default 20
+        Newton iterations per step, >= 1.
+    newton : NewtonScheme or str, default "unrolled"
+        How the iterations run: ``"unrolled"`` or ``"rootfinder"`` (:class:`NewtonScheme`;
+        a string is matched case-insensitively, ``_`` for ``-``).
+
+    Raises
+    ------
+    SymcableError
+        A value that is not a number, out of its range, or not one of the choices.
+    """
 
     rho_inf: float = 0.5
     tol: float = 1e-10
@@ -128,7 +168,12 @@ class GeneralizedAlphaFirstOrder(_ImplicitScheme):
 
 @dataclass(frozen=True)
 class RK4:
-    """Classical explicit Runge-Kutta of order 4 (mechanisms without constraints only)."""
+    """Classical explicit Runge-Kutta of order 4 (mechanisms without constraints only).
+
+    It takes no parameters: ``RK4()``. Its step is the run's fixed ``dt`` (s; adaptive
+    steps with ``tol`` need generalized-alpha), by default at most 0.8 times its stability
+    limit.
+    """
 
 
 class CollocationScheme(str, enum.Enum):
@@ -139,7 +184,28 @@ class CollocationScheme(str, enum.Enum):
 @dataclass(frozen=True)
 class Collocation:
     """Direct collocation of one period: ``intervals`` intervals of polynomial ``degree``
-    on ``scheme`` points; the NLP is solved by ``solver`` ("ipopt" or "newton")."""
+    on ``scheme`` points; the NLP is solved by ``solver`` ("ipopt" or "newton").
+
+    Parameters
+    ----------
+    intervals : int, default 40
+        Equal time intervals of the period, >= 2.
+    degree : int, default 3
+        Degree of the state's polynomial on each interval (the number of collocation
+        points), 1 to 9.
+    scheme : CollocationScheme or str, default "radau"
+        Collocation points: ``"radau"`` (Radau IIA; the end point is a collocation point,
+        so constraints hold at every mesh point: use it for constrained mechanisms) or
+        ``"legendre"`` (Gauss-Legendre).
+    solver : str, default "ipopt"
+        How the square system is solved: ``"ipopt"`` (IPOPT with a zero objective) or
+        ``"newton"`` (CasADi's Newton rootfinder).
+
+    Raises
+    ------
+    SymcableError
+        A value that is not an integer, out of its range, or not one of the choices.
+    """
 
     intervals: int = 40
     degree: int = 3
@@ -159,7 +225,21 @@ class HarmonicBalance:
     """Harmonic balance with ``harmonics`` harmonics, ``samples`` time samples per period
     (default 4 harmonics + 4, enough to resolve cubic nonlinearities without aliasing).
     Default 10 harmonics: the response to quadratic drag |v| v decays like 1/h^3, and 10
-    put a drag-dominated line's fairlead tension within 0.1 % of its range of collocation's."""
+    put a drag-dominated line's fairlead tension within 0.1 % of its range of collocation's.
+
+    Parameters
+    ----------
+    harmonics : int, default 10
+        Harmonics of the period kept in the response, >= 1 (the mean is kept as well).
+    samples : int or None, default None
+        Time samples per period at which the equations are balanced, at least
+        2 harmonics + 1; None: 4 harmonics + 4.
+
+    Raises
+    ------
+    SymcableError
+        A value that is not an integer or below its minimum.
+    """
 
     harmonics: int = 10
     samples: int | None = None
@@ -178,7 +258,28 @@ class Shooting:
     integrator's own default (0.8 for :class:`GeneralizedAlpha`, 0.5 for
     :class:`GeneralizedAlphaFirstOrder`, as ``simulate``); ``newton_tol`` (> 0) each step's
     scaled Newton tolerance, None: the integrator's default (a cable3d scene: ``simulate``'s,
-    :data:`symcable.api.cable3d.NEWTON_TOL`)."""
+    :data:`symcable.api.cable3d.NEWTON_TOL`).
+
+    Parameters
+    ----------
+    steps : int, default 100
+        Generalized-alpha steps per period, >= 8 (the step is the period over ``steps``,
+        s).
+    rho_inf : float or None, default None
+        Spectral radius at infinite step, in [0, 1] (dimensionless); None: the
+        integrator's default (0.8 or 0.5, above), or, for a scene of ``model`` cable3d, rod
+        or hybrid, ``simulate``'s (0, :data:`symcable.api.cable3d.RHO_INF`).
+    newton_tol : float or None, default None
+        Each step's scaled Newton tolerance, > 0 (dimensionless, as ``tol`` of
+        :class:`GeneralizedAlpha` and :class:`GeneralizedAlphaFirstOrder`); None: the
+        integrator's default (1e-10), or, for a scene of ``model`` cable3d, rod or hybrid,
+        ``simulate``'s (1e-8).
+
+    Raises
+    ------
+    SymcableError
+        A value that is not a number, out of its range, or not an integer.
+    """
 
     steps: int = 100
     rho_inf: float | None = None

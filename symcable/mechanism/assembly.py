@@ -37,50 +37,17 @@ from __future__ import annotations
 import dataclasses
 import functools
 from dataclasses import dataclass, field
-from typing import Callable, Iterable, Sequence
+from typing import Callable, Iterable
 
 import casadi as ca
 import numpy as np
 
 from ..errors import SymcableError
+from .joints import Attached, Prescribed, Shared
 from .mechanism import (Layout, Mechanism, Output, ParamBlocks, PartLayout, Scales, Start,
                         StateNames)
 
 __all__ = ["Attached", "Prescribed", "Shared", "assemble"]
-
-
-@dataclass(frozen=True)
-class Shared:
-    """Node ``b`` (part name, node index) is the same node as node ``a``."""
-
-    a: tuple[str, int]
-    b: tuple[str, int]
-
-
-@dataclass(frozen=True)
-class Prescribed:
-    """Node ``node`` (part name, node index) moves as
-    ``x_i(t) = position_i + amplitude_i cos(omega t + phase_i)`` (m, rad/s, rad)."""
-
-    name: str
-    node: tuple[str, int]
-    position: Sequence[float]
-    amplitude: Sequence[float] | None = None
-    phase: Sequence[float] | None = None
-    omega: float = 0.0
-
-
-@dataclass(frozen=True)
-class Attached:
-    """Node ``node`` (part name, node index) is a point of part ``body``: its position is
-    ``position(q_body)`` (m) and its velocity ``velocity(q_body, v_body)`` (m/s, linear in
-    v_body), CasADi Functions of that part's own q and v (:func:`.body.attachment`)."""
-
-    name: str
-    node: tuple[str, int]
-    body: str
-    position: object
-    velocity: object
 
 
 def _sym(kind, name, n):

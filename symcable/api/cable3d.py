@@ -27,6 +27,7 @@ from ..results.line3d import LineTrajectory, SystemTrajectory, line_from_outputs
 from ..results.generic import SceneLinearization
 from ..scene import End, EndCondition, Scene
 from .cable3d_static import AT_REST, body_stiffness, dynamic_p, node_shapes, tows
+from ..models.common.tow import held_motions
 from ..models.rod.reanchor import reanchor_hook
 from .scene3d import (check_moves, check_rk4_limit, dynamics_mechanism, has_twists, rod_line,
                       scene_equilibrium, start_state, twist_names, twist_shapes)
@@ -281,6 +282,11 @@ def _line_result(scene, mech, tr, method: str, dt: float, stats: dict, warnings,
     return dataclasses.replace(out, warnings=out.warnings + tuple(notes)) if notes else out
 
 
+#: the warning of a run of a scene that nothing moves
+STILL = ("the scene has no motion (no end, point or body moves): the run stays at its "
+         "static state; give one a motion ([end_b.motion], [points.NAME.motion]) to run it")
+
+
 def simulate_3d(scene: Scene, duration: float, dt: float | None = None,
                 method: str = "generalized-alpha", *, rho_inf: float | None = None,
                 save_every: int | None = None, save_times=None, progress: bool | None = None,
@@ -325,6 +331,8 @@ def simulate_3d(scene: Scene, duration: float, dt: float | None = None,
             opts = dataclasses.replace(opts, tol=float(newton_tol))
     t0 = run_start(scene) if t_start is None else float(t_start)
     mech, eq, v0, how, notes = start_state(scene, t0, start, codegen)
+    if all(m is None for _, m in held_motions(scene)):
+        notes = list(notes) + [STILL]
     check_moves(scene, mech)
     t_static = time.perf_counter() - started
     if name == "rk4":  # its stable step (cached for integrate), or one line saying why not

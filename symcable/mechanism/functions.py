@@ -351,7 +351,8 @@ def bound_violations(mech: Mechanism, q, v, z, t, p, slack: float = 0.0) -> list
         rng = (f">= {lo:.4g}" if np.isinf(hi) else f"<= {hi:.4g}" if np.isinf(lo)
                else f"in [{lo:.4g}, {hi:.4g}]")
         n_bad = int(np.sum(~(mk >= -slack)))
-        out.append(f"{name} = {val:.4g} {b.unit} at entry {worst} (must be {rng}: "
+        unit = "" if b.unit in ("", "1", "-") else f" {b.unit}"  # (a ratio has none)
+        out.append(f"{name} = {val:.4g}{unit} at entry {worst} (must be {rng}: "
                    f"{b.what}; {n_bad} of {k} entries violate it)")
     return out
 

@@ -230,5 +230,5 @@ def solve_hbalance(mech: Mechanism, period: float, opts: HarmonicBalance, p, sta
                   "highest_harmonic": float(np.max(np.abs(Qc[:, -2:]) / sys_.sc.q[:, None]))})
     return check_and_wrap(mech, period, p, q, v, z, method="harmonic-balance", solved=solved,
                           tol=tol, defect_tol=defect_tol, stats=stats, codegen=compiled,
-                          why=f"Newton stopped ({sol['return_status']}) at residual "
-                              f"{sol['residual']:.3g} > tol = {tol:.3g}")
+                          why=f"Newton stopped at residual {sol['residual']:.3g} > tol = "
+                              f"{tol:.3g} (its solver said: {sol['return_status']})")

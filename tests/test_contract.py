@@ -307,3 +307,17 @@ def test_planar_statics_through_the_generic_solver(name):
     np.testing.assert_allclose(np.ravel(eq.outputs["end_force_b"]), st.fairlead_force, rtol=1e-9)
     np.testing.assert_allclose(np.ravel(eq.outputs["end_force_a"]), st.anchor_force, rtol=1e-9,
                                atol=1e-9 * st.fairlead_tension)
+
+
+def test_output_sensitivity_at_a_singular_jacobian_says_so(monkeypatch):
+    """Where the static Jacobian is singular (a neutral mode), the derivative is not unique:
+    one SymcableError naming the output and the block, not numpy's LinAlgError."""
+    from symcable.mechanism.functions import functions
+    mech = toys.spring_chain(3, stiffness=300.0, span=4.0)
+    eq = solve_equilibrium(mech)
+    F = functions(mech)
+    jac = F.static_jacobian
+    monkeypatch.setattr(type(F), "static_jacobian", property(
+        lambda self: (lambda x, p: (jac(x, p)[0], 0.0 * jac(x, p)[1]))), raising=False)
+    with pytest.raises(SymcableError, match="singular.*'right.force'.*'right.position'"):
+        output_sensitivity(mech, eq, "right.force", "right.position")

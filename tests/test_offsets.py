@@ -110,6 +110,9 @@ def test_save_load_plot_and_errors(tmp_path, surge):
         sc.offset_sweep(_moored(5), "spar", np.zeros((3, 5)))
     with pytest.raises(sc.SymcableError, match="dof = 'surf'"):
         offsets_along("surf", -1, 1, 3)
+    for start in ("x", None, True, float("inf")):  # one line each, never a bare TypeError
+        with pytest.raises(sc.SymcableError, match=r"^start, stop = .*must be finite numbers"):
+            offsets_along("surge", start, 1.0, 3)
 
 
 def test_cli_offsets(tmp_path, capsys):

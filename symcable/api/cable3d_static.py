@@ -19,7 +19,7 @@ from ..mechanism.mechanism import Mechanism
 from ..models.common.tow import held_motions, held_tows, moved_scene, tow_velocities
 from ..models.common.segments import grounded_length, segment_table
 from ..results.static import BodyState, PointState, StaticSolution, SystemStaticSolution
-from ..scene import BodyEnd, Scene
+from ..scene import BodyEnd, Scene, load_scene
 from ..solvers.equilibrium import solve_equilibrium
 from ..solvers.periodic_mech import check_periodic
 
@@ -77,8 +77,9 @@ def cable3d_mechanism(scene: Scene) -> Mechanism:
 
     Parameters
     ----------
-    scene : Scene
-        A loaded scene (:func:`symcable.load_scene`), ``model = "cable3d"``.
+    scene : Scene, dict or path
+        Anything :func:`symcable.load_scene` takes, ``model = "cable3d"`` (another
+        formulation gets its own statics' Mechanism, as :func:`symcable.build_mechanism`).
 
     Returns
     -------
@@ -86,7 +87,7 @@ def cable3d_mechanism(scene: Scene) -> Mechanism:
         Its statics: the object the generic solvers take
         (:func:`symcable.solve_equilibrium`, :func:`symcable.linearize_mechanism`, ...).
     """
-    return cached_mechanism(scene)
+    return cached_mechanism(scene if isinstance(scene, Scene) else load_scene(scene))
 
 
 def check_periodic_3d(scene: Scene) -> None:

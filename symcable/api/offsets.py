@@ -96,8 +96,13 @@ def offsets_along(dof, start: float, stop: float, n: int = 41) -> np.ndarray:
     if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:
         raise SymcableError(f"n = {n!r}: the number of offsets must be an integer >= 1")
     check_limit("steps", n, "n, the number of offsets", "each is a static solve")
-    if not (math.isfinite(float(start)) and math.isfinite(float(stop))):
-        raise SymcableError(f"start, stop = {start!r}, {stop!r}: must be finite (m or deg)")
+    try:
+        ends = [float(v) for v in (start, stop) if not isinstance(v, (str, bool))]
+    except (TypeError, ValueError):
+        ends = []
+    if len(ends) != 2 or not all(math.isfinite(v) for v in ends):
+        raise SymcableError(f"start, stop = {start!r}, {stop!r}: must be finite numbers "
+                            "(m or deg)")
     return np.outer(np.linspace(float(start), float(stop), int(n)), direction)
 
 

@@ -358,10 +358,9 @@ class SweepResult:
         ------
         SymcableError
             One line: the file is not a sweep's table, or a case in it is wrong
-            (:class:`~symcable.errors.LimitError`: not a regular file, too large or nested too
-            deeply).
+            (:class:`~symcable.errors.LimitError`: too large or nested too deeply).
         OSError
-            The file cannot be read.
+            The file cannot be read, or is not a regular file (a folder, a device).
         """
         path = Path(path)
         what = "a sweep's table"

@@ -439,7 +439,12 @@ def output_sensitivity(mech: Mechanism, eq: Equilibrium, output: str, block: str
     J = np.asarray(J)
     v0 = np.zeros(mech.n_v)
     R_p = np.asarray(F.static_parameter_jacobian(x, eq.p))[:, sl_p]
-    dx = -np.linalg.solve(J, R_p)
+    try:
+        dx = -np.linalg.solve(J, R_p)
+    except np.linalg.LinAlgError:
+        raise SymcableError("output_sensitivity: the static Jacobian is singular at this "
+                            "equilibrium (a neutral mode: a mechanism, or a bifurcation), so "
+                            f"{output!r} has no unique derivative in {block!r}") from None
     y_q, y_z, y_p = (np.asarray(a) for a in F.output_parameter_jacobian(eq.q, v0, eq.z, 0.0, eq.p))
     sl_y = F.output_slices()[output]
     dq, dz = dx[:mech.n_q], dx[mech.n_q:]

@@ -256,7 +256,8 @@ class Shooting:
     """Shooting on the period map of generalized-alpha with ``steps`` steps per period (at
     least 8) and spectral radius ``rho_inf`` in [0, 1] at infinite step; None: the
     integrator's own default (0.8 for :class:`GeneralizedAlpha`, 0.5 for
-    :class:`GeneralizedAlphaFirstOrder`, as ``simulate``); ``newton_tol`` (> 0) each step's
+    :class:`GeneralizedAlphaFirstOrder`; a cable3d, rod or hybrid scene: ``simulate``'s, 0);
+    ``newton_tol`` (> 0) each step's
     scaled Newton tolerance, None: the integrator's default (a cable3d scene: ``simulate``'s,
     :data:`symcable.api.cable3d.NEWTON_TOL`).
 

@@ -34,6 +34,11 @@ class StepCache:
             entries[key] = build()
         return entries[key]
 
+    def find(self, mech, key: tuple):
+        """The value stored for ``(mech, key)``, or None (nothing built)."""
+        entries = self.store.get(mech)
+        return None if entries is None else entries.get(key)
+
     def put(self, mech, key: tuple, value) -> None:
         self.store.setdefault(mech, dict)[key] = value
 
@@ -74,7 +79,7 @@ def maybe_compiled(mech, key: tuple, vm, codegen: bool | None, what: str, size=N
         return STEP_CACHE.get(mech, ("graph_size",) + key, lambda: graph_size([vm], DEFAULT_MAX_SIZE))
     if not use_codegen(codegen, judged):
         return vm
-    done = STEP_CACHE.store.setdefault(mech, dict).get(("compiled",) + key)
+    done = STEP_CACHE.find(mech, ("compiled",) + key)
     if done is not None:
         return done
     pending = STEP_CACHE.get(mech, ("pending",) + key, lambda: [""])

@@ -43,6 +43,8 @@ from .solvers.linearize import linearize_mechanism, mechanism_modes, output_sens
 from .solvers.options import (RK4, Collocation, GeneralizedAlpha, GeneralizedAlphaFirstOrder,
                               HarmonicBalance, Shooting)
 from .solvers.periodic_mech import solve_periodic_mech
+from .api.waves import SeaKinematics, wave_components, wave_kinematics
+from .scene.waves import Waves, WaveComponents
 from . import analytic
 
 __version__ = "0.1.0"
@@ -84,6 +86,12 @@ __all__ = [
     "end_stiffness",
     "linearize",
     "SceneLinearization",
+    # linear waves ([environment.waves])
+    "Waves",
+    "WaveComponents",
+    "SeaKinematics",
+    "wave_kinematics",
+    "wave_components",
     # sweeps: a table of cases on Dask (pip install "symcable[sweep]")
     "run_sweep",
     "read_sweep",

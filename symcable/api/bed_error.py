@@ -81,8 +81,8 @@ def _mechanism_slopes(scene: Scene, sol) -> dict:
         from .rod_static import hybrid_zones, rod_mechanism
         mech = rod_mechanism(hybrid_zones(scene)[0])
     else:
-        from .cable3d_static import cable3d_mechanism
-        mech = cable3d_mechanism(scene)
+        from .cable3d_static import cable3d_mechanism, calm
+        mech = cable3d_mechanism(calm(scene))
     x = np.asarray(sol.unknowns, float)
     cols = _bed_columns(mech)
     if mech.n_z or x.size != mech.n_q or not cols.size:

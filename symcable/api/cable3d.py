@@ -25,6 +25,7 @@ from ..errors import ConvergenceError, SymcableError
 from ..results.static import ModalSolution
 from ..results.line3d import LineTrajectory, SystemTrajectory, line_from_outputs
 from ..results.generic import SceneLinearization
+from ..analytic.waves import default_band
 from ..scene import End, EndCondition, Scene
 from .cable3d_static import AT_REST, body_stiffness, dynamic_p, node_shapes, tows
 from ..models.common.tow import held_motions
@@ -137,6 +138,8 @@ def default_dt(scene: Scene, duration: float, tensions: dict | None = None) -> f
             dts += [TOW_KINK_STEP * radius / m.speed for _, radius, _ in m.turns]
         else:
             dts.append(m.period / STEPS_PER_PERIOD)
+    if wave_period(scene) is not None:
+        dts.append(wave_period(scene) / STEPS_PER_PERIOD)
     return min(dts)
 
 
@@ -171,8 +174,22 @@ def _one_line(scene: Scene, what: str) -> None:
                             "steps it)")
 
 
+def wave_period(scene: Scene) -> float | None:
+    """The shortest period of the scene's waves, s (None in a calm sea)."""
+    waves = scene.environment.waves
+    if waves is None:
+        return None
+    if waves.kind == "regular":
+        return float(waves.period)
+    if waves.kind == "components":
+        return 2.0 * math.pi / max(waves.omegas)
+    return 2.0 * math.pi / (waves.band[1] if waves.band else default_band(waves.tp)[1])
+
+
 def _period(scene: Scene):
     per = [m.period for m in _motions(scene) if m.kind == "harmonic"]
+    if wave_period(scene) is not None:
+        per.append(wave_period(scene))
     return min(per) if per else None
 
 
@@ -331,7 +348,7 @@ def simulate_3d(scene: Scene, duration: float, dt: float | None = None,
             opts = dataclasses.replace(opts, tol=float(newton_tol))
     t0 = run_start(scene) if t_start is None else float(t_start)
     mech, eq, v0, how, notes = start_state(scene, t0, start, codegen)
-    if all(m is None for _, m in held_motions(scene)):
+    if all(m is None for _, m in held_motions(scene)) and scene.environment.waves is None:
         notes = list(notes) + [STILL]
     check_moves(scene, mech)
     t_static = time.perf_counter() - started

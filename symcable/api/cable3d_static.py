@@ -4,6 +4,8 @@
 :class:`~symcable.results.static.StaticSolution` with 3D positions and forces."""
 from __future__ import annotations
 
+import dataclasses
+
 import math
 import time
 from collections import OrderedDict
@@ -104,11 +106,23 @@ def check_periodic_3d(scene: Scene) -> None:
     check_periodic(cable3d_mechanism(scene))
 
 
+def calm(scene: Scene) -> Scene:
+    """``scene`` in a calm sea (its ``environment.waves`` removed): the sea the static state
+    is in (a time run ramps the waves in from it), with the Mechanism and Functions of that
+    structure, which do not carry the waves' expressions."""
+    env = scene.environment
+    if env.waves is None:
+        return scene
+    return dataclasses.replace(scene, environment=dataclasses.replace(env, waves=None))
+
+
 def static_equilibrium(scene: Scene, *, tol: float | None = None, max_iter: int = 50,
                        continuation: bool = True, codegen: bool | None = None):
     """``(mechanism, Equilibrium)``: the scene's cable3d Mechanism at rest, solved by
     :func:`~symcable.solvers.equilibrium.solve_equilibrium` (its checks passed) to ``tol`` N
-    (default RTOL times the force scale); where the dynamic analyses start."""
+    (default RTOL times the force scale); where the dynamic analyses start. The state is in
+    a calm sea: the scene's waves, if any, are left out (:func:`calm`)."""
+    scene = calm(scene)
     mech = cable3d_mechanism(scene)
     if tol is None:
         F = mech.scales.force if scene.version == 2 else force_scale(scene, segment_table(scene))
@@ -176,7 +190,9 @@ def run_start_state(scene: Scene, t0: float, start: str | None = None, *,
 def solve_static_3d(scene: Scene, *, tol: float | None = None, max_iter: int = 50,
                     continuation: bool = True, codegen: bool | None = None) -> StaticSolution:
     """Static configuration of a cable3d scene (see :func:`symcable.solve_static`); a scene
-    of several lines and points gives a :class:`~symcable.results.static.SystemStaticSolution`."""
+    of several lines and points gives a :class:`~symcable.results.static.SystemStaticSolution`.
+    A scene in waves is solved in a calm sea (:func:`calm`)."""
+    scene = calm(scene)
     if scene.version == 2:
         return _solve_system(scene, tol=tol, max_iter=max_iter, continuation=continuation,
                              codegen=codegen)

@@ -4,7 +4,8 @@ A cable3d line reads every number of its sections, line types and seabed contact
 ``line`` parameter block (:mod:`symcable.models.cable3d.line`), its ends' positions and the
 current through theirs, and a free point its seabed contact through its ``contact`` block
 (:func:`symcable.models.system.point_part`). Two scenes that differ only in those numbers
-(a line a metre longer, a fairlead moved, a heavier chain) therefore have the same
+(a line a metre longer, a fairlead moved, a heavier chain, another sea of as many wave
+components) therefore have the same
 expressions with other parameter values. Such scenes share one Mechanism's expressions:
 the first scene of a structure builds its Mechanism in full (the *template*), every later
 one builds only its numbers (``symbols=False``: parameter values, scales, starts, layout,
@@ -84,6 +85,9 @@ def structure_key(scene: Scene) -> str | None:
     env = d.get("environment", {})
     if "current" in env:
         env["current"] = [_sign(u) for u in env["current"]]
+    if "waves" in env:  # the sea's numbers are parameters: its component count is structure
+        w = scene.environment.waves
+        env["waves"] = (w.count, w.stretching)
     text = repr(sorted(d.items())) + repr(_choices(scene))
     return hashlib.sha256(text.encode()).hexdigest()
 

@@ -73,6 +73,7 @@ from .common.segments import segment_table, slack_law
 from .common.relax import _ramp_integral, drag_loads, relaxed_network
 from .common.seabed import CONTACT_SMOOTHING
 from .structure import rebind, structure_key
+from .common.waves import wave_block, wave_kinematics
 
 __all__ = ["build_system", "line_scene", "point_contact", "point_part"]
 
@@ -122,25 +123,38 @@ def point_part(pt: Point, env: Environment, seabed=None, contact=None) -> Mechan
     friction -mu N v_h / sqrt(|v_h|^2 + v_eps^2) with the isotropic ``friction`` (or, when only
     friction_axial / friction_lateral are given, the larger). Parameter blocks ``load`` (1),
     ``current`` (3, m/s), ``bed`` (1, scales K) and ``contact`` (K, N/m, and the smoothing
-    width, m: numbers of the lines attached, so parameters). Outputs ``position``, ``own_force`` (those loads),
+    width, m: numbers of the lines attached, so parameters), in waves ``wave_scale``,
+    ``ramp`` and ``waves`` (:mod:`~symcable.models.common.waves`). Outputs ``position``, ``own_force`` (those loads),
     ``contact_force`` (N, upward), ``potential_energy`` (of the weight, buoyancy, applied
     force and contact, J), ``kinetic_energy`` (J)."""
     weight, applied, rho = _point_loads(pt, env)
     q, v = ca.SX.sym("q", 3), ca.SX.sym("v", 3)
     t = ca.SX.sym("t")
-    params = ParamBlocks(("load", "current", "bed", "contact"), (1, 3, 1, 2),
+    sea = () if env.waves is None else (wave_block(env.waves, env.depth, env.gravity),)
+    params = ParamBlocks(("load", "current", "bed", "contact")
+                         + (("wave_scale", "ramp", "waves") if sea else ()),
+                         (1, 3, 1, 2) + ((1, 1, sea[0].size) if sea else ()),
                          np.concatenate([[1.0], env.current, [1.0],
-                                         contact if contact is not None else [0.0, 1.0]]))
+                                         contact if contact is not None else [0.0, 1.0]]
+                                        + ([[1.0, 1.0], sea[0]] if sea else [])))
     p = ca.SX.sym("p", params.n)
     load, current, bed = p[0], p[1:4], p[4]
     u = current - v
+    inertia = ca.SX.zeros(3, 1)
+    if sea:  # the waves' velocity joins the current; Morison inertia rho (V + ca V_a) a
+        _, u_w, a_w = wave_kinematics(env.waves.count, env.depth is None, env.waves.stretching,
+                                      q, t, p[params.slice("waves")],
+                                      p[params.slice("wave_scale")], p[params.slice("ramp")])
+        u = u + u_w
+        inertia = rho * (pt.volume + pt.ca * pt.added_volume) * a_w
     speed = ca.sqrt(ca.dot(u, u) + DRAG_SPEED ** 2)
     drag = 0.5 * rho * ca.DM(pt.drag_area) * speed * u
-    own = load * (ca.vertcat(0.0, 0.0, -weight) + ca.DM(applied)) + drag
+    own = load * (ca.vertcat(0.0, 0.0, -weight) + ca.DM(applied)) + drag + inertia
     m = pt.mass + pt.ca * rho * pt.added_volume
     mass = m * ca.SX.eye(3)
     names = ["point weight"] + (["point drag"] if rho > 0 and any(pt.drag_area) else []) \
-        + (["point force"] if np.any(applied) else [])
+        + (["point force"] if np.any(applied) else []) \
+        + (["point wave inertia"] if sea and rho > 0 else [])
     potential = load * (weight * q[2] - ca.dot(ca.DM(applied), q))
     normal = ca.SX(0.0)
     if seabed is not None and contact is not None:
@@ -176,7 +190,8 @@ def point_part(pt: Point, env: Environment, seabed=None, contact=None) -> Mechan
         starts=tuple, outputs=outputs,
         layout=Layout(3, {pt.name: PartLayout("point", np.zeros(1), np.arange(3)[None, :],
                                               np.arange(3)[None, :])}),
-        terms=tuple(names), stability_when=ca.SX(1.0))
+        terms=tuple(names), stability_when=ca.SX(1.0),
+        static_params={"wave_scale": np.zeros(1)} if sea else {})
 
 
 def build_system(scene: Scene, *, symbols: bool = True) -> Mechanism:

@@ -189,6 +189,10 @@ def _build(data: Mapping, source: str, base: str = ".") -> Scene:
         raise _err("mass_matrix", mass_matrix, "", "a mass matrix other than 'lumped' is a "
                    "cable3d option (model = 'cable3d')")
     env = _environment(data, dim)
+    if env.waves is not None and model is not Model.CABLE3D:
+        raise _err("environment.waves", env.waves.kind, "", "waves act on model = 'cable3d' "
+                   f"(lines, points); not on {model.value!r} yet: remove the waves or run the "
+                   "line as cable3d")
     seabed = _seabed(data, env)
     zones = _choice("zones", _get(data, "zones", "given"), _ZONES, "zones")
     if zones != "given" and model is not Model.HYBRID:
@@ -205,6 +209,11 @@ def _build(data: Mapping, source: str, base: str = ".") -> Scene:
                        'end_a, end_b), or set model = "cable3d"')
         _check_friction_options(seabed, model.value, True, None)
         points, lines, bodies = read_system(data, env, types, dim, model.value, base)
+        free = [b for b, body in bodies.items() if body.is_free]
+        if env.waves is not None and free:
+            raise _err(f"bodies.{free[0]}.kind", "free", "", "a free body takes no wave loads "
+                       "yet (environment.waves): give it a motion (kind = 'vessel') or remove "
+                       "the waves")
         _check_segments({f"lines[{k}].sections": ln.sections for k, ln in enumerate(lines)},
                         model, zones)
         for k, ln in enumerate(lines):

@@ -17,6 +17,7 @@ from typing import TYPE_CHECKING, Any, Mapping
 
 from .bodies import Body, BodyEnd, body_dict
 from .points import Line, Point, PointKind
+from .waves import Waves
 
 if TYPE_CHECKING:  # a field's type only
     from .loading import LoadingFunctions
@@ -302,6 +303,9 @@ class Environment:
     current_profile : tuple of (z, U_x, U_y, U_z)
         cable3d: a current varying with depth, rows by ascending z (m, up), linear between
         them and held beyond (added to ``current``); empty: none.
+    waves : Waves or None
+        Linear waves (``[environment.waves]``, :class:`~symcable.scene.waves.Waves`; 3D
+        scenes in water); None: a calm sea.
     """
 
     gravity: float = 9.80665
@@ -309,6 +313,7 @@ class Environment:
     depth: float | None = None
     current: tuple[float, ...] = (0.0, 0.0)
     current_profile: tuple = ()
+    waves: Waves | None = None
 
     @property
     def in_air(self) -> bool:
@@ -474,6 +479,8 @@ def scene_to_dict(scene: Scene) -> dict:
     environment["current"] = list(env.current)
     if env.current_profile:
         environment["current_profile"] = [list(r) for r in env.current_profile]
+    if env.waves is not None:
+        environment["waves"] = env.waves.to_dict()
     out: dict[str, Any] = {"name": scene.name, "model": Model(scene.model).value,
                            "environment": environment}
     if scene.mass_matrix != "lumped":

@@ -17,10 +17,11 @@ from .checks import (MAX_NAME, _check_text, _choice, _err, _fmt, _for, _get, _in
                      _number, _num_reader, _required, _suggest, _table, _vector)
 from .drag import read_drag_law
 from .tow import TOW_KEYS, read_tow
+from .wave_table import read_waves
 from .model import (_LINE_KEYS, _LINE_KEYS_DRAG, _LINE_KEYS_ROD, End, EndCondition,
                     Environment, LineType, Motion, Seabed, Section)
 
-_ENV_KEYS = ("gravity", "water_density", "depth", "current", "current_profile")
+_ENV_KEYS = ("gravity", "water_density", "depth", "current", "current_profile", "waves")
 _SEABED_KEYS = ("stiffness", "friction", "damping", "friction_axial", "friction_lateral",
                 "friction_velocity", "friction_law", "friction_stiffness", "static_friction")
 FRICTION_LAWS = ("coulomb", "bristle")
@@ -47,13 +48,15 @@ def _environment(data: Mapping, dim: int) -> Environment:
     t = _table("environment", _get(data, "environment", {}), _ENV_KEYS)
     num = _num_reader("environment", t)
     depth = _get(t, "depth")
+    rho = num("water_density", "kg/m^3", _ENV.water_density, ge=0)
     return Environment(
         gravity=num("gravity", "m/s^2", _ENV.gravity, gt=0),
-        water_density=num("water_density", "kg/m^3", _ENV.water_density, ge=0),
+        water_density=rho,
         depth=None if depth is None else num("depth", "m", gt=0),
         current=_vector("environment.current", _get(t, "current", (0.0,) * dim), dim, "m/s",
                         _for(dim, "U_")),
         current_profile=_current_profile(_get(t, "current_profile"), dim),
+        waves=read_waves(_get(t, "waves"), dim, rho),
     )
 
 

@@ -15,15 +15,19 @@ elements gives:
 - weight and buoyancy: the submerged weight w L0 (N), half on each node;
 - Morison drag on the water's velocity relative to the element (the current minus the
   mean of its nodes' velocities), split along and across t: 0.5 rho d Cd |u| u sqrt(1+e)
-  per unstretched metre (the planar law), |u| smoothed as sqrt(|u|^2 + DRAG_SPEED^2) so the
+  per unstretched metre (the planar law), with waves (``[environment.waves]``) their fluid
+  velocity at the element's midpoint added to the current, |u| smoothed as sqrt(|u|^2 + DRAG_SPEED^2) so the
   force is differentiable at rest, half on each node; or, for a line type with ``drag_law =
   "loading-functions"``, Sun, Zhu & LaRosa's loading functions (:mod:`~symcable.models.common.drag`);
+- in waves, Morison's inertia force: the displaced water's mass times (1 + Ca) the fluid
+  acceleration at the element's midpoint, across and along it
+  (:func:`~symcable.models.common.waves.element_wave_loads`), half on each node;
 - bending where EI > 0 (:mod:`~symcable.models.common.bending`: a discrete curvature energy on node
   triplets; a clamped end's tangent held by a ghost node); such segments carry compression
   (the linear law EA e, as the planar line's), cable segments (EI = 0) do not;
 - lumped mass: structural m L0 / 2 per node, and added mass rho A L0 / 2 (Ca_n (I - t t^T) +
   Ca_t t t^T) per node, rho A the displaced water per metre; or, with ``mass_matrix =
-  "consistent"``, Sun, Zhu & LaRosa's L0 B / 6 [[2, 1], [1, 2]] per element (:func:`_consistent_mass`).
+  "consistent"``, Sun, Zhu & LaRosa's L0 B / 6 [[2, 1], [1, 2]] per element (:mod:`.mass`).
 
 Each node on a flat seabed at z = -depth gets (:mod:`~symcable.models.common.seabed`, shared with the rod) the
 planar line's smooth penalty contact k d b ramp(-depth - z) (b its tributary length), a
@@ -45,7 +49,8 @@ tow's included; 0 in statics), ``ramp`` (1: a harmonic motion ramps in over its 
 period from t = 0; 0: at full amplitude throughout, as periodic solves take it), ``bed``
 (scales the seabed contact's stiffness; 1); with
 static friction ``static_friction`` (1 in statics, 0 in time) and ``laid`` (the as-laid
-horizontal positions of the nodes, m, node by node).
+horizontal positions of the nodes, m, node by node); with waves ``wave_scale`` (scales the
+sea; 1, 0 in statics) and ``waves`` (:func:`~symcable.models.common.waves.wave_block`).
 """
 from __future__ import annotations
 
@@ -60,6 +65,8 @@ from ...scene import EndCondition, Scene
 from ..common.bending import bending_nodes, bending_terms, linear_axial_law
 from ..common.drag import law_table
 from ..common.terms import fluid_term_names
+from ..common.waves import WAVE_TERMS, element_wave_loads, wave_block
+from .mass import added_mass_coefficients, line_mass
 from .elements import CONSTANTS, FormNumbers, element_form, form_constants
 from ..common.starts import force_scale, starts_of
 from ..common.relax import _ramp_integral
@@ -134,7 +141,7 @@ def build_cable3d(scene: Scene, part: str | None = None,
     sea_numbers = seabed_numbers(scene, seg) if sb is not None else None
     cdn_bound = seg["cdn"] if drag_law is None else drag_law["normal_bound"]
     params = _param_blocks(scene, laid, _line_values(seg, law, BA, F, rho, sea_numbers,
-                                                     cdn_bound, _added_mass_coefficients(scene)))
+                                                     cdn_bound, added_mass_coefficients(scene)))
     if not symbols:
         return _numbers_only(scene, seg, part, params, _moving(N, free), bristle, laid, law, F,
                              BA, rho, drag_law, cdn_bound)
@@ -150,7 +157,13 @@ def build_cable3d(scene: Scene, part: str | None = None,
     Xm, Vm = ca.horzcat(*X), ca.horzcat(*V)  # (3, N+1)
 
     width = ca.exp(math.log(SLACK_CONTINUATION) * (1.0 - sigma))
-    fa, fb, T, e = _element_forces(scene, Xm, Vm, current, load, L, width, rho, drag_law)
+    sea_u = sea_f = None
+    if env.waves is not None:  # the waves' velocity joins the current; their inertia force
+        sea_u, sea_f = element_wave_loads(scene, Xm, t, p[params.slice("waves")],
+                                          p[params.slice("wave_scale")], ramp_on, rho, L)
+    fa, fb, T, e = _element_forces(scene, Xm, Vm, current, load, L, width, rho, drag_law, sea_u)
+    if sea_f is not None:
+        fa, fb = fa + 0.5 * sea_f, fb + 0.5 * sea_f
     elements = ca.horzcat(fa, ca.SX.zeros(3, 1)) + ca.horzcat(ca.SX.zeros(3, 1), fb)  # (3, N+1)
     nodal = ca.SX.zeros(3, N + 1)  # what the elements do not give (the element form's rest)
     contact = ca.SX.zeros(1, N + 1)
@@ -183,12 +196,12 @@ def build_cable3d(scene: Scene, part: str | None = None,
     nodal = elements + nodal
     force = ca.vertcat(*[nodal[:, i] for i in moving])
 
-    mass, inertia, acc = _mass(scene, L, Xm, V, t, rho, moving)
+    mass, inertia, acc = line_mass(scene, L, Xm, V, t, rho, moving)
     if inertia is not None:
         force = force + inertia
     form = None
-    if not env.current_profile and part is None:  # the elements' kernel as a loop (an
-        # assembly's part has none: assemble drops it)
+    if not env.current_profile and env.waves is None and part is None:  # the elements'
+        # kernel as a loop (an assembly's part has none: assemble drops it)
         form = _form(scene, seg, X, V, acc, moving, drag_law, BA, law, F, rho, current, load,
                      width, force_rest, L)
     outputs = _line_outputs(owner, Xm, Vm, T, e, contact, fr if rubs else None, end_force_a,
@@ -213,6 +226,8 @@ def _numbers(scene: Scene, seg: dict, part, params: ParamBlocks, moving: list, b
     N = len(seg["ds"])
     n_v = 3 * len(moving)
     static = {"motion": np.zeros(1)}
+    if scene.environment.waves is not None:  # a calm sea in statics
+        static["wave_scale"] = np.zeros(1)
     if laid is not None:
         static["static_friction"] = np.ones(1)
     p_static = params.with_values(**static)
@@ -232,6 +247,8 @@ def _term_names(scene: Scene, seg: dict, BA: np.ndarray, rho: float) -> list:
     if bending_nodes(scene, seg):
         names.append("bending")
     names += fluid_term_names(scene.sections, rho)
+    if scene.environment.waves is not None:
+        names += WAVE_TERMS
     if scene.seabed is not None:
         names += seabed_term_names(scene.seabed, friction_setup(scene, seg)[2] is not None)
     if np.any(_applied_forces(scene, len(seg["ds"]))):
@@ -253,7 +270,8 @@ def _numbers_only(scene: Scene, seg: dict, part, params: ParamBlocks, moving: li
     bounds = _bounds(scene, seg, zero, zero, F, ca.SX.zeros(1, N + 1), _applied_forces(scene, N),
                      cdn_bound, rho, ca.SX.zeros(3, 1), 0.0)
     form = None  # (a part of an assembly has none: assemble drops it)
-    if not scene.environment.current_profile and part is None:
+    if not scene.environment.current_profile and scene.environment.waves is None \
+            and part is None:
         form = FormNumbers(form_constants(_form_columns(scene, seg, BA, law, F, rho),
                                           drag_law["law"].T if drag_law else None,
                                           scene.mass_matrix != "lumped"))
@@ -303,12 +321,15 @@ def _param_blocks(scene: Scene, laid: np.ndarray | None, line: np.ndarray) -> Pa
     block's (:func:`_line_values`); with ``laid`` (the as-laid horizontal node positions, m)
     the static friction's two blocks too."""
     env, a, b = scene.environment, scene.end_a, scene.end_b
-    names, sizes = P_NAMES + (("static_friction", "laid") if laid is not None else ()), \
-        (line.size,) + P_SIZES[1:] + ((1, laid.size) if laid is not None else ())
+    sea = () if env.waves is None else (wave_block(env.waves, env.depth, env.gravity),)
+    names = P_NAMES + (("static_friction", "laid") if laid is not None else ()) \
+        + (("wave_scale", "waves") if sea else ())
+    sizes = (line.size,) + P_SIZES[1:] + ((1, laid.size) if laid is not None else ()) \
+        + ((1, sea[0].size) if sea else ())
     return ParamBlocks(names, sizes, np.concatenate([
         line, [1.0], a.position if a.position is not None else np.zeros(3),
         b.position if b.position is not None else np.zeros(3), env.current, [1.0], [1.0], [1.0],
-        [1.0]] + ([[0.0], laid] if laid is not None else [])))
+        [1.0]] + ([[0.0], laid] if laid is not None else []) + ([[1.0], sea[0]] if sea else [])))
 
 
 def _moving(N: int, free: list) -> list:
@@ -345,9 +366,10 @@ def _axial_damping(scene: Scene, seg: dict) -> np.ndarray:
 
 
 def _element_forces(scene: Scene, Xm, Vm, current, load, L: dict, width, rho: float,
-                    drag_law: dict | None):
+                    drag_law: dict | None, waves=None):
     """The element kernel mapped over the N segments, its numbers the ``line`` block's
-    (``L``, :func:`_line_view`): the forces on each segment's first and second node (3, N),
+    (``L``, :func:`_line_view`), ``waves`` the waves' velocity at the elements (3, N) or
+    None: the forces on each segment's first and second node (3, N),
     N; its axial force T (1, N), N, and strain e (1, N)."""
     N = Xm.shape[1] - 1
     env = scene.environment
@@ -356,6 +378,8 @@ def _element_forces(scene: Scene, Xm, Vm, current, load, L: dict, width, rho: fl
     if env.current_profile:  # the current at each element's mid-depth
         water = water + profile_current(env.current_profile,
                                         0.5 * (Xm[2, :-1] + Xm[2, 1:]))
+    if waves is not None:
+        water = water + waves
     return kernel(Xm[:, :-1], Xm[:, 1:], Vm[:, :-1], Vm[:, 1:], water,
                   L["ds"], L["EA"], L["BA"], L["EAs"], width * L["delta"], L["F"], L["w"],
                   L["d"], L["cdn"], L["cdt"], rho, load,
@@ -371,41 +395,8 @@ def _applied_forces(scene: Scene, N: int) -> np.ndarray:
     return applied
 
 
-def _added_mass_coefficients(scene: Scene) -> tuple[np.ndarray, np.ndarray]:
-    """Each segment's normal and tangential added-mass coefficients (N,) each."""
-    can = np.array([s.line_type.ca_normal for s in scene.sections for _ in range(s.segments)])
-    cat = np.array([s.line_type.ca_tangential for s in scene.sections for _ in range(s.segments)])
-    return can, cat
 
 
-def _mass(scene: Scene, L: dict, Xm, V: list, t, rho: float, moving: list):
-    """The mass matrix over the moving nodes (3 n_moving square), structural and added
-    (normal, tangential), lumped (3 x 3 per node) or consistent (``scene.mass_matrix``),
-    its numbers the ``line`` block's (``L``, :func:`_line_view`);
-    the force of the held ends' accelerations through the consistent mass's coupling (None
-    when lumped); and the held ends' accelerations ``{node: (3, 1)}``, m/s^2."""
-    N = Xm.shape[1] - 1
-    m_half = 0.5 * L["mass"] * L["ds"]
-    ma_half = 0.5 * rho * (math.pi / 4.0) * L["d"] * L["d"] * L["ds"]
-    blocks = [ca.SX.zeros(3, 3) for _ in range(N + 1)]
-    halves = []  # each element's L0 B / 2
-    can, cat = L["can"], L["cat"]
-    for j in range(N):
-        dx = Xm[:, j + 1] - Xm[:, j]
-        tt = ca.mtimes(dx, dx.T) / ca.dot(dx, dx)
-        blk = m_half[j] * ca.SX.eye(3) + ma_half[j] * (can[j] * (ca.SX.eye(3) - tt)
-                                                       + cat[j] * tt)
-        blocks[j] += blk
-        blocks[j + 1] += blk
-        halves.append(blk)
-    # a prescribed end's acceleration reaches its neighbour through the consistent mass's
-    # coupling; a table's (impulses at its rows) is left out
-    acc = {i: (ca.jacobian(V[i], t) if end.motion is not None and end.motion.kind != "table"
-               else ca.SX.zeros(3, 1)) for end, i in ((scene.end_a, 0), (scene.end_b, N))}
-    if scene.mass_matrix == "lumped":
-        return ca.diagcat(*[blocks[i] for i in moving]), None, acc
-    mass, inertia = _consistent_mass(halves, acc, moving, N)
-    return mass, inertia, acc
 
 
 def _form(scene: Scene, seg: dict, X: list, V: list, acc: dict, moving: list,
@@ -440,7 +431,7 @@ def _form_columns(scene: Scene, seg: dict, BA: np.ndarray, law: dict, F: float,
                   rho: float) -> dict:
     """The element form's per-element constants by name (:func:`.elements.element_form`)."""
     A_w = math.pi * seg["d"] ** 2 / 4.0
-    can, cat = _added_mass_coefficients(scene)
+    can, cat = added_mass_coefficients(scene)
     return dict(L0=seg["ds"], EA=seg["EA"], BA=BA, EAs=law["EA_slack"], delta=law["delta"],
                 wall=F, w=seg["w"], d=seg["d"], cdn=seg["cdn"], cdt=seg["cdt"], rho=rho,
                 structural_half=0.5 * seg["mass"] * seg["ds"],
@@ -545,31 +536,6 @@ def _layout(owner: str, seg: dict, N: int, moving: list, bristle: bool) -> Layou
         {i: name for i, name in ((0, "end_a"), (N, "end_b")) if i not in moving})}, states)
 
 
-def _consistent_mass(halves, acc, moving, N):
-    """The consistent mass of Sun, Zhu & LaRosa: element j's L0 B / 6 [[2, 1], [1, 2]] (B
-    its mass per metre, 3 x 3, structural and added), from ``halves[j]`` = L0 B / 2 (what
-    the lumped mass puts on each of its nodes): two thirds of a half on each node, one third
-    coupling them.
-    Returns (M over the moving nodes, sparse block-tridiagonal; the force -M_ih a_h on a
-    moving node i beside a held node h, a_h = ``acc[h]`` the prescribed motion's
-    acceleration)."""
-    slot = {i: k for k, i in enumerate(moving)}
-    M = ca.SX(3 * len(moving), 3 * len(moving))
-    inertia = ca.SX.zeros(3 * len(moving), 1)
-    rows = lambda i: slice(3 * slot[i], 3 * slot[i] + 3)  # noqa: E731
-    for j, half in enumerate(halves):
-        a, b = j, j + 1
-        for i in (a, b):
-            if i in slot:
-                M[rows(i), rows(i)] = M[rows(i), rows(i)] + (2.0 / 3.0) * half
-        if a in slot and b in slot:
-            M[rows(a), rows(b)] = M[rows(a), rows(b)] + half / 3.0
-            M[rows(b), rows(a)] = M[rows(b), rows(a)] + half / 3.0
-        else:
-            for i, h in ((a, b), (b, a)):
-                if i in slot and h not in slot:
-                    inertia[rows(i)] = inertia[rows(i)] - ca.mtimes(half / 3.0, acc[h])
-    return M, inertia
 
 
 def _node_index(N, moving) -> np.ndarray:

@@ -44,6 +44,8 @@ from .solvers.options import (RK4, Collocation, GeneralizedAlpha, GeneralizedAlp
                               HarmonicBalance, Shooting)
 from .solvers.periodic_mech import solve_periodic_mech
 from .api.waves import SeaKinematics, wave_components, wave_kinematics
+from .api.frequency import solve_frequency_domain
+from .results.frequency import FrequencyResponse, LineSpectrum
 from .scene.waves import Waves, WaveComponents
 from . import analytic
 
@@ -92,6 +94,10 @@ __all__ = [
     "SeaKinematics",
     "wave_kinematics",
     "wave_components",
+    # the frequency domain
+    "solve_frequency_domain",
+    "FrequencyResponse",
+    "LineSpectrum",
     # sweeps: a table of cases on Dask (pip install "symcable[sweep]")
     "run_sweep",
     "read_sweep",

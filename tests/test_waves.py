@@ -277,3 +277,16 @@ def test_scene_contract_round_trip_and_errors(tmp_path):
     rod["line_types"]["r"]["EI"] = 1e4
     with pytest.raises(SceneError, match="environment.waves"):
         sc.load_scene(rod)
+
+
+def test_a_free_body_in_waves_is_refused():
+    """A free body has no wave loads yet: one SceneError naming it, not a body that ignores
+    the sea."""
+    import sys
+    from pathlib import Path
+    sys.path.insert(0, str(Path(__file__).parent))
+    from test_bodies_scene import _scene
+    d = _scene()
+    d["environment"]["waves"] = {"kind": "regular", "height": 2.0, "period": 8.0}
+    with pytest.raises(SceneError, match=r"bodies\.buoy\.kind = 'free'.*fixed"):
+        sc.load_scene(d)

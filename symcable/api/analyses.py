@@ -166,7 +166,7 @@ def simulate(scene, duration: float, dt: float | None = None, method: str = "gen
         Generalized-α Newton tolerance on the max-norm of the step residual times
         dt / y_scale (momentum rows over their masses), or of the last Newton correction of
         y_{n+1} over y_scale (default 1e-10; a cable3d scene:
-        :data:`symcable.api.cable3d.NEWTON_TOL`, 1e-8).
+        :func:`symcable.api.cable3d.newton_tolerance`, 1e-8 or less on a stiff line).
     codegen : bool, optional
         Run the step in generated C (compiled once per model structure and method, then
         loaded from the build cache); the loop over steps runs inside CasADi's ``mapaccum``,

@@ -55,6 +55,16 @@ RHO_INF = 0.0
 #: tensions then move by orders of magnitude less than the step's own error from a
 #: tolerance of 1e-10, in less time (fewer chord iterations)
 NEWTON_TOL = 1e-8
+#: ... at most this times the force scale over the stiffest segment's force per unit
+#: tolerance (:func:`newton_tolerance`): a step accepts position errors up to the tolerance
+#: times the position scale, worth EA / ds times that in tension, and on a stiff line these
+#: feed its lightly damped axial modes (a 400 m chain at rest, EA 6e8 N, 40 segments, dt
+#: 0.0125 s, rang at 260 N, 1e-3 of its tension, with 1e-8; 2.6 N with 1e-10, at 20 % more
+#: Newton iterations and the same wall time)
+STEP_FORCE_TOL = 1e-6
+#: ... and never below this (a step's residual stalls at its round-off floor, near 5e-9 on
+#: some lines in the shooting's steps; 1e-11 is reached on a 400 m chain of 40 segments)
+NEWTON_TOL_FLOOR = 1e-11
 #: the end tensions' error estimate (:func:`tension_error_estimate`) times this: the raw
 #: estimate is about half the true error, so the factor makes it a slight overestimate.
 #: Not where a tow enters or leaves a turn (:func:`motion_kinks`), where the run's error
@@ -98,12 +108,15 @@ TOW_STRETCH_STEP = 0.25
 
 
 def _motions(scene: Scene) -> list:
-    """Every prescribed motion: of the ends (one line) or of the vessel points (version 2)."""
+    """Every prescribed motion: of the ends (one line) or of the vessel points and vessels
+    (version 2; a vessel's :class:`~symcable.scene.vessel.BodyMotion`, its rows t and six
+    columns)."""
     ends = [e for e in (scene.end_a, scene.end_b) if e is not None]
     ends += [ln_end for ln in scene.lines for ln_end in (ln.end_a, ln.end_b)
              if isinstance(ln_end, End)]
     return [e.motion for e in ends if e.motion is not None] + [
-        pt.motion for pt in scene.points.values() if pt.motion is not None]
+        pt.motion for pt in scene.points.values() if pt.motion is not None] + [
+        b.motion for b in scene.bodies.values() if b.motion is not None]
 
 
 def run_start(scene: Scene) -> float:
@@ -136,7 +149,7 @@ def default_dt(scene: Scene, duration: float, tensions: dict | None = None) -> f
                 dts.append(float(np.min(np.diff(tk))))
         elif m.kind == "tow":
             dts += [TOW_KINK_STEP * radius / m.speed for _, radius, _ in m.turns]
-        else:
+        elif m.kind != "rao":  # (a vessel's response to the waves: the waves' period)
             dts.append(m.period / STEPS_PER_PERIOD)
     if wave_period(scene) is not None:
         dts.append(wave_period(scene) / STEPS_PER_PERIOD)
@@ -172,6 +185,21 @@ def _one_line(scene: Scene, what: str) -> None:
                             f"{what} runs one-line cable3d scenes for now (solve_static solves "
                             "it; symcable.integrate(symcable.cable3d_mechanism(scene), ...) "
                             "steps it)")
+
+
+def newton_tolerance(scene: Scene, mech) -> float:
+    """The default Newton tolerance of a cable3d run's steps: NEWTON_TOL, or less on a
+    stiff line: STEP_FORCE_TOL F / (q k), F the force scale (N), q the largest position scale
+    (m) and k the largest EA / ds of the scene's segments (N/m), so that a step's accepted
+    position error moves a segment's tension by at most about STEP_FORCE_TOL F."""
+    sections = scene.sections if scene.version == 1 else [s for ln in scene.lines
+                                                          for s in ln.sections]
+    k = max((s.line_type.EA * s.segments / s.length for s in sections if s.length), default=0.0)
+    q = float(np.max(mech.scales.q)) if np.size(mech.scales.q) else 0.0
+    if k <= 0.0 or q <= 0.0:
+        return NEWTON_TOL
+    return max(NEWTON_TOL_FLOOR,
+               min(NEWTON_TOL, STEP_FORCE_TOL * float(mech.scales.force) / (q * k)))
 
 
 def wave_period(scene: Scene) -> float | None:
@@ -348,6 +376,8 @@ def simulate_3d(scene: Scene, duration: float, dt: float | None = None,
             opts = dataclasses.replace(opts, tol=float(newton_tol))
     t0 = run_start(scene) if t_start is None else float(t_start)
     mech, eq, v0, how, notes = start_state(scene, t0, start, codegen)
+    if name != "rk4" and newton_tol is None:
+        opts = dataclasses.replace(opts, tol=newton_tolerance(scene, mech))
     if all(m is None for _, m in held_motions(scene)) and scene.environment.waves is None:
         notes = list(notes) + [STILL]
     check_moves(scene, mech)

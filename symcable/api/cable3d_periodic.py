@@ -15,6 +15,7 @@ import time
 import numpy as np
 
 from .cable3d import NEWTON_TOL, RHO_INF, _line_result, _motions, _period
+from .cable3d_static import cable3d_mechanism
 from .scene3d import check_moves, check_periodic_scene, dynamics_mechanism, scene_equilibrium
 from ..errors import ConvergenceError, SymcableError
 from ..limits import current as current_limits, past_deadline
@@ -60,7 +61,13 @@ def solve_periodic_3d_state(scene: Scene, method, codegen, stability, start, opt
         raise SymcableError(f"stability = {stability!r}: must be True or False")
     period = _period(scene)
     motions = _motions(scene)
-    other = sorted({m.kind for m in motions if m.kind != "harmonic"})
+    other = sorted({m.kind for m in motions if m.kind not in ("harmonic", "rao")})
+    waves = scene.environment.waves
+    if waves is not None and waves.kind != "regular" and (waves.count > 1 or waves.kind !=
+                                                          "components"):
+        raise SymcableError(f"scene {scene.name!r}: a periodic response needs a regular sea "
+                            f"(environment.waves.kind = 'regular'), not {waves.kind!r}: run "
+                            "simulate for an irregular sea")
     if period is None or other:
         where = "[end_b.motion]" if scene.version == 1 else "[points.NAME.motion] of a vessel point"
         has = (f"its motion is {' and '.join(map(repr, other))}: run simulate instead" if other
@@ -82,7 +89,10 @@ def solve_periodic_3d_state(scene: Scene, method, codegen, stability, start, opt
         # "failed" where simulate ran the same steps
         opts = dataclasses.replace(opts, newton_tol=NEWTON_TOL)
     mech, eq = scene_equilibrium(scene, codegen=codegen)
-    mech = dynamics_mechanism(scene, mech)
+    # in waves the static state is the calm sea's (its Mechanism without the waves): the
+    # periodic solve runs the scene's own
+    mech = dynamics_mechanism(scene, mech if scene.environment.waves is None
+                              else cable3d_mechanism(scene))
     check_moves(scene, mech)
     p = np.array(mech.params.values, float)
     ramped = p.copy()  # the start's first period: the motion ramped in from rest

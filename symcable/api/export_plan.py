@@ -143,7 +143,7 @@ def _mechanism_plan(scene: Scene, stand_in: bool) -> DynamicPlan:
     mech, eq, v0, info, _ = start_state(scene, t0, None, False)
     p = np.asarray(mech.params.values, float)
     dt = _c3.default_dt(scene, default_duration(scene), _c3._start_tensions(scene, eq))
-    opts = GeneralizedAlphaFirstOrder(rho_inf=_c3.RHO_INF, tol=_c3.NEWTON_TOL)
+    opts = GeneralizedAlphaFirstOrder(rho_inf=_c3.RHO_INF, tol=_c3.newton_tolerance(scene, mech))
     q0 = np.asarray(eq.q, float)
     return _plan(scene, mech, opts, t0, dt, q0, np.asarray(v0, float), p,
                  reanchor_hook(mech), "mechanism", stand_in, str(info.get("start", "rest")))

@@ -202,8 +202,15 @@ def _simulate(args) -> int:
     from ..results.line3d import LineTrajectory, SystemTrajectory
 
     scene = load_scene(args.scene)
+    if args.motion is not None:
+        from ..scene.moving import with_motion
+        scene = with_motion(scene, args.motion, args.moving)
+    elif args.moving is not None:
+        raise SymcableError(f"--moving {args.moving}: names what --motion FILE moves; give "
+                            "--motion")
     motions = [e.motion for e in (scene.end_a, scene.end_b) if e is not None and e.motion] \
-        + [pt.motion for pt in (scene.points or {}).values() if getattr(pt, "motion", None)]
+        + [pt.motion for pt in (scene.points or {}).values() if getattr(pt, "motion", None)] \
+        + [b.motion for b in (scene.bodies or {}).values() if b.motion is not None]
     period = next((m.period for m in motions if m.kind == "harmonic"), None)
     # a table runs over its rows, a tow over its turns (and a minute more), a harmonic
     # motion ten periods
@@ -376,6 +383,12 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--tol", type=float, help="generalized-alpha: the end tensions' error asked, "
                    "a fraction of their range (default 0.01; not with --dt)")
     p.add_argument("--method", default="generalized-alpha", choices=["generalized-alpha", "rk4"])
+    p.add_argument("--motion", metavar="FILE", help="a motion table, rows t x y z [roll pitch "
+                   "yaw] (s, m, deg, from the scene's pose), for end B of a one-line scene, "
+                   "the scene's one fixed or vessel body, or else its vessel points moved as "
+                   "one vessel about their centroid at z = 0")
+    p.add_argument("--moving", metavar="NAME", help="with --motion: the body, point or end "
+                   "(end_a, end_b) it moves")
     p = sub.add_parser("periodic", help="periodic steady state over one excitation period")
     p.add_argument("scene")
     _output_options(p, "solution")

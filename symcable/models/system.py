@@ -59,6 +59,9 @@ import casadi as ca
 import numpy as np
 
 from ..scene import BodyEnd, Environment, Scene
+from ..scene.bodies import BodyKind
+from ..scene.vessel import rigid_path
+from .common.rigid import quaternion, rigid_dof
 from ..scene.one_line import line_scene
 from ..scene.points import Point
 from .common import terms
@@ -248,7 +251,7 @@ def build_system(scene: Scene, *, symbols: bool = True) -> Mechanism:
             out[f"{name}.net_force"] = Output(force + out[f"{name}.own_force"].expr, "N", name,
                                               "net force on the point (zero in equilibrium)")
     for name, body in scene.bodies.items():
-        out.update(body_outputs(body, out, on_body[name]))
+        out.update(body_outputs(body, out, on_body[name], _vessel_pose(scene, mech, name)))
     potential = sum(out[f"{p.name}.potential_energy"].expr for p in parts)
     out["kinetic_energy"] = Output(0.5 * ca.dot(mech.v, ca.mtimes(mech.mass, mech.v)), "J", "",
                                    "kinetic energy of the system")
@@ -256,6 +259,27 @@ def build_system(scene: Scene, *, symbols: bool = True) -> Mechanism:
                                                         "and applied-force potential energy")
     return dataclasses.replace(mech, outputs=out, bounds=_bounds(scene, mech),
                                starts=lambda: _starts(scene, mech))
+
+
+def _vessel_pose(scene: Scene, mech: Mechanism, name: str):
+    """A vessel's pose as expressions of the assembly's t (its first line's ``motion`` and
+    ``ramp`` parameters scaling and ramping it, as they do its ends), for
+    :func:`~symcable.models.body.body.body_outputs`; None for another body."""
+    body = scene.bodies[name]
+    if body.kind is not BodyKind.VESSEL:
+        return None
+    env = scene.environment
+    line = next(ln for ln in scene.lines for e in (ln.end_a, ln.end_b)
+                if isinstance(e, BodyEnd) and e.body == name)
+    sea = None if env.waves is None else env.waves.components_in(env.depth, env.gravity)
+    path = rigid_path(body, (0.0, 0.0, 0.0), sea, 0.0 if env.waves is None
+                      else env.waves.ramp_time)
+    p = mech.p
+    q, _ = rigid_dof(path, p[mech.params.slice(f"{line.name}.motion")], mech.t,
+                     p[mech.params.slice(f"{line.name}.ramp")])
+    o = ca.DM([np.radians(v) for v in body.orientation_deg])
+    return (ca.DM(body.position) + q[:3], ca.DM(body.orientation_deg) + q[3:] * (180.0 / np.pi),
+            quaternion(o + q[3:]))
 
 
 def _line_part(ls: Scene, name: str, joined: tuple, symbols: bool, built: dict) -> Mechanism:

@@ -7,7 +7,9 @@ R = Rz(yaw) Ry(pitch) Rx(roll) from body axes to global axes, MoorPy's conventio
 mass acts at the centre of gravity, its buoyancy (the body is taken as submerged wherever
 it is) and its drag and added mass at the centre of buoyancy, both given in body axes
 relative to the reference point. ``kind = "fixed"`` holds it where the scene puts it (the
-lines attached to it are then held at its points, as at fixed points).
+lines attached to it are then held at its points, as at fixed points); ``kind = "vessel"``
+moves it by a given motion in six degrees of freedom about that pose (:mod:`.vessel`), the
+lines' ends following its points.
 
 The reader is :func:`symcable.scene.system.read_bodies`; this module is the dataclasses
 only. Units are SI; vectors are (x, y, z), z up.
@@ -17,6 +19,7 @@ from __future__ import annotations
 import enum
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -28,6 +31,7 @@ class BodyKind(str, enum.Enum):
 
     FREE = "free"    #: solved for: six degrees of freedom
     FIXED = "fixed"  #: held at its position and orientation
+    VESSEL = "vessel"  #: moved by a given motion in six degrees of freedom (.vessel)
 
 
 def rotation_rpy(roll_pitch_yaw_deg) -> np.ndarray:
@@ -70,6 +74,9 @@ class Body:
     ca_volume : tuple of float
         Added-mass volumes along body axes, m^3 (>= 0, the added-mass coefficient times
         the volume): added mass rho ca_volume_i along body axis i, at the centre of buoyancy.
+    motion : BodyMotion or None
+        A vessel's motion in six degrees of freedom about its pose
+        (:class:`~symcable.scene.vessel.BodyMotion`).
     """
 
     name: str
@@ -83,6 +90,7 @@ class Body:
     center_of_buoyancy: tuple[float, ...] = (0.0, 0.0, 0.0)
     cd_area: tuple[float, ...] = (0.0, 0.0, 0.0)
     ca_volume: tuple[float, ...] = (0.0, 0.0, 0.0)
+    motion: Any = None
 
     @property
     def is_free(self) -> bool:
@@ -125,4 +133,6 @@ def body_dict(body: Body) -> dict:
                    center_of_gravity=list(body.center_of_gravity),
                    center_of_buoyancy=list(body.center_of_buoyancy),
                    cd_area=list(body.cd_area), ca_volume=list(body.ca_volume))
+    if body.motion is not None:
+        out["motion"] = body.motion.to_dict()
     return out

@@ -212,8 +212,7 @@ def _build(data: Mapping, source: str, base: str = ".") -> Scene:
         free = [b for b, body in bodies.items() if body.is_free]
         if env.waves is not None and free:
             raise _err(f"bodies.{free[0]}.kind", "free", "", "a free body takes no wave loads "
-                       "yet (environment.waves): give it a motion (kind = 'vessel') or remove "
-                       "the waves")
+                       "yet (environment.waves): hold it (kind = 'fixed') or remove the waves")
         _check_segments({f"lines[{k}].sections": ln.sections for k, ln in enumerate(lines)},
                         model, zones)
         for k, ln in enumerate(lines):

@@ -202,6 +202,9 @@ class Motion:
         A tow's turns, in order: after a straight run of ``after`` s (>= 0), a circular turn
         of ``radius`` m (> 0) through ``angle_deg`` degrees (positive: to port, i.e.
         counter-clockwise seen from above), then straight on the new heading.
+    rigid : RigidPath or None
+        ``"body"``: a line end at a point of a vessel (:class:`~symcable.scene.vessel.RigidPath`;
+        not a file's kind: the models' one-line scenes of a vessel's lines).
     """
 
     kind: str
@@ -214,6 +217,7 @@ class Motion:
     heading_deg: float | None = None
     start: float = 0.0
     turns: tuple = ()
+    rigid: Any = None
 
     @property
     def omega(self) -> float:
@@ -535,6 +539,8 @@ def _sections_list(sections) -> list:
 
 
 def _motion_dict(m: Motion) -> dict:
+    if m.kind == "body":
+        return {"kind": "body", "path": m.rigid.key()}
     if m.kind == "tow":
         return {"kind": "tow", "speed": m.speed, "heading": m.heading_deg, "start": m.start,
                 "turns": [{"after": a, "radius": r, "angle": g} for a, r, g in m.turns]}

@@ -317,7 +317,8 @@ class _Parser(_Tables, _Bodies, _Rods):
             self.origin[end] = n
             if kind == "vessel":
                 self.notes.append(f"line {n}: {token} point {ident} is {end}, pinned at its "
-                                  f"position (its motion is not in the deck: add {end}.motion)")
+                                  f"position (its motion is not in the deck: add {end}.motion, or "
+                                  "simulate --motion FILE)")
         if all(found[i][1] == "vessel" for i in line["attach"]):
             raise self.fail(found[line["attach"][1]][0], "both ends are vessel points: one "
                             "must be Fixed (the anchor) in a one-line scene")
@@ -353,7 +354,8 @@ class _Parser(_Tables, _Bodies, _Rods):
                     pt["force"] = force
             elif kind == "vessel":
                 self.notes.append(f"line {n}: {token} point {ident} is held at its position "
-                                  f"(its motion is not in the deck: add points.{ident}.motion)")
+                                  f"(its motion is not in the deck: add points.{ident}.motion, or "
+                                  "simulate --motion FILE)")
             points[str(ident)] = pt
             self.origin[f"points.{ident}"] = n
         for ident, (n, body) in bodies.items():
@@ -387,8 +389,10 @@ class _Parser(_Tables, _Bodies, _Rods):
                                    "at z = -WtrDpth only)")
             if key in ("wavekin", "currents"):
                 if self.number(n, value, entries[1]) != 0:
-                    raise self.fail(n, f"{entries[1]} = {value}: waves and current files are "
-                                       "not representable yet (0 only)")
+                    raise self.fail(n, f"{entries[1]} = {value}: MoorDyn's wave and current "
+                                       "files are not read (0 only): give the sea and current "
+                                       "in the scene ([environment.waves], environment."
+                                       "current_profile) after loading the deck with 0")
                 continue
             if key == "fricdamp":
                 out.setdefault("friction", {})["fricdamp"] = self.number(n, value, entries[1])

@@ -110,6 +110,7 @@ class _Bodies:
                 body["kind"] = "fixed"
                 if kind in _COUPLED:
                     self.notes.append(f"line {n}: {e[1]} body {ident} is held at its position "
-                                      "(its motion is not in the deck)")
+                                      "(its motion is not in the deck: simulate --motion "
+                                      "FILE, or kind = 'vessel' with a motion)")
             out[ident] = (n, body)
         return out

@@ -2,8 +2,9 @@
 line of a system (:mod:`symcable.models.system`) and what their per-line checks read."""
 from __future__ import annotations
 
-from .bodies import BodyEnd
-from .model import End, EndCondition, Scene
+from .bodies import BodyEnd, BodyKind
+from .model import End, EndCondition, Motion, Scene
+from .vessel import rigid_path
 
 __all__ = ["line_scene"]
 
@@ -17,7 +18,15 @@ def _end_of(scene: Scene, end, pinned_free: bool = False) -> End:
         body = scene.bodies[end.body]
         if body.is_free and not pinned_free:
             return End(EndCondition.FREE)
-        return End(EndCondition.PINNED, position=tuple(body.world(end.offset)))
+        motion = None
+        if body.kind is BodyKind.VESSEL and not pinned_free:
+            env = scene.environment
+            sea = None if env.waves is None else env.waves.components_in(env.depth, env.gravity)
+            path = rigid_path(body, end.offset, sea, 0.0 if env.waves is None
+                              else env.waves.ramp_time)
+            motion = Motion(kind="body", period=body.motion.period or path.ramp,
+                            amplitude=(0.0, 0.0, 0.0), phase_deg=(0.0, 0.0, 0.0), rigid=path)
+        return End(EndCondition.PINNED, position=tuple(body.world(end.offset)), motion=motion)
     if not isinstance(end, str):
         return end
     pt = scene.points[end]

@@ -335,7 +335,7 @@ def read_system(data: Mapping, env: Environment, types: Mapping[str, LineType], 
                    f'"cable3d" only (model = {model!r}): one line with [[sections]], [end_a], '
                    '[end_b]')
     points = _points(data, dim, base)
-    bodies = _bodies(data, dim, points)
+    bodies = _bodies(data, dim, points, base, env)
     lines = _lines(data, types, points, dim, base, bodies)
     _check_system(env, lines, points, bodies)
     return MappingProxyType(points), lines, MappingProxyType(bodies)

@@ -256,16 +256,10 @@ def _motion(path: str, raw: Any, dim: int, base: str = ".") -> Motion:
     )
 
 
-def _table_motion(path: str, t: Mapping, dim: int, base: str) -> Motion:
-    """A motion read from a table file (see :class:`Motion`): cable3d only."""
-    if dim != 3:
-        raise _err(f"{path}.kind", "table", "", 'table motions are read by model = "cable3d" '
-                   'only (the planar dynamics take "harmonic")')
-    for key in ("period", "amplitude", "phase_deg") + TOW_KEYS:
-        if _get(t, key) is not None:
-            raise _err(f"{path}.{key}", _get(t, key), "", 'a table motion takes only "file"')
-    name = _required(path, t, "file", "a file of rows t x y z [rx ry rz] (s, m; displacement "
-                     "from the end's position), relative to the scene file")
+def read_rows(path: str, name: Any, base: str, columns: int, what: str):
+    """``(full path, rows)`` of the motion table file ``name`` (relative to ``base``) at key
+    ``path``: at least two rows of at least ``columns`` finite numbers (``what``), times
+    increasing; read within the ``table_bytes`` limit."""
     if not isinstance(name, str):
         raise _err(f"{path}.file", name, "", "must be a path string")
     full = os.path.abspath(os.path.join(base, os.path.expanduser(name)))
@@ -277,11 +271,25 @@ def _table_motion(path: str, t: Mapping, dim: int, base: str) -> Motion:
     except (OSError, ValueError) as exc:
         raise _err(f"{path}.file", name, "", f"cannot be read as rows of numbers "
                    f"({type(exc).__name__}: {str(exc).splitlines()[0] if str(exc) else ''})") from None
-    if rows.shape[0] < 2 or rows.shape[1] < 4 or not np.all(np.isfinite(rows[:, :4])):
-        raise _err(f"{path}.file", name, "", f"needs at least 2 rows of t x y z (got "
+    if rows.shape[0] < 2 or rows.shape[1] < columns or not np.all(np.isfinite(rows[:, :columns])):
+        raise _err(f"{path}.file", name, "", f"needs at least 2 rows of {what} (got "
                    f"{rows.shape[0]} rows of {rows.shape[1]} finite numbers)")
     if not np.all(np.diff(rows[:, 0]) > 0):
         raise _err(f"{path}.file", name, "", "its times (first column) must increase")
+    return full, rows[:, :columns]
+
+
+def _table_motion(path: str, t: Mapping, dim: int, base: str) -> Motion:
+    """A motion read from a table file (see :class:`Motion`): cable3d only."""
+    if dim != 3:
+        raise _err(f"{path}.kind", "table", "", 'table motions are read by model = "cable3d" '
+                   'only (the planar dynamics take "harmonic")')
+    for key in ("period", "amplitude", "phase_deg") + TOW_KEYS:
+        if _get(t, key) is not None:
+            raise _err(f"{path}.{key}", _get(t, key), "", 'a table motion takes only "file"')
+    name = _required(path, t, "file", "a file of rows t x y z [rx ry rz] (s, m; displacement "
+                     "from the end's position), relative to the scene file")
+    full, rows = read_rows(path, name, base, 4, "t x y z")
     rows = rows[:, :4]
     return Motion(kind="table", period=float(rows[-1, 0] - rows[0, 0]),
                   amplitude=tuple(float(v) for v in np.max(np.abs(rows[:, 1:]), axis=0)),

@@ -18,7 +18,7 @@ How
 The amplitude factor s scales every parameter block named ``motion`` (``AMPLITUDE_BLOCK``,
 the last dotted part of the name: ``line1.motion`` in a scene of several lines), the
 prescribed motion's own scale (cable3d: the end's displacement is ``motion`` times the
-harmonic one). The periodic problem is solved at s = ``FIRST_STEP`` from the method's own
+harmonic one), and every block named ``wave_scale`` (``WAVE_BLOCK``: the sea's amplitude). The periodic problem is solved at s = ``FIRST_STEP`` from the method's own
 start, then at s + ds from the last solution (shooting restarts from its integrator's state,
 the others from its samples), ds doubled after a success and halved after a failure, until
 s = 1; it gives up when ds falls below ``MIN_STEP`` or after ``MAX_SOLVES`` solves. Each solve
@@ -29,7 +29,7 @@ Where it applies (:func:`continuation_applies`)
 - The method's solver did not converge (its residual above its tolerance). A solve that
   converged and was refused by the check (a defect above ``defect_tol``: the discretisation
   does not resolve the response) is not retried: the same solution would be found again.
-- The mechanism has a ``motion`` block.
+- The mechanism has a ``motion`` or ``wave_scale`` block.
 - Its first solve starts where the motion fits: a mechanism whose motion can ramp in (a
   block named ``ramp``, ``RAMP_BLOCK``) that ``p`` holds at full amplitude from t = 0
   (ramp 0) needs ``start_p``, the parameters of a ramped first period for the start's time
@@ -49,12 +49,14 @@ from ..errors import ConvergenceError
 from ..limits import current as current_limits, past_deadline
 from ..mechanism.mechanism import Mechanism
 
-__all__ = ["AMPLITUDE_BLOCK", "RAMP_BLOCK", "FIRST_STEP", "MIN_STEP", "MAX_SOLVES",
+__all__ = ["AMPLITUDE_BLOCK", "WAVE_BLOCK", "RAMP_BLOCK", "FIRST_STEP", "MIN_STEP", "MAX_SOLVES",
            "STEP_MAX_ITER", "amplitude_slices", "continuation_applies", "solve_by_continuation",
            "solver_converged", "with_amplitude"]
 
 #: the parameter block (last dotted part of its name) that scales a prescribed motion
 AMPLITUDE_BLOCK = "motion"
+#: ... and the one that scales the sea's waves (:mod:`symcable.models.common.waves`)
+WAVE_BLOCK = "wave_scale"
 #: the parameter block that ramps a prescribed motion in over the first period (1) or holds
 #: it at full amplitude from t = 0 (0)
 RAMP_BLOCK = "ramp"
@@ -87,8 +89,9 @@ def continuation_applies(mech: Mechanism, p, start_p, first: ConvergenceError) -
 
 
 def amplitude_slices(mech: Mechanism) -> list:
-    """Where the ``motion`` blocks sit in ``p`` (empty: no continuation in amplitude)."""
-    return _blocks(mech, AMPLITUDE_BLOCK)
+    """Where the ``motion`` and ``wave_scale`` blocks sit in ``p`` (empty: no continuation
+    in amplitude)."""
+    return _blocks(mech, AMPLITUDE_BLOCK) + _blocks(mech, WAVE_BLOCK)
 
 
 def with_amplitude(p, slices, s: float) -> np.ndarray:

@@ -253,16 +253,24 @@ def attachment(name: str, body: str, node: tuple[str, int], offset) -> Attached:
     return Attached(name, node, body, pos, vel)
 
 
-def body_outputs(body: Body, out: dict, ends: list) -> dict:
+def body_outputs(body: Body, out: dict, ends: list, pose=None) -> dict:
     """The system outputs of ``body`` from the assembled ones ``out`` (namespaced) and the
     line ends on it, ``ends`` = [(line, "a" | "b", node index, offset)]: ``position``,
     ``orientation``, ``roll_pitch_yaw`` (a fixed body's constant), ``force`` (N, the sum of
     the lines' end forces there) and ``moment`` (N m, their moment about the reference point,
     global axes), and for a free body ``net_force`` (6,): those plus its own weight,
-    buoyancy and drag (N, N m; zero in equilibrium). Keys ``"NAME.*"``."""
+    buoyancy and drag (N, N m; zero in equilibrium). Keys ``"NAME.*"``. A vessel's pose
+    ``pose`` = (position (3, m), [roll, pitch, yaw] (3, deg), quaternion (4, e1 e2 e3 e0)),
+    expressions of t (:func:`~symcable.models.common.rigid.rigid_dof`)."""
     name = body.name
     new = {}
-    if not body.is_free:
+    if pose is not None:
+        x, rpy, e = pose
+        new[f"{name}.position"] = Output(x, "m", name, "position of the reference point")
+        new[f"{name}.orientation"] = Output(ca.vertcat(e[3], e[:3]), "1", name,
+                                            "unit quaternion (e0, e1, e2, e3)")
+        new[f"{name}.roll_pitch_yaw"] = Output(rpy, "deg", name, "[roll, pitch, yaw]")
+    elif not body.is_free:
         e = quaternion_rpy(body.orientation_deg)
         new[f"{name}.position"] = Output(ca.DM(body.position), "m", name, "position of the "
                                                                            "reference point")

@@ -3,14 +3,13 @@ force, material damping, Morison drag, weight and buoyancy on its two nodes) and
 prescribed motion of a held node."""
 from __future__ import annotations
 
-import hashlib
 import math
 
 import casadi as ca
-import numpy as np
 
 from . import terms
 from .drag import loading_drag
+from .rigid import TABLE_VELOCITY_WIDTH, rigid_end, table_lookup  # noqa: F401 (re-exported)
 from .tow import tow_path
 
 
@@ -20,10 +19,6 @@ from .tow import tow_path
 DRAG_SPEED = 1e-4
 
 
-#: the velocity of a table motion changes from one interval's slope to the next over this
-#: fraction of the smallest row spacing about each row (see :func:`held_end`): far below any
-#: time step, far above the round-off of t
-TABLE_VELOCITY_WIDTH = 1e-6
 
 
 def element_kernel(law_shape: tuple[int, int] | None = None) -> ca.Function:
@@ -64,36 +59,6 @@ def element_kernel(law_shape: tuple[int, int] | None = None) -> ca.Function:
                        [fa, fb, T, e], names, ["fa", "fb", "T", "e"])
 
 
-def _table_lookup(samples):
-    """``(disp, vel)``: functions of t (SX) giving a table's displacement (3,) and velocity
-    (3,) as :func:`held_end` describes them, each a CasADi linear interpolant (a binary search
-    per call in the graph and in its C, where the table written as a sum of ramps over its
-    rows costs some ten operations per row, a large share of the residual for a long table)
-    of the clamped time. The velocity is an interpolant through the slopes
-    held over each interval and ramped over TABLE_VELOCITY_WIDTH of the smallest row
-    spacing about each row (from zero before the first row to zero after the last)."""
-    r = np.asarray(samples, float)
-    tk, X = r[:, 0], r[:, 1:4]
-    slopes = np.diff(X, axis=0) / np.diff(tk)[:, None]
-    # at least a few units in the last place of the times, so that the grid increases
-    # (rows far from t = 0: a table in seconds since some epoch)
-    half = max(0.5 * TABLE_VELOCITY_WIDTH * float(np.min(np.diff(tk))),
-               4.0 * float(np.spacing(np.max(np.abs(tk)))))
-    grid = np.column_stack([tk - half, tk + half]).ravel()
-    zero = np.zeros((1, 3))
-    held = np.repeat(np.vstack([zero, slopes, zero]), 2, axis=0)[1:-1]  # (2 n, 3)
-    tag = hashlib.sha1(r.tobytes()).hexdigest()[:12]  # the same in every process: one C
-    d = ca.interpolant(f"table_disp_{tag}", "linear", [tk.tolist()], X.ravel().tolist())
-    v = ca.interpolant(f"table_vel_{tag}", "linear", [grid.tolist()], held.ravel().tolist())
-
-    def disp(t):
-        return d(ca.fmin(ca.fmax(t, tk[0]), tk[-1]))
-
-    def vel(t):
-        return v(ca.fmin(ca.fmax(t, grid[0]), grid[-1]))
-    return disp, vel
-
-
 def held_end(end, pos_p, motion_scale, t, ramp_on=1.0):
     """A pinned end's position (m) and velocity (m/s): its parameter position plus the scaled
     prescribed motion:
@@ -116,11 +81,13 @@ def held_end(end, pos_p, motion_scale, t, ramp_on=1.0):
     m = end.motion
     if m is None:
         return pos_p, ca.SX.zeros(3, 1)
+    if m.kind == "body":  # a point of a vessel (.rigid)
+        return rigid_end(m.rigid, pos_p, motion_scale, t, ramp_on)
     if m.kind == "tow":
         x, v = tow_path(m, t)
         return pos_p + motion_scale * x, motion_scale * v
     if m.kind == "table":  # piecewise linear through the rows, held outside them
-        disp, vel = _table_lookup(m.samples)
+        disp, vel = table_lookup(m.samples)
         return pos_p + motion_scale * disp(t), motion_scale * vel(t)
     A = ca.DM(m.amplitude)
     ph = ca.DM([math.radians(v) for v in m.phase_deg])

@@ -79,7 +79,7 @@ def tow_state(m, t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
 def held_motions(scene):
     """[(label, motion or None)] of everything the scene holds (pinned or clamped ends,
-    fixed and vessel points, inline ends, fixed bodies), labelled by its key path
+    fixed and vessel points, inline ends, fixed bodies and vessels), labelled by its key path
     (``"end_b"``, ``"points.ship"``, ``"lines.L1.end_a"``, ``"bodies.frame"``)."""
     out = []
     if scene.version == 1:
@@ -97,8 +97,8 @@ def held_motions(scene):
             if hasattr(end, "condition") and end.is_fixed:
                 out.append((f"lines.{ln.name}.{key}", end.motion))
     for name, body in scene.bodies.items():
-        if not body.is_free:
-            out.append((f"bodies.{name}", None))
+        if not body.is_free:  # a fixed body's None, a vessel's BodyMotion
+            out.append((f"bodies.{name}", body.motion))
     return out
 
 

@@ -1,8 +1,9 @@
 """Closed-form and semi-analytic reference solutions (oracles for the tests and studies).
 
-Everything here uses only NumPy and the standard library: the special functions (Carlson's
-symmetric elliptic integrals) and the root finders (a damped 2x2 Newton, Brent's method) are
-written out, so that the oracles do not share code with the solvers they check.
+Everything here uses only NumPy and the standard library (rainflow counting excepted: the
+``rainflow`` package's): the special functions (Carlson's symmetric elliptic integrals) and
+the root finders (a damped 2x2 Newton, Brent's method) are written out, so that the oracles
+do not share code with the solvers they check.
 
 Contents
 --------
@@ -19,6 +20,11 @@ Contents
   under tension (Greenhill's problem).
 * :func:`carlson_rf`, :func:`carlson_rd`, :func:`elliptic_f`, :func:`elliptic_e` -- the
   special functions these need.
+* :func:`wave_number`, :func:`jonswap`, :func:`pierson_moskowitz`,
+  :func:`spectrum_components`, :func:`airy` -- linear waves (:mod:`.waves`).
+* :func:`rainflow_damage`, :func:`narrow_band_damage`, :func:`dirlik_damage`,
+  :class:`TNCurve`, :data:`TN_CURVES` -- fatigue (:mod:`.fatigue`); :func:`rayleigh_mpm` --
+  the most probable maximum (:mod:`.extremes`).
 
 Conventions: SI units, planar (x, z) with z up, arc length ``s`` is the
 unstretched length measured from end A (origin) to end B.
@@ -30,8 +36,16 @@ from .elastica import cantilever_tip_load, cantilever_tip_load_small, heavy_cant
 from .frequencies import SaggedCableFrequencies, sagged_cable_frequencies, taut_string_frequencies
 from .special import carlson_rd, carlson_rf, elliptic_e, elliptic_f
 from .twisted_rod import TwistedLoop, greenhill_moment, twisted_loop
+from .waves import airy, jonswap, pierson_moskowitz, spectrum_components, wave_number
+from .fatigue import (TN_CURVES, TNCurve, dirlik_damage, equivalent_range, moments,
+                      narrow_band_damage, nominal_area, rainflow_damage)
+from .extremes import rayleigh_mpm, zero_crossing_period
 
 __all__ = [
+    "airy", "jonswap", "pierson_moskowitz", "spectrum_components", "wave_number",
+    "TN_CURVES", "TNCurve", "dirlik_damage", "equivalent_range", "moments",
+    "narrow_band_damage", "nominal_area", "rainflow_damage", "rayleigh_mpm",
+    "zero_crossing_period",
     "TwistedLoop",
     "twisted_loop",
     "greenhill_moment",

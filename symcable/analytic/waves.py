@@ -17,6 +17,9 @@ import math
 
 import numpy as np
 
+#: the trapezoidal rule (numpy >= 2 names it trapezoid, 1.x trapz)
+_trapezoid = getattr(np, "trapezoid", None) or np.trapz
+
 __all__ = ["GRAVITY", "airy", "jonswap", "pierson_moskowitz", "spectrum_components", "wave_number",
            "spectral_moment", "default_band"]
 
@@ -140,7 +143,7 @@ def spectral_moment(omega, s, order: int = 0) -> float:
     """The spectral moment m_n = integral of omega^n S(omega) d omega (trapezoidal rule over
     the samples ``omega``, rad/s, and ``s``, m^2 s/rad): m0 the variance (m^2), Hs = 4 sqrt(m0)."""
     w = np.asarray(omega, dtype=float)
-    return float(np.trapezoid(w ** order * np.asarray(s, dtype=float), w))
+    return float(_trapezoid(w ** order * np.asarray(s, dtype=float), w))
 
 
 def airy(amplitude, omega, k, phase, direction, points, t, depth: float | None = None,

@@ -58,12 +58,10 @@ NEWTON_TOL = 1e-8
 #: ... at most this times the force scale over the stiffest segment's force per unit
 #: tolerance (:func:`newton_tolerance`): a step accepts position errors up to the tolerance
 #: times the position scale, worth EA / ds times that in tension, and on a stiff line these
-#: feed its lightly damped axial modes (a 400 m chain at rest, EA 6e8 N, 40 segments, dt
-#: 0.0125 s, rang at 260 N, 1e-3 of its tension, with 1e-8; 2.6 N with 1e-10, at 20 % more
-#: Newton iterations and the same wall time)
+#: feed its lightly damped axial modes, which then ring on through the run (numbers in
+#: studies/README.md)
 STEP_FORCE_TOL = 1e-6
-#: ... and never below this (a step's residual stalls at its round-off floor, near 5e-9 on
-#: some lines in the shooting's steps; 1e-11 is reached on a 400 m chain of 40 segments)
+#: ... and never below this: a step's residual stalls at its round-off floor
 NEWTON_TOL_FLOOR = 1e-11
 #: the end tensions' error estimate (:func:`tension_error_estimate`) times this: the raw
 #: estimate is about half the true error, so the factor makes it a slight overestimate.

@@ -112,6 +112,38 @@ class FrequencyResponse:
         rows += [f"warning  {w}" for w in self.warnings]
         return "\n".join(rows)
 
+    def damage(self, name: str | None = None, curve="dnv-studless-chain", *,
+               diameter: float | None = None, area: float | None = None,
+               duration: float | None = None, segment: int = -1) -> dict:
+        """Fatigue damage of one segment's axial force (default end B's) over ``duration`` s
+        (default the result's) by the narrow-band and Dirlik methods
+        (:mod:`symcable.analytic.fatigue`), from its spectral moments over the sea's
+        components (m_k = sum omega_i^k |T_i|^2 a_i^2 / 2).
+
+        Parameters
+        ----------
+        name : str, optional
+            The line (the only one when None).
+        curve : str or TNCurve
+            A T-N curve (``symcable.analytic.fatigue.TN_CURVES``: DNV-OS-E301's).
+        diameter, area : float
+            The nominal diameter (m; the area from it by the curve's component) or the
+            nominal area (mm^2).
+        """
+        from ..analytic.fatigue import (_curve, dirlik_damage, narrow_band_damage,
+                                        nominal_area)
+        c = _curve(curve)
+        if area is None:
+            if diameter is None:
+                raise ValueError("damage: give the nominal diameter (m) or area (mm^2)")
+            area = nominal_area(diameter, c.component)
+        T = np.abs(self.line(name).rao[:, segment]) ** 2 * self.amplitude ** 2 / 2.0
+        m = {k: float(np.sum(self.omega ** k * T)) for k in (0, 1, 2, 4)}
+        D = self.duration if duration is None else float(duration)
+        return {"narrow_band": narrow_band_damage(m[0], m[2], D, c, area=area),
+                "dirlik": dirlik_damage(m[0], m[1], m[2], m[4], D, c, area=area),
+                "duration": D, "area": area}
+
     def plot(self, path: str | Path | None = None):
         """End B's axial-force spectrum per line with the sea's, and the standard deviation
         along each line (:func:`symcable.plotting.frequency.plot_frequency`); saved to

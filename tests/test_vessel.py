@@ -153,3 +153,19 @@ def test_motion_table_given_on_the_command_line(tmp_path):
            "end_b": {"condition": "pinned", "position": [40.0, 0.0, -10.0]}}
     m = with_motion(sc.load_scene(one), str(path)).end_b.motion
     assert m.kind == "table" and m.samples[-1][1:] == tuple(rows[-1, 1:4])
+
+
+def test_check_names_the_sea_and_the_vessel(tmp_path):
+    """``symcable check`` says what the sea is and how the vessel moves."""
+    import subprocess
+    import sys
+    from symcable.scene import scene_to_toml
+    w = {"kind": "jonswap", "hs": 4.0, "tp": 9.0, "components": 20, "seed": 2}
+    rao = {"kind": "rao", "omegas": [0.2, 1.0], "amplitude": [[1, 0, 1, 0, 1, 0]] * 2,
+           "phase_deg": [[0] * 6] * 2}
+    path = tmp_path / "spar.toml"
+    path.write_text(scene_to_toml(sc.load_scene(_spar(rao, w, segments=4))))
+    out = subprocess.run([sys.executable, "-m", "symcable", "check", str(path)],
+                         capture_output=True, text=True, timeout=300).stdout
+    assert "waves      jonswap, Hs 4 m, Tp 9 s, gamma 3.3, 20 components (seed 2)" in out
+    assert "moved by its RAOs at 2 frequencies (0.2-1 rad/s)" in out

@@ -22,7 +22,7 @@ finer than the answer):
 
 Run
 ---
-    python studies/fuzz/dyn_fuzz.py --quick          # 8 small scenes, 4-5 min at load 7-10
+    python studies/fuzz/dyn_fuzz.py --quick          # 4 small scenes, 2-3 min at load 7-10
     python studies/fuzz/dyn_fuzz.py --n 200 --budget-min 60 --check16-every 10
     options: --n N (200), --seed S (33), --workers W (2), --out DIR (studies/fuzz/out_dyn/),
              --budget-min M (no new scene after M minutes; default none),
@@ -59,7 +59,7 @@ import dyn_report
 import dyn_scenes
 
 SEED = 33
-FULL_N, QUICK_N = 200, 8
+FULL_N, QUICK_N = 200, 4
 
 
 def _version() -> str:

@@ -199,16 +199,22 @@ def _plot(fd, td, keep, path):
     plt.close(fig)
 
 
-def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+def study_main(doc: str, runner, name: str, argv=None) -> int:
+    """The study scripts' command line: ``--quick`` runs ``runner(True)`` into
+    ``out/NAME_quick.json``, else ``runner(False)`` into ``NAME.json``; prints the result."""
+    ap = argparse.ArgumentParser(description=doc.splitlines()[0])
     ap.add_argument("--quick", action="store_true")
     args = ap.parse_args(argv)
-    res = run(args.quick)
+    res = runner(args.quick)
     (HERE / "out").mkdir(exist_ok=True)
-    out = (HERE / "out" / "results_quick.json") if args.quick else HERE / "results.json"
+    out = (HERE / "out" / f"{name}_quick.json") if args.quick else HERE / f"{name}.json"
     out.write_text(json.dumps(res, indent=1))
     print(json.dumps(res, indent=1))
     return 0
+
+
+def main(argv=None) -> int:
+    return study_main(__doc__, run, "results", argv)
 
 
 if __name__ == "__main__":

@@ -4,7 +4,7 @@ domain: OC3's chains on the spar of ``fd_vs_td.py`` moved by its RAOs in a regul
 
 For each of ``solve_periodic``'s methods (shooting, collocation, harmonic balance): its
 wall time and the largest difference of each fairlead segment's axial force over the period
-from ``simulate``'s run of ``PERIODS`` periods (its default step for its tolerance), the
+from ``simulate``'s run of 40 periods (its default step for its tolerance), the
 last period compared at the same phase, as a fraction of that force's range; and the
 frequency domain's first-harmonic amplitude against the periodic one's.
 
@@ -13,19 +13,15 @@ frequency domain's first-harmonic amplitude against the periodic one's.
 """
 from __future__ import annotations
 
-import argparse
-import json
 import math
 import sys
 import time
-from pathlib import Path
 
 import numpy as np
 
 import symcable as sc
-from fd_vs_td import scene
+from fd_vs_td import scene, study_main
 
-HERE = Path(__file__).resolve().parent
 H, T = 6.0, 10.0
 
 
@@ -69,15 +65,7 @@ def run(quick: bool) -> dict:
 
 
 def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--quick", action="store_true")
-    args = ap.parse_args(argv)
-    res = run(args.quick)
-    (HERE / "out").mkdir(exist_ok=True)
-    path = (HERE / "out" / "regular_quick.json") if args.quick else HERE / "regular.json"
-    path.write_text(json.dumps(res, indent=1))
-    print(json.dumps(res, indent=1))
-    return 0
+    return study_main(__doc__, run, "regular", argv)
 
 
 if __name__ == "__main__":

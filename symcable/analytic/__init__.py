@@ -23,8 +23,8 @@ Contents
 * :func:`wave_number`, :func:`jonswap`, :func:`pierson_moskowitz`,
   :func:`spectrum_components`, :func:`airy` -- linear waves (:mod:`.waves`).
 * :func:`rainflow_damage`, :func:`narrow_band_damage`, :func:`dirlik_damage`,
-  :class:`TNCurve`, :data:`TN_CURVES` -- fatigue (:mod:`.fatigue`); :func:`rayleigh_mpm` --
-  the most probable maximum (:mod:`.extremes`).
+  :class:`TNCurve`, :data:`TN_CURVES` -- fatigue (:mod:`.fatigue`); :func:`rayleigh_mpm`,
+  :func:`gumbel_mpm` -- most probable maxima (:mod:`.extremes`).
 
 Conventions: SI units, planar (x, z) with z up, arc length ``s`` is the
 unstretched length measured from end A (origin) to end B.
@@ -39,12 +39,12 @@ from .twisted_rod import TwistedLoop, greenhill_moment, twisted_loop
 from .waves import airy, jonswap, pierson_moskowitz, spectrum_components, wave_number
 from .fatigue import (TN_CURVES, TNCurve, dirlik_damage, equivalent_range, moments,
                       narrow_band_damage, nominal_area, rainflow_damage)
-from .extremes import rayleigh_mpm, zero_crossing_period
+from .extremes import gumbel_mpm, rayleigh_mpm, zero_crossing_period
 
 __all__ = [
     "airy", "jonswap", "pierson_moskowitz", "spectrum_components", "wave_number",
     "TN_CURVES", "TNCurve", "dirlik_damage", "equivalent_range", "moments",
-    "narrow_band_damage", "nominal_area", "rainflow_damage", "rayleigh_mpm",
+    "narrow_band_damage", "nominal_area", "rainflow_damage", "rayleigh_mpm", "gumbel_mpm",
     "zero_crossing_period",
     "TwistedLoop",
     "twisted_loop",

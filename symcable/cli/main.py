@@ -23,8 +23,10 @@ def _scene_summary(scene, n_unknowns: int, terms) -> str:
     lines = [f"scene      {scene.name}  ({scene.source})",
              f"model      {scene.model.value}: {n_unknowns} unknowns, terms: {', '.join(terms)}",
              f"line       {scene.length:.3f} m in {scene.n_segments} segments"]
+    if scene.environment.waves is not None:
+        lines.insert(2, f"waves      {_waves_text(scene.environment.waves)}")
     if scene.version == 2:
-        return "\n".join(lines[:2] + _system_summary(scene))
+        return "\n".join(lines[:-1] + _system_summary(scene))
     for k, sec in enumerate(scene.sections):
         lt = sec.line_type
         ei = f"EI {lt.EI:.4g} N m^2" if getattr(lt, "EI_2", None) is None else \
@@ -63,6 +65,28 @@ def _scene_summary(scene, n_unknowns: int, terms) -> str:
     return "\n".join(lines)
 
 
+def _waves_text(w) -> str:
+    """One line on a scene's sea (``[environment.waves]``)."""
+    where = f", toward {w.direction_deg:g} deg, {w.stretching} stretching"
+    if w.kind == "regular":
+        return f"regular, height {w.height:g} m, period {w.period:g} s{where}"
+    if w.kind == "components":
+        return f"{w.count} given components{where}"
+    gamma = f", gamma {w.gamma:g}" if w.kind == "jonswap" else ""
+    return (f"{w.kind}, Hs {w.hs:g} m, Tp {w.tp:g} s{gamma}, {w.count} components (seed "
+            f"{w.seed}){where}")
+
+
+def _body_motion_text(m) -> str:
+    """A vessel's motion in a few words."""
+    if m.kind == "table":
+        return f", moved by {m.file} ({len(m.samples)} rows over {m.period:g} s)"
+    if m.kind == "rao":
+        return (f", moved by its RAOs at {len(m.omegas)} frequencies "
+                f"({min(m.omegas):g}-{max(m.omegas):g} rad/s)")
+    return f", harmonic motion of period {m.period:g} s"
+
+
 def _end_text(end) -> str:
     if isinstance(end, str):
         return f"point '{end}'"
@@ -83,6 +107,7 @@ def _system_summary(scene) -> list:
                    f"({', '.join(f'{v:.3f}' for v in pt.position)}) m{extra}")
     for name, b in scene.bodies.items():
         extra = f", mass {b.mass:g} kg, volume {b.volume:g} m^3" if b.is_free else ""
+        extra += _body_motion_text(b.motion) if b.motion is not None else ""
         out.append(f"body       {name}: {b.kind.value} at "
                    f"({', '.join(f'{v:.3f}' for v in b.position)}) m, roll/pitch/yaw "
                    f"({', '.join(f'{v:g}' for v in b.orientation_deg)}) deg{extra}")

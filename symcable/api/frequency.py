@@ -32,6 +32,8 @@ from __future__ import annotations
 
 import math
 import time
+from collections import OrderedDict
+from types import MappingProxyType
 
 import casadi as ca
 import numpy as np
@@ -268,15 +270,30 @@ def _vessel_motion(s: Scene, end, unit: WaveComponents) -> np.ndarray:
     return X + z[:, :3]
 
 
+#: the derivatives' Functions of the most recent structures: {id: (expressions' owner, Function)}
+_FUNCTIONS: "OrderedDict[int, tuple]" = OrderedDict()
+_KEPT = 8
+
+
 def _jacobians(mech, lines):
     """The Function (q, v, t, p) -> df/dq, df/dv, M, df/dp, dT/dq, dT/dv, dT/dp, T, T every
-    line's segment axial forces."""
+    line's segment axial forces; built once per structure (a scene rebound to a template's
+    expressions shares its Function)."""
+    owner = mech.functions_of or mech
+    hit = _FUNCTIONS.get(id(owner))
+    if hit is not None and hit[0] is owner:
+        _FUNCTIONS.move_to_end(id(owner))
+        return hit[1]
     T = ca.vertcat(*[mech.outputs[f"{ln['prefix']}axial_force"].expr for ln in lines])
     f = mech.force
-    return ca.Function("frequency_domain", [mech.q, mech.v, mech.t, mech.p],
-                       [ca.jacobian(f, mech.q), ca.jacobian(f, mech.v), mech.mass,
-                        ca.jacobian(f, mech.p), ca.jacobian(T, mech.q), ca.jacobian(T, mech.v),
-                        ca.jacobian(T, mech.p), T])
+    fn = ca.Function("frequency_domain", [mech.q, mech.v, mech.t, mech.p],
+                     [ca.jacobian(f, mech.q), ca.jacobian(f, mech.v), mech.mass,
+                      ca.jacobian(f, mech.p), ca.jacobian(T, mech.q), ca.jacobian(T, mech.v),
+                      ca.jacobian(T, mech.p), T])
+    _FUNCTIONS[id(owner)] = (owner, fn)
+    if len(_FUNCTIONS) > _KEPT:
+        _FUNCTIONS.popitem(last=False)
+    return fn
 
 
 def _csc(dm) -> csc_matrix:
@@ -441,7 +458,6 @@ def _result(s, lines, sea, X, Tq, Tv, Tp, T0, duration, regular, iterations, cha
         else:
             tz, top = zero_crossing_period(m0, m2), rayleigh_mpm(m0, m2, duration)
         out[ln["name"]] = LineSpectrum(ln["s"], T0[sl], T[:, sl], std, tz, T0[sl] + top)
-    from types import MappingProxyType
     return FrequencyResponse(
         s.name, np.asarray(sea.omega), np.asarray(sea.amplitude), MappingProxyType(out),
         float(duration), "converged",

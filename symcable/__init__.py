@@ -46,6 +46,7 @@ from .solvers.periodic_mech import solve_periodic_mech
 from .api.waves import SeaKinematics, wave_components, wave_kinematics
 from .api.frequency import solve_frequency_domain
 from .results.frequency import FrequencyResponse, LineSpectrum
+from .api.coupling import Coupling, CouplingState
 from .scene.waves import Waves, WaveComponents
 from . import analytic
 
@@ -98,6 +99,9 @@ __all__ = [
     "solve_frequency_domain",
     "FrequencyResponse",
     "LineSpectrum",
+    # a host program's coupling (MoorDyn's Init/Step pattern)
+    "Coupling",
+    "CouplingState",
     # sweeps: a table of cases on Dask (pip install "symcable[sweep]")
     "run_sweep",
     "read_sweep",

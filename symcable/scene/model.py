@@ -204,7 +204,9 @@ class Motion:
         counter-clockwise seen from above), then straight on the new heading.
     rigid : RigidPath or None
         ``"body"``: a line end at a point of a vessel (:class:`~symcable.scene.vessel.RigidPath`;
-        not a file's kind: the models' one-line scenes of a vessel's lines).
+        not a file's kind: the models' one-line scenes of a vessel's lines). ``"coupled"``:
+        moved by a host program (:class:`symcable.Coupling`, :mod:`symcable.scene.coupled`;
+        not a file's kind either).
     """
 
     kind: str
@@ -539,6 +541,8 @@ def _sections_list(sections) -> list:
 
 
 def _motion_dict(m: Motion) -> dict:
+    if m.kind == "coupled":
+        return {"kind": "coupled"}
     if m.kind == "body":
         return {"kind": "body", "path": m.rigid.key()}
     if m.kind == "tow":

@@ -50,7 +50,9 @@ period from t = 0; 0: at full amplitude throughout, as periodic solves take it),
 (scales the seabed contact's stiffness; 1); with
 static friction ``static_friction`` (1 in statics, 0 in time) and ``laid`` (the as-laid
 horizontal positions of the nodes, m, node by node); with waves ``wave_scale`` (scales the
-sea; 1, 0 in statics) and ``waves`` (:func:`~symcable.models.common.waves.wave_block`).
+sea; 1, 0 in statics) and ``waves`` (:func:`~symcable.models.common.waves.wave_block`); an
+end a host program moves (motion ``"coupled"``, :class:`symcable.Coupling`) ``end_a.coupled``
+/ ``end_b.coupled`` (:func:`~symcable.models.common.elements.coupled_path`).
 """
 from __future__ import annotations
 
@@ -77,7 +79,7 @@ from ..common.seabed import (bristle_scale, friction_setup, lumped as _lumped, n
                              seabed_numbers, seabed_term_names)
 from ..common.segments import (CABLE_COMPRESSION, FOLD_PUSH, SLACK_CONTINUATION, segment_table,
                               slack_law)
-from ..common.elements import DRAG_SPEED, element_kernel, held_end
+from ..common.elements import COUPLED_BLOCK, DRAG_SPEED, element_kernel, held_end
 
 __all__ = ["DRAG_SPEED", "NODE_ROWS", "SCALARS", "SEGMENT_ROWS", "build_cable3d",
            "force_scale"]
@@ -151,7 +153,9 @@ def build_cable3d(scene: Scene, part: str | None = None,
     current, sigma, motion, ramp_on, bed = (p[params.slice(k)] for k in (
         "current", "slack", "motion", "ramp", "bed"))
     t = ca.SX.sym("t")
-    moving, q_all, v, X, V = _node_symbols(scene, N, free, bristle, pa, pb, motion, t, ramp_on)
+    host = {k: p[params.slice(f"{k}.coupled")] for k in _coupled_ends(scene)}
+    moving, q_all, v, X, V = _node_symbols(scene, N, free, bristle, pa, pb, motion, t, ramp_on,
+                                           host)
     n_v = 3 * len(moving)
     state = q_all[n_v:]
     Xm, Vm = ca.horzcat(*X), ca.horzcat(*V)  # (3, N+1)
@@ -322,14 +326,22 @@ def _param_blocks(scene: Scene, laid: np.ndarray | None, line: np.ndarray) -> Pa
     the static friction's two blocks too."""
     env, a, b = scene.environment, scene.end_a, scene.end_b
     sea = () if env.waves is None else (wave_block(env.waves, env.depth, env.gravity),)
+    host = _coupled_ends(scene)
     names = P_NAMES + (("static_friction", "laid") if laid is not None else ()) \
-        + (("wave_scale", "waves") if sea else ())
+        + (("wave_scale", "waves") if sea else ()) + tuple(f"{k}.coupled" for k in host)
     sizes = (line.size,) + P_SIZES[1:] + ((1, laid.size) if laid is not None else ()) \
-        + ((1, sea[0].size) if sea else ())
+        + ((1, sea[0].size) if sea else ()) + (COUPLED_BLOCK,) * len(host)
     return ParamBlocks(names, sizes, np.concatenate([
         line, [1.0], a.position if a.position is not None else np.zeros(3),
         b.position if b.position is not None else np.zeros(3), env.current, [1.0], [1.0], [1.0],
-        [1.0]] + ([[0.0], laid] if laid is not None else []) + ([[1.0], sea[0]] if sea else [])))
+        [1.0]] + ([[0.0], laid] if laid is not None else []) + ([[1.0], sea[0]] if sea else [])
+        + [np.zeros(COUPLED_BLOCK)] * len(host)))
+
+
+def _coupled_ends(scene: Scene) -> tuple:
+    """``"end_a"`` and/or ``"end_b"``: the ends a host program moves (motion ``"coupled"``)."""
+    return tuple(k for k in ("end_a", "end_b") if getattr(scene, k).motion is not None
+                 and getattr(scene, k).motion.kind == "coupled")
 
 
 def _moving(N: int, free: list) -> list:
@@ -337,11 +349,12 @@ def _moving(N: int, free: list) -> list:
     return [i for i in range(N + 1) if (i == 0 and free[0]) or (i == N and free[1]) or 0 < i < N]
 
 
-def _node_symbols(scene: Scene, N: int, free: list, bristle: bool, pa, pb, motion, t, ramp_on):
+def _node_symbols(scene: Scene, N: int, free: list, bristle: bool, pa, pb, motion, t, ramp_on,
+                  host: dict):
     """The moving nodes (indices), the coordinates q (3 per moving node, then 2 bristle
     deflections per node with ``bristle``), the velocities v (3 per moving node), and each
     node's position and velocity (lists of N+1 (3, 1): q and v's entries, or a held end's
-    prescribed motion, m and m/s)."""
+    prescribed motion, m and m/s; ``host``: a coupled end's parameter block by its key)."""
     moving = _moving(N, free)
     n_v = 3 * len(moving)
     q_all = ca.SX.sym("q", n_v + (2 * (N + 1) if bristle else 0))
@@ -350,9 +363,9 @@ def _node_symbols(scene: Scene, N: int, free: list, bristle: bool, pa, pb, motio
     X, V = [None] * (N + 1), [None] * (N + 1)
     for k, i in enumerate(moving):
         X[i], V[i] = q[3 * k:3 * k + 3], v[3 * k:3 * k + 3]
-    for end, i, pp in ((scene.end_a, 0, pa), (scene.end_b, N, pb)):
+    for key, end, i, pp in (("end_a", scene.end_a, 0, pa), ("end_b", scene.end_b, N, pb)):
         if X[i] is None:
-            X[i], V[i] = held_end(end, pp, motion, t, ramp_on)
+            X[i], V[i] = held_end(end, pp, motion, t, ramp_on, host.get(key))
     return moving, q_all, v, X, V
 
 

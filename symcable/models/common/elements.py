@@ -12,6 +12,8 @@ from .drag import loading_drag
 from .rigid import TABLE_VELOCITY_WIDTH, rigid_end, table_lookup  # noqa: F401 (re-exported)
 from .tow import tow_path
 
+__all__ = ["COUPLED_BLOCK", "DRAG_SPEED", "coupled_path", "element_kernel", "held_end"]
+
 
 #: m/s, the speed below which |u| in the drag law is smoothed (sqrt(|u|^2 + DRAG_SPEED^2)):
 #: far below any current or motion speed that matters, and a linear damping there of
@@ -59,7 +61,33 @@ def element_kernel(law_shape: tuple[int, int] | None = None) -> ca.Function:
                        [fa, fb, T, e], names, ["fa", "fb", "T", "e"])
 
 
-def held_end(end, pos_p, motion_scale, t, ramp_on=1.0):
+#: entries of a coupled end's parameter block (:func:`coupled_path`): its displacement (m)
+#: and velocity (m/s) at the start of the host's step, the same at its end, and the step's
+#: start and end times (s)
+COUPLED_BLOCK = 14
+
+
+def coupled_path(block, t):
+    """A coupled end's displacement (m, (3,)) and velocity (m/s) at t (s): the cubic Hermite
+    through the host's displacement x0 and velocity v0 at t0 and x1, v1 at t1 (``block`` =
+    [x0, v0, x1, v1, t0, t1], :data:`COUPLED_BLOCK`), held at x1, v1 outside [t0, t1] (and
+    at t1 <= t0). Exact at the step's ends, so that a step whose forces are evaluated at its
+    end (generalized-alpha at rho_inf = 0) sees exactly the host's end state; in between (a
+    substep, rho_inf > 0's alpha point) the cubic matching both ends' positions and
+    velocities."""
+    x0, v0, x1, v1 = (block[3 * i:3 * i + 3] for i in range(4))
+    t0, t1 = block[12], block[13]
+    h = t1 - t0
+    hs = ca.if_else(h > 0, h, 1.0)
+    s = ca.if_else(h > 0, ca.fmin(ca.fmax((t - t0) / hs, 0.0), 1.0), 1.0)
+    s2, s3 = s * s, s * s * s
+    x = (2 * s3 - 3 * s2 + 1) * x0 + (3 * s2 - 2 * s3) * x1 \
+        + h * ((s3 - 2 * s2 + s) * v0 + (s3 - s2) * v1)
+    v = (6 * s2 - 6 * s) * (x0 - x1) / hs + (3 * s2 - 4 * s + 1) * v0 + (3 * s2 - 2 * s) * v1
+    return x, v
+
+
+def held_end(end, pos_p, motion_scale, t, ramp_on=1.0, coupled=None):
     """A pinned end's position (m) and velocity (m/s): its parameter position plus the scaled
     prescribed motion:
 
@@ -77,10 +105,15 @@ def held_end(end, pos_p, motion_scale, t, ramp_on=1.0):
       velocity; ``ramp_on`` = 0 (the parameter ``ramp``: periodic solves) takes r = 1
       throughout. Its velocity is the derivative;
     - or a tow's path (:func:`~symcable.models.common.tow.tow_path`), neither ramped nor changed by
-      ``ramp_on`` (scaled by ``motion_scale``: held at its scene position in statics)."""
+      ``ramp_on`` (scaled by ``motion_scale``: held at its scene position in statics);
+    - or, ``"coupled"`` (a host program's, :class:`symcable.Coupling`), the Hermite cubic of
+      its parameter block ``coupled`` (:func:`coupled_path`), scaled by ``motion_scale``."""
     m = end.motion
     if m is None:
         return pos_p, ca.SX.zeros(3, 1)
+    if m.kind == "coupled":
+        x, v = coupled_path(coupled, t)
+        return pos_p + motion_scale * x, motion_scale * v
     if m.kind == "body":  # a point of a vessel (.rigid)
         return rigid_end(m.rigid, pos_p, motion_scale, t, ramp_on)
     if m.kind == "tow":

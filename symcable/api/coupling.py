@@ -161,7 +161,7 @@ class Coupling:
         check_moves(scene, mech)
         tol = newton_tolerance(scene, mech) if self.newton_tol is None else self.newton_tol
         opts = GeneralizedAlphaFirstOrder(rho_inf=self.rho_inf, tol=tol)
-        self._mech, self._opts = mech, opts
+        self._mech, self._opts, self._eq = mech, opts, eq
         self._kern = FastCall(galpha1_kernel(mech, opts, lte=False, codegen=self.codegen))
         self._consts = (np.array([opts.rho_inf, opts.tol]), np.asarray(step_scales(mech), float))
         self._slices = [mech.params.slice(self._block(e)) for _, e in self._ends]

@@ -366,7 +366,15 @@ def _codegen(args) -> int:
     from ..scene import load_scene
 
     scene = load_scene(args.scene)
-    for path in export_scene(scene, args.out, stem=args.stem):
+    if args.coupling:
+        from ..api.export_coupling import export_coupling
+        paths = export_coupling(scene, args.out, stem=args.stem or "symcable_lines",
+                                coupled=args.coupled)
+    else:
+        if args.coupled:
+            raise SymcableError("--coupled: only with --coupling")
+        paths = export_scene(scene, args.out, stem=args.stem or "symcable_scene")
+    for path in paths:
         print(path)
     return 0
 
@@ -440,8 +448,15 @@ def build_parser() -> argparse.ArgumentParser:
                        "solve and (when it moves) its time step, with README and main.c")
     p.add_argument("scene")
     p.add_argument("--out", required=True, metavar="DIR", help="folder to write into (created)")
-    p.add_argument("--stem", default="symcable_scene", help="name of the C files (a letter, "
-                   "then letters, digits or underscores; default symcable_scene)")
+    p.add_argument("--stem", default=None, help="name of the C files (a letter, then letters, "
+                   "digits or underscores; default symcable_scene, with --coupling "
+                   "symcable_lines)")
+    p.add_argument("--coupling", action="store_true", help="write instead the coupling "
+                   "library a host program steps (symcable_coupling.h: sc_initialize, "
+                   "sc_step, ...), with an example host.c")
+    p.add_argument("--coupled", action="append", metavar="NAME", help="with --coupling: a "
+                   "point or body the host moves (repeat for several; default every vessel "
+                   "point and body)")
     p = sub.add_parser("cache", help="the build cache of generated C (SYMCABLE_CACHE_DIR)")
     p.add_argument("action", choices=["info", "clear"])
     p = sub.add_parser("demo", help="the built-in scenes: OC3 statics, the seed001 periodic response")

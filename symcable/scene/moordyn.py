@@ -56,7 +56,11 @@ OPTIONS (value, then key)
                              symcable's as mu N |v| / v_eps; equal slopes at N = w ds
   StatDynFricScale           ignored, with a note (one coefficient, static = dynamic)
   SeafloorFile               refused (a bathymetry file)
-  WaveKin, Currents (not 0)  refused (waves and current files); ``current`` is zero
+  WaveKin, Currents, dtWave  the files beside the deck (:mod:`.moordyn_water`): Currents 1, 3
+                             -> ``environment.current_profile``; WaveKin 7
+                             (wave_frequencies.txt), 3 (wave_elevation.txt) ->
+                             ``[environment.waves]`` components; the others refused.
+                             Without them ``current`` is zero
   anything else              ignored (dtM, CFL, TmaxIC, dtIC, threshIC, writeLog, fileIC,
                              dtOut, disableOutTime, ...: MoorDyn's solver settings)
 OUTPUTS, title, comments     ignored
@@ -84,6 +88,7 @@ from .bodies import rotation_rpy
 from .moordyn_bodies import _Bodies, body_name
 from .moordyn_rods import _Rods
 from .moordyn_tables import ZETA_FACTOR, _Tables, _float
+from .moordyn_water import WATER_KEYS, water_kinematics
 
 __all__ = ["ZETA_FACTOR", "MoorDynDeck", "is_moordyn_deck", "parse_moordyn"]
 
@@ -194,6 +199,7 @@ class _Parser(_Tables, _Bodies, _Rods):
         self.source = source
         self.notes: list[str] = []
         self.origin: dict[str, int] = {}
+        self.water: dict[str, tuple[int, float]] = {}
 
     def fail(self, n: int, why: str) -> SceneError:
         """The one-line error naming deck line ``n`` (1-based)."""
@@ -265,6 +271,10 @@ class _Parser(_Tables, _Bodies, _Rods):
                               "(as MoorDyn sets it)")
             env["depth"] = deepest
         env["current"] = [0.0, 0.0, 0.0]
+        env.update(water_kinematics(self.water, self.source, self.fail, self.notes))
+        for key, option in (("current_profile", "currents"), ("waves", "wavekin")):
+            if key in env:
+                self.origin[f"environment.{key}"] = self.water[option][0]
         seabed = {**_SEABED_DEFAULTS, **options.get("seabed", {})}
         for key, value in _SEABED_DEFAULTS.items():
             if key not in options.get("seabed", {}):
@@ -387,12 +397,8 @@ class _Parser(_Tables, _Bodies, _Rods):
             if key == "seafloorfile":
                 raise self.fail(n, "a bathymetry file is not representable yet (flat seabed "
                                    "at z = -WtrDpth only)")
-            if key in ("wavekin", "currents"):
-                if self.number(n, value, entries[1]) != 0:
-                    raise self.fail(n, f"{entries[1]} = {value}: MoorDyn's wave and current "
-                                       "files are not read (0 only): give the sea and current "
-                                       "in the scene ([environment.waves], environment."
-                                       "current_profile) after loading the deck with 0")
+            if key in WATER_KEYS:
+                self.water[key] = (n, self.number(n, value, entries[1]))
                 continue
             if key == "fricdamp":
                 out.setdefault("friction", {})["fricdamp"] = self.number(n, value, entries[1])

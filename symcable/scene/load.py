@@ -209,10 +209,6 @@ def _build(data: Mapping, source: str, base: str = ".") -> Scene:
                        'end_a, end_b), or set model = "cable3d"')
         _check_friction_options(seabed, model.value, True, None)
         points, lines, bodies = read_system(data, env, types, dim, model.value, base)
-        free = [b for b, body in bodies.items() if body.is_free]
-        if env.waves is not None and free:
-            raise _err(f"bodies.{free[0]}.kind", "free", "", "a free body takes no wave loads "
-                       "yet (environment.waves): hold it (kind = 'fixed') or remove the waves")
         _check_segments({f"lines[{k}].sections": ln.sections for k, ln in enumerate(lines)},
                         model, zones)
         for k, ln in enumerate(lines):

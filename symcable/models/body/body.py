@@ -29,6 +29,11 @@ gravity and b the centre of buoyancy (body axes, from O), [a] the cross-product 
 - drag at b along body axes, 0.5 rho cd_area_i |u| u_i, u = R^T (U - v_b) the water's
   velocity relative to b in body axes (|u| smoothed as the lines',
   sqrt(|u|^2 + DRAG_SPEED^2)); no rotational drag;
+- in waves (``[environment.waves]``), the fluid's velocity at b joins the current in the
+  drag, and Morison's inertia force acts at b: Froude-Krylov rho V a plus the added mass's
+  R D R^T a on the fluid acceleration a there (:mod:`~symcable.models.common.waves`; D =
+  rho diag(ca_volume), as below); the body taken as submerged wherever it is, the
+  kinematics at b alone (a body small against the waves' length);
 - added mass rho ca_volume_i along body axis i, at b, on b's acceleration (a uniform steady
   current U: the relative acceleration is the body's): M gains J_b^T R D R^T J_b with
   J_b = [I, -R [b]] (v_b = J_b v) and f gains -J_b^T R D R^T R (w x (w x b)). This is a
@@ -67,7 +72,8 @@ form a family (every norm); the kinematics carry e' += k (1 - |e|^2) e with k th
 e / |e|). The periodic solvers set k (``StateNames.rate_blocks``), so the norm's Floquet
 multiplier is exp(-2 k T) and the periodic state is isolated.
 
-Parameter blocks: ``load`` (1), ``current`` (3, m/s), ``hold`` (1), ``pull`` (1),
+Parameter blocks (in waves also ``wave_scale``, ``ramp`` and ``waves``, as a free point's):
+``load`` (1), ``current`` (3, m/s), ``hold`` (1), ``pull`` (1),
 ``hold_to`` (7: the scene's pose, the position (m) and the quaternion (e1, e2, e3, e0)),
 ``norm_rate`` (1, 1/s).
 """
@@ -82,6 +88,7 @@ from ...scene import Environment
 from ...scene.bodies import Body
 from ...mechanism.assembly import Attached
 from ..common.elements import DRAG_SPEED
+from ..common.waves import wave_block, wave_kinematics
 from ...mechanism.mechanism import (Layout, Mechanism, Output, ParamBlocks, PartLayout, Scales,
                                    StateNames)
 
@@ -155,9 +162,13 @@ def body_part(body: Body, env: Environment, length: float = 1.0) -> Mechanism:
     g = env.gravity
     m, V = body.mass, body.volume
     c, b = ca.DM(body.center_of_gravity), ca.DM(body.center_of_buoyancy)
-    params = ParamBlocks(("load", "current", "hold", "pull", "hold_to", "norm_rate"),
-                         (1, 3, 1, 1, 7, 1),
-                         np.concatenate([[1.0], env.current, [0.0, 0.0], start_q(body), [0.0]]))
+    sea = () if env.waves is None or rho == 0 else (
+        wave_block(env.waves, env.depth, env.gravity),)
+    params = ParamBlocks(("load", "current", "hold", "pull", "hold_to", "norm_rate")
+                         + (("wave_scale", "ramp", "waves") if sea else ()),
+                         (1, 3, 1, 1, 7, 1) + ((1, 1, sea[0].size) if sea else ()),
+                         np.concatenate([[1.0], env.current, [0.0, 0.0], start_q(body), [0.0]]
+                                        + ([[1.0, 1.0], sea[0]] if sea else [])))
     q, v, t, p = ca.SX.sym("q", 7), ca.SX.sym("v", 6), ca.SX.sym("t"), ca.SX.sym("p", params.n)
     load, current, hold, pull, x_to, e_to = p[0], p[1:4], p[4], p[5], p[6:9], p[9:13]
     norm_rate = p[13]
@@ -181,9 +192,18 @@ def body_part(body: Body, env: Environment, length: float = 1.0) -> Mechanism:
         force = force - ca.mtimes([Jb.T, A, R, ca.cross(w, ca.cross(w, b))])
     weight = load * ca.vertcat(0.0, 0.0, -m * g)
     buoyancy = load * ca.vertcat(0.0, 0.0, rho * g * V)
-    u = ca.mtimes(R.T, current - ca.mtimes(Jb, v))  # the water past b, body axes
+    water = current
+    inertia = ca.SX.zeros(3, 1)
+    if sea:  # at b: the waves' velocity joins the current; Froude-Krylov and added mass
+        _, u_w, a_w = wave_kinematics(env.waves.count, env.depth is None, env.waves.stretching,
+                                      x + ca.mtimes(R, b), t, p[params.slice("waves")],
+                                      p[params.slice("wave_scale")], p[params.slice("ramp")])
+        water = water + u_w
+        inertia = rho * V * a_w + ca.mtimes([R, D, R.T, a_w])
+        terms.append("body wave inertia")
+    u = ca.mtimes(R.T, water - ca.mtimes(Jb, v))  # the water past b, body axes
     drag = 0.5 * rho * ca.DM(body.cd_area) * ca.sqrt(ca.dot(u, u) + DRAG_SPEED ** 2) * u
-    at_b = buoyancy + ca.mtimes(R, drag)
+    at_b = buoyancy + ca.mtimes(R, drag) + inertia
     own_moment_body = ca.cross(c, ca.mtimes(R.T, weight)) + ca.cross(b, ca.mtimes(R.T, at_b))
     terms += ["body weight"] + (["body drag"] if rho > 0 and any(body.cd_area) else [])
     F_scale = max(m * g, rho * g * V, 1e-6)
@@ -233,7 +253,8 @@ def body_part(body: Body, env: Environment, length: float = 1.0) -> Mechanism:
         name=body.name, q=q, v=v, z=ca.SX.sym("z", 0), t=t, p=p, params=params, mass=mass,
         force=force, constraint=ca.SX.zeros(0, 1), scales=scales, starts=tuple,
         outputs=outputs, layout=layout, kinematics=ca.vertcat(vO, quaternion_rate(e, w) + norm_rate * (1.0 - ca.dot(e, e)) * e),
-        rest=rest, terms=tuple(terms), static_params={"hold": np.ones(1)},
+        rest=rest, terms=tuple(terms),
+        static_params={"hold": np.ones(1), **({"wave_scale": np.zeros(1)} if sea else {})},
         stability_when=ca.SX(1.0))
 
 

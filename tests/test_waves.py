@@ -181,6 +181,29 @@ def test_wave_inertia_on_a_taut_riser():
     assert abs(c1) < 2e-4 * expected
 
 
+@pytest.mark.parametrize("model", ["rod", "hybrid"])
+def test_wave_inertia_on_a_taut_rod_riser(model):
+    """The same riser as a Kirchhoff rod and as the hybrid (EI = GJ = 1e3 N m^2, 20
+    segments, 2 periods at T/200): the supports' first harmonic is the Morison inertia
+    summed over the elements within 2e-4, as the cable's (measured 4.2e-5 and 5.2e-5 at 40
+    segments, against the cable's 4.5e-5)."""
+    h, H, T, N, L0 = 50.0, 4.0, 8.0, 20, 48.5
+    d = _scene_dict(h, {"kind": "regular", "height": H, "period": T}, EI=1e3, GJ=1e3)
+    d["model"] = model
+    d["sections"][0]["segments"] = N
+    r = sc.simulate(d, duration=2 * T, dt=T / 200, progress=False)
+    assert r.warnings == ()
+    F = r.fairlead_force[:, 0] + r.anchor_force[:, 0]
+    w = 2 * math.pi / T
+    k = wave_number(w, h)
+    zm = -h + (np.arange(N) + 0.5) * 49.0 / N
+    vol = 1025.0 * math.pi / 4 * 0.01 * L0 / N
+    expected = np.sum(vol * 2.0 * (H / 2) * w * w * np.cosh(k * (zm + h)) / math.sinh(k * h))
+    s1, c1 = _harmonic(r.time, F, w, T)
+    assert abs(s1 / expected - 1.0) < 2e-4
+    assert abs(c1) < 2e-4 * expected
+
+
 def test_wave_drag_on_a_taut_riser():
     """The same riser with drag (Cd 1.2) and no added mass: the supports' horizontal force
     equals Morison drag 0.5 rho d Cd |u_n| u_n plus the Froude-Krylov force rho V a_x on
@@ -272,11 +295,6 @@ def test_scene_contract_round_trip_and_errors(tmp_path):
     air["environment"]["water_density"] = 0.0
     with pytest.raises(SceneError, match="air"):
         sc.load_scene(air)
-    rod = _scene_dict(50.0, {"kind": "regular", "height": 1.0, "period": 5.0})
-    rod["model"] = "rod"
-    rod["line_types"]["r"]["EI"] = 1e4
-    with pytest.raises(SceneError, match="environment.waves"):
-        sc.load_scene(rod)
 
 
 def test_a_free_body_feels_the_waves():

@@ -189,10 +189,6 @@ def _build(data: Mapping, source: str, base: str = ".") -> Scene:
         raise _err("mass_matrix", mass_matrix, "", "a mass matrix other than 'lumped' is a "
                    "cable3d option (model = 'cable3d')")
     env = _environment(data, dim)
-    if env.waves is not None and model is not Model.CABLE3D:
-        raise _err("environment.waves", env.waves.kind, "", "waves act on model = 'cable3d' "
-                   f"(lines, points); not on {model.value!r} yet: remove the waves or run the "
-                   "line as cable3d")
     seabed = _seabed(data, env)
     zones = _choice("zones", _get(data, "zones", "given"), _ZONES, "zones")
     if zones != "given" and model is not Model.HYBRID:

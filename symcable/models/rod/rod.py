@@ -71,6 +71,7 @@ from ...scene import EndCondition, Scene
 from ..common.elements import element_kernel, held_end
 from ..common.drag import law_table
 from ..common.terms import fluid_term_names
+from ..common.waves import WAVE_TERMS, element_wave_loads, wave_block
 from ..common.starts import force_scale, starts_of
 from .hybrid_terms import axial_law, rod_mask, spun_edges
 from ...mechanism.mechanism import (Bound, Layout, Mechanism, Output, ParamBlocks, PartLayout,
@@ -180,8 +181,14 @@ def build_rod(scene: Scene, rod: np.ndarray | None = None) -> Mechanism:
     BA = np.array([s.line_type.damping for s in scene.sections for _ in range(s.segments)])
     BA = np.where(BA < 0, -BA * np.sqrt(seg["EA"] * seg["mass"]) * seg["ds"], BA)
     EAs, delta = axial_law(seg, rod, F)
+    sea_u = sea_f = None
+    if env.waves is not None:  # the waves' velocity joins the current; their inertia force
+        sea_u, sea_f = element_wave_loads(scene, Xm, t, p[sl("waves")], p[sl("wave_scale")],
+                                          ramp_on, rho, _wave_rows(scene, seg))
     fa, fb, T, e = _element_forces(scene, seg, Xm, Vm, current, load, BA, EAs, delta, F, rho,
-                                   drag_law)
+                                   drag_law, sea_u)
+    if sea_f is not None:
+        fa, fb = fa + 0.5 * sea_f, fb + 0.5 * sea_f
     nodal = ca.horzcat(fa, ca.SX.zeros(3, 1)) + ca.horzcat(ca.SX.zeros(3, 1), fb)
     vt = _vertex_terms(scene, seg, rod, Xm, theta, frame, col, p, sl, clamped, guided, nodal)
     internal = _internal_forces(Xm, T, vt)
@@ -206,13 +213,15 @@ def build_rod(scene: Scene, rod: np.ndarray | None = None) -> Mechanism:
     outputs = _outputs(N, Xm, Vm, theta, T, e, vt, internal, sea, rubs, end_force,
                        _reference_frames(Xm, rod, frame, col), v, mass, potential)
     static = {"motion": np.zeros(1), **({"static_friction": np.ones(1)} if laid is not None
-                                        else {})}
+                                        else {}),
+              **({"wave_scale": np.zeros(1)} if env.waves is not None else {})}
     starts = functools.partial(_starts, scene, seg, params, moving, slots, twists, clamped,
                                static if laid is not None else None, q_all.numel() - n_v)
     terms = ["elastic", "weight"] + (["bending"] if vt.verts or vt.cb is not None else []) + (
         ["torsion"] if vt.verts else []) + (
         ["material damping"] if np.any(BA) else []) + (
         fluid_term_names(scene.sections, rho)) + (
+        list(WAVE_TERMS) if env.waves is not None else []) + (
         sea.terms) + (
         ["end force"] if np.any(applied) else []) + (
         ["end moment"] if any(x.moment is not None and any(x.moment) for x in (a, b)) else []) + (
@@ -252,14 +261,26 @@ def _param_blocks(scene: Scene, N: int, n_rod: int, twists: list,
     (6 per rod edge) when there are rod edges, the static friction's with ``laid``."""
     env, a, b = scene.environment, scene.end_a, scene.end_b
     anchors = default_anchors(scene, N)[:6 * n_rod]
+    sea = () if env.waves is None else (wave_block(env.waves, env.depth, env.gravity),)
     # no rod edge (a hybrid of cable3d sections with a guided end): no frame block
     return ParamBlocks(P_NAMES + (("frame",) if n_rod else ()) + (
-        ("static_friction", "laid") if laid is not None else ()),
+        ("static_friction", "laid") if laid is not None else ()) + (
+        ("wave_scale", "waves") if sea else ()),
         P_SIZES + ((6 * n_rod,) if n_rod else ()) + ((1, laid.size) if laid is not None
-                                                     else ()), np.concatenate([
+                                                     else ()) + ((1, sea[0].size) if sea else ()),
+        np.concatenate([
             [1.0], a.position if a.position is not None else np.zeros(3),
             b.position if b.position is not None else np.zeros(3), env.current, [1.0], [1.0],
-            twists, [1.0], anchors] + ([[0.0], laid] if laid is not None else [])))
+            twists, [1.0], anchors] + ([[0.0], laid] if laid is not None else [])
+            + ([[1.0], sea[0]] if sea else [])))
+
+
+def _wave_rows(scene: Scene, seg: dict) -> dict:
+    """The per-segment rows the waves' inertia force reads (1, N): diameter ``d`` (m),
+    length ``ds`` (m) and the added-mass coefficients ``can``, ``cat``."""
+    cat = [s.line_type.ca_tangential for s in scene.sections for _ in range(s.segments)]
+    return {"d": ca.DM(seg["d"]).T, "ds": ca.DM(seg["ds"]).T, "can": ca.DM(seg["can"]).T,
+            "cat": ca.DM(cat).T}
 
 
 def _node_symbols(scene: Scene, N: int, moving: list, spun: list, slots: dict, q, v, pa, pb,
@@ -282,13 +303,15 @@ def _node_symbols(scene: Scene, N: int, moving: list, spun: list, slots: dict, q
 
 def _element_forces(scene: Scene, seg: dict, Xm, Vm, current, load, BA: np.ndarray,
                     EAs: np.ndarray, delta: np.ndarray, F: float, rho: float,
-                    drag_law: dict | None):
+                    drag_law: dict | None, waves=None):
     """cable3d's element kernel mapped over the N edges: the forces on each edge's first and
-    second node (3, N), N; its axial force T (1, N), N, and strain e (1, N)."""
+    second node (3, N), N; its axial force T (1, N), N, and strain e (1, N). ``waves``: the
+    waves' velocity at the edges' midpoints (3, N), m/s, added to the water's, or None."""
     N = len(seg["ds"])
     row = lambda key: ca.DM(seg[key]).T  # noqa: E731
+    water = water_velocity(scene, current, Xm)
     return element_kernel(drag_law["shape"] if drag_law else None).map(N)(
-        Xm[:, :-1], Xm[:, 1:], Vm[:, :-1], Vm[:, 1:], water_velocity(scene, current, Xm),
+        Xm[:, :-1], Xm[:, 1:], Vm[:, :-1], Vm[:, 1:], water if waves is None else water + waves,
         row("ds"), row("EA"), ca.DM(BA).T, ca.DM(EAs).T, ca.DM(delta).T, F, row("w"),
         row("d"), row("cdn"), row("cdt"), rho, load,
         *([ca.DM(drag_law["law"]).T] if drag_law else []))

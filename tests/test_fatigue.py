@@ -35,6 +35,28 @@ def test_curves_and_areas():
     assert nominal_area(0.1, "rope") == pytest.approx(math.pi / 4 * 100.0 ** 2)
 
 
+def test_api_curves_by_hand():
+    """API RP 2SK's curves, N R^M = K with R the range over the breaking strength: a chain's
+    damage of the hand-counted history is that count's sum of (range / MBL)^3 over K; a
+    stranded rope's K = 10^(3.20 - 2.79 L_m) at the history's mean over the MBL; a stress
+    curve without an area, or an API curve without a breaking load, is refused."""
+    hist = np.array([-2, 1, -3, 5, -1, 3, -4, 4, -2], float) * 1e5 + 2e6
+    mbl = 1e7
+    r = rainflow_damage(hist, "api-studless-chain", breaking_load=mbl)
+    by_hand = (0.5 * 27 + 1.5 * 64 + 0.5 * 216 + 1.0 * 512 + 0.5 * 729) * (1e5 / mbl) ** 3
+    assert r["damage"] == pytest.approx(by_hand / 316.0, rel=1e-14)
+    rope = rainflow_damage(hist, "api-stranded-rope", breaking_load=mbl)
+    K = 10.0 ** (3.20 - 2.79 * np.mean(hist) / mbl)
+    assert rope["damage"] == pytest.approx(np.sum(r["counts"] * (r["ranges"] / mbl) ** 4.09)
+                                           / K, rel=1e-14)
+    assert TN_CURVES["api-studlink-chain"].a_D == 1000.0
+    assert TN_CURVES["api-spiral-rope"].m == 5.05
+    with pytest.raises(ValueError, match="breaking_load"):
+        rainflow_damage(hist, "api-studless-chain", area=100.0)
+    with pytest.raises(ValueError, match="area"):
+        dirlik_damage(1.0, 1.0, 1.0, 1.0, 10.0, "dnv-studless-chain", breaking_load=mbl)
+
+
 def test_spectral_damage_against_rainflow_of_a_gaussian_history():
     """A Gaussian tension of a JONSWAP spectrum (gamma 3.3), six hours from 400 components:
     Dirlik's damage within 10 % of rainflow counting of the history (measured 0.0 % and

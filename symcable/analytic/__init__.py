@@ -23,8 +23,9 @@ Contents
 * :func:`wave_number`, :func:`jonswap`, :func:`pierson_moskowitz`,
   :func:`spectrum_components`, :func:`airy` -- linear waves (:mod:`.waves`).
 * :func:`rainflow_damage`, :func:`narrow_band_damage`, :func:`dirlik_damage`,
-  :class:`TNCurve`, :data:`TN_CURVES` -- fatigue (:mod:`.fatigue`); :func:`rayleigh_mpm`,
-  :func:`gumbel_mpm` -- most probable maxima (:mod:`.extremes`).
+  :class:`TNCurve`, :data:`TN_CURVES` -- fatigue on DNV-OS-E301's and API RP 2SK's curves
+  (:mod:`.fatigue`); :func:`rayleigh_mpm`, :func:`gumbel_mpm` -- most probable maxima
+  (:mod:`.extremes`).
 
 Conventions: SI units, planar (x, z) with z up, arc length ``s`` is the
 unstretched length measured from end A (origin) to end B.

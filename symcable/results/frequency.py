@@ -114,7 +114,8 @@ class FrequencyResponse:
 
     def damage(self, name: str | None = None, curve="dnv-studless-chain", *,
                diameter: float | None = None, area: float | None = None,
-               duration: float | None = None, segment: int = -1) -> dict:
+               breaking_load: float | None = None, duration: float | None = None,
+               segment: int = -1) -> dict:
         """Fatigue damage of one segment's axial force (default end B's) over ``duration`` s
         (default the result's) by the narrow-band and Dirlik methods
         (:mod:`symcable.analytic.fatigue`), from its spectral moments over the sea's
@@ -125,24 +126,30 @@ class FrequencyResponse:
         name : str, optional
             The line (the only one when None).
         curve : str or TNCurve
-            A T-N curve (``symcable.analytic.fatigue.TN_CURVES``: DNV-OS-E301's).
+            A T-N curve (``symcable.analytic.fatigue.TN_CURVES``: DNV-OS-E301's and API RP
+            2SK's).
         diameter, area : float
-            The nominal diameter (m; the area from it by the curve's component) or the
-            nominal area (mm^2).
+            A DNV curve: the nominal diameter (m; the area from it by the curve's component)
+            or the nominal area (mm^2).
+        breaking_load : float
+            An API curve: the reference breaking strength, N (a rope's intercept at the
+            segment's static tension).
         """
         from ..analytic.fatigue import (_curve, dirlik_damage, narrow_band_damage,
                                         nominal_area)
         c = _curve(curve)
-        if area is None:
+        if c.basis == "stress" and area is None:
             if diameter is None:
                 raise ValueError("damage: give the nominal diameter (m) or area (mm^2)")
             area = nominal_area(diameter, c.component)
-        T = np.abs(self.line(name).rao[:, segment]) ** 2 * self.amplitude ** 2 / 2.0
+        line = self.line(name)
+        T = np.abs(line.rao[:, segment]) ** 2 * self.amplitude ** 2 / 2.0
         m = {k: float(np.sum(self.omega ** k * T)) for k in (0, 1, 2, 4)}
         D = self.duration if duration is None else float(duration)
-        return {"narrow_band": narrow_band_damage(m[0], m[2], D, c, area=area),
-                "dirlik": dirlik_damage(m[0], m[1], m[2], m[4], D, c, area=area),
-                "duration": D, "area": area}
+        ref = dict(area=area, breaking_load=breaking_load, mean=float(line.mean[segment]))
+        return {"narrow_band": narrow_band_damage(m[0], m[2], D, c, **ref),
+                "dirlik": dirlik_damage(m[0], m[1], m[2], m[4], D, c, **ref),
+                "duration": D, "area": area, "breaking_load": breaking_load}
 
     def plot(self, path: str | Path | None = None):
         """End B's axial-force spectrum per line with the sea's, and the standard deviation

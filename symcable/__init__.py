@@ -47,6 +47,8 @@ from .api.waves import SeaKinematics, wave_components, wave_kinematics
 from .api.frequency import solve_frequency_domain
 from .results.frequency import FrequencyResponse, LineSpectrum
 from .api.coupling import Coupling, CouplingState
+from .api.sensitivity import sensitivity
+from .results.sensitivity import Sensitivity
 from .scene.waves import Waves, WaveComponents
 from . import analytic
 
@@ -102,6 +104,9 @@ __all__ = [
     # a host program's coupling (MoorDyn's Init/Step pattern)
     "Coupling",
     "CouplingState",
+    # exact design sensitivities of a static state
+    "sensitivity",
+    "Sensitivity",
     # sweeps: a table of cases on Dask (pip install "symcable[sweep]")
     "run_sweep",
     "read_sweep",

@@ -1,0 +1,73 @@
+"""The result of :func:`symcable.sensitivity`: exact derivatives of named outputs of a
+static state with respect to named numbers of its scene."""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = ["Sensitivity"]
+
+
+@dataclass(frozen=True)
+class Sensitivity:
+    """d(outputs)/d(parameters) at a scene's static state.
+
+    Attributes
+    ----------
+    scene_name : str
+    outputs : tuple of str
+        Each output entry's name: a vector output's entries as ``"NAME[i]"``.
+    units : tuple of str
+        Each output entry's unit.
+    parameters : tuple of str
+        Each parameter's dotted path in the scene (``"line_types.chain.diameter"``,
+        ``"points.anchor0.position[0]"``).
+    values : numpy.ndarray
+        (n_out,) the outputs at the static state.
+    parameter_values : numpy.ndarray
+        (n_par,) the parameters' values in the scene.
+    jacobian : numpy.ndarray
+        (n_out, n_par): d output_i / d parameter_j, in the output's unit per the
+        parameter's (N/m for a tension against a length).
+    stats : dict
+        ``parameter_steps`` (the steps of the parameters' central differences through the
+        model's numbers, :func:`symcable.sensitivity`), ``residual_norm`` (N) of the state,
+        ``wall_time`` (s).
+    """
+
+    scene_name: str
+    outputs: tuple
+    units: tuple
+    parameters: tuple
+    values: np.ndarray
+    parameter_values: np.ndarray
+    jacobian: np.ndarray
+    stats: dict
+
+    def __getitem__(self, key) -> float:
+        """``s[output, parameter]``: one derivative, by names."""
+        out, par = key
+        try:
+            i, j = self.outputs.index(out), self.parameters.index(par)
+        except ValueError:
+            raise KeyError(f"{key!r}: outputs {list(self.outputs)}, parameters "
+                           f"{list(self.parameters)}") from None
+        return float(self.jacobian[i, j])
+
+    def relative(self) -> np.ndarray:
+        """(n_out, n_par) the elasticities (d y / y) / (d x / x): the share an output changes
+        per share of a parameter (NaN where an output or a parameter is zero)."""
+        with np.errstate(divide="ignore", invalid="ignore"):
+            r = self.jacobian * self.parameter_values[None, :] / self.values[:, None]
+        return np.where(np.isfinite(r), r, np.nan)
+
+    def summary(self) -> str:
+        """A table: each output with its value and its derivative in each parameter."""
+        rows = [f"sensitivities of scene {self.scene_name!r} at its static state"]
+        for i, (name, unit) in enumerate(zip(self.outputs, self.units)):
+            rows.append(f"  {name} = {self.values[i]:.6g} {unit}")
+            for j, par in enumerate(self.parameters):
+                rows.append(f"      d/d {par} (= {self.parameter_values[j]:.6g}): "
+                            f"{self.jacobian[i, j]:.6g}")
+        return "\n".join(rows)

@@ -53,6 +53,32 @@ def test_equals_central_differences_of_whole_solves():
         assert np.all(np.abs(exact - fd[1]) <= allowed), (name, exact, fd[1], allowed)
 
 
+def test_a_free_body_offset():
+    """A free buoy on three chains: the derivatives of its static position and of a
+    fairlead tension in a line's length, an anchor's position and the chain's diameter
+    equal central differences of whole solves as above; a body's own numbers (its mass) are
+    compiled into the equations and refused."""
+    from test_bodies_scene import _scene as buoy
+
+    d = buoy()
+    pars = ["lines[0].sections[0].length", "points.a1.position[0]",
+            "line_types.chain.diameter"]
+    s = sc.sensitivity(d, ["buoy.position", "west.fairlead_tension"], pars)
+
+    def outputs(dd):
+        st = sc.solve_static(dd, tol=1e-6)
+        return np.concatenate([st.bodies["buoy"].position, [st.lines["west"].fairlead_tension]])
+    for name, parts, value in _expand(d, pars):
+        h = 1e-4 * max(abs(value), 1.0)
+        fd = {k: (outputs(_set(d, parts, value + k * h)) - outputs(_set(d, parts, value - k * h)))
+              / (2 * k * h) for k in (1, 2)}
+        exact = s.jacobian[:, s.parameters.index(name)]
+        allowed = np.maximum(1e-6 * np.max(np.abs(fd[1])), 3.0 * np.abs(fd[1] - fd[2]))
+        assert np.all(np.abs(exact - fd[1]) <= allowed), (name, exact, fd[1], allowed)
+    with pytest.raises(SymcableError, match="compiled into the equations"):
+        sc.sensitivity(d, "west.fairlead_tension", "bodies.buoy.mass")
+
+
 def test_lookups_and_elasticities():
     s = sc.sensitivity(_scene(), "line0.fairlead_tension", "points.anchor0.position")
     assert s.parameters == tuple(f"points.anchor0.position[{i}]" for i in range(3))

@@ -48,6 +48,7 @@ from .api.frequency import solve_frequency_domain
 from .results.frequency import FrequencyResponse, LineSpectrum
 from .api.coupling import Coupling, CouplingState
 from .api.sensitivity import sensitivity
+from .api.optimize import DesignResult, optimize
 from .results.sensitivity import Sensitivity
 from .scene.waves import Waves, WaveComponents
 from . import analytic
@@ -107,6 +108,8 @@ __all__ = [
     # exact design sensitivities of a static state
     "sensitivity",
     "Sensitivity",
+    "optimize",
+    "DesignResult",
     # sweeps: a table of cases on Dask (pip install "symcable[sweep]")
     "run_sweep",
     "read_sweep",

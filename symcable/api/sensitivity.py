@@ -42,7 +42,7 @@ from ..scene.load import _read_file
 from .cable3d_static import calm
 from .scene3d import scene_equilibrium, scene_mechanism
 
-__all__ = ["sensitivity", "DEFAULT_STEP"]
+__all__ = ["sensitivity", "static_values", "DEFAULT_STEP"]
 
 #: the relative step of the central difference through the scene's arithmetic (module
 #: docstring)
@@ -164,27 +164,89 @@ def _parameter_slope(raw, base, mech, x0, name, parts, value, step) -> tuple[np.
 
 
 def _outputs(mech, names) -> list:
-    """[(name, output it reads, derived or None)] of each requested output."""
+    """[(name, output it reads, derived or None, entry or None)] of each requested output
+    (``"NAME[i]"``: that entry of a vector output alone)."""
     if isinstance(names, str):
         names = [names]
     out = []
     for name in names:
         name = str(name)
-        head, _, tail = name.rpartition(".")
-        if name in mech.outputs:
-            out.append((name, name, None))
-        elif tail in _TENSIONS and (f"{head}.{_TENSIONS[tail]}" if head else _TENSIONS[tail]) \
-                in mech.outputs:
-            out.append((name, f"{head}.{_TENSIONS[tail]}" if head else _TENSIONS[tail], "norm"))
+        m = re.fullmatch(r"(.+)\[(\d+)\]", name)
+        whole, entry = (m.group(1), int(m.group(2))) if m and m.group(1) in mech.outputs \
+            else (name, None)
+        head, _, tail = whole.rpartition(".")
+        tension = f"{head}.{_TENSIONS[tail]}" if head and tail in _TENSIONS else \
+            _TENSIONS.get(tail) if not head else None
+        if whole in mech.outputs:
+            size = int(mech.outputs[whole].expr.numel())
+            if entry is not None and entry >= size:
+                raise SymcableError(f"output {name!r}: {whole!r} has {size} entries")
+            out.append((name, whole, None, entry))
+        elif entry is None and tension is not None and tension in mech.outputs:
+            out.append((name, tension, "norm", None))
         else:
             known = sorted(set(mech.outputs) | {
                 (f"{n.rpartition('.')[0]}." if "." in n else "") + k
                 for n in mech.outputs for k, v in _TENSIONS.items() if n.endswith(v)})
             raise SymcableError(f"output {name!r}: unknown; the static state's outputs: "
-                                f"{', '.join(known)}")
+                                f"{', '.join(known)} (an entry of a vector one as NAME[i])")
     if not out:
         raise SymcableError("outputs: give at least one")
     return out
+
+
+def _entries(mech, F, outs, y, dy=None):
+    """Each requested output's entries: (names, units, values, rows of dy or None)."""
+    sl = F.output_slices()
+    names, units, values, rows = [], [], [], []
+    for name, source, derived, entry in outs:
+        block = y[sl[source]]
+        dblock = None if dy is None else dy[sl[source]]
+        if entry is not None:
+            block = block[entry:entry + 1]
+            dblock = None if dblock is None else dblock[entry:entry + 1]
+        unit = str(mech.outputs[source].unit)
+        if derived == "norm":
+            mag = float(np.linalg.norm(block))
+            names.append(name), units.append(unit), values.append(mag)
+            if dy is not None:
+                rows.append(block @ dblock / mag if mag > 0 else np.full(dy.shape[1], math.nan))
+            continue
+        for i in range(block.size):
+            names.append(name if block.size == 1 or entry is not None else f"{name}[{i}]")
+            units.append(unit)
+            values.append(float(block[i]))
+            if dy is not None:
+                rows.append(dblock[i])
+    return names, units, values, rows
+
+
+def _check_state(scene, mech, F, y) -> None:
+    """The static solve's own check of a free point or body floated above the surface
+    (:func:`~symcable.api.above_water.check_above_water`), on the state's outputs ``y``."""
+    from types import SimpleNamespace as NS
+    from .above_water import _check_floating
+    if scene.version == 1:
+        return
+    sl = F.output_slices()
+    pts = {n: NS(position=y[sl[f"{n}.position"]]) for n, p in scene.points.items()
+           if p.is_free and f"{n}.position" in sl}
+    bodies = {n: NS(position=y[sl[f"{n}.position"]], roll_pitch_yaw=y[sl[f"{n}.roll_pitch_yaw"]])
+              for n, b in scene.bodies.items() if b.is_free and f"{n}.position" in sl}
+    _check_floating(scene, NS(points=pts, bodies=bodies, status="converged", warnings=()))
+
+
+def static_values(scene, outputs) -> dict:
+    """{output entry: value} at ``scene``'s static state, by the names :func:`sensitivity`
+    takes (one static solve, no derivatives)."""
+    raw, base = _raw(scene)
+    s0 = load_scene(raw, base=base)
+    mech, eq = scene_equilibrium(calm(s0))
+    F = functions(mech)
+    y = np.asarray(F.outputs(eq.q, np.zeros(mech.n_v), eq.z, 0.0, eq.p), float).ravel()
+    _check_state(s0, mech, F, y)
+    names, _, values, _ = _entries(mech, F, _outputs(mech, outputs), y)
+    return dict(zip(names, values))
 
 
 def sensitivity(scene, outputs, parameters, *, step: float = DEFAULT_STEP) -> Sensitivity:
@@ -251,21 +313,8 @@ def sensitivity(scene, outputs, parameters, *, step: float = DEFAULT_STEP) -> Se
     y_q, y_z, y_p = (np.asarray(a) for a in F.output_parameter_jacobian(q, v0, z, 0.0, p0))
     dy = y_q @ dx[:mech.n_q] + y_z @ dx[mech.n_q:] + y_p @ dP
     y = np.asarray(F.outputs(q, v0, z, 0.0, p0), float).ravel()
-    sl = F.output_slices()
-    names, units, values, rows = [], [], [], []
-    for name, source, derived in outs:
-        block, dblock = y[sl[source]], dy[sl[source]]
-        unit = str(mech.outputs[source].unit)
-        if derived == "norm":
-            mag = float(np.linalg.norm(block))
-            names.append(name), units.append(unit), values.append(mag)
-            rows.append(block @ dblock / mag if mag > 0 else np.full(len(pars), math.nan))
-            continue
-        for i in range(block.size):
-            names.append(name if block.size == 1 else f"{name}[{i}]")
-            units.append(unit)
-            values.append(float(block[i]))
-            rows.append(dblock[i])
+    _check_state(s0, mech, F, y)
+    names, units, values, rows = _entries(mech, F, outs, y, dy)
     return Sensitivity(s0.name, tuple(names), tuple(units), tuple(n for n, _, _ in pars),
                        np.array(values), np.array([v for _, _, v in pars]), np.array(rows),
                        {"parameter_steps": steps,

@@ -173,6 +173,14 @@ def test_state_restore_and_file(tmp_path):
     assert np.array_equal(ten_more(), first)
     c.restore(sc.CouplingState.load(path))
     assert np.array_equal(ten_more(), first)
+    # a restart: a new coupling, started elsewhere, restores the file and goes on alike, to
+    # the Newton tolerance (its scales and tolerance come from its own start: measured
+    # 3e-7 of the largest force; before the ends' start was saved, 10 times the force)
+    c = sc.Coupling(d)
+    c.initialize(base + [5.0, 0.0, 0.0])
+    c.restore(sc.CouplingState.load(path))
+    assert np.array_equal(c.state().positions, saved.positions)
+    assert np.allclose(ten_more(), first, rtol=0, atol=1e-5 * np.max(np.abs(first)))
     other = sc.Coupling(one_line(7))
     other.initialize()
     with pytest.raises(SymcableError, match="not one of this coupling's"):

@@ -55,6 +55,8 @@ def test_api_curves_by_hand():
         rainflow_damage(hist, "api-studless-chain", area=100.0)
     with pytest.raises(ValueError, match="area"):
         dirlik_damage(1.0, 1.0, 1.0, 1.0, 10.0, "dnv-studless-chain", breaking_load=mbl)
+    with pytest.raises(ValueError, match="mean"):  # a rope's intercept needs the mean
+        dirlik_damage(1.0, 1.0, 1.0, 1.0, 10.0, "api-stranded-rope", breaking_load=mbl)
 
 
 def test_spectral_damage_against_rainflow_of_a_gaussian_history():

@@ -232,15 +232,16 @@ def c_run(n: int, dt: float, steps: int, quick: bool) -> dict:
         ph = np.radians(PH6)
         amps = ["%.17g" % v for x, p in zip(a, ph) for v in (x, p)]
         walls = {}
-        for count in (0, steps):  # the host's own start, then with the steps
+        for count in (1, steps):  # the host's start with one step, then with the steps
             t0 = time.perf_counter()
             out = subprocess.run(args + [str(count)] + amps, cwd=folder, check=True,
                                  capture_output=True, text=True).stdout
             walls[count] = time.perf_counter() - t0
     lines = out.strip().splitlines()
     rows = np.array([[float(v) for v in ln.split()] for ln in lines[:-1]])
-    # (the host repeats the second half after restoring its saved state: 1.5 runs' steps)
-    per_step = (walls[steps] - walls[0]) / (steps + steps - steps // 2)
+    # (the host repeats the second half after restoring its saved state: n + n - n // 2
+    # steps for n; 2 for 1)
+    per_step = (walls[steps] - walls[1]) / (steps + steps - steps // 2 - 2)
     return {"forces": rows[:, 1:], "restore_check": lines[-1], "export_s": t_export,
             "compile_s": t_cc, "compile_flags": opt, "step_s": per_step}
 

@@ -85,15 +85,19 @@ def nominal_area(diameter: float, component: str = "chain") -> float:
     return 2.0 * a if component == "chain" else a
 
 
-def _scale(c: TNCurve, area, breaking_load, mean: float) -> tuple[float, float]:
+def _scale(c: TNCurve, area, breaking_load, mean) -> tuple[float, float]:
     """``(divisor of a tension range, a_D)`` for curve ``c``: the nominal ``area`` (mm^2)
     and a_D for a stress curve; the ``breaking_load`` (N) and a_D at the ``mean`` tension's
-    share of it (N) for a breaking-strength curve."""
+    share of it (N; required where the curve's intercept falls with it) for a
+    breaking-strength curve."""
     if c.basis == "breaking":
         if breaking_load is None or not breaking_load > 0:
             raise ValueError(f"breaking_load = {breaking_load!r}: an API curve needs the "
                              "reference breaking strength, N (> 0)")
-        return float(breaking_load), c.intercept(mean / breaking_load)
+        if mean is None and c.mean_slope:
+            raise ValueError("mean: this rope curve's intercept falls with the mean tension: "
+                             "give the mean tension, N")
+        return float(breaking_load), c.intercept((mean or 0.0) / breaking_load)
     if area is None or not area > 0:
         raise ValueError(f"area = {area!r}: a stress curve needs the nominal area, mm^2 (> 0)")
     return float(area), c.a_D
@@ -109,11 +113,12 @@ def _curve(curve) -> TNCurve:
 
 
 def rainflow_damage(tension, curve="dnv-studless-chain", *, area: float | None = None,
-                    breaking_load: float | None = None) -> dict:
+                    breaking_load: float | None = None, mean: float | None = None) -> dict:
     """Miner's damage of a tension history (N, any sampling: its reversals are what count)
     by rainflow counting (half cycles counted as half), at the nominal ``area`` (mm^2; a
-    stress curve) or the ``breaking_load`` (N; an API curve, its rope intercept at the
-    history's mean tension).
+    stress curve) or the ``breaking_load`` (N; an API curve, a rope's intercept at the
+    ``mean`` tension, N: default the samples' mean, which is the time mean only for evenly
+    sampled histories).
 
     Returns
     -------
@@ -129,7 +134,7 @@ def rainflow_damage(tension, curve="dnv-studless-chain", *, area: float | None =
     pairs = rainflow.count_cycles(x)
     ranges = np.array([r for r, _ in pairs], float)
     counts = np.array([n for _, n in pairs], float)
-    div, a_D = _scale(c, area, breaking_load, float(np.mean(x)))
+    div, a_D = _scale(c, area, breaking_load, float(np.mean(x)) if mean is None else mean)
     damage = float(np.sum(counts * (ranges / div) ** c.m) / a_D) if ranges.size else 0.0
     return {"ranges": ranges, "counts": counts, "damage": damage,
             "cycles": float(counts.sum())}
@@ -153,7 +158,7 @@ def moments(omega, S, orders=(0, 1, 2, 4)) -> dict:
 
 def narrow_band_damage(m0: float, m2: float, duration: float, curve="dnv-studless-chain", *,
                        area: float | None = None, breaking_load: float | None = None,
-                       mean: float = 0.0) -> float:
+                       mean: float | None = None) -> float:
     """Damage over ``duration`` s of a narrow-band Gaussian tension of variance ``m0``
     (N^2) and second moment ``m2`` (N^2 rad^2/s^2): nu0 T (2 sqrt(2 m0))^m Gamma(1 + m/2) /
     a_D at the nominal ``area`` (mm^2) or the ``breaking_load`` (N; an API rope's a_D at the
@@ -171,7 +176,7 @@ def narrow_band_damage(m0: float, m2: float, duration: float, curve="dnv-studles
 
 def dirlik_damage(m0: float, m1: float, m2: float, m4: float, duration: float,
                   curve="dnv-studless-chain", *, area: float | None = None,
-                  breaking_load: float | None = None, mean: float = 0.0) -> float:
+                  breaking_load: float | None = None, mean: float | None = None) -> float:
     """Damage over ``duration`` s of a Gaussian tension of spectral moments m0, m1, m2, m4
     (N^2 (rad/s)^k; :func:`moments`) by Dirlik's empirical distribution of rainflow ranges
     (Dirlik 1985), at the nominal ``area`` (mm^2) or the ``breaking_load`` (N; an API

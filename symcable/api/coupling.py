@@ -45,21 +45,23 @@ class CouplingState:
     """A :class:`Coupling`'s state at one time, to restore (a host that steps back, e.g. a
     predictor-corrector): ``time`` (s), ``x`` the step's carried state (positions, velocities
     and their rates), ``ends`` the coupled ends' displacement (m) and velocity (m/s) at that
-    time (n_ends, 6), ``positions`` the coupled things' (n_dof,), ``key`` the structure it
-    belongs to. :meth:`save` and :meth:`load` keep it in a ``.npz`` file."""
+    time (n_ends, 6) from ``base`` (n_ends, 3), their positions at :meth:`Coupling.initialize`
+    (m), ``positions`` the coupled things' (n_dof,), ``key`` the structure it belongs to.
+    :meth:`save` and :meth:`load` keep it in a ``.npz`` file."""
 
     time: float
     x: np.ndarray
     ends: np.ndarray
     positions: np.ndarray
     key: str
+    base: np.ndarray
 
     def save(self, path) -> Path:
         """Write the state to ``path`` (``.npz``); returns the path."""
         path = Path(path)
         with open(path, "wb") as fh:
             np.savez(fh, time=self.time, x=self.x, ends=self.ends, positions=self.positions,
-                     key=self.key)
+                     key=self.key, base=self.base)
         return path
 
     @classmethod
@@ -68,7 +70,8 @@ class CouplingState:
         try:
             with np.load(Path(path), allow_pickle=False) as d:
                 return cls(float(d["time"]), np.array(d["x"], float), np.array(d["ends"], float),
-                           np.array(d["positions"], float), str(d["key"]))
+                           np.array(d["positions"], float), str(d["key"]),
+                           np.array(d["base"], float))
         except (OSError, KeyError, ValueError) as exc:
             raise SymcableError(f"coupling state {str(path)!r}: cannot be read ({exc})") from None
 
@@ -165,6 +168,9 @@ class Coupling:
         self._kern = FastCall(galpha1_kernel(mech, opts, lte=False, codegen=self.codegen))
         self._consts = (np.array([opts.rho_inf, opts.tol]), np.asarray(step_scales(mech), float))
         self._slices = [mech.params.slice(self._block(e)) for _, e in self._ends]
+        self._position_slices = [mech.params.slice(self._block(e).replace(".coupled",
+                                                                           ".position"))
+                                 for _, e in self._ends]
         self._base = np.vstack([th.end_kinematics(pose, np.zeros(th.dofs))[0]
                                 for th, pose in zip(self.things, poses)])
         self._end_out = self._end_forces(mech)
@@ -230,7 +236,7 @@ class Coupling:
         """The state at :attr:`time` (:class:`CouplingState`)."""
         self._need_start("state")
         return CouplingState(self._time, self._x.copy(), self._now.copy(),
-                             np.concatenate(self._poses), self._key)
+                             np.concatenate(self._poses), self._key, self._base.copy())
 
     def restore(self, state: CouplingState) -> np.ndarray:
         """Return to a :meth:`state` of this coupling (the same scene and coupled things);
@@ -238,12 +244,16 @@ class Coupling:
         self._need_start("restore")
         if not isinstance(state, CouplingState) or state.key != self._key \
                 or state.x.shape != self._x.shape or state.ends.shape != self._now.shape \
-                or state.positions.shape != (self.n_dof,):
+                or state.positions.shape != (self.n_dof,) or state.base.shape != self._base.shape:
             raise SymcableError("restore: the state is not one of this coupling's (another "
                                 "scene or other coupled things)")
         self._x, self._now, self._time = state.x.copy(), state.ends.copy(), float(state.time)
+        self._base = state.base.copy()  # the ends' start, and so their held positions
+        for sl, b in zip(self._position_slices, self._base):
+            self._p[sl] = b
         self._set_path(self._now, self._now, self._time, self._time)
-        self._forces = self._loads(self._split("positions", state.positions))
+        self._poses = self._split("positions", state.positions)
+        self._forces = self._loads(self._poses)
         return self._forces.copy()
 
     # -- inside --------------------------------------------------------------------------

@@ -96,6 +96,7 @@ def export_coupling(scene, folder, stem: str = "symcable_lines", coupled=None) -
             f"#define PTC_DT_NEWTON {_c_number(PTC_DT_NEWTON)}\n",
             f"#define N_DOF {c.n_dof}\n#define N_THINGS {len(things)}\n",
             f"#define N_ENDS {len(ends)}\n#define MAX_SUBSTEPS {MAX_SUBSTEPS}\n",
+            f"#define STATE_TAG {int(c._key[:12], 16)}.0\n",
             f"#define STATIC_TOL {_c_number(tol)}\n",
             "static const char *const DOF_NAMES[] = {"
             + ", ".join(_c_string(n) for n in c.dof_names) + "};\n",

@@ -59,11 +59,13 @@ _RUNTIME = r"""/* The coupling runtime (see symcable_coupling.h and README.md). 
 #include "{stem}_data.h"
 #include "symcable_coupling.h"
 
-#define SC_STATE (1 + N_X + 6 * N_ENDS + N_DOF + 3 * N_ENDS)
+/* a saved state: its tag (this export's), t, x, the ends' path, the pose, the ends' base */
+#define SC_STATE (2 + N_X + 6 * N_ENDS + N_DOF + 3 * N_ENDS)
 
 struct sc_coupling {{
   double t, x[N_X], p[N_P], now[6 * N_ENDS], pose[N_DOF], base[3 * N_ENDS];
   casadi_real xt[N_X], x1[N_X];  /* a step's iterates */
+  casadi_real ps[N_P], ws[N_W], w1[N_W], r[N_W], dw[N_W], cd[N_W];  /* the static solve's */
   int ready;
   char message[512];
   const casadi_real **arg;
@@ -171,15 +173,17 @@ static void sc_end(int e, const double *x, const double *xd, double *pos, double
   vel[2] = v[2] + om[0] * arm[1] - om[1] * arm[0];
 }}
 
-static int sc_check(sc_coupling *c, const double *a, int n, const char *what) {{
+/* a finite array of n numbers; names (n of them) or NULL name its entries in the message */
+static int sc_check(sc_coupling *c, const double *a, int n, const char *what,
+                    const char *const *names) {{
   if (!a) {{
     snprintf(c->message, sizeof c->message, "%s: NULL, must be %d numbers", what, n);
     return 1;
   }}
   for (int i = 0; i < n; ++i)
     if (!isfinite(a[i])) {{
-      snprintf(c->message, sizeof c->message, "%s[%d] = %g: must be finite (%s)", what, i,
-               a[i], DOF_NAMES[i]);
+      snprintf(c->message, sizeof c->message, "%s[%d] = %g: must be finite%s%s%s", what, i,
+               a[i], names ? " (" : "", names ? names[i] : "", names ? ")" : "");
       return 1;
     }}
   return 0;
@@ -236,12 +240,12 @@ static double sc_norm(const casadi_real *r, int n) {{
  * scale over each unknown's scale, dtau doubling after each accepted step, cut by 4 where
  * the residual jumps a hundredfold); into c->x, at rest. */
 static int sc_static(sc_coupling *c, const double *pos, double moved) {{
-  static casadi_real ps[N_P], w[N_W], w1[N_W], r[N_W], dw[N_W], cd[N_W];
+  casadi_real *ps = c->ps, *w = c->ws, *w1 = c->w1, *r = c->r, *dw = c->dw, *cd = c->cd;
   double dtau = PTC_DT0, nr;
-  memcpy(ps, P_STATIC, sizeof ps);
+  memcpy(ps, P_STATIC, sizeof c->ps);
   for (int e = 0; e < N_ENDS; ++e)
     for (int i = 0; i < 3; ++i) ps[END_POSITION[e] + i] = pos[3 * e + i];
-  memcpy(w, W_STATIC, sizeof w);
+  memcpy(w, W_STATIC, sizeof c->ws);
   const casadi_real *in[] = {{w, ps}};
   casadi_real *out[] = {{r}};
   if (SC_CALL(c, static_residual, in, out)) return sc_fail(c, 2, "static_residual failed");
@@ -261,7 +265,7 @@ static int sc_static(sc_coupling *c, const double *pos, double moved) {{
       if (dtau < 1e-12) break;
       continue;
     }}
-    memcpy(w, w1, sizeof w);
+    memcpy(w, w1, sizeof c->ws);
     nr = nr1;
     dtau = fmin(2.0 * dtau, PTC_DT_NEWTON);
   }}
@@ -280,7 +284,9 @@ static int sc_static(sc_coupling *c, const double *pos, double moved) {{
 int sc_initialize(sc_coupling *c, const double *x, const double *xd, double t, double *f) {{
   static const double zero[N_DOF > 0 ? N_DOF : 1];
   if (!c) return 1;
-  if (sc_check(c, x, N_DOF, "x") || (xd && sc_check(c, xd, N_DOF, "xd"))) return 1;
+  c->ready = 0;  /* until this start succeeds: a failed one leaves nothing to step */
+  if (sc_check(c, x, N_DOF, "x", DOF_NAMES) || (xd && sc_check(c, xd, N_DOF, "xd", DOF_NAMES)))
+    return 1;
   if (!isfinite(t)) return sc_fail(c, 1, "t: must be finite");
   double pos[3 * N_ENDS + 1], vel[3], dev = 0.0;
   for (int e = 0; e < N_ENDS; ++e) {{
@@ -312,7 +318,8 @@ int sc_initialize(sc_coupling *c, const double *x, const double *xd, double t, d
 int sc_step(sc_coupling *c, double t, double dt, const double *x, const double *xd, double *f) {{
   if (!c) return 1;
   if (!c->ready) return sc_fail(c, 1, "sc_step before sc_initialize");
-  if (sc_check(c, x, N_DOF, "x") || sc_check(c, xd, N_DOF, "xd")) return 1;
+  if (sc_check(c, x, N_DOF, "x", DOF_NAMES) || sc_check(c, xd, N_DOF, "xd", DOF_NAMES))
+    return 1;
   if (!(dt > 0.0) || !isfinite(dt)) {{
     snprintf(c->message, sizeof c->message, "dt = %g s: must be > 0 and finite", dt);
     return 1;
@@ -356,22 +363,25 @@ int sc_step(sc_coupling *c, double t, double dt, const double *x, const double *
 
 int sc_get_state(const sc_coupling *c, double *s) {{
   if (!c || !c->ready || !s) return 1;
-  s[0] = c->t;
-  memcpy(s + 1, c->x, N_X * sizeof(double));
-  memcpy(s + 1 + N_X, c->now, 6 * N_ENDS * sizeof(double));
-  memcpy(s + 1 + N_X + 6 * N_ENDS, c->pose, N_DOF * sizeof(double));
-  memcpy(s + 1 + N_X + 6 * N_ENDS + N_DOF, c->base, 3 * N_ENDS * sizeof(double));
+  s[0] = STATE_TAG;
+  s[1] = c->t;
+  memcpy(s + 2, c->x, N_X * sizeof(double));
+  memcpy(s + 2 + N_X, c->now, 6 * N_ENDS * sizeof(double));
+  memcpy(s + 2 + N_X + 6 * N_ENDS, c->pose, N_DOF * sizeof(double));
+  memcpy(s + 2 + N_X + 6 * N_ENDS + N_DOF, c->base, 3 * N_ENDS * sizeof(double));
   return 0;
 }}
 
 int sc_set_state(sc_coupling *c, const double *s, double *f) {{
   if (!c || !s) return 1;
-  if (sc_check(c, s, SC_STATE, "state")) return 1;
-  c->t = s[0];
-  memcpy(c->x, s + 1, N_X * sizeof(double));
-  memcpy(c->now, s + 1 + N_X, 6 * N_ENDS * sizeof(double));
-  memcpy(c->pose, s + 1 + N_X + 6 * N_ENDS, N_DOF * sizeof(double));
-  memcpy(c->base, s + 1 + N_X + 6 * N_ENDS + N_DOF, 3 * N_ENDS * sizeof(double));
+  if (sc_check(c, s, SC_STATE, "state", NULL)) return 1;
+  if (s[0] != STATE_TAG)
+    return sc_fail(c, 1, "state: not one of this library's (another export or scene)");
+  c->t = s[1];
+  memcpy(c->x, s + 2, N_X * sizeof(double));
+  memcpy(c->now, s + 2 + N_X, 6 * N_ENDS * sizeof(double));
+  memcpy(c->pose, s + 2 + N_X + 6 * N_ENDS, N_DOF * sizeof(double));
+  memcpy(c->base, s + 2 + N_X + 6 * N_ENDS + N_DOF, 3 * N_ENDS * sizeof(double));
   memcpy(c->p, P_DYNAMIC, sizeof c->p);
   for (int e = 0; e < N_ENDS; ++e)
     memcpy(c->p + END_POSITION[e], c->base + 3 * e, 3 * sizeof(double));
@@ -441,6 +451,10 @@ int main(int argc, char **argv) {{
   period = atof(argv[1]);
   double dt = atof(argv[2]);
   long steps = atol(argv[3]);
+  if (steps < 1 || !(period > 0.0) || !(dt > 0.0)) {{
+    fprintf(stderr, "PERIOD and DT must be > 0 and STEPS at least 1\n");
+    return 1;
+  }}
   for (int i = 0; i < N_DOF; ++i) {{ amp[i] = atof(argv[4 + 2 * i]); phase[i] = atof(argv[5 + 2 * i]); }}
   sc_coupling *c = sc_create();
   double *saved = malloc(sizeof(double) * sc_state_size());
@@ -490,7 +504,10 @@ coupled points and bodies; this library steps the mooring lines between them wit
 first-order generalized-alpha step that `symcable.simulate` takes (rho_inf
 {facts['rho_inf']:g}, Newton tolerance {facts['tol']:.3g} on the scaled step residual, at
 most {facts['max_iter']} iterations) and returns the forces the lines exert on the coupled
-things. It is `symcable.Coupling` in C: the same step, the same answers to round-off.
+things. It is `symcable.Coupling` in C: the same step, and from the exported static state at
+rest the same answers to round-off. A start elsewhere (`sc_initialize` at another pose, or
+moving) begins from rates of zero where the Python coupling computes them, which moves the
+first steps' forces by about 1e-6 of themselves.
 
 ## Files
 

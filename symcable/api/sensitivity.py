@@ -14,7 +14,9 @@ forms: a length over a segment count, (m - rho pi d^2 / 4) g), taken by a centra
 difference of the Mechanism's numbers built afresh at theta +- h: h = ``step`` times
 max(|theta|, 1 unit), the arithmetic smooth, so the difference is exact to about
 ``step``^2 relative (1e-12 at the default), not to the static solve's tolerance as a
-difference of whole solves is.
+difference of whole solves is; where the scene refuses one side (an anchor on the seabed
+moved down) the difference is one-sided, exact for the linear arithmetic of positions and
+lengths and first order (about ``step`` relative) otherwise.
 
 A number that is compiled into the equations instead of passed as a parameter (the depth,
 the water's density, a body's mass: :mod:`symcable.models.structure`) has no such

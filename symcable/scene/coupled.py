@@ -114,6 +114,10 @@ def coupled_things(scene: Scene, names=None) -> tuple:
         raise SymcableError(f"coupled = {names!r}: must name each thing once (at least one)")
     out = []
     for n in names:
+        if n not in can and scene.version == 1 and n in ("end_a", "end_b"):
+            cond = getattr(scene, n).condition.value
+            raise SymcableError(f"coupled: {n!r} is {cond}: a host moves a pinned end only "
+                                f"(one of {sorted(can) or 'none'})")
         if n not in can:
             free = n in getattr(scene, "points", {}) or n in getattr(scene, "bodies", {})
             raise SymcableError(f"coupled: {n!r} " + ("is free (symcable solves for it; a host "

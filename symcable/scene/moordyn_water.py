@@ -22,7 +22,9 @@ other values       refused in one line: 1 (externally driven: a program's, not a
 =================  =========================================================================
 
 MoorDyn's waves start at full height at t = 0; symcable's ramp in over the ramp time of
-:class:`~symcable.scene.waves.Waves` (a note says so). MoorDyn's ``water_grid.txt`` (the
+:class:`~symcable.scene.waves.Waves` (a note says so). Above the instantaneous surface
+MoorDyn's summed components give no fluid velocity; symcable's Wheeler stretching gives the
+surface's (its lines, points and bodies are taken as submerged wherever they are). MoorDyn's ``water_grid.txt`` (the
 grid it interpolates on) is not read: symcable evaluates the kinematics at the nodes.
 """
 from __future__ import annotations

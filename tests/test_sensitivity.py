@@ -101,3 +101,25 @@ def test_refusals(parameter, match):
 def test_unknown_output_lists_the_known():
     with pytest.raises(SymcableError, match="line0.fairlead_tension"):
         sc.sensitivity(_scene(), "line9.tension", "line_types.chain.EA")
+
+
+def test_command_line(tmp_path):
+    """``symcable sensitivity`` prints the same derivatives as JSON; a bad path is one line
+    on stderr with exit status 2."""
+    import json
+    import subprocess
+    import sys
+
+    from symcable.scene.load import scene_to_toml
+    path = tmp_path / "spar.toml"
+    path.write_text(scene_to_toml(sc.load_scene(spar(6, body_motion=False))))
+    args = [sys.executable, "-m", "symcable", "sensitivity", str(path), "--output",
+            "line0.fairlead_tension", "--parameter", "points.anchor0.position[0]"]
+    run = subprocess.run(args + ["--json"], capture_output=True, text=True, timeout=300)
+    assert run.returncode == 0, run.stderr
+    got = json.loads(run.stdout)
+    want = sc.sensitivity(str(path), "line0.fairlead_tension", "points.anchor0.position[0]")
+    assert got["jacobian"][0][0] == pytest.approx(want.jacobian[0, 0], rel=1e-12)
+    bad = subprocess.run(args[:-1] + ["points.nowhere.position[0]"], capture_output=True,
+                         text=True, timeout=300)
+    assert bad.returncode == 2 and len(bad.stderr.strip().splitlines()) == 1

@@ -466,6 +466,8 @@ def build_parser() -> argparse.ArgumentParser:
     add_sweep(sub)
     from .offsets import add_parser as add_offsets
     add_offsets(sub)
+    from .design import add_parser as add_sensitivity
+    add_sensitivity(sub)
     for p in sub.choices.values():
         _common_options(p)
     return ap
@@ -583,6 +585,9 @@ def _run(args) -> int:
     if args.command == "sweep":
         from ..sweep.command import main as sweep
         return sweep(args)
+    if args.command == "sensitivity":
+        from .design import main as sensitivity
+        return sensitivity(args)
     from .offsets import main as offsets
     return offsets(args)
 

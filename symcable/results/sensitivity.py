@@ -62,6 +62,17 @@ class Sensitivity:
             r = self.jacobian * self.parameter_values[None, :] / self.values[:, None]
         return np.where(np.isfinite(r), r, np.nan)
 
+    def to_dict(self) -> dict:
+        """Plain data (lists, numbers): outputs with units and values, parameters with
+        values, the Jacobian by rows (outputs), and the stats."""
+        return {"scene_name": self.scene_name, "outputs": list(self.outputs),
+                "units": list(self.units), "values": self.values.tolist(),
+                "parameters": list(self.parameters),
+                "parameter_values": self.parameter_values.tolist(),
+                "jacobian": self.jacobian.tolist(),
+                "stats": {k: (list(v) if isinstance(v, (list, tuple)) else v)
+                          for k, v in self.stats.items()}}
+
     def summary(self) -> str:
         """A table: each output with its value and its derivative in each parameter."""
         rows = [f"sensitivities of scene {self.scene_name!r} at its static state"]

@@ -66,8 +66,7 @@ def _raw(scene) -> tuple[dict, str | None]:
         return copy.deepcopy(scene), None
     if isinstance(scene, (str, os.PathLike)):
         path = os.fspath(scene)
-        if not os.path.exists(path):
-            load_scene(path)  # a built-in scene's name, or the loader's one-line error
+        if not os.path.exists(path):  # a built-in scene's name, or the loader's error
             return load_scene(path).to_dict(), None
         data, _ = _read_file(path)
         return dict(data), os.path.dirname(os.path.abspath(path))

@@ -44,7 +44,8 @@ from ..scene.load import _read_file
 from .cable3d_static import calm
 from .scene3d import scene_equilibrium, scene_mechanism
 
-__all__ = ["sensitivity", "static_values", "DEFAULT_STEP"]
+__all__ = ["sensitivity", "design_sensitivity", "static_values", "breaking_loads",
+           "DEFAULT_STEP"]
 
 #: the relative step of the central difference through the scene's arithmetic (module
 #: docstring)
@@ -53,8 +54,16 @@ DEFAULT_STEP = 1e-6
 #: residual and a perturbed scene's own at the same state and parameters: above it the
 #: number is compiled into the equations, not (only) a parameter
 COMPILED_IN = 1e-9
-#: derived outputs: name suffix -> the end force whose magnitude it is
-_TENSIONS = {"fairlead_tension": "end_force_b", "anchor_tension": "end_force_a"}
+#: a derived magnitude below this share of the scene's force scale is taken as zero, where
+#: it has no derivative
+NO_MAGNITUDE = 1e-6
+#: derived outputs: name suffix -> (the end force they read, how: its magnitude, its
+#: magnitude over the end's breaking load, its vertical entry)
+_DERIVED = {"fairlead_tension": ("end_force_b", "norm"), "anchor_tension": ("end_force_a", "norm"),
+            "fairlead_utilisation": ("end_force_b", "ratio"),
+            "anchor_utilisation": ("end_force_a", "ratio"),
+            "anchor_uplift": ("end_force_a", "up"), "grounded_length": ("end_force_b", "ground"),
+            "horizontal_force": ("force", "horizontal")}
 
 
 def _raw(scene) -> tuple[dict, str | None]:
@@ -128,18 +137,52 @@ def _set(raw: dict, parts: list, value: float) -> dict:
 
 
 def _mechanism(raw: dict, base):
-    return scene_mechanism(calm(load_scene(raw, base=base)))
+    scene = load_scene(raw, base=base)
+    return scene, scene_mechanism(calm(scene))
 
 
-def _parameter_slope(raw, base, mech, x0, name, parts, value, step) -> tuple[np.ndarray, float]:
+def breaking_loads(scene: Scene) -> np.ndarray:
+    """The scene numbers the derived outputs read besides the state: each line's breaking
+    load at end A and end B (its end sections' line types', N; NaN where none is given),
+    then each line's sections' (length m, submerged weight N/m), end A first."""
+    lines = [ln.sections for ln in scene.lines] or [scene.sections]
+    out = []
+    for sections in lines:
+        for sec in (sections[0], sections[-1]):
+            mbl = sec.line_type.breaking_load
+            out.append(math.nan if mbl is None else float(mbl))
+    for sections in lines:
+        for sec in sections:
+            out += [float(sec.length), float(sec.line_type.weight)]
+    return np.array(out)
+
+
+def grounded_length(lift: float, sections) -> float:
+    """The length of line the seabed carries, m, from the vertical force ``lift`` (N) the
+    line's end B needs: the sections from end B down hang until their weight is ``lift``,
+    the rest lies. Negative: the anchor is lifted, by that length of the end-A section's
+    weight. ``sections``: [(length m, weight N/m)] from end A; exact by vertical balance for a
+    line whose suspended part no seabed or drag force holds up; smooth through the anchor's
+    lift-off."""
+    rest, hung = lift, 0.0
+    for length, w in reversed(sections):
+        if rest <= w * length:
+            return sum(s[0] for s in sections) - hung - rest / w
+        rest -= w * length
+        hung += length
+    return sum(s[0] for s in sections) - hung - rest / sections[0][1]
+
+
+def _parameter_slope(raw_at, base, mech, x0, name, value, step):
     """dp/dtheta (n_p,) by a central difference of the Mechanism's numbers (one-sided where
-    the scene refuses one side: an anchor on the seabed moved down), and the signed step;
-    refusing a number that changes the structure or is compiled into the equations."""
+    the scene refuses one side: an anchor on the seabed moved down), the breaking loads'
+    slope alike (:func:`breaking_loads`), and the signed step; refusing a number that
+    changes the structure or is compiled into the equations."""
     h = step * max(abs(value), 1.0)
     ps, why = {}, None
     for sign in (1.0, -1.0):
         try:
-            m = _mechanism(_set(raw, parts, value + sign * h), base)
+            scene, m = _mechanism(raw_at(value + sign * h), base)
         except SymcableError as exc:
             why = why or str(exc)
             continue
@@ -154,14 +197,16 @@ def _parameter_slope(raw, base, mech, x0, name, parts, value, step) -> tuple[np.
             raise SymcableError(f"parameter {name!r}: it is compiled into the equations, not "
                                 "passed as a parameter (as the depth, the water's density, a "
                                 "body's numbers), so it has no exact derivative yet")
-        ps[sign] = p
+        ps[sign] = np.concatenate([p, breaking_loads(scene)])
     if len(ps) == 2:
         return (ps[1.0] - ps[-1.0]) / (2.0 * h), h
     if not ps:
         raise SymcableError(f"parameter {name!r}: the scene refuses it changed by {h:.3g} "
                             f"either way ({why})")
     sign = next(iter(ps))
-    return (ps[sign] - np.asarray(mech.static_p, float)) / (sign * h), sign * h
+    base_p = np.concatenate([np.asarray(mech.static_p, float),
+                             breaking_loads(load_scene(raw_at(value), base=base))])
+    return (ps[sign] - base_p) / (sign * h), sign * h
 
 
 def _outputs(mech, names) -> list:
@@ -176,19 +221,19 @@ def _outputs(mech, names) -> list:
         whole, entry = (m.group(1), int(m.group(2))) if m and m.group(1) in mech.outputs \
             else (name, None)
         head, _, tail = whole.rpartition(".")
-        tension = f"{head}.{_TENSIONS[tail]}" if head and tail in _TENSIONS else \
-            _TENSIONS.get(tail) if not head else None
+        source, how = _DERIVED.get(tail if head or "." not in whole else "", (None, None))
+        force = None if source is None else f"{head}.{source}" if head else source
         if whole in mech.outputs:
             size = int(mech.outputs[whole].expr.numel())
             if entry is not None and entry >= size:
                 raise SymcableError(f"output {name!r}: {whole!r} has {size} entries")
             out.append((name, whole, None, entry))
-        elif entry is None and tension is not None and tension in mech.outputs:
-            out.append((name, tension, "norm", None))
+        elif entry is None and force is not None and force in mech.outputs:
+            out.append((name, force, how, None))
         else:
             known = sorted(set(mech.outputs) | {
                 (f"{n.rpartition('.')[0]}." if "." in n else "") + k
-                for n in mech.outputs for k, v in _TENSIONS.items() if n.endswith(v)})
+                for n in mech.outputs for k, (v, _) in _DERIVED.items() if n.endswith(v)})
             raise SymcableError(f"output {name!r}: unknown; the static state's outputs: "
                                 f"{', '.join(known)} (an entry of a vector one as NAME[i])")
     if not out:
@@ -196,8 +241,10 @@ def _outputs(mech, names) -> list:
     return out
 
 
-def _entries(mech, F, outs, y, dy=None):
-    """Each requested output's entries: (names, units, values, rows of dy or None)."""
+def _entries(mech, F, outs, y, dy=None, mbl=None, dmbl=None, lines=()):
+    """Each requested output's entries: (names, units, values, rows of dy or None);
+    ``mbl``, ``dmbl``: :func:`breaking_loads` and its slopes (n, n_par) for the derived
+    outputs, ``lines`` [(line name, number of sections)] in their order."""
     sl = F.output_slices()
     names, units, values, rows = [], [], [], []
     for name, source, derived, entry in outs:
@@ -207,11 +254,40 @@ def _entries(mech, F, outs, y, dy=None):
             block = block[entry:entry + 1]
             dblock = None if dblock is None else dblock[entry:entry + 1]
         unit = str(mech.outputs[source].unit)
-        if derived == "norm":
+        if derived == "up":
+            names.append(name), units.append(unit), values.append(float(block[2]))
+            if dy is not None:
+                rows.append(dblock[2])
+            continue
+        if derived == "ground":
+            value, row = _grounded(name, source, lines, -float(block[2]), mbl,
+                                   None if dy is None else -dblock[2], dmbl)
+            names.append(name), units.append("m"), values.append(value)
+            if dy is not None:
+                rows.append(row)
+            continue
+        if derived == "horizontal":
+            block, dblock = block[:2], None if dblock is None else dblock[:2]
+        if derived in ("norm", "ratio", "horizontal"):
             mag = float(np.linalg.norm(block))
+            if dy is not None and not mag > NO_MAGNITUDE * float(mech.scales.force):
+                raise SymcableError(f"output {name!r} = {mag:.3g} N: a magnitude at zero "
+                                    "has no derivative (a direction's entry, NAME[i], has)")
+            row = None if dy is None else block @ dblock / mag
+            if derived == "ratio":
+                line = source.rpartition(".")[0]
+                k = 2 * ([n for n, _ in lines].index(line) if line else 0) \
+                    + source.endswith("_b")
+                if not math.isfinite(mbl[k]):
+                    raise SymcableError(f"output {name!r}: the line's end section has no "
+                                        "breaking load (give its line type breaking_load, "
+                                        "or a family)")
+                unit, value = "", mag / mbl[k]
+                row = None if row is None else row / mbl[k] - value / mbl[k] * dmbl[k]
+                mag = value
             names.append(name), units.append(unit), values.append(mag)
             if dy is not None:
-                rows.append(block @ dblock / mag if mag > 0 else np.full(dy.shape[1], math.nan))
+                rows.append(row)
             continue
         for i in range(block.size):
             names.append(name if block.size == 1 or entry is not None else f"{name}[{i}]")
@@ -220,6 +296,39 @@ def _entries(mech, F, outs, y, dy=None):
             if dy is not None:
                 rows.append(dblock[i])
     return names, units, values, rows
+
+
+def _grounded(name, source, lines, lift, aux, dlift, daux):
+    """``LINE.grounded_length`` and its row (None without ``dlift``): ``lines`` [(name,
+    number of sections)], ``aux`` and ``daux`` :func:`breaking_loads` and its slopes."""
+    line = source.rpartition(".")[0]
+    names = [n for n, _ in lines]
+    k = names.index(line) if line else 0
+    a = 2 * len(lines) + 2 * sum(c for _, c in lines[:k])
+    b = a + 2 * lines[k][1]
+    own = np.asarray(aux[a:b], float)
+    if np.any(own[1::2] <= 0):
+        raise SymcableError(f"output {name!r}: needs every section of the line to sink "
+                            "(weight > 0): a buoyant section's touchdown is not the seabed's")
+    value = grounded_length(lift, own.reshape(-1, 2))
+    if dlift is None:
+        return value, None
+    eps = 1e-7 * max(abs(lift), 1.0)
+    row = dlift * (grounded_length(lift + eps, own.reshape(-1, 2))
+                   - grounded_length(lift - eps, own.reshape(-1, 2))) / (2 * eps)
+    for i in range(own.size):  # the arithmetic's own slopes: piecewise rational, smooth
+        h = 1e-7 * max(abs(own[i]), 1.0)
+        up, dn = own.copy(), own.copy()
+        up[i] += h
+        dn[i] -= h
+        row = row + daux[a + i] * (grounded_length(lift, up.reshape(-1, 2))
+                                   - grounded_length(lift, dn.reshape(-1, 2))) / (2 * h)
+    return value, row
+
+
+def _lines(scene) -> list:
+    """[(line name, number of sections)]; a one-line scene's line is named ""."""
+    return [(ln.name, len(ln.sections)) for ln in scene.lines] or [("", len(scene.sections))]
 
 
 def _check_state(scene, mech, F, y) -> None:
@@ -237,16 +346,18 @@ def _check_state(scene, mech, F, y) -> None:
     _check_floating(scene, NS(points=pts, bodies=bodies, status="converged", warnings=()))
 
 
-def static_values(scene, outputs) -> dict:
+def static_values(scene, outputs, *, tol: float | None = None) -> dict:
     """{output entry: value} at ``scene``'s static state, by the names :func:`sensitivity`
-    takes (one static solve, no derivatives)."""
+    takes (one static solve, no derivatives); ``tol``: the solve's residual tolerance, N
+    (default the static solve's, 1e-9 of the scene's force scale)."""
     raw, base = _raw(scene)
     s0 = load_scene(raw, base=base)
-    mech, eq = scene_equilibrium(calm(s0))
+    mech, eq = scene_equilibrium(calm(s0), **({} if tol is None else {"tol": tol}))
     F = functions(mech)
     y = np.asarray(F.outputs(eq.q, np.zeros(mech.n_v), eq.z, 0.0, eq.p), float).ravel()
     _check_state(s0, mech, F, y)
-    names, _, values, _ = _entries(mech, F, _outputs(mech, outputs), y)
+    names, _, values, _ = _entries(mech, F, _outputs(mech, outputs), y, None,
+                                   breaking_loads(s0), None, _lines(s0))
     return dict(zip(names, values))
 
 
@@ -264,7 +375,15 @@ def sensitivity(scene, outputs, parameters, *, step: float = DEFAULT_STEP) -> Se
     outputs : str or list of str
         Names of the static state's outputs (``"line0.end_force_b"``, ``"spar.force"``,
         ``"positions"``), or ``"LINE.fairlead_tension"`` / ``"LINE.anchor_tension"`` (one
-        line: ``"fairlead_tension"``), the magnitudes of end B's and end A's forces.
+        line: ``"fairlead_tension"``), the magnitudes of end B's and end A's forces, N;
+        ``"LINE.fairlead_utilisation"`` / ``"LINE.anchor_utilisation"``, those over the end
+        section's breaking load (its line type's ``breaking_load`` or family's: the
+        breaking load's own slope included); ``"LINE.anchor_uplift"``, the vertical pull of
+        the line on its end A, N (> 0 lifts the anchor); ``"LINE.grounded_length"``, the
+        length of line the seabed carries from the vertical balance of the line (m;
+        negative: the anchor lifted by that length's weight; smooth through the lift-off);
+        ``"NAME.horizontal_force"``, the horizontal magnitude of a point's or body's
+        ``force`` (the lines' restoring force on a body at an offset), N.
     parameters : str or list of str
         Dotted paths of numbers in the scene file's layout: ``"line_types.chain.diameter"``,
         ``"lines[0].sections[0].length"``, ``"points.anchor0.position"`` (a list: each
@@ -277,26 +396,52 @@ def sensitivity(scene, outputs, parameters, *, step: float = DEFAULT_STEP) -> Se
     Sensitivity
         The outputs' values and the Jacobian (n_out, n_par).
     """
-    started = time.perf_counter()
     if not (isinstance(step, float) and 0.0 < step < 1e-2):
         raise SymcableError(f"step = {step!r}: must be a float in (0, 0.01)")
     raw, base = _raw(scene)
+    pars = _expand(raw, parameters)
+    return design_sensitivity(raw, base, outputs, [n for n, _, _ in pars],
+                              [v for _, _, v in pars],
+                              [lambda v, parts=parts: _set(raw, parts, v) for _, parts, _ in pars],
+                              step)
+
+
+def design_sensitivity(raw: dict, base, outputs, names, values, raw_at, step=DEFAULT_STEP,
+                       reuse=None, raw_of=None):
+    """:func:`sensitivity` with each parameter j given by its name, its value and
+    ``raw_at[j](v)``: the scene's dict with that parameter at v (the others as in ``raw``),
+    so that a parameter may move several numbers of the scene (an anchor's radius both its
+    coordinates).
+
+    ``reuse``: the parameters' slopes through the scene's arithmetic from another scene
+    (``stats["slopes"]`` of its result: another load case of the same design), taken when
+    they predict this scene's own numbers moved along one pseudo-random direction of the
+    parameters (``raw_of(values)``: the scene's dict at those values) to within 1e-6 of the
+    move (two builds instead of two per parameter); else the slopes are taken afresh."""
+    started = time.perf_counter()
     s0 = load_scene(raw, base=base)
     if s0.dim != 3:
         raise SymcableError(f"scene {s0.name!r}: sensitivities are of 3D scenes (model = "
                             "'cable3d', 'rod' or 'hybrid') for now")
-    pars = _expand(raw, parameters)
     mech, eq = scene_equilibrium(calm(s0))
     outs = _outputs(mech, outputs)
     F = functions(mech)
     x0 = np.concatenate([np.asarray(eq.q, float), np.asarray(eq.z, float)])
     p0 = np.asarray(eq.p, float)
-    slopes, steps = [], []
-    for name, parts, value in pars:
-        dp, h = _parameter_slope(raw, base, mech, x0, name, parts, value, step)
-        slopes.append(dp)
-        steps.append(h)
-    dP = np.column_stack(slopes)  # (n_p, n_par)
+    reused = reuse is not None and raw_of is not None and _slopes_hold(
+        reuse, raw_of, base, mech, np.asarray(values, float), step)
+    if reused:
+        dP, steps = np.asarray(reuse, float), [step * max(abs(float(v)), 1.0) for v in values]
+    else:
+        slopes, steps = [], []
+        for name, value, at in zip(names, values, raw_at):
+            dp, h = _parameter_slope(at, base, mech, x0, name, float(value), step)
+            slopes.append(dp)
+            steps.append(h)
+        dP = np.column_stack(slopes)  # (n_p + the breaking loads, n_par)
+    slopes_all = dP
+    n_p = np.asarray(mech.static_p).size
+    dP, dmbl = dP[:n_p], dP[n_p:]
     J = F.static_jacobian(x0, p0)[1]
     Rp = np.column_stack([np.asarray(F.static_parameter_slope(x0, p0, dP[:, j]), float).ravel()
                           for j in range(dP.shape[1])])
@@ -315,12 +460,39 @@ def sensitivity(scene, outputs, parameters, *, step: float = DEFAULT_STEP) -> Se
     dy = y_q @ dx[:mech.n_q] + y_z @ dx[mech.n_q:] + y_p @ dP
     y = np.asarray(F.outputs(q, v0, z, 0.0, p0), float).ravel()
     _check_state(s0, mech, F, y)
-    names, units, values, rows = _entries(mech, F, outs, y, dy)
-    return Sensitivity(s0.name, tuple(names), tuple(units), tuple(n for n, _, _ in pars),
-                       np.array(values), np.array([v for _, _, v in pars]), np.array(rows),
-                       {"parameter_steps": steps,
+    onames, units, ovalues, rows = _entries(mech, F, outs, y, dy, breaking_loads(s0), dmbl,
+                                            _lines(s0))
+    return Sensitivity(s0.name, tuple(onames), tuple(units), tuple(names),
+                       np.array(ovalues), np.array(values, float), np.array(rows),
+                       {"parameter_steps": steps, "slopes": slopes_all, "slopes_reused": reused,
                         "residual_norm": float(eq.stats.get("residual_norm", math.nan)),
                         "wall_time": time.perf_counter() - started})
+
+
+def _slopes_hold(dP, raw_of, base, mech, values, step) -> bool:
+    """Whether the slopes ``dP`` (n_p + aux, n_par) predict this scene's numbers moved along
+    a fixed pseudo-random direction of its parameters (:func:`design_sensitivity`)."""
+    h = step * np.maximum(np.abs(values), 1.0)
+    w = h * np.random.default_rng(37).uniform(0.5, 1.5, values.size) \
+        * np.where(np.arange(values.size) % 2, 1.0, -1.0)
+    ps = []
+    for sign in (1.0, -1.0):
+        try:
+            scene, m = _mechanism(raw_of(values + sign * w), base)
+        except SymcableError:
+            return False
+        if m.params.names != mech.params.names or m.params.sizes != mech.params.sizes \
+                or dP.shape[0] != np.asarray(m.static_p).size + breaking_loads(scene).size:
+            return False
+        ps.append(np.concatenate([np.asarray(m.static_p, float), breaking_loads(scene)]))
+    move, predicted = ps[0] - ps[1], np.asarray(dP) @ (2.0 * w)
+    ok = np.isfinite(move) == np.isfinite(predicted)
+    if not np.all(ok):
+        return False
+    fin = np.isfinite(move)
+    scale = float(np.max(np.abs(move[fin]), initial=0.0))
+    return bool(np.max(np.abs(move[fin] - predicted[fin]), initial=0.0) <= 1e-6 * scale
+                + 1e-12 * float(np.max(np.abs(ps[0][fin]), initial=0.0)))
 
 
 def _sparse(J) -> "csc_matrix":

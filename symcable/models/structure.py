@@ -17,9 +17,10 @@ The structure is the scene with those numbers replaced by their sign (zero or no
 which terms a line builds) plus the choices the builder makes from numbers (which held end
 rests on the seabed): :func:`structure_key`. What the parameters do not carry stays in the
 key as it is (depth, water density, seabed stiffness and friction, motions, free points'
-masses), so a scene that changes one of those builds afresh. Scenes with bending (EI > 0),
-drag loading functions or bodies are not shared (their builders still read such numbers
-directly): :func:`structure_key` returns None.
+masses, fixed and vessel bodies), so a scene that changes one of those builds afresh. Scenes
+with bending (EI > 0), drag loading functions or free bodies are not shared (their builders
+still read such numbers directly: a free body's scale is its longest line's length):
+:func:`structure_key` returns None.
 """
 from __future__ import annotations
 
@@ -41,6 +42,10 @@ __all__ = ["TEMPLATES", "rebind", "shared_build", "structure_key"]
 #: line-type keys whose values enter through the ``line`` parameter block
 LINE_TYPE_NUMBERS = ("EA", "mass", "weight", "diameter", "cd_normal", "cd_tangential",
                      "ca_normal", "ca_tangential", "damping")
+#: a family's numbers (:mod:`symcable.scene.line_types`): every value they set scales with
+#: the nominal diameter squared (its sign is the diameter's), the breaking load is in no
+#: equation
+FAMILY_NUMBERS = ("nominal_diameter", "breaking_load")
 #: most recent templates kept (each holds its expressions and Functions: tens of MB for
 #: long lines)
 TEMPLATES_KEPT = 8
@@ -62,8 +67,8 @@ def _mask_sections(sections: list) -> None:
 
 def structure_key(scene: Scene) -> str | None:
     """The structure of a cable3d scene (module docstring) as a hex digest, or None when
-    its Mechanism is not shared (not cable3d, bending, loading functions, bodies)."""
-    if scene.model is not ModelKind.CABLE3D or scene.bodies:
+    its Mechanism is not shared (not cable3d, bending, loading functions, free bodies)."""
+    if scene.model is not ModelKind.CABLE3D or any(b.is_free for b in scene.bodies.values()):
         return None
     d = scene.to_dict()
     d.pop("name", None)
@@ -71,7 +76,7 @@ def structure_key(scene: Scene) -> str | None:
         if float(lt.get("EI", 0.0) or 0.0) > 0.0 or lt.get("drag_law", "morison") != "morison" \
                 or "loading" in lt:
             return None
-        for k in LINE_TYPE_NUMBERS:
+        for k in LINE_TYPE_NUMBERS + FAMILY_NUMBERS:
             if lt.get(k) is not None:
                 lt[k] = _sign(lt[k])
     for end in ("end_a", "end_b"):

@@ -33,7 +33,9 @@ class Sensitivity:
     stats : dict
         ``parameter_steps`` (the steps of the parameters' central differences through the
         model's numbers, :func:`symcable.sensitivity`), ``residual_norm`` (N) of the state,
-        ``wall_time`` (s).
+        ``wall_time`` (s), ``slopes`` (the model's numbers' slopes, (n_p + n_aux, n_par),
+        for another load case of the design) and ``slopes_reused`` (whether they were taken
+        from one).
     """
 
     scene_name: str
@@ -64,14 +66,15 @@ class Sensitivity:
 
     def to_dict(self) -> dict:
         """Plain data (lists, numbers): outputs with units and values, parameters with
-        values, the Jacobian by rows (outputs), and the stats."""
+        values, the Jacobian by rows (outputs), and the stats (but ``slopes``, the model's
+        internal numbers)."""
         return {"scene_name": self.scene_name, "outputs": list(self.outputs),
                 "units": list(self.units), "values": self.values.tolist(),
                 "parameters": list(self.parameters),
                 "parameter_values": self.parameter_values.tolist(),
                 "jacobian": self.jacobian.tolist(),
                 "stats": {k: (list(v) if isinstance(v, (list, tuple)) else v)
-                          for k, v in self.stats.items()}}
+                          for k, v in self.stats.items() if k != "slopes"}}
 
     def summary(self) -> str:
         """A table: each output with its value and its derivative in each parameter."""

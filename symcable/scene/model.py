@@ -16,6 +16,7 @@ from types import MappingProxyType
 from typing import TYPE_CHECKING, Any, Mapping
 
 from .bodies import Body, BodyEnd, body_dict
+from .line_types import Family, line_type_dict
 from .points import Line, Point, PointKind
 from .waves import Waves
 
@@ -26,17 +27,6 @@ __all__ = [
     "EndCondition", "Model", "LineType", "Section", "Motion", "End", "Environment", "Seabed",
     "Scene", "scene_to_dict", "Point", "PointKind", "Line", "Body", "BodyEnd",
 ]
-
-#: keys of a line type (``[line_types.NAME]``) in the file, in the order they are written
-_LINE_KEYS = ("EA", "EI", "mass", "diameter", "weight", "cd_normal", "cd_tangential", "ca_normal",
-              "max_strain", "ca_tangential", "damping")
-#: the keys only cable3d reads (written only when set)
-_LINE_KEYS_3D = ("ca_tangential", "damping")
-#: the keys only the rod reads (written only when set): torsion; EI may be [EI_1, EI_2]
-_LINE_KEYS_ROD = ("GJ", "tension_twist")
-#: the drag law's keys (cable3d; written only for a law other than Morison's)
-_LINE_KEYS_DRAG = ("drag_law", "loading")
-
 
 class EndCondition(str, enum.Enum):
     """How an end of the line is held."""
@@ -112,6 +102,11 @@ class LineType:
         ``model = "rod"`` only: the tension-torsion coupling K of a helically armoured
         cable, N m (default 0): energy K e tau per metre, so T = EA e + K tau and
         M_t = GJ tau + K e (K^2 < EA GJ).
+    breaking_load : float or None
+        Minimum breaking load, N (a family's, or the table's ``breaking_load``); None: not
+        given.
+    family : Family or None
+        The catalogue family the table named (:mod:`symcable.scene.line_types`), if any.
     """
 
     name: str
@@ -131,6 +126,8 @@ class LineType:
     EI_2: float | None = None
     GJ: float = 0.0
     tension_twist: float = 0.0
+    breaking_load: float | None = None
+    family: Family | None = None
 
 
 @dataclass(frozen=True)
@@ -509,19 +506,7 @@ def scene_to_dict(scene: Scene) -> dict:
     types = dict(scene.line_types)
     for s in scene.sections + tuple(x for ln in scene.lines for x in ln.sections):
         types.setdefault(s.line_type.name, s.line_type)  # a hand-built Scene may miss some
-    out["line_types"] = {name: {k: getattr(lt, k) for k in _LINE_KEYS
-                                if k not in _LINE_KEYS_3D or getattr(lt, k) != 0.0}
-                         for name, lt in types.items()}
-    for name, lt in types.items():
-        if lt.EI_2 is not None:
-            out["line_types"][name]["EI"] = [lt.EI, lt.EI_2]
-        if lt.GJ != 0.0:
-            out["line_types"][name]["GJ"] = lt.GJ
-        if lt.tension_twist != 0.0:
-            out["line_types"][name]["tension_twist"] = lt.tension_twist
-        if lt.drag_law != "morison":
-            out["line_types"][name]["drag_law"] = lt.drag_law
-            out["line_types"][name]["loading"] = lt.loading.to_dict()
+    out["line_types"] = {name: line_type_dict(lt) for name, lt in types.items()}
     if scene.lines:
         out["points"] = {name: _point_dict(pt) for name, pt in scene.points.items()}
         if scene.bodies:

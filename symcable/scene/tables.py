@@ -18,8 +18,8 @@ from .checks import (MAX_NAME, _check_text, _choice, _err, _fmt, _for, _get, _in
 from .drag import read_drag_law
 from .tow import TOW_KEYS, read_tow
 from .wave_table import read_waves
-from .model import (_LINE_KEYS, _LINE_KEYS_DRAG, _LINE_KEYS_ROD, End, EndCondition,
-                    Environment, LineType, Motion, Seabed, Section)
+from .line_types import FAMILY_KEYS, LINE_KEYS, LINE_KEYS_DRAG, LINE_KEYS_ROD, family_table
+from .model import End, EndCondition, Environment, LineType, Motion, Seabed, Section
 
 _ENV_KEYS = ("gravity", "water_density", "depth", "current", "current_profile", "waves")
 _SEABED_KEYS = ("stiffness", "friction", "damping", "friction_axial", "friction_lateral",
@@ -139,7 +139,8 @@ def _check_friction_options(seabed: Seabed | None, model: str, several: bool,
 
 
 def _line_type(path: str, name: str, raw: Any, env: Environment, dim: int) -> LineType:
-    t = _table(path, raw, _LINE_KEYS + _LINE_KEYS_DRAG + _LINE_KEYS_ROD)
+    t, family = family_table(path, _table(path, raw, LINE_KEYS + LINE_KEYS_DRAG + LINE_KEYS_ROD
+                                          + FAMILY_KEYS), dim, _number, _err)
     num = _num_reader(path, t)
     mass = num("mass", "kg/m", gt=0)
     diameter = num("diameter", "m", gt=0)
@@ -158,6 +159,8 @@ def _line_type(path: str, name: str, raw: Any, env: Environment, dim: int) -> Li
         damping=_only_3d(path, "damping", num("damping", "N s", _LT.damping), dim),
         drag_law=law, loading=loading, EI_2=ei_2, GJ=num("GJ", "N m^2", 0.0, ge=0),
         tension_twist=_coupling(path, t, num),
+        breaking_load=None if _get(t, "breaking_load") is None
+        else num("breaking_load", "N", gt=0), family=family,
     )
 
 

@@ -54,6 +54,8 @@ DEFAULT_STEP = 1e-6
 #: residual and a perturbed scene's own at the same state and parameters: above it the
 #: number is compiled into the equations, not (only) a parameter
 COMPILED_IN = 1e-9
+#: the relative step of the scene numbers' own slopes (:func:`_aux_slope`)
+AUX_STEP = 1e-3
 #: a derived magnitude below this share of the scene's force scale is taken as zero, where
 #: it has no derivative
 NO_MAGNITUDE = 1e-6
@@ -157,20 +159,32 @@ def breaking_loads(scene: Scene) -> np.ndarray:
     return np.array(out)
 
 
-def grounded_length(lift: float, sections) -> float:
+def grounded_length(lift: float, sections, slopes: bool = False):
     """The length of line the seabed carries, m, from the vertical force ``lift`` (N) the
     line's end B needs: the sections from end B down hang until their weight is ``lift``,
     the rest lies. Negative: the anchor is lifted, by that length of the end-A section's
     weight. ``sections``: [(length m, weight N/m)] from end A; exact by vertical balance for a
     line whose suspended part no seabed or drag force holds up; smooth through the anchor's
-    lift-off."""
-    rest, hung = lift, 0.0
-    for length, w in reversed(sections):
-        if rest <= w * length:
-            return sum(s[0] for s in sections) - hung - rest / w
-        rest -= w * length
-        hung += length
-    return sum(s[0] for s in sections) - hung - rest / sections[0][1]
+    lift-off. With ``slopes``: (value, d/d lift, d/d sections (n, 2)), in closed form."""
+    secs = np.asarray(sections, float).reshape(-1, 2)
+    n = len(secs)
+    rest, k = float(lift), 0
+    for i in range(n - 1, -1, -1):  # from end B down: the section where the hanging ends
+        if rest <= secs[i, 1] * secs[i, 0] or i == 0:
+            k = i
+            break
+        rest -= secs[i, 1] * secs[i, 0]
+    w = secs[k, 1]
+    value = float(np.sum(secs[:k + 1, 0]) - rest / w)
+    if not slopes:
+        return value
+    d = np.zeros((n, 2))
+    d[:k, 0] = 1.0                                   # the lying sections' lengths
+    d[k, 0] = 1.0                                    # the crossing section's
+    d[k, 1] = rest / (w * w)
+    d[k + 1:, 0] = secs[k + 1:, 1] / w               # a hanging section's: its weight
+    d[k + 1:, 1] = secs[k + 1:, 0] / w
+    return value, -1.0 / w, d
 
 
 def _parameter_slope(raw_at, base, mech, x0, name, value, step):
@@ -199,7 +213,12 @@ def _parameter_slope(raw_at, base, mech, x0, name, value, step):
                                 "body's numbers), so it has no exact derivative yet")
         ps[sign] = np.concatenate([p, breaking_loads(scene)])
     if len(ps) == 2:
-        return (ps[1.0] - ps[-1.0]) / (2.0 * h), h
+        slope = (ps[1.0] - ps[-1.0]) / (2.0 * h)
+        n_p = np.asarray(mech.static_p).size
+        aux = _aux_slope(raw_at, base, value)
+        if aux is not None:
+            slope[n_p:] = aux
+        return slope, h
     if not ps:
         raise SymcableError(f"parameter {name!r}: the scene refuses it changed by {h:.3g} "
                             f"either way ({why})")
@@ -207,6 +226,22 @@ def _parameter_slope(raw_at, base, mech, x0, name, value, step):
     base_p = np.concatenate([np.asarray(mech.static_p, float),
                              breaking_loads(load_scene(raw_at(value), base=base))])
     return (ps[sign] - base_p) / (sign * h), sign * h
+
+
+def _aux_slope(raw_at, base, value):
+    """The slope of :func:`breaking_loads` (a scene's own arithmetic, no model built) by
+    Richardson's extrapolation of central differences at relative steps AUX_STEP and twice
+    it (exact to round-off for its polynomials, where the model's step of 1e-6 leaves 1e-9
+    of round-off that a derived output's cancellation, the grounded length's weight
+    against its fairlead's pull, magnifies); None where the scene refuses a step."""
+    h = AUX_STEP * max(abs(value), 1e-3)
+    try:
+        f = {k: breaking_loads(load_scene(raw_at(value + k * h), base=base))
+             for k in (-2, -1, 1, 2)}
+    except SymcableError:
+        return None
+    d1, d2 = (f[1] - f[-1]) / (2 * h), (f[2] - f[-2]) / (4 * h)
+    return np.where(np.isfinite(d1), (4.0 * d1 - d2) / 3.0, np.nan)
 
 
 def _outputs(mech, names) -> list:
@@ -310,20 +345,10 @@ def _grounded(name, source, lines, lift, aux, dlift, daux):
     if np.any(own[1::2] <= 0):
         raise SymcableError(f"output {name!r}: needs every section of the line to sink "
                             "(weight > 0): a buoyant section's touchdown is not the seabed's")
-    value = grounded_length(lift, own.reshape(-1, 2))
+    value, d_lift, d_own = grounded_length(lift, own.reshape(-1, 2), slopes=True)
     if dlift is None:
         return value, None
-    eps = 1e-7 * max(abs(lift), 1.0)
-    row = dlift * (grounded_length(lift + eps, own.reshape(-1, 2))
-                   - grounded_length(lift - eps, own.reshape(-1, 2))) / (2 * eps)
-    for i in range(own.size):  # the arithmetic's own slopes: piecewise rational, smooth
-        h = 1e-7 * max(abs(own[i]), 1.0)
-        up, dn = own.copy(), own.copy()
-        up[i] += h
-        dn[i] -= h
-        row = row + daux[a + i] * (grounded_length(lift, up.reshape(-1, 2))
-                                   - grounded_length(lift, dn.reshape(-1, 2))) / (2 * h)
-    return value, row
+    return value, dlift * d_lift + d_own.ravel() @ daux[a:b]
 
 
 def _lines(scene) -> list:

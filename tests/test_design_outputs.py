@@ -147,3 +147,47 @@ def test_optimize_over_load_cases_with_a_callable_scene():
         d = mooring(BASE)
         d["line_types"]["chain0"] = {"mass": 150.0, "diameter": 0.18, "EA": 8e8}
         static_values(_apply(d, {}), ["line0.fairlead_utilisation"])
+
+
+def test_review_refusals_and_keys():
+    """Slopes that hold along the check's direction only in the units that dominate are not
+    taken (a case moving an anchor that a variable also moves); a fixed body's position,
+    compiled into its outputs, is refused by name; a grounded length needs its anchor at
+    end A; a load case's path names a table; an RAO vessel's structure is not shared (its
+    motion is compiled from the sea)."""
+    import sys
+    from pathlib import Path
+    sys.path.insert(0, str(Path(__file__).parent))
+    from test_vessel import _spar
+
+    from symcable.models.structure import structure_key
+
+    def sens_case(change, reuse=None):
+        def at(j, value):
+            v = dict(BASE)
+            v[NAMES[j]] = value
+            return _apply(mooring(v, (30.0, 0.0)), change)
+        return design_sensitivity(
+            _apply(mooring(BASE, (30.0, 0.0)), change), None, OUTS[:3], NAMES,
+            list(BASE.values()), [lambda value, j=j: at(j, value) for j in range(9)],
+            reuse=reuse, raw_of=lambda w: _apply(mooring(dict(zip(NAMES, w)), (30.0, 0.0)),
+                                                 change))
+    first = sens_case({})
+    moved = sens_case({"points.anchor0.position": [-600.0, 0.0, -200.0]},
+                      reuse=first.stats["slopes"])
+    assert not moved.stats["slopes_reused"]
+    with pytest.raises(SymcableError, match="compiled into the equations or the outputs"):
+        sc.sensitivity(mooring(BASE, (10.0, 0.0), segments=4), ["hull.moment"],
+                       ["bodies.hull.position[1]"])
+    d = mooring(BASE, segments=4)
+    ln = d["lines"][0]
+    ln["end_a"], ln["end_b"] = ln["end_b"], ln["end_a"]
+    with pytest.raises(SymcableError, match="end A must be its anchor"):
+        static_values(d, ["line0.grounded_length"])
+    with pytest.raises(SymcableError, match="load case path 'points.nowhere.force'"):
+        _apply(mooring(BASE), {"points.nowhere.force": [1.0, 0.0, 0.0]})
+    rao = {"kind": "rao", "omegas": [0.2, 1.0], "amplitude": [[1, 0, 1, 0, 1, 0]] * 2,
+           "phase_deg": [[0] * 6] * 2}
+    sea = {"kind": "regular", "height": 4.0, "period": 10.0}
+    assert structure_key(sc.load_scene(_spar(rao, sea, segments=4))) is None
+    assert structure_key(sc.load_scene(mooring(BASE))) is not None

@@ -99,7 +99,8 @@ def test_grades_given_keys_and_round_trip():
      r"grade = 'R9': must be one of 'R3'"),
     ({"nominal_diameter": 0.1, "mass": 1.0, "diameter": 0.1, "EA": 1e6},
      r"nominal_diameter = 0.1: is read with family"),
-    ({"family": "wire", "nominal_diameter": 0.5}, r"nominal_diameter = 0.5 m: must be <= 0.4"),
+    ({"family": "wire", "nominal_diameter": 0.3}, r"nominal_diameter = 0.3 m: must be <= 0.2 m "
+                                                  "for 'wire'"),
     ({"family": "wire", "nominal_diameter": -1.0}, r"nominal_diameter = -1(\.0)? m: must be > 0"),
     ({"mass": 1.0, "diameter": 0.1, "EA": 1e6, "breaking_load": 0.0},
      r"breaking_load = 0(\.0)? N: must be > 0"),

@@ -5,6 +5,7 @@
 from __future__ import annotations
 
 import dataclasses
+import itertools
 
 import math
 import time
@@ -17,7 +18,7 @@ from ..errors import ConvergenceError, SymcableError
 from ..models import build_mechanism
 from ..models.cable3d.line import force_scale
 from ..models.system import line_scene
-from ..mechanism.mechanism import Mechanism
+from ..mechanism.mechanism import Mechanism, Start
 from ..models.common.tow import held_motions, held_tows, moved_scene, tow_velocities
 from ..models.common.segments import grounded_length, segment_table
 from ..results.static import BodyState, PointState, StaticSolution, SystemStaticSolution
@@ -117,19 +118,32 @@ def calm(scene: Scene) -> Scene:
 
 
 def static_equilibrium(scene: Scene, *, tol: float | None = None, max_iter: int = 50,
-                       continuation: bool = True, codegen: bool | None = None):
+                       continuation: bool = True, codegen: bool | None = None, start=None):
     """``(mechanism, Equilibrium)``: the scene's cable3d Mechanism at rest, solved by
     :func:`~symcable.solvers.equilibrium.solve_equilibrium` (its checks passed) to ``tol`` N
     (default RTOL times the force scale); where the dynamic analyses start. The state is in
-    a calm sea: the scene's waves, if any, are left out (:func:`calm`)."""
+    a calm sea: the scene's waves, if any, are left out (:func:`calm`). ``start``: (q, z) of
+    a nearby scene of the same structure (a design's last iterate), tried first, before the
+    Mechanism's own starts."""
     scene = calm(scene)
     mech = cable3d_mechanism(scene)
     if tol is None:
         F = mech.scales.force if scene.version == 2 else force_scale(scene, segment_table(scene))
         tol = mech.scales.static_tolerance(F, RTOL)
-    eq = solve_equilibrium(mech, tol=tol, max_iter=max_iter,
+    starts = None
+    if start is not None and np.size(start[0]) == mech.n_q and np.size(start[1]) == mech.n_z:
+        first = Start(np.asarray(start[0], float), np.asarray(start[1], float),
+                      np.asarray(mech.static_p, float), source="a nearby design's state")
+        starts = itertools.chain([first], _later(mech.starts))
+    eq = solve_equilibrium(mech, tol=tol, max_iter=max_iter, starts=starts,
                            continuation=None if continuation else False, codegen=codegen)
     return mech, eq
+
+
+def _later(make_starts):
+    """The starts ``make_starts()`` builds, built only when the solver asks past the ones
+    before them (a relaxed network's start costs a solve of its own)."""
+    yield from make_starts()
 
 
 def run_start_state(scene: Scene, t0: float, start: str | None = None, *,

@@ -37,8 +37,11 @@ FEASIBLE = 1e-6
 #: below this
 KKT_TOL = 1e-3
 #: a scaled constraint (or variable, from its bound) this close counts as active (a unit:
-#: its change over the whole range of a variable)
-KKT_ACTIVE = 1e-3
+#: its largest change over the whole range of a variable, at the start)
+KKT_ACTIVE = 1e-5
+#: the gradient scaling's floor, over the function's magnitude (its bound's, its value's
+#: or 1): a gradient of round-off does not blow the function up
+SCALE_FLOOR = 1e-8
 #: SLSQP's restarts from its answer, at a thousandth of the tolerance, when it stopped on the
 #: objective's change just outside an active constraint's bound
 POLISH = 2
@@ -113,10 +116,19 @@ def _case_of(name: str, cases) -> tuple:
 
 
 def _apply(raw: dict, changes: dict) -> dict:
-    """``raw`` with a load case's {dotted path: value} set."""
+    """``raw`` with a load case's {dotted path: value} set (the last key may be new: a
+    point's ``force`` where it had none)."""
     for path, value in changes.items():
         parts = _split(str(path))
-        _get(raw, parts, path)
+        try:
+            parent = _get(raw, parts[:-1], path) if len(parts) > 1 else raw
+        except SymcableError:
+            raise SymcableError(f"load case path {path!r}: the scene has no "
+                                f"{'.'.join(map(str, parts[:-1]))!r}") from None
+        if not isinstance(parent, (dict, list)) or (isinstance(parent, list)
+                                                     and not (isinstance(parts[-1], int)
+                                                              and parts[-1] < len(parent))):
+            raise SymcableError(f"load case path {path!r}: names no key of a table")
         raw = _set(raw, parts, value)
     return raw
 
@@ -135,6 +147,9 @@ class _Problem:
         self.cache: dict = {}
         self.solves = 0
         self.history: list = []
+        #: each case's last static state (q, z): the next design's solves start from it
+        self.state: dict = {}
+        self.warm = True
 
     def values(self, x) -> np.ndarray:
         return self.lo + np.asarray(x, float) * (self.hi - self.lo)
@@ -169,12 +184,9 @@ class _Problem:
         v0, span = self.values(x), self.hi - self.lo
         dm = np.zeros(x.size)
         for j in range(x.size):
-            h = FD_STEP * 1e-2 * max(abs(v0[j]), 1e-3)
-            up, dn = v0.copy(), v0.copy()
-            up[j] += h
-            dn[j] -= h
+            up, dn, h = self._probe(v0, j, FD_STEP * 1e-2 * max(abs(v0[j]), 1e-3))
             dm[j] = (_mass(self.scene(up), self.base) - _mass(self.scene(dn), self.base)) \
-                / (2 * h) * span[j]
+                / h * span[j]
         vals, grads, slopes = {}, {}, None
         for case, names in self.outputs.items():
             if not names:
@@ -187,30 +199,47 @@ class _Problem:
                 s = design_sensitivity(self.scene(v0, case), self.base, names, self.names, v0,
                                        [lambda v, j=j: at(j, v) for j in range(x.size)],
                                        reuse=slopes,
-                                       raw_of=lambda w, case=case: self.scene(w, case))
-                slopes = s.stats["slopes"]
+                                       raw_of=lambda w, case=case: self.scene(w, case),
+                                       start=self.state.get(case))
+                slopes, self.state[case] = s.stats["slopes"], s.stats["state"]
                 self.solves += 1
                 for i, n in enumerate(s.outputs):
                     vals[(case, n)], grads[(case, n)] = s.values[i], s.jacobian[i] * span
                 continue
-            here = self._values(self.scene(v0, case), names)
+            here = self._values(self.scene(v0, case), names, self.state.get(case))
+            self.state[case] = here.pop("state")
             for n, value in here.items():
                 vals[(case, n)], grads[(case, n)] = value, np.zeros(x.size)
             for j in range(x.size):
-                h = FD_STEP * max(abs(v0[j]), 1.0)
-                up, dn = v0.copy(), v0.copy()
-                up[j] += h
-                dn[j] -= h
-                a = self._values(self.scene(up, case), names)
-                b = self._values(self.scene(dn, case), names)
+                up, dn, h = self._probe(v0, j, FD_STEP * max(abs(v0[j]), 1.0))
+                a = self._values(self.scene(up, case), names, self.state[case]) \
+                    if up[j] != v0[j] else here
+                b = self._values(self.scene(dn, case), names, self.state[case]) \
+                    if dn[j] != v0[j] else here
                 for n in here:
-                    grads[(case, n)][j] = (a[n] - b[n]) / (2 * h) * span[j]
+                    grads[(case, n)][j] = (a[n] - b[n]) / h * span[j]
         return vals, grads, _mass(self.scene(v0), self.base), dm
 
-    def _values(self, d, names) -> dict:
-        """The outputs of one static solve."""
+    def _probe(self, v0, j, h):
+        """(up, down, their distance) of a difference in variable j by h that stays within
+        the bounds: central inside, one-sided at a bound."""
+        up, dn = v0.copy(), v0.copy()
+        up[j] = min(v0[j] + h, self.hi[j])
+        dn[j] = max(v0[j] - h, self.lo[j])
+        if up[j] == dn[j]:
+            raise SymcableError(f"variables[{self.names[j]!r}]: its bounds are closer than "
+                                f"the difference step {h:.3g}")
+        return up, dn, up[j] - dn[j]
+
+    def _values(self, d, names, start=None) -> dict:
+        """The outputs of one static solve (from ``start``, (q, z) of a nearby design's
+        state, when given; its own state then as ``"state"``)."""
         self.solves += 1
-        return static_values(d, names)
+        if start is None and self.warm:
+            start = (np.zeros(0), np.zeros(0))  # no state yet: the Mechanism's own starts
+        out = static_values(d, names, start=start) if start is not None \
+            else static_values(d, names)
+        return out
 
     def rows(self):
         """Each constraint in each case it applies to: [(case, output, sign, bound)]."""
@@ -297,7 +326,7 @@ def optimize(scene, variables: dict, objective="mass", constraints=(), *, cases=
     x0 = (first - lo) / (hi - lo)
     res = _slsqp(prob, x0, tol, max_iter)
     for _ in range(POLISH):  # stopped on the objective a hair outside an active bound
-        if not 0.0 < _violation(prob, np.clip(res.x, 0.0, 1.0)) <= 1e-3:
+        if not FEASIBLE < _violation(prob, np.clip(res.x, 0.0, 1.0)) <= 1e-3:
             break
         again = _slsqp(prob, np.clip(res.x, 0.0, 1.0), tol * 1e-3, max_iter)
         again.nit += res.nit
@@ -305,6 +334,7 @@ def optimize(scene, variables: dict, objective="mass", constraints=(), *, cases=
     x = np.clip(res.x, 0.0, 1.0)
     final = dict(zip(names, prob.values(x).tolist()))
     check = _Problem(make, base, names, lo, hi, objective, cons, cases, "differences")
+    check.warm = False  # the answer's check solves from the Mechanism's own starts
     vals = {}
     for case, outs in check.outputs.items():
         if outs:
@@ -366,8 +396,9 @@ def _maker(scene, names, lo, hi):
 
 def _slsqp(prob: _Problem, x0, tol, max_iter):
     """SciPy's SLSQP on the scaled variables; the objective and each constraint divided by
-    the largest entry of its gradient at the start (gradient-based scaling, as IPOPT's
-    default), so that a force bounded near zero weighs as much as a utilisation."""
+    the largest entry of its gradient at the start (gradient-based scaling, here to a
+    largest entry of 1, floored at SCALE_FLOOR of the function's size), so that a force
+    bounded near zero weighs as much as a utilisation."""
     from scipy.optimize import minimize
     rows = prob.rows()
 
@@ -376,8 +407,9 @@ def _slsqp(prob: _Problem, x0, tol, max_iter):
         key = _case_of(prob.objective, prob.cases) if prob.objective != "mass" else None
         return (mass, dm) if key is None else (vals[key], grads[key])
 
-    _, grads0, _, _ = prob.evaluate(x0)
-    scale = np.array([np.max(np.abs(grads0[(c, n)])) or max(abs(b), 1.0)
+    vals0, grads0, _, _ = prob.evaluate(x0)
+    scale = np.array([max(np.max(np.abs(grads0[(c, n)])),
+                          SCALE_FLOOR * max(abs(b), abs(vals0[(c, n)]), 1.0))
                       for c, n, _, b in rows])
 
     def g(x):  # >= 0 when met
@@ -388,7 +420,7 @@ def _slsqp(prob: _Problem, x0, tol, max_iter):
         _, grads, _, _ = prob.evaluate(x)
         return np.array([-s * grads[(c, n)] for c, n, s, b in rows]) / scale[:, None]
 
-    fscale = np.max(np.abs(f(x0)[1])) or abs(f(x0)[0]) or 1.0
+    fscale = max(np.max(np.abs(f(x0)[1])), SCALE_FLOOR * max(abs(f(x0)[0]), 1.0))
     cons = [{"type": "ineq", "fun": g, "jac": dg}] if rows else []
     res = minimize(lambda x: f(x)[0] / fscale, x0, jac=lambda x: f(x)[1] / fscale,
                    bounds=[(0.0, 1.0)] * x0.size, constraints=cons, method="SLSQP",
@@ -410,6 +442,11 @@ def _kkt(gf, c, dc, x) -> float:
     cols += [-np.eye(x.size)[j] for j in range(x.size) if x[j] >= 1.0 - KKT_ACTIVE]
     norm = float(np.linalg.norm(gf)) or 1.0
     if not cols:
-        return float(np.linalg.norm(gf)) / norm if norm != 1.0 else float(np.linalg.norm(gf))
-    _, r = nnls(np.column_stack(cols), np.asarray(gf, float))
-    return float(r) / norm
+        return float(np.linalg.norm(gf)) / norm
+    A = np.column_stack(cols)
+    lam, r = nnls(A, np.asarray(gf, float))
+    # complementarity: a multiplier on a constraint short of its bound counts against
+    slack = np.array([c[i] for i in range(c.size) if c[i] <= KKT_ACTIVE]
+                     + [x[j] for j in range(x.size) if x[j] <= KKT_ACTIVE]
+                     + [1.0 - x[j] for j in range(x.size) if x[j] >= 1.0 - KKT_ACTIVE])
+    return float(r + np.sum(lam * np.abs(slack) * np.linalg.norm(A, axis=0))) / norm

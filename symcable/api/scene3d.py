@@ -48,8 +48,10 @@ def scene_equilibrium(scene: Scene, **options):
     """``(mechanism, Equilibrium)``: the scene at rest, by the rod's static solve for a rod
     or hybrid scene, else cable3d's (``options``: ``tol``, ``max_iter``, ``continuation``,
     ``codegen``, as :func:`~symcable.api.cable3d_static.static_equilibrium`)."""
-    solve = rod_static_equilibrium if has_twists(scene) else static_equilibrium
-    return solve(scene, **options)
+    if has_twists(scene):
+        options.pop("start", None)  # the rod's statics take no outside start
+        return rod_static_equilibrium(scene, **options)
+    return static_equilibrium(scene, **options)
 
 
 def check_moves(scene: Scene, mech) -> None:

@@ -54,6 +54,9 @@ DEFAULT_STEP = 1e-6
 #: residual and a perturbed scene's own at the same state and parameters: above it the
 #: number is compiled into the equations, not (only) a parameter
 COMPILED_IN = 1e-9
+#: an anchor within this share of the depth above the seabed rests on it
+#: (``LINE.grounded_length``)
+BED_REACH = 0.01
 #: the relative step of the scene numbers' own slopes (:func:`_aux_slope`)
 AUX_STEP = 1e-3
 #: a derived magnitude below this share of the scene's force scale is taken as zero, where
@@ -187,11 +190,12 @@ def grounded_length(lift: float, sections, slopes: bool = False):
     return value, -1.0 / w, d
 
 
-def _parameter_slope(raw_at, base, mech, x0, name, value, step):
+def _parameter_slope(raw_at, base, mech, x0, name, value, step, rows=None):
     """dp/dtheta (n_p,) by a central difference of the Mechanism's numbers (one-sided where
     the scene refuses one side: an anchor on the seabed moved down), the breaking loads'
     slope alike (:func:`breaking_loads`), and the signed step; refusing a number that
-    changes the structure or is compiled into the equations."""
+    changes the structure or is compiled into the equations or into the outputs' entries
+    ``rows`` (default all)."""
     h = step * max(abs(value), 1.0)
     ps, why = {}, None
     for sign in (1.0, -1.0):
@@ -207,10 +211,12 @@ def _parameter_slope(raw_at, base, mech, x0, name, value, step):
         p = np.asarray(m.static_p, float)
         mine = np.asarray(functions(m).static_residual(x0, p), float).ravel()
         base_r = np.asarray(functions(mech).static_residual(x0, p), float).ravel()
-        if np.max(np.abs(mine - base_r), initial=0.0) > COMPILED_IN * float(mech.scales.force):
-            raise SymcableError(f"parameter {name!r}: it is compiled into the equations, not "
-                                "passed as a parameter (as the depth, the water's density, a "
-                                "body's numbers), so it has no exact derivative yet")
+        if np.max(np.abs(mine - base_r), initial=0.0) > COMPILED_IN * float(mech.scales.force) \
+                or _outputs_differ(m, mech, x0, p, rows):
+            raise SymcableError(f"parameter {name!r}: it is compiled into the equations or "
+                                "the outputs, not passed as a parameter (as the depth, the "
+                                "water's density, a body's numbers), so it has no exact "
+                                "derivative yet")
         ps[sign] = np.concatenate([p, breaking_loads(scene)])
     if len(ps) == 2:
         slope = (ps[1.0] - ps[-1.0]) / (2.0 * h)
@@ -226,6 +232,24 @@ def _parameter_slope(raw_at, base, mech, x0, name, value, step):
     base_p = np.concatenate([np.asarray(mech.static_p, float),
                              breaking_loads(load_scene(raw_at(value), base=base))])
     return (ps[sign] - base_p) / (sign * h), sign * h
+
+
+def _outputs_differ(m, mech, x0, p, rows=None) -> bool:
+    """Whether two Mechanisms' outputs (their entries ``rows``, default all) differ at one
+    state and one parameter vector (a number compiled into an output, as a fixed body's
+    reference point into its moment)."""
+    if m is mech or (m.functions_of or m) is (mech.functions_of or mech):
+        return False
+    q, z, v = x0[:mech.n_q], x0[mech.n_q:], np.zeros(mech.n_v)
+    a = np.asarray(functions(m).outputs(q, v, z, 0.0, p), float).ravel()
+    b = np.asarray(functions(mech).outputs(q, v, z, 0.0, p), float).ravel()
+    if a.shape != b.shape:
+        return True
+    if rows is not None:
+        a, b = a[rows], b[rows]
+    fin = np.isfinite(a) & np.isfinite(b)
+    return bool(np.any(np.abs(a[fin] - b[fin]) > COMPILED_IN * (np.abs(a[fin]) + np.abs(b[fin]))
+                       + 1e-15 * float(np.max(np.abs(a[fin]), initial=0.0))))
 
 
 def _aux_slope(raw_at, base, value):
@@ -268,7 +292,8 @@ def _outputs(mech, names) -> list:
         else:
             known = sorted(set(mech.outputs) | {
                 (f"{n.rpartition('.')[0]}." if "." in n else "") + k
-                for n in mech.outputs for k, (v, _) in _DERIVED.items() if n.endswith(v)})
+                for n in mech.outputs for k, (v, _) in _DERIVED.items()
+                if n == v or n.endswith("." + v)})
             raise SymcableError(f"output {name!r}: unknown; the static state's outputs: "
                                 f"{', '.join(known)} (an entry of a vector one as NAME[i])")
     if not out:
@@ -279,7 +304,7 @@ def _outputs(mech, names) -> list:
 def _entries(mech, F, outs, y, dy=None, mbl=None, dmbl=None, lines=()):
     """Each requested output's entries: (names, units, values, rows of dy or None);
     ``mbl``, ``dmbl``: :func:`breaking_loads` and its slopes (n, n_par) for the derived
-    outputs, ``lines`` [(line name, number of sections)] in their order."""
+    outputs, ``lines`` :func:`_lines`."""
     sl = F.output_slices()
     names, units, values, rows = [], [], [], []
     for name, source, derived, entry in outs:
@@ -311,7 +336,7 @@ def _entries(mech, F, outs, y, dy=None, mbl=None, dmbl=None, lines=()):
             row = None if dy is None else block @ dblock / mag
             if derived == "ratio":
                 line = source.rpartition(".")[0]
-                k = 2 * ([n for n, _ in lines].index(line) if line else 0) \
+                k = 2 * ([n[0] for n in lines].index(line) if line else 0) \
                     + source.endswith("_b")
                 if not math.isfinite(mbl[k]):
                     raise SymcableError(f"output {name!r}: the line's end section has no "
@@ -334,14 +359,21 @@ def _entries(mech, F, outs, y, dy=None, mbl=None, dmbl=None, lines=()):
 
 
 def _grounded(name, source, lines, lift, aux, dlift, daux):
-    """``LINE.grounded_length`` and its row (None without ``dlift``): ``lines`` [(name,
-    number of sections)], ``aux`` and ``daux`` :func:`breaking_loads` and its slopes."""
+    """``LINE.grounded_length`` and its row (None without ``dlift``): ``lines``
+    :func:`_lines`, ``aux`` and ``daux`` :func:`breaking_loads` and its slopes."""
     line = source.rpartition(".")[0]
-    names = [n for n, _ in lines]
+    names = [n[0] for n in lines]
     k = names.index(line) if line else 0
-    a = 2 * len(lines) + 2 * sum(c for _, c in lines[:k])
+    a = 2 * len(lines) + 2 * sum(n[1] for n in lines[:k])
     b = a + 2 * lines[k][1]
     own = np.asarray(aux[a:b], float)
+    if not lines[k][2]:
+        raise SymcableError(f"output {name!r}: the line's end A must be its anchor, a fixed "
+                            "point on the seabed (the grounded length is counted from end B "
+                            "down to end A)")
+    if lift < 0:
+        raise SymcableError(f"output {name!r}: end B pushes the line down ({lift:.3g} N "
+                            "upward pull): no hanging part to count from")
     if np.any(own[1::2] <= 0):
         raise SymcableError(f"output {name!r}: needs every section of the line to sink "
                             "(weight > 0): a buoyant section's touchdown is not the seabed's")
@@ -352,8 +384,22 @@ def _grounded(name, source, lines, lift, aux, dlift, daux):
 
 
 def _lines(scene) -> list:
-    """[(line name, number of sections)]; a one-line scene's line is named ""."""
-    return [(ln.name, len(ln.sections)) for ln in scene.lines] or [("", len(scene.sections))]
+    """[(line name, number of sections, whether end A is held on the seabed)]; a one-line
+    scene's line is named ""."""
+    depth = scene.environment.depth
+
+    def on_bed(position) -> bool:
+        return depth is not None and position is not None \
+            and float(position[-1]) <= -depth + BED_REACH * depth
+    if not scene.lines:
+        e = scene.end_a
+        return [("", len(scene.sections), e.condition.value != "free" and on_bed(e.position))]
+    out = []
+    for ln in scene.lines:
+        pt = scene.points.get(ln.end_a) if isinstance(ln.end_a, str) else None
+        out.append((ln.name, len(ln.sections), pt is not None and not pt.is_free
+                    and pt.motion is None and on_bed(pt.position)))
+    return out
 
 
 def _check_state(scene, mech, F, y) -> None:
@@ -371,19 +417,25 @@ def _check_state(scene, mech, F, y) -> None:
     _check_floating(scene, NS(points=pts, bodies=bodies, status="converged", warnings=()))
 
 
-def static_values(scene, outputs, *, tol: float | None = None) -> dict:
+def static_values(scene, outputs, *, tol: float | None = None, start=None) -> dict:
     """{output entry: value} at ``scene``'s static state, by the names :func:`sensitivity`
     takes (one static solve, no derivatives); ``tol``: the solve's residual tolerance, N
-    (default the static solve's, 1e-9 of the scene's force scale)."""
+    (default the static solve's, 1e-9 of the scene's force scale); ``start``: (q, z) of a
+    nearby scene of the same structure to start from. The state is ``values["state"]``
+    when ``start`` is given."""
     raw, base = _raw(scene)
     s0 = load_scene(raw, base=base)
-    mech, eq = scene_equilibrium(calm(s0), **({} if tol is None else {"tol": tol}))
+    mech, eq = scene_equilibrium(calm(s0), start=start,
+                                 **({} if tol is None else {"tol": tol}))
     F = functions(mech)
     y = np.asarray(F.outputs(eq.q, np.zeros(mech.n_v), eq.z, 0.0, eq.p), float).ravel()
     _check_state(s0, mech, F, y)
     names, _, values, _ = _entries(mech, F, _outputs(mech, outputs), y, None,
                                    breaking_loads(s0), None, _lines(s0))
-    return dict(zip(names, values))
+    out = dict(zip(names, values))
+    if start is not None:
+        out["state"] = (np.asarray(eq.q, float), np.asarray(eq.z, float))
+    return out
 
 
 def sensitivity(scene, outputs, parameters, *, step: float = DEFAULT_STEP) -> Sensitivity:
@@ -432,7 +484,7 @@ def sensitivity(scene, outputs, parameters, *, step: float = DEFAULT_STEP) -> Se
 
 
 def design_sensitivity(raw: dict, base, outputs, names, values, raw_at, step=DEFAULT_STEP,
-                       reuse=None, raw_of=None):
+                       reuse=None, raw_of=None, start=None):
     """:func:`sensitivity` with each parameter j given by its name, its value and
     ``raw_at[j](v)``: the scene's dict with that parameter at v (the others as in ``raw``),
     so that a parameter may move several numbers of the scene (an anchor's radius both its
@@ -442,17 +494,21 @@ def design_sensitivity(raw: dict, base, outputs, names, values, raw_at, step=DEF
     (``stats["slopes"]`` of its result: another load case of the same design), taken when
     they predict this scene's own numbers moved along one pseudo-random direction of the
     parameters (``raw_of(values)``: the scene's dict at those values) to within 1e-6 of the
-    move (two builds instead of two per parameter); else the slopes are taken afresh."""
+    move (two builds instead of two per parameter); else the slopes are taken afresh.
+    ``start``: (q, z) of a nearby design's state to start the static solve from; the state
+    solved is ``stats["state"]``."""
     started = time.perf_counter()
     s0 = load_scene(raw, base=base)
     if s0.dim != 3:
         raise SymcableError(f"scene {s0.name!r}: sensitivities are of 3D scenes (model = "
                             "'cable3d', 'rod' or 'hybrid') for now")
-    mech, eq = scene_equilibrium(calm(s0))
+    mech, eq = scene_equilibrium(calm(s0), start=start)
     outs = _outputs(mech, outputs)
     F = functions(mech)
     x0 = np.concatenate([np.asarray(eq.q, float), np.asarray(eq.z, float)])
     p0 = np.asarray(eq.p, float)
+    sl = F.output_slices()
+    rows = np.concatenate([np.arange(sl[src].start, sl[src].stop) for _, src, _, _ in outs])
     reused = reuse is not None and raw_of is not None and _slopes_hold(
         reuse, raw_of, base, mech, np.asarray(values, float), step)
     if reused:
@@ -460,7 +516,7 @@ def design_sensitivity(raw: dict, base, outputs, names, values, raw_at, step=DEF
     else:
         slopes, steps = [], []
         for name, value, at in zip(names, values, raw_at):
-            dp, h = _parameter_slope(at, base, mech, x0, name, float(value), step)
+            dp, h = _parameter_slope(at, base, mech, x0, name, float(value), step, rows)
             slopes.append(dp)
             steps.append(h)
         dP = np.column_stack(slopes)  # (n_p + the breaking loads, n_par)
@@ -490,6 +546,7 @@ def design_sensitivity(raw: dict, base, outputs, names, values, raw_at, step=DEF
     return Sensitivity(s0.name, tuple(onames), tuple(units), tuple(names),
                        np.array(ovalues), np.array(values, float), np.array(rows),
                        {"parameter_steps": steps, "slopes": slopes_all, "slopes_reused": reused,
+                        "state": (np.asarray(eq.q, float), np.asarray(eq.z, float)),
                         "residual_norm": float(eq.stats.get("residual_norm", math.nan)),
                         "wall_time": time.perf_counter() - started})
 
@@ -510,14 +567,16 @@ def _slopes_hold(dP, raw_of, base, mech, values, step) -> bool:
                 or dP.shape[0] != np.asarray(m.static_p).size + breaking_loads(scene).size:
             return False
         ps.append(np.concatenate([np.asarray(m.static_p, float), breaking_loads(scene)]))
-    move, predicted = ps[0] - ps[1], np.asarray(dP) @ (2.0 * w)
-    ok = np.isfinite(move) == np.isfinite(predicted)
-    if not np.all(ok):
+    dP = np.asarray(dP, float)
+    move, predicted = ps[0] - ps[1], dP @ (2.0 * w)
+    if not np.all(np.isfinite(move) == np.isfinite(predicted)):
         return False
     fin = np.isfinite(move)
-    scale = float(np.max(np.abs(move[fin]), initial=0.0))
-    return bool(np.max(np.abs(move[fin] - predicted[fin]), initial=0.0) <= 1e-6 * scale
-                + 1e-12 * float(np.max(np.abs(ps[0][fin]), initial=0.0)))
+    # entry by entry (their units differ): within 1e-6 of what the slopes move it by, and
+    # the round-off of its own value
+    bound = 1e-6 * (np.abs(np.where(np.isfinite(dP), dP, 0.0)) @ np.abs(2.0 * w)) \
+        + 1e-12 * np.abs(ps[0])
+    return bool(np.all(np.abs(move[fin] - predicted[fin]) <= bound[fin]))
 
 
 def _sparse(J) -> "csc_matrix":

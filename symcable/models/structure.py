@@ -18,9 +18,10 @@ which terms a line builds) plus the choices the builder makes from numbers (whic
 rests on the seabed): :func:`structure_key`. What the parameters do not carry stays in the
 key as it is (depth, water density, seabed stiffness and friction, motions, free points'
 masses, fixed and vessel bodies), so a scene that changes one of those builds afresh. Scenes
-with bending (EI > 0), drag loading functions or free bodies are not shared (their builders
-still read such numbers directly: a free body's scale is its longest line's length):
-:func:`structure_key` returns None.
+with bending (EI > 0), drag loading functions, free bodies or vessels moved by RAOs are not
+shared (their builders still read such numbers directly: a free body's scale is its longest
+line's length, an RAO vessel's motion is compiled from the sea, which the key reduces to its
+component count): :func:`structure_key` returns None.
 """
 from __future__ import annotations
 
@@ -67,8 +68,11 @@ def _mask_sections(sections: list) -> None:
 
 def structure_key(scene: Scene) -> str | None:
     """The structure of a cable3d scene (module docstring) as a hex digest, or None when
-    its Mechanism is not shared (not cable3d, bending, loading functions, free bodies)."""
-    if scene.model is not ModelKind.CABLE3D or any(b.is_free for b in scene.bodies.values()):
+    its Mechanism is not shared (not cable3d, bending, loading functions, free bodies,
+    RAO vessels)."""
+    if scene.model is not ModelKind.CABLE3D or any(
+            b.is_free or (b.motion is not None and b.motion.kind == "rao")
+            for b in scene.bodies.values()):
         return None
     d = scene.to_dict()
     d.pop("name", None)

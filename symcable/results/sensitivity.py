@@ -34,8 +34,8 @@ class Sensitivity:
         ``parameter_steps`` (the steps of the parameters' central differences through the
         model's numbers, :func:`symcable.sensitivity`), ``residual_norm`` (N) of the state,
         ``wall_time`` (s), ``slopes`` (the model's numbers' slopes, (n_p + n_aux, n_par),
-        for another load case of the design) and ``slopes_reused`` (whether they were taken
-        from one).
+        for another load case of the design), ``slopes_reused`` (whether they were taken
+        from one) and ``state`` ((q, z) of the static state, a start for a nearby design).
     """
 
     scene_name: str
@@ -74,7 +74,7 @@ class Sensitivity:
                 "parameter_values": self.parameter_values.tolist(),
                 "jacobian": self.jacobian.tolist(),
                 "stats": {k: (list(v) if isinstance(v, (list, tuple)) else v)
-                          for k, v in self.stats.items() if k != "slopes"}}
+                          for k, v in self.stats.items() if k not in ("slopes", "state")}}
 
     def summary(self) -> str:
         """A table: each output with its value and its derivative in each parameter."""

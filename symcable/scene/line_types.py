@@ -46,8 +46,9 @@ FAMILY_KEYS = ("family", "nominal_diameter", "grade", "breaking_load")
 CHAIN_GRADES = {"R3": 0.0223, "R3S": 0.0249, "R4": 0.0274, "R4S": 0.0304, "R5": 0.0320}
 #: the grade a chain family takes when the table gives none
 DEFAULT_GRADE = "R4"
-#: the largest nominal diameter a family takes, m (the catalogues' range, with margin)
-MAX_NOMINAL = 0.4
+#: the largest nominal diameter each family takes, m: the catalogues' range with margin
+#: (DNV-OS-E302's breaking load peaks at 367 mm and falls beyond)
+MAX_NOMINAL = {"studless_chain": 0.25, "studlink_chain": 0.25, "wire": 0.2, "polyester": 0.4}
 
 
 def _chain(vol, mass, ea, cdn, cdt):
@@ -119,9 +120,9 @@ def family_table(path: str, t: Mapping, dim: int, number, err) -> tuple[dict, Fa
         raise err(f"{path}.family", name, "", "needs nominal_diameter (m): the diameter the "
                   "family's formulas take")
     d = number(f"{path}.nominal_diameter", t["nominal_diameter"], "m", gt=0)
-    if d > MAX_NOMINAL:
-        raise err(f"{path}.nominal_diameter", d, "m", f"must be <= {MAX_NOMINAL:g} m (the "
-                  "catalogue formulas' range)")
+    if d > MAX_NOMINAL[name]:
+        raise err(f"{path}.nominal_diameter", d, "m", f"must be <= {MAX_NOMINAL[name]:g} m "
+                  f"for {name!r} (the catalogue formulas' range)")
     grade = None
     if name.endswith("_chain"):
         grade = t.get("grade", DEFAULT_GRADE)

@@ -40,6 +40,9 @@ def as_cable3d(scene: Scene) -> Scene:
     """
     data = copy.deepcopy(scene.to_dict())
     data["model"] = "cable3d"
+    for lt in data.get("line_types", {}).values():  # a family's 3D tangential added mass
+        if "family" in lt:                          # is not the planar line's
+            lt.setdefault("ca_tangential", 0.0)
     env = data.get("environment", {})
     if "current" in env:
         env["current"] = _lift(env["current"])

@@ -13,20 +13,21 @@ STUDY = Path(__file__).resolve().parents[1] / "studies" / "design"
 
 
 def test_quick_mode():
-    """8 segments a line. The two optima agree to 1e-6 of each variable's range (measured
-    3e-11: SLSQP's tolerance on an optimum held by active constraints); none of the 46
+    """8 segments a line. The two optima agree to 1e-6 of each variable's range and of the
+    mass, SLSQP's tolerance (measured 3e-11 and 7e-11 here, 3.5e-7 of the mass on CI's
+    machine, whose arithmetic takes another path to the same optimum); none of the 46
     designs around it (each variable moved by 0.5 and 2 % of its range, and 10 random
     within 1 %) is feasible and lighter; the sensitivities at the optimum equal Richardson-
     extrapolated central differences of tight solves within 1e-6 of their row's largest
     entry, or three times the differences' own error where that is larger. The grounded
     length from the line's vertical balance is within one segment of the nodes on the bed.
-    The study is deterministic: the same numbers on any machine."""
+    """
     run = subprocess.run([sys.executable, str(STUDY / "run.py"), "--quick"],
                          capture_output=True, text=True, timeout=900)
     assert run.returncode == 0, run.stderr[-3000:]
     r = json.loads((STUDY / "out" / "results.json").read_text())
     assert r["spread_over_starts_of_range"] < 1e-6
-    assert r["mass_spread"] < 1e-8
+    assert r["mass_spread"] < 1e-6  # SLSQP's tolerance on the objective's change
     n = r["neighbourhood"]
     assert n["feasible_lighter"] == 0 and n["feasible"] > 0
     # every entry within 1e-6 of its row's largest, or 3 times the differences' own error

@@ -25,7 +25,8 @@ import stat
 import time
 from contextlib import contextmanager
 from dataclasses import dataclass
-from typing import Any, Iterator, Mapping
+from collections.abc import Mapping
+from typing import Any, Iterator
 
 from .errors import LimitError
 
@@ -286,6 +287,9 @@ def check_toml_nesting(text: str, what: str) -> None:
           "deeper input is refused before it is parsed")
 
 
+_LEAVES = (float, int, str, bool, type(None))
+
+
 def check_nesting(data: Any, what: str) -> None:
     """Refuse a dict or list nested deeper than the ``nesting`` limit (a dict that holds
     itself included); walked without recursion."""
@@ -293,7 +297,9 @@ def check_nesting(data: Any, what: str) -> None:
 
     def kids(node):
         vals = node.values() if isinstance(node, Mapping) else node
-        return iter([c for c in vals if isinstance(c, (Mapping, list, tuple))])
+        # (numbers and text, the bulk of a scene, ruled out by the cheap test first)
+        return iter([c for c in vals if not isinstance(c, _LEAVES)
+                     and isinstance(c, (Mapping, list, tuple))])
 
     def refuse(depth):
         check("nesting", depth, f"{what}: nesting of arrays and tables", "deeper input is "

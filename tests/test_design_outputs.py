@@ -4,6 +4,7 @@ line-type family's arithmetic; load cases and a callable scene in ``sc.optimize`
 reused across load cases only where they hold."""
 from __future__ import annotations
 
+import copy
 import math
 
 import numpy as np
@@ -151,10 +152,10 @@ def test_optimize_over_load_cases_with_a_callable_scene():
 
 def test_review_refusals_and_keys():
     """Slopes that hold along the check's direction only in the units that dominate are not
-    taken (a case moving an anchor that a variable also moves); a fixed body's position,
-    compiled into its outputs, is refused by name; a grounded length needs its anchor at
-    end A; a load case's path names a table; an RAO vessel's structure is not shared (its
-    motion is compiled from the sea)."""
+    taken (a case moving an anchor that a variable also moves); a grounded length needs
+    its anchor at end A; a load case's path names a table; an RAO vessel's structure is not shared (its
+    motion is compiled from the sea). A fixed body's position, which is its lines' ends'
+    numbers, has an exact derivative."""
     import sys
     from pathlib import Path
     sys.path.insert(0, str(Path(__file__).parent))
@@ -176,9 +177,20 @@ def test_review_refusals_and_keys():
     moved = sens_case({"points.anchor0.position": [-600.0, 0.0, -200.0]},
                       reuse=first.stats["slopes"])
     assert not moved.stats["slopes_reused"]
-    with pytest.raises(SymcableError, match="compiled into the equations or the outputs"):
-        sc.sensitivity(mooring(BASE, (10.0, 0.0), segments=4), ["hull.moment"],
-                       ["bodies.hull.position[1]"])
+    # a fixed body's position is a number of its lines' ends: its derivative is exact (the
+    # moment's reference point moves with it), as central differences of whole solves at
+    # two steps say (to 1e-6 of the largest entry, or 3 times the differences' own change)
+    held = mooring(BASE, (10.0, 0.0), segments=4)
+    got = sc.sensitivity(held, ["hull.moment", "hull.force"], ["bodies.hull.position[1]"])
+
+    def solved(y):
+        d = copy.deepcopy(held)
+        d["bodies"]["hull"]["position"][1] = y
+        st = sc.solve_static(d, tol=1e-6, estimate=False)
+        return np.concatenate([st.bodies["hull"].moment, st.bodies["hull"].force])
+    fd = {h: (solved(h) - solved(-h)) / (2 * h) for h in (0.05, 0.1)}
+    allowed = np.maximum(1e-6 * np.max(np.abs(fd[0.05])), 3.0 * np.abs(fd[0.05] - fd[0.1]))
+    assert np.all(np.abs(got.jacobian[:, 0] - fd[0.05]) <= allowed), (got.jacobian, fd)
     d = mooring(BASE, segments=4)
     ln = d["lines"][0]
     ln["end_a"], ln["end_b"] = ln["end_b"], ln["end_a"]

@@ -298,3 +298,35 @@ def test_a_long_lines_estimate_scenes_are_not_kept(monkeypatch):
         assert repr(scene.to_dict()) in cs._CACHE
         assert (repr(coarse.to_dict()) in cs._CACHE) is kept
         assert (structure.structure_key(coarse) in structure.TEMPLATES) is kept
+
+
+@pytest.mark.parametrize("make", [_three_lines, _clump], ids=["three lines", "clump"])
+def test_an_error_estimates_solve_starts_from_the_answer_and_lands_where_a_cold_one_does(make):
+    """The half-segment scene of the error estimate starts from the answer, its lines'
+    nodes interpolated along their arc length (a free clump copied); from there it finds
+    the equilibrium the scene's own starts find (to the solver's tolerance, 1e-9 of the
+    force scale, on positions of hundreds of metres: 1e-6 m). The three lines' coarse
+    solve converges from it; the clump's coarse lines (4 and 5 segments on the bed) do not
+    converge by Newton from any start but the relaxed one, which then serves, as it does
+    cold."""
+    from symcable.api.cable3d_static import static_equilibrium, transferred_state
+    from symcable.scene.refine import line_segments, scaled_segments
+    scene = sc.load_scene(make())
+    sol = sc.solve_static(scene, estimate=False)
+    half = scaled_segments(scene, {k: 0.5 for k in line_segments(scene)})
+    q, z = transferred_state(half, scene, sol)
+    mech = cable3d_mechanism(half)
+    for name, line in sol.lines.items():  # a node at a shared arc length sits where it was
+        idx = np.asarray(mech.layout.parts[name].node_q, int)
+        s_half = np.asarray(mech.layout.parts[name].s)
+        for i in np.flatnonzero(idx[:, 0] >= 0):
+            j = int(np.argmin(np.abs(line.s - s_half[i])))
+            if abs(line.s[j] - s_half[i]) < 1e-9:
+                np.testing.assert_allclose(q[idx[i]], line.positions[j], atol=1e-9)
+    _, warm = static_equilibrium(half, start=(q, z))
+    _, cold = static_equilibrium(half)
+    if make is _three_lines:
+        assert warm.stats["start"] == "a nearby design's state"
+    np.testing.assert_allclose(warm.q, cold.q, atol=1e-6)
+    est = sc.solve_static(scene).stats["discretisation_error"]
+    assert est["lines"] and all(e["compared_with"] < e["segments"] for e in est["lines"].values())

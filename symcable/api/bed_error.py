@@ -73,9 +73,9 @@ def _mechanism_slopes(scene: Scene, sol) -> dict:
     hybrid solution of ``scene``), holding its equilibrium: J dx = -dR/dbed, one sparse
     solve with the exact Jacobian, and the end forces' directional derivative along it."""
     import casadi as ca
-    from scipy.sparse import csc_matrix
     from scipy.sparse.linalg import spsolve
 
+    from ..linalg.sparse import to_csc
     from ..mechanism.functions import functions
     if formulation_of(scene).twists:
         from .rod_static import hybrid_zones, rod_mechanism
@@ -89,9 +89,7 @@ def _mechanism_slopes(scene: Scene, sol) -> dict:
         raise SymcableError("the Mechanism has constraint forces or no bed parameter")
     F = functions(mech)
     p = np.asarray(mech.static_p, float)
-    _, J = F.static_jacobian(x, p)
-    colind, row = J.sparsity().get_ccs()
-    Jsp = csc_matrix((np.asarray(J.nonzeros(), float), row, colind), shape=J.shape)
+    Jsp = to_csc(F.static_jacobian(x, p)[1])
     along = np.zeros(mech.params.n)  # every bed block together
     along[cols] = 1.0
     r_bed = np.asarray(F.static_parameter_slope(x, p, along), float).ravel()

@@ -124,7 +124,8 @@ def static_equilibrium(scene: Scene, *, tol: float | None = None, max_iter: int 
     (default RTOL times the force scale); where the dynamic analyses start. The state is in
     a calm sea: the scene's waves, if any, are left out (:func:`calm`). ``start``: (q, z) of
     a nearby scene of the same structure (a design's last iterate), tried first, before the
-    Mechanism's own starts."""
+    Mechanism's own starts; (q, z, p) when it is that scene's equilibrium at its parameters
+    p: then, where Newton from it fails, the continuation from p follows at once."""
     scene = calm(scene)
     mech = cable3d_mechanism(scene)
     if tol is None:
@@ -132,12 +133,51 @@ def static_equilibrium(scene: Scene, *, tol: float | None = None, max_iter: int 
         tol = mech.scales.static_tolerance(F, RTOL)
     starts = None
     if start is not None and np.size(start[0]) == mech.n_q and np.size(start[1]) == mech.n_z:
+        own = len(start) > 2 and np.size(start[2]) == np.size(mech.static_p)
         first = Start(np.asarray(start[0], float), np.asarray(start[1], float),
-                      np.asarray(mech.static_p, float), source="a nearby design's state")
+                      np.asarray(start[2] if own else mech.static_p, float),
+                      source="a nearby design's state", homotopy="the design's numbers",
+                      exact=own)
         starts = itertools.chain([first], _later(mech.starts))
     eq = solve_equilibrium(mech, tol=tol, max_iter=max_iter, starts=starts,
                            continuation=None if continuation else False, codegen=codegen)
     return mech, eq
+
+
+def transferred_state(scene: Scene, near: Scene, sol) -> tuple | None:
+    """``(q, z)`` of ``scene``'s Mechanism from ``sol``, the static solution of ``near``, a
+    scene of the same lines, points and bodies with other segment counts or numbers (an
+    error estimate's half-segment or stiffer-bed scene): each line's nodes interpolated
+    along its unstretched arc length from the solution's, every other part's coordinates
+    and named states copied where their shapes agree (zeros elsewhere), z zero. A start for
+    :func:`static_equilibrium`, or None when ``sol`` has no unknowns or the parts differ."""
+    if getattr(sol, "unknowns", None) is None:
+        return None
+    src, dst = cable3d_mechanism(calm(near)), cable3d_mechanism(calm(scene))
+    q_src = np.asarray(sol.unknowns, float)
+    if q_src.size != src.n_q or set(dst.layout.parts) != set(src.layout.parts):
+        return None
+    lines = getattr(sol, "lines", None)
+    q = np.zeros(dst.n_q)
+    for name, part in dst.layout.parts.items():
+        old, idx = src.layout.parts[name], np.asarray(part.node_q, int)
+        free = idx >= 0
+        if part.kind == "line":
+            line = lines[name] if lines is not None else sol
+            s_old, pos = np.asarray(line.s, float), np.asarray(line.positions, float)
+            s_new = np.asarray(part.s, float) * (s_old[-1] / part.s[-1])
+            moved = np.column_stack([np.interp(s_new, s_old, pos[:, k]) for k in range(3)])
+            q[idx[free]] = moved[free]
+        elif np.shape(old.node_q) == idx.shape:
+            src_idx = np.asarray(old.node_q, int)
+            both = free & (src_idx >= 0)
+            q[idx[both]] = q_src[src_idx[both]]
+    if dst.layout.states is not None and src.layout.states is not None:
+        where = {n: i for i, n in enumerate(src.layout.states.names)}
+        for i, n in enumerate(dst.layout.states.names):
+            if n in where:
+                q[dst.n_v + i] = q_src[src.n_v + where[n]]
+    return q, np.zeros(dst.n_z)
 
 
 def _later(make_starts):
@@ -202,20 +242,24 @@ def run_start_state(scene: Scene, t0: float, start: str | None = None, *,
 
 
 def solve_static_3d(scene: Scene, *, tol: float | None = None, max_iter: int = 50,
-                    continuation: bool = True, codegen: bool | None = None) -> StaticSolution:
+                    continuation: bool = True, codegen: bool | None = None,
+                    near: tuple | None = None) -> StaticSolution:
     """Static configuration of a cable3d scene (see :func:`symcable.solve_static`); a scene
     of several lines and points gives a :class:`~symcable.results.static.SystemStaticSolution`.
-    A scene in waves is solved in a calm sea (:func:`calm`)."""
+    A scene in waves is solved in a calm sea (:func:`calm`). ``near``: ``(scene, solution)``
+    of a scene like it (other segment counts or numbers), whose state, carried over by
+    :func:`transferred_state`, is tried first."""
     scene = calm(scene)
+    start = None if near is None else transferred_state(scene, *near)
     if scene.version == 2:
         return _solve_system(scene, tol=tol, max_iter=max_iter, continuation=continuation,
-                             codegen=codegen)
+                             codegen=codegen, start=start)
     t0 = time.perf_counter()
     mech = cable3d_mechanism(scene)
     seg = segment_table(scene)
     try:
         _, eq = static_equilibrium(scene, tol=tol, max_iter=max_iter, continuation=continuation,
-                                   codegen=codegen)
+                                   codegen=codegen, start=start)
     except ConvergenceError as exc:
         part = exc.partial
         partial = None if part is None else _solution(scene, seg, part.outputs, part.q, "failed",
@@ -281,12 +325,13 @@ def _solution(scene, seg, out, q, status, stats, warnings) -> StaticSolution:
         unknowns=np.array(q, float))
 
 
-def _solve_system(scene: Scene, *, tol, max_iter, continuation, codegen) -> SystemStaticSolution:
+def _solve_system(scene: Scene, *, tol, max_iter, continuation, codegen,
+                  start=None) -> SystemStaticSolution:
     """:func:`solve_static_3d` of a scene of several lines and points."""
     t0 = time.perf_counter()
     try:
         mech, eq = static_equilibrium(scene, tol=tol, max_iter=max_iter,
-                                      continuation=continuation, codegen=codegen)
+                                      continuation=continuation, codegen=codegen, start=start)
     except ConvergenceError as exc:
         part = exc.partial
         partial = None if part is None else _system(scene, part.outputs, part.q, "failed",

@@ -221,17 +221,19 @@ def _own_loads(scene, body, pos, rpy0) -> ca.Function:
     return ca.Function("own", [off], [expr])
 
 
-def _tangents(mech, S, body, pose_p, own) -> ca.Function:
+def _tangents(mech, S, body, pose_p, own, base) -> ca.Function:
     """``offset_tangents(x, offset) -> (dR/dx, dR/doffset, dY/dx, dY/doffset, dOwn/doffset)``,
-    Y the lines' force and moment on the body (the moment about the moved reference point:
-    the output's is about the base's); R the virtual machine's residual (generated C has no
+    Y the lines' force and moment on the body (the moment about the moved reference point,
+    ``base`` (3,) m plus the offset's translation: the output's is about the point its
+    ``position`` output names); R the virtual machine's residual (generated C has no
     derivatives)."""
     off = ca.SX.sym("offset", 6)
     n_q = mech.n_q
     x = ca.SX.sym("x", n_q + mech.n_z)
     p = pose_p(off)
     force = mech.outputs[f"{body}.force"].expr
-    out = ca.vertcat(force, mech.outputs[f"{body}.moment"].expr - ca.cross(off[0:3], force))
+    shift = ca.DM(np.asarray(base, float)) + off[0:3] - mech.outputs[f"{body}.position"].expr
+    out = ca.vertcat(force, mech.outputs[f"{body}.moment"].expr - ca.cross(shift, force))
     out = ca.substitute(out, ca.vertcat(mech.q, mech.z, mech.v, mech.t, mech.p),
                         ca.vertcat(x[:n_q], x[n_q:], ca.DM.zeros(mech.n_v), 0.0, p))
     r = S.residual(x, p)
@@ -361,7 +363,8 @@ def offset_sweep(scene, body: str, offsets, *, about: str = "equilibrium",
         pose_p = _pose_params(mech, eq.p, pos, R0, ends)
         own = _own_loads(scene, b, pos, rpy)
         cache[body] = {"pose_p": pose_p, "own": own, "weights": _line_loads(held),
-                       "tangents": _tangents(mech, F.static_solver(False), body, pose_p, own)}
+                       "tangents": _tangents(mech, F.static_solver(False), body, pose_p, own,
+                                             pos)}
     funcs = cache[body]
     pose_p, own = funcs["pose_p"], funcs["own"]
     x_base = np.concatenate([eq.q, eq.z])
@@ -377,7 +380,7 @@ def offset_sweep(scene, body: str, offsets, *, about: str = "equilibrium",
         mech, F, eq, off, order, reset, (acc, its, nr, packed), pose_p, tol, codegen)
     K = _stiffness(funcs["tangents"], eq)
     line_force, force, ta, tb_, balance = _forces(outs, off, body, lines, own,
-                                                  funcs["weights"])
+                                                  funcs["weights"], pos)
     stats = {"tolerance": tol, "batch_time": batch_time, "wall_time": time.perf_counter() - t0,
              "fallbacks": fallbacks, "resets": int(reset.sum()), "compiled": bool(S.compiled),
              "unknowns": int(n_x)}
@@ -426,9 +429,10 @@ def _walk(mech, F, eq, off, order, reset, batch, pose_p, tol, codegen) -> tuple:
     return X, outs, status, path, iters, resid, fallbacks
 
 
-def _forces(outs, off, body: str, lines, own, weights) -> tuple:
+def _forces(outs, off, body: str, lines, own, weights, base) -> tuple:
     """Per offset (n rows; NaN where it failed): the lines' force and moment on the body
-    (n, 6) N, N m about its displaced reference point; with the body's own loads (n, 6);
+    (n, 6) N, N m about its displaced reference point (``base`` (3,) m, the reference point
+    at the base pose, plus the offset's translation); with the body's own loads (n, 6);
     each line's end tensions at A and B (n, n_lines) N; the lines' force balance (n,)."""
     n = len(off)
     line_force = np.full((n, 6), np.nan)
@@ -439,8 +443,12 @@ def _forces(outs, off, body: str, lines, own, weights) -> tuple:
         o = outs[k]
         if o is None:
             continue
-        f = np.ravel(o[f"{body}.force"])  # (the output's moment is about the base point)
-        line_force[k] = np.r_[f, np.ravel(o[f"{body}.moment"]) - np.cross(off[k, :3], f)]
+        # the output's moment is about the point its ``position`` output names (the held
+        # body's first line end less that end's offset at the base orientation): moved to
+        # the displaced reference point
+        f = np.ravel(o[f"{body}.force"])
+        shift = base + off[k, :3] - np.ravel(o[f"{body}.position"])
+        line_force[k] = np.r_[f, np.ravel(o[f"{body}.moment"]) - np.cross(shift, f)]
         force[k] = line_force[k] + np.asarray(own(off[k]), float).ravel()
         for i, line in enumerate(lines):
             ta[k, i] = np.linalg.norm(np.ravel(o[f"{line.name}.end_force_a"]))

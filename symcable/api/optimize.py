@@ -232,7 +232,7 @@ class _Problem:
         return up, dn, up[j] - dn[j]
 
     def _values(self, d, names, start=None) -> dict:
-        """The outputs of one static solve (from ``start``, (q, z) of a nearby design's
+        """The outputs of one static solve (from ``start``, (q, z, p) of a nearby design's
         state, when given; its own state then as ``"state"``)."""
         self.solves += 1
         if start is None and self.warm:

@@ -115,8 +115,8 @@ def solve_static(scene, *, tol: float | None = None, max_iter: int = 50,
     # each (1.5 s for a 25-segment planar line against 0.05 s solved)
     once = dict(options, codegen=bool(options["codegen"]))
 
-    def solve(s):
-        sol_s = _solve_once(s, model=None, **once)
+    def solve(s, near=None):
+        sol_s = _solve_once(s, model=None, near=near, **once)
         if not formulation_of(s).linearised:  # a long line's one-off scene is not kept
             from .cable3d_static import release
             release(s)
@@ -125,8 +125,9 @@ def solve_static(scene, *, tol: float | None = None, max_iter: int = 50,
         s, x, solve, target, once))
 
 
-def _solve_once(scene: Scene, *, tol, max_iter, continuation, model, codegen):
-    """:func:`solve_static` without the error estimate."""
+def _solve_once(scene: Scene, *, tol, max_iter, continuation, model, codegen, near=None):
+    """:func:`solve_static` without the error estimate; ``near`` (a similar scene and its
+    solution, whose state is tried first) where the formulation takes one (cable3d)."""
     form = formulation_of(scene)
     if not form.linearised:
         if model is not None:
@@ -134,11 +135,12 @@ def _solve_once(scene: Scene, *, tol, max_iter, continuation, model, codegen):
                                 f"{scene.model.value} scene builds its own Mechanism (leave "
                                 "model out)")
         if form.twists:
-            from .rod_static import solve_static_rod as solve
-        else:
-            from .cable3d_static import solve_static_3d as solve
-        return solve(scene, tol=tol, max_iter=max_iter, continuation=continuation,
-                     codegen=codegen)
+            from .rod_static import solve_static_rod
+            return solve_static_rod(scene, tol=tol, max_iter=max_iter,
+                                    continuation=continuation, codegen=codegen)
+        from .cable3d_static import solve_static_3d
+        return solve_static_3d(scene, tol=tol, max_iter=max_iter, continuation=continuation,
+                               codegen=codegen, near=near)
     t0 = time.perf_counter()
     model = model or build_model(scene)
     mech = static_mechanism(model)

@@ -31,18 +31,18 @@ import os
 import re
 import time
 
-import casadi as ca
 import numpy as np
-from scipy.sparse import csc_matrix
 from scipy.sparse.linalg import splu
 
 from ..errors import SymcableError
+from ..linalg.sparse import to_csc
 from ..mechanism.functions import functions
 from ..results.sensitivity import Sensitivity
 from ..scene import Scene, load_scene
 from ..scene.load import _read_file
 from .cable3d_static import calm
-from .scene3d import scene_equilibrium, scene_mechanism
+from .design_slopes import breaking_loads, parameter_slope, slopes_hold
+from .scene3d import scene_equilibrium
 
 __all__ = ["sensitivity", "design_sensitivity", "static_values", "breaking_loads",
            "DEFAULT_STEP"]
@@ -50,15 +50,9 @@ __all__ = ["sensitivity", "design_sensitivity", "static_values", "breaking_loads
 #: the relative step of the central difference through the scene's arithmetic (module
 #: docstring)
 DEFAULT_STEP = 1e-6
-#: the largest difference (relative to the force scale) between the base Mechanism's
-#: residual and a perturbed scene's own at the same state and parameters: above it the
-#: number is compiled into the equations, not (only) a parameter
-COMPILED_IN = 1e-9
 #: an anchor within this share of the depth above the seabed rests on it
 #: (``LINE.grounded_length``)
 BED_REACH = 0.01
-#: the relative step of the scene numbers' own slopes (:func:`_aux_slope`)
-AUX_STEP = 1e-3
 #: a derived magnitude below this share of the scene's force scale is taken as zero, where
 #: it has no derivative
 NO_MAGNITUDE = 1e-6
@@ -141,27 +135,6 @@ def _set(raw: dict, parts: list, value: float) -> dict:
     return d
 
 
-def _mechanism(raw: dict, base):
-    scene = load_scene(raw, base=base)
-    return scene, scene_mechanism(calm(scene))
-
-
-def breaking_loads(scene: Scene) -> np.ndarray:
-    """The scene numbers the derived outputs read besides the state: each line's breaking
-    load at end A and end B (its end sections' line types', N; NaN where none is given),
-    then each line's sections' (length m, submerged weight N/m), end A first."""
-    lines = [ln.sections for ln in scene.lines] or [scene.sections]
-    out = []
-    for sections in lines:
-        for sec in (sections[0], sections[-1]):
-            mbl = sec.line_type.breaking_load
-            out.append(math.nan if mbl is None else float(mbl))
-    for sections in lines:
-        for sec in sections:
-            out += [float(sec.length), float(sec.line_type.weight)]
-    return np.array(out)
-
-
 def grounded_length(lift: float, sections, slopes: bool = False):
     """The length of line the seabed carries, m, from the vertical force ``lift`` (N) the
     line's end B needs: the sections from end B down hang until their weight is ``lift``,
@@ -188,84 +161,6 @@ def grounded_length(lift: float, sections, slopes: bool = False):
     d[k + 1:, 0] = secs[k + 1:, 1] / w               # a hanging section's: its weight
     d[k + 1:, 1] = secs[k + 1:, 0] / w
     return value, -1.0 / w, d
-
-
-def _parameter_slope(raw_at, base, mech, x0, name, value, step, rows=None):
-    """dp/dtheta (n_p,) by a central difference of the Mechanism's numbers (one-sided where
-    the scene refuses one side: an anchor on the seabed moved down), the breaking loads'
-    slope alike (:func:`breaking_loads`), and the signed step; refusing a number that
-    changes the structure or is compiled into the equations or into the outputs' entries
-    ``rows`` (default all)."""
-    h = step * max(abs(value), 1.0)
-    ps, why = {}, None
-    for sign in (1.0, -1.0):
-        try:
-            scene, m = _mechanism(raw_at(value + sign * h), base)
-        except SymcableError as exc:
-            why = why or str(exc)
-            continue
-        if m.params.names != mech.params.names or m.params.sizes != mech.params.sizes \
-                or (m.n_q, m.n_z) != (mech.n_q, mech.n_z):
-            raise SymcableError(f"parameter {name!r}: changing it changes the model's structure "
-                                "(which terms it builds), so it has no derivative here")
-        p = np.asarray(m.static_p, float)
-        mine = np.asarray(functions(m).static_residual(x0, p), float).ravel()
-        base_r = np.asarray(functions(mech).static_residual(x0, p), float).ravel()
-        if np.max(np.abs(mine - base_r), initial=0.0) > COMPILED_IN * float(mech.scales.force) \
-                or _outputs_differ(m, mech, x0, p, rows):
-            raise SymcableError(f"parameter {name!r}: it is compiled into the equations or "
-                                "the outputs, not passed as a parameter (as the depth, the "
-                                "water's density, a body's numbers), so it has no exact "
-                                "derivative yet")
-        ps[sign] = np.concatenate([p, breaking_loads(scene)])
-    if len(ps) == 2:
-        slope = (ps[1.0] - ps[-1.0]) / (2.0 * h)
-        n_p = np.asarray(mech.static_p).size
-        aux = _aux_slope(raw_at, base, value)
-        if aux is not None:
-            slope[n_p:] = aux
-        return slope, h
-    if not ps:
-        raise SymcableError(f"parameter {name!r}: the scene refuses it changed by {h:.3g} "
-                            f"either way ({why})")
-    sign = next(iter(ps))
-    base_p = np.concatenate([np.asarray(mech.static_p, float),
-                             breaking_loads(load_scene(raw_at(value), base=base))])
-    return (ps[sign] - base_p) / (sign * h), sign * h
-
-
-def _outputs_differ(m, mech, x0, p, rows=None) -> bool:
-    """Whether two Mechanisms' outputs (their entries ``rows``, default all) differ at one
-    state and one parameter vector (a number compiled into an output, as a fixed body's
-    reference point into its moment)."""
-    if m is mech or (m.functions_of or m) is (mech.functions_of or mech):
-        return False
-    q, z, v = x0[:mech.n_q], x0[mech.n_q:], np.zeros(mech.n_v)
-    a = np.asarray(functions(m).outputs(q, v, z, 0.0, p), float).ravel()
-    b = np.asarray(functions(mech).outputs(q, v, z, 0.0, p), float).ravel()
-    if a.shape != b.shape:
-        return True
-    if rows is not None:
-        a, b = a[rows], b[rows]
-    fin = np.isfinite(a) & np.isfinite(b)
-    return bool(np.any(np.abs(a[fin] - b[fin]) > COMPILED_IN * (np.abs(a[fin]) + np.abs(b[fin]))
-                       + 1e-15 * float(np.max(np.abs(a[fin]), initial=0.0))))
-
-
-def _aux_slope(raw_at, base, value):
-    """The slope of :func:`breaking_loads` (a scene's own arithmetic, no model built) by
-    Richardson's extrapolation of central differences at relative steps AUX_STEP and twice
-    it (exact to round-off for its polynomials, where the model's step of 1e-6 leaves 1e-9
-    of round-off that a derived output's cancellation, the grounded length's weight
-    against its fairlead's pull, magnifies); None where the scene refuses a step."""
-    h = AUX_STEP * max(abs(value), 1e-3)
-    try:
-        f = {k: breaking_loads(load_scene(raw_at(value + k * h), base=base))
-             for k in (-2, -1, 1, 2)}
-    except SymcableError:
-        return None
-    d1, d2 = (f[1] - f[-1]) / (2 * h), (f[2] - f[-2]) / (4 * h)
-    return np.where(np.isfinite(d1), (4.0 * d1 - d2) / 3.0, np.nan)
 
 
 def _outputs(mech, names) -> list:
@@ -421,8 +316,9 @@ def static_values(scene, outputs, *, tol: float | None = None, start=None) -> di
     """{output entry: value} at ``scene``'s static state, by the names :func:`sensitivity`
     takes (one static solve, no derivatives); ``tol``: the solve's residual tolerance, N
     (default the static solve's, 1e-9 of the scene's force scale); ``start``: (q, z) of a
-    nearby scene of the same structure to start from. The state is ``values["state"]``
-    when ``start`` is given."""
+    nearby scene of the same structure to start from, or (q, z, p), its equilibrium at its
+    parameters p (see :func:`~symcable.api.cable3d_static.static_equilibrium`). The state is
+    ``values["state"]``, (q, z, p), when ``start`` is given."""
     raw, base = _raw(scene)
     s0 = load_scene(raw, base=base)
     mech, eq = scene_equilibrium(calm(s0), start=start,
@@ -434,7 +330,8 @@ def static_values(scene, outputs, *, tol: float | None = None, start=None) -> di
                                    breaking_loads(s0), None, _lines(s0))
     out = dict(zip(names, values))
     if start is not None:
-        out["state"] = (np.asarray(eq.q, float), np.asarray(eq.z, float))
+        out["state"] = (np.asarray(eq.q, float), np.asarray(eq.z, float),
+                        np.asarray(eq.p, float))
     return out
 
 
@@ -495,8 +392,8 @@ def design_sensitivity(raw: dict, base, outputs, names, values, raw_at, step=DEF
     they predict this scene's own numbers moved along one pseudo-random direction of the
     parameters (``raw_of(values)``: the scene's dict at those values) to within 1e-6 of the
     move (two builds instead of two per parameter); else the slopes are taken afresh.
-    ``start``: (q, z) of a nearby design's state to start the static solve from; the state
-    solved is ``stats["state"]``."""
+    ``start``: (q, z) or (q, z, p) of a nearby design's state to start the static solve
+    from (as :func:`static_values`); the state solved is ``stats["state"]``, (q, z, p)."""
     started = time.perf_counter()
     s0 = load_scene(raw, base=base)
     if s0.dim != 3:
@@ -509,14 +406,14 @@ def design_sensitivity(raw: dict, base, outputs, names, values, raw_at, step=DEF
     p0 = np.asarray(eq.p, float)
     sl = F.output_slices()
     rows = np.concatenate([np.arange(sl[src].start, sl[src].stop) for _, src, _, _ in outs])
-    reused = reuse is not None and raw_of is not None and _slopes_hold(
-        reuse, raw_of, base, mech, np.asarray(values, float), step)
+    reused = reuse is not None and raw_of is not None and slopes_hold(
+        reuse, raw_of, base, mech, np.asarray(values, float), step, x0, p0, rows)
     if reused:
         dP, steps = np.asarray(reuse, float), [step * max(abs(float(v)), 1.0) for v in values]
     else:
         slopes, steps = [], []
         for name, value, at in zip(names, values, raw_at):
-            dp, h = _parameter_slope(at, base, mech, x0, name, float(value), step, rows)
+            dp, h = parameter_slope(at, base, mech, x0, name, float(value), step, rows)
             slopes.append(dp)
             steps.append(h)
         dP = np.column_stack(slopes)  # (n_p + the breaking loads, n_par)
@@ -528,7 +425,7 @@ def design_sensitivity(raw: dict, base, outputs, names, values, raw_at, step=DEF
                           for j in range(dP.shape[1])])
     if x0.size:
         try:
-            lu = splu(csc_matrix(_sparse(J)))
+            lu = splu(to_csc(J))
             dx = -lu.solve(Rp)
         except RuntimeError:
             raise SymcableError(f"scene {s0.name!r}: the static Jacobian is singular at its "
@@ -537,7 +434,8 @@ def design_sensitivity(raw: dict, base, outputs, names, values, raw_at, step=DEF
     else:
         dx = np.zeros((0, dP.shape[1]))
     q, z, v0 = eq.q, eq.z, np.zeros(mech.n_v)
-    y_q, y_z, y_p = (np.asarray(a) for a in F.output_parameter_jacobian(q, v0, z, 0.0, p0))
+    # (sparse: the outputs read few unknowns and parameters; dense, y_p alone took 40 ms)
+    y_q, y_z, y_p = (to_csc(a) for a in F.output_parameter_jacobian(q, v0, z, 0.0, p0))
     dy = y_q @ dx[:mech.n_q] + y_z @ dx[mech.n_q:] + y_p @ dP
     y = np.asarray(F.outputs(q, v0, z, 0.0, p0), float).ravel()
     _check_state(s0, mech, F, y)
@@ -546,42 +444,7 @@ def design_sensitivity(raw: dict, base, outputs, names, values, raw_at, step=DEF
     return Sensitivity(s0.name, tuple(onames), tuple(units), tuple(names),
                        np.array(ovalues), np.array(values, float), np.array(rows),
                        {"parameter_steps": steps, "slopes": slopes_all, "slopes_reused": reused,
-                        "state": (np.asarray(eq.q, float), np.asarray(eq.z, float)),
+                        "state": (np.asarray(eq.q, float), np.asarray(eq.z, float),
+                                  np.asarray(eq.p, float)),
                         "residual_norm": float(eq.stats.get("residual_norm", math.nan)),
                         "wall_time": time.perf_counter() - started})
-
-
-def _slopes_hold(dP, raw_of, base, mech, values, step) -> bool:
-    """Whether the slopes ``dP`` (n_p + aux, n_par) predict this scene's numbers moved along
-    a fixed pseudo-random direction of its parameters (:func:`design_sensitivity`)."""
-    h = step * np.maximum(np.abs(values), 1.0)
-    w = h * np.random.default_rng(37).uniform(0.5, 1.5, values.size) \
-        * np.where(np.arange(values.size) % 2, 1.0, -1.0)
-    ps = []
-    for sign in (1.0, -1.0):
-        try:
-            scene, m = _mechanism(raw_of(values + sign * w), base)
-        except SymcableError:
-            return False
-        if m.params.names != mech.params.names or m.params.sizes != mech.params.sizes \
-                or dP.shape[0] != np.asarray(m.static_p).size + breaking_loads(scene).size:
-            return False
-        ps.append(np.concatenate([np.asarray(m.static_p, float), breaking_loads(scene)]))
-    dP = np.asarray(dP, float)
-    move, predicted = ps[0] - ps[1], dP @ (2.0 * w)
-    if not np.all(np.isfinite(move) == np.isfinite(predicted)):
-        return False
-    fin = np.isfinite(move)
-    # entry by entry (their units differ): within 1e-6 of what the slopes move it by, and
-    # the round-off of its own value
-    bound = 1e-6 * (np.abs(np.where(np.isfinite(dP), dP, 0.0)) @ np.abs(2.0 * w)) \
-        + 1e-12 * np.abs(ps[0])
-    return bool(np.all(np.abs(move[fin] - predicted[fin]) <= bound[fin]))
-
-
-def _sparse(J) -> "csc_matrix":
-    """A CasADi sparse matrix as SciPy's."""
-    J = ca.DM(J)
-    sp = J.sparsity()
-    return csc_matrix((np.asarray(J.nonzeros(), float), np.asarray(sp.row(), int),
-                       np.asarray(sp.colind(), int)), shape=J.shape)

@@ -251,7 +251,9 @@ def with_error_estimate(scene: Scene, sol, solve: Callable, accuracy: float | No
     ``accuracy`` given, the solution of ``scene`` refined (more segments on the lines above
     it, up to :data:`MAX_ROUNDS` rounds) until every line meets it.
 
-    ``solve(scene)`` solves a scene without estimating. The report: ``lines`` (per line
+    ``solve(scene, near=(scene0, sol0))`` solves a scene without estimating, where it can
+    starting from ``sol0``, the solution of ``scene0`` (the answer being estimated or
+    refined: the same lines at other segment counts). The report: ``lines`` (per line
     ``error`` N, ``relative`` to the largest tension, ``segments``, ``compared_with``,
     ``order``), ``max_relative``, ``accuracy``, ``segments`` (per line, of the answer
     returned), ``rounds`` (refinements made) and ``wall_time`` (s, the estimate's and the
@@ -268,7 +270,7 @@ def with_error_estimate(scene: Scene, sol, solve: Callable, accuracy: float | No
     other, m = _other(scene)
     notes = ()
     try:
-        ref = solve(other)
+        ref = solve(other, near=(scene, sol))
     except SymcableError as exc:
         report = {"lines": {}, "max_relative": None, "accuracy": target, "segments": n,
                   "rounds": 0, "wall_time": time.perf_counter() - t0}
@@ -291,7 +293,7 @@ def with_error_estimate(scene: Scene, sol, solve: Callable, accuracy: float | No
                      f"needs {total}, more than the segments limit ({current().segments})",)
             break
         try:
-            new = solve(finer)
+            new = solve(finer, near=(scene, sol))
         except SymcableError as exc:
             notes = (f"refinement stopped at {sum(n.values())} segments: the solve at "
                      f"{total} failed ({str(exc).splitlines()[0][:200]})",)

@@ -21,7 +21,8 @@ from __future__ import annotations
 import casadi as ca
 import numpy as np
 
-__all__ = ["dense_rows", "flush_tiny", "jacobian", "norm_inf", "qr_solve", "sparse_solve"]
+__all__ = ["dense_rows", "flush_tiny", "jacobian", "norm_inf", "qr_solve", "sparse_solve",
+           "to_csc"]
 
 #: a row with more structural nonzeros than this fraction of the columns (and than
 #: DENSE_MIN) counts as dense
@@ -118,3 +119,24 @@ def norm_inf(x):
     which CasADi cannot fold away (sum(x) - sum(x) it simplifies to 0)."""
     s = ca.sum1(ca.vec(x))
     return ca.norm_inf(x) / ca.logic_and(s < np.inf, s > -np.inf)
+
+
+#: compressed-column patterns of the matrices :func:`to_csc` converted, by their sparsity's
+#: hash (a Function's output keeps one pattern over its calls)
+_PATTERNS: dict = {}
+
+
+def to_csc(M: ca.DM):
+    """The numeric CasADi matrix ``M`` as a SciPy ``csc_matrix`` of the same shape and
+    nonzeros (its structural zeros kept as stored entries)."""
+    from scipy.sparse import csc_matrix
+    sp = M.sparsity()
+    key = (sp.hash(), sp.size1(), sp.size2(), sp.nnz())
+    pattern = _PATTERNS.get(key)
+    if pattern is None:
+        if len(_PATTERNS) > 64:
+            _PATTERNS.clear()
+        colind, row = sp.get_ccs()
+        pattern = _PATTERNS[key] = (np.asarray(row, np.int32), np.asarray(colind, np.int32))
+    values = np.fromiter(M.nonzeros(), float, count=sp.nnz())
+    return csc_matrix((values, pattern[0], pattern[1]), shape=M.shape)

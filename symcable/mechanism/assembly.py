@@ -36,6 +36,7 @@ from __future__ import annotations
 
 import dataclasses
 import functools
+from collections import OrderedDict
 from dataclasses import dataclass, field
 from typing import Callable, Iterable
 
@@ -113,7 +114,7 @@ def assemble(parts: Iterable[Mechanism], joints: Iterable = (), *, name: str = "
     parts = list(parts)
     by_name, dim, kind = _check_parts(parts)
     joints = list(joints)
-    num = _number(parts, by_name, joints)
+    num = _number(parts, by_name, joints) if symbols else _known_number(parts, by_name, joints)
     n_v, n_q = num.n_v, num.n_q
     presc_joints = [j for j in joints if isinstance(j, Prescribed)]
     params = _param_blocks(parts, presc_joints, dim)
@@ -314,6 +315,41 @@ def _number(parts: list, by_name: dict, joints: list) -> _Numbering:
             raise SymcableError(f"Attached({j.name!r}): its body {j.body!r} is itself "
                                 "prescribed or attached")
     return _Numbering(dof, roots_prescribed, global_index, tail_index, n_v, n_q)
+
+
+#: numberings of numbers-only builds by their structure (:func:`_known_number`), the most
+#: recent last
+_NUMBERINGS: "OrderedDict[tuple, _Numbering]" = OrderedDict()
+_NUMBERINGS_KEPT = 32
+
+
+def _known_number(parts: list, by_name: dict, joints: list) -> _Numbering:
+    """:func:`_number` for a numbers-only build, kept by what it reads: each part's name,
+    sizes and node layout, and each joint's kind, name and nodes. A numbering is structure
+    alone, so every numbers-only build of one structure (a design loop's re-solves) shares
+    the first's. Only the joints' names are read from its ``roots_prescribed`` there
+    (:func:`_part_layouts`; :func:`_part_scales` reads indices), so the joint objects it
+    holds, the first build's, serve any later one."""
+    key = (tuple((m.name, m.n_v, m.n_q, _layout_key(m)) for m in parts),
+           tuple((type(j).__name__, getattr(j, "name", None), getattr(j, "a", None),
+                  getattr(j, "b", None), getattr(j, "node", None), getattr(j, "body", None))
+                 for j in joints))
+    num = _NUMBERINGS.get(key)
+    if num is None:
+        num = _NUMBERINGS[key] = _number(parts, by_name, joints)
+        if len(_NUMBERINGS) > _NUMBERINGS_KEPT:
+            _NUMBERINGS.popitem(last=False)
+    else:
+        _NUMBERINGS.move_to_end(key)
+    return num
+
+
+def _layout_key(m: Mechanism):
+    lay = m.layout.parts.get(m.name) if m.layout is not None else None
+    if lay is None:
+        return None
+    idx = np.asarray(lay.node_q, int)
+    return idx.shape, idx.tobytes()
 
 
 def _param_blocks(parts: list, presc_joints: list, dim: int) -> ParamBlocks:

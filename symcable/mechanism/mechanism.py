@@ -251,6 +251,11 @@ class Start:
         messages: the continuation is named ``"continuation in <homotopy>"``
         (``"continuation in parameters"`` when ""); it moves every parameter along the
         straight path from ``p`` to the target. Default "".
+    exact : bool
+        ``(q, z)`` solves the equations at ``p`` (a nearby design's solution): when plain
+        Newton from it at the target fails, the continuation from ``p`` is tried at once,
+        before the starts after it (a path of small steps from an equilibrium, where a
+        relaxed start would cost a minimisation). Default False.
     """
 
     q: np.ndarray
@@ -258,6 +263,7 @@ class Start:
     p: np.ndarray
     source: str
     homotopy: str = ""
+    exact: bool = False
 
 
 @dataclass(frozen=True)

@@ -17,7 +17,11 @@ The structure is the scene with those numbers replaced by their sign (zero or no
 which terms a line builds) plus the choices the builder makes from numbers (which held end
 rests on the seabed): :func:`structure_key`. What the parameters do not carry stays in the
 key as it is (depth, water density, seabed stiffness and friction, motions, free points'
-masses, fixed and vessel bodies), so a scene that changes one of those builds afresh. Scenes
+masses, a fixed body's orientation, vessel bodies), so a scene that changes one of those
+builds afresh. A fixed body's position is not in the key: its lines' ends are held at its
+points through their parameters, and its outputs take its reference point from its first
+end (:func:`~symcable.models.body.body.body_outputs`), so load cases that move it (a
+prescribed offset) share one template. Scenes
 with bending (EI > 0), drag loading functions, free bodies or vessels moved by RAOs are not
 shared (their builders still read such numbers directly: a free body's scale is its longest
 line's length, an RAO vessel's motion is compiled from the sea, which the key reduces to its
@@ -33,7 +37,7 @@ from typing import Callable
 import numpy as np
 
 from ..mechanism.mechanism import Mechanism
-from ..scene import Model as ModelKind, Scene
+from ..scene import BodyEnd, BodyKind, Model as ModelKind, Scene
 from ..scene.one_line import line_scene
 from .common.seabed import seabed_numbers
 from .common.segments import segment_table
@@ -91,6 +95,9 @@ def structure_key(scene: Scene) -> str | None:
         _mask_sections(line.get("sections", []))
     for pt in d.get("points", {}).values():
         pt.pop("position", None)
+    for name, body in d.get("bodies", {}).items():  # a fixed body's: its line ends' numbers
+        if scene.bodies[name].kind is BodyKind.FIXED and _held_ends(scene, name):
+            body.pop("position", None)
     env = d.get("environment", {})
     if "current" in env:
         env["current"] = [_sign(u) for u in env["current"]]
@@ -99,6 +106,13 @@ def structure_key(scene: Scene) -> str | None:
         env["waves"] = (w.count, w.stretching)
     text = repr(sorted(d.items())) + repr(_choices(scene))
     return hashlib.sha256(text.encode()).hexdigest()
+
+
+def _held_ends(scene: Scene, body: str) -> bool:
+    """Whether a line end is on ``body`` (its outputs then take the body's position from
+    that end's, :func:`~symcable.models.body.body.body_outputs`)."""
+    return any(isinstance(e, BodyEnd) and e.body == body
+               for ln in scene.lines for e in (ln.end_a, ln.end_b))
 
 
 def _choices(scene: Scene) -> tuple:

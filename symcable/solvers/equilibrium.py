@@ -341,19 +341,24 @@ def solve_equilibrium(mech: Mechanism, p=None, *, tol: float | None = None,
             best = (res, start, path, why)
         return None
 
-    seen = []
+    seen, followed = [], set()
     for start in (mech.starts() if starts is None else starts):
         x0 = _x0(mech, start)
         seen.append((start, x0))
         res, packed = _fused(S, x0, p, tol, max_iter)
         eq = judge(start, "newton", res, 0, packed)
+        if eq is None and start.exact and continuation is not False \
+                and not np.array_equal(np.asarray(start.p, float), p):
+            followed.add(id(start))
+            eq = judge(start, f"continuation in {start.homotopy or 'parameters'}",
+                       *_cont(step, x0, np.asarray(start.p, float), p, opts, True, 0.25, 0.5))
         if eq is None:
             eq = judge(start, "damped newton", newton(step, x0, p, **opts))
         if eq is not None:
             return eq
     if continuation is not False:
         for start, path, attempt in _continuations(F, mech, p, tol, opts, step, seen,
-                                                   continuation):
+                                                   continuation, followed):
             eq = judge(start, path, *attempt())
             if eq is not None:
                 return eq
@@ -389,12 +394,14 @@ def _x0(mech, start) -> np.ndarray:
     return np.concatenate([np.asarray(start.q, float), np.asarray(start.z, float)])
 
 
-def _continuations(F, mech, p, tol, opts, step, seen, continuation):
+def _continuations(F, mech, p, tol, opts, step, seen, continuation, followed=()):
     """``(start, path, attempt)`` of the continuations, in the order :func:`solve_equilibrium`
-    documents, from the starts ``seen`` (start, x0); ``attempt() -> (result, steps)``."""
+    documents, from the starts ``seen`` (start, x0); ``attempt() -> (result, steps)``.
+    ``followed``: ids of the starts whose continuation from their own parameters was
+    already tried."""
     same = [np.array_equal(np.asarray(s.p, float), p) for s, _ in seen]
     for (start, x0), at_p in zip(seen, same):
-        if not at_p:
+        if not at_p and id(start) not in followed:
             p0 = np.asarray(start.p, float)
             yield (start, f"continuation in {start.homotopy or 'parameters'}",
                    lambda x0=x0, p0=p0: _cont(step, x0, p0, p, opts, True, 0.25, 0.5))

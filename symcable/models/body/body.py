@@ -293,8 +293,15 @@ def body_outputs(body: Body, out: dict, ends: list, pose=None) -> dict:
         new[f"{name}.roll_pitch_yaw"] = Output(rpy, "deg", name, "[roll, pitch, yaw]")
     elif not body.is_free:
         e = quaternion_rpy(body.orientation_deg)
-        new[f"{name}.position"] = Output(ca.DM(body.position), "m", name, "position of the "
-                                                                           "reference point")
+        # a fixed body's reference point from its first line end, held at the body point
+        # ``offset`` (a parameter of the line): the body's position is then a number of the
+        # parameters, not of the expressions (:mod:`symcable.models.structure`)
+        x = ca.DM(body.position)
+        if ends:
+            line, _, node, offset = ends[0]
+            x = out[f"{line}.positions"].expr[node, :].T \
+                - ca.DM(body.rotation @ np.asarray(offset, float))
+        new[f"{name}.position"] = Output(x, "m", name, "position of the reference point")
         new[f"{name}.orientation"] = Output(ca.DM(np.r_[e[3], e[:3]]), "1", name,
                                             "unit quaternion (e0, e1, e2, e3)")
         new[f"{name}.roll_pitch_yaw"] = Output(ca.DM(body.orientation_deg), "deg", name,

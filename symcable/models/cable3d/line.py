@@ -544,8 +544,9 @@ def _layout(owner: str, seg: dict, N: int, moving: list, bristle: bool) -> Layou
         states = StateNames(tuple(f"node{i}.bristle.{c}" for i in range(N + 1) for c in "xy"),
                             "m", 'seabed.friction_law = "bristle"',
                             'seabed.friction_law = "coulomb"')
+    index = _node_index(N, moving)
     return Layout(3, {owner: PartLayout(
-        "line", seg["s"], _node_index(N, moving), _node_index(N, moving),
+        "line", seg["s"], index, index.copy(),
         {i: name for i, name in ((0, "end_a"), (N, "end_b")) if i not in moving})}, states)
 
 
@@ -554,6 +555,5 @@ def _layout(owner: str, seg: dict, N: int, moving: list, bristle: bool) -> Layou
 def _node_index(N, moving) -> np.ndarray:
     """(N+1, 3) index of each node's coordinates in q (-1 for a held end)."""
     idx = -np.ones((N + 1, 3), dtype=int)
-    for k, i in enumerate(moving):
-        idx[i] = np.arange(3 * k, 3 * k + 3)
+    idx[np.asarray(moving, dtype=int)] = np.arange(3 * len(moving)).reshape(-1, 3)
     return idx

@@ -28,7 +28,7 @@ from ..solvers.floquet import floquet
 from ..solvers.options import Shooting
 from ..solvers.periodic_mech import solve_periodic_mech
 
-__all__ = ["solve_periodic_3d", "solve_periodic_3d_state", "sweep_periodic_3d"]
+__all__ = ["periodic_p", "solve_periodic_3d", "solve_periodic_3d_state", "sweep_periodic_3d"]
 
 
 def solve_periodic_3d(scene: Scene, method="collocation", *, codegen: bool | None = None,
@@ -48,6 +48,17 @@ def solve_periodic_3d(scene: Scene, method="collocation", *, codegen: bool | Non
     other ``floquet_*`` entries of :meth:`~symcable.solvers.floquet.Floquet.stats`.
     """
     return solve_periodic_3d_state(scene, method, codegen, stability, None, options)[0]
+
+
+def periodic_p(mech) -> np.ndarray:
+    """(n_p,) the parameters a periodic solve of ``mech`` runs with: its values with every
+    line's ``ramp`` (namespaced in a scene of several) at 0, the motion at full amplitude
+    from t = 0."""
+    p = np.array(mech.params.values, float)
+    for block in mech.params.names:
+        if block.split(".")[-1] == "ramp":
+            p[mech.params.slice(block)] = 0.0
+    return p
 
 
 def solve_periodic_3d_state(scene: Scene, method, codegen, stability, start, options) -> tuple:
@@ -94,11 +105,10 @@ def solve_periodic_3d_state(scene: Scene, method, codegen, stability, start, opt
     mech = dynamics_mechanism(scene, mech if scene.environment.waves is None
                               else cable3d_mechanism(scene))
     check_moves(scene, mech)
-    p = np.array(mech.params.values, float)
-    ramped = p.copy()  # the start's first period: the motion ramped in from rest
-    for block in mech.params.names:  # every line's "ramp" (namespaced in a scene of several)
+    p = periodic_p(mech)
+    ramped = np.array(mech.params.values, float)  # the start's first period: the motion
+    for block in mech.params.names:  # ramped in from rest (every line's "ramp")
         if block.split(".")[-1] == "ramp":
-            p[mech.params.slice(block)] = 0.0
             ramped[mech.params.slice(block)] = 1.0
     # the virtual machine by default: compiling a collocation system of a 10-segment line
     # took minutes, longer than the solve (a few seconds) it would speed up. If the solve

@@ -46,12 +46,13 @@ def breaking_loads(scene: Scene) -> np.ndarray:
             out += [float(sec.length), float(sec.line_type.weight)]
     return np.array(out)
 
-def parameter_slope(raw_at, base, mech, x0, name, value, step, rows=None):
+def parameter_slope(raw_at, base, mech, x0, name, value, step, rows=None, p_of=None):
     """dp/dtheta (n_p,) by a central difference of the Mechanism's numbers (one-sided where
     the scene refuses one side: an anchor on the seabed moved down), the breaking loads'
     slope alike (:func:`breaking_loads`), and the signed step; refusing a number that
     changes the structure or is compiled into the equations or into the outputs' entries
-    ``rows`` (default all)."""
+    ``rows`` (default all). ``p_of(m)``: the parameters of a built Mechanism m to
+    differentiate (default its ``static_p``; a periodic solve's for the periodic state)."""
     h = step * max(abs(value), 1.0)
     ps, why = {}, None
     for sign in (1.0, -1.0):
@@ -64,7 +65,7 @@ def parameter_slope(raw_at, base, mech, x0, name, value, step, rows=None):
                 or (m.n_q, m.n_z) != (mech.n_q, mech.n_z):
             raise SymcableError(f"parameter {name!r}: changing it changes the model's structure "
                                 "(which terms it builds), so it has no derivative here")
-        p = np.asarray(m.static_p, float)
+        p = np.asarray(m.static_p if p_of is None else p_of(m), float)
         if _compiled_in(m, mech, x0, p) or _outputs_differ(m, mech, x0, p, rows):
             raise SymcableError(f"parameter {name!r}: it is compiled into the equations or "
                                 "the outputs, not passed as a parameter (as the depth, the "
@@ -82,7 +83,7 @@ def parameter_slope(raw_at, base, mech, x0, name, value, step, rows=None):
         raise SymcableError(f"parameter {name!r}: the scene refuses it changed by {h:.3g} "
                             f"either way ({why})")
     sign = next(iter(ps))
-    base_p = np.concatenate([np.asarray(mech.static_p, float),
+    base_p = np.concatenate([np.asarray(mech.static_p if p_of is None else p_of(mech), float),
                              breaking_loads(load_scene(raw_at(value), base=base))])
     return (ps[sign] - base_p) / (sign * h), sign * h
 

@@ -42,6 +42,8 @@ from ..scene import Scene, load_scene
 from ..scene.load import _read_file
 from .cable3d_static import calm
 from .design_slopes import breaking_loads, parameter_slope, slopes_hold
+from .output_names import lines_of, requested_outputs
+from .periodic_sensitivity import periodic_sensitivity, split_statistic
 from .scene3d import scene_equilibrium
 
 __all__ = ["sensitivity", "design_sensitivity", "static_values", "breaking_loads",
@@ -50,19 +52,9 @@ __all__ = ["sensitivity", "design_sensitivity", "static_values", "breaking_loads
 #: the relative step of the central difference through the scene's arithmetic (module
 #: docstring)
 DEFAULT_STEP = 1e-6
-#: an anchor within this share of the depth above the seabed rests on it
-#: (``LINE.grounded_length``)
-BED_REACH = 0.01
 #: a derived magnitude below this share of the scene's force scale is taken as zero, where
 #: it has no derivative
 NO_MAGNITUDE = 1e-6
-#: derived outputs: name suffix -> (the end force they read, how: its magnitude, its
-#: magnitude over the end's breaking load, its vertical entry)
-_DERIVED = {"fairlead_tension": ("end_force_b", "norm"), "anchor_tension": ("end_force_a", "norm"),
-            "fairlead_utilisation": ("end_force_b", "ratio"),
-            "anchor_utilisation": ("end_force_a", "ratio"),
-            "anchor_uplift": ("end_force_a", "up"), "grounded_length": ("end_force_b", "ground"),
-            "horizontal_force": ("force", "horizontal")}
 
 
 def _raw(scene) -> tuple[dict, str | None]:
@@ -163,39 +155,6 @@ def grounded_length(lift: float, sections, slopes: bool = False):
     return value, -1.0 / w, d
 
 
-def _outputs(mech, names) -> list:
-    """[(name, output it reads, derived or None, entry or None)] of each requested output
-    (``"NAME[i]"``: that entry of a vector output alone)."""
-    if isinstance(names, str):
-        names = [names]
-    out = []
-    for name in names:
-        name = str(name)
-        m = re.fullmatch(r"(.+)\[(\d+)\]", name)
-        whole, entry = (m.group(1), int(m.group(2))) if m and m.group(1) in mech.outputs \
-            else (name, None)
-        head, _, tail = whole.rpartition(".")
-        source, how = _DERIVED.get(tail if head or "." not in whole else "", (None, None))
-        force = None if source is None else f"{head}.{source}" if head else source
-        if whole in mech.outputs:
-            size = int(mech.outputs[whole].expr.numel())
-            if entry is not None and entry >= size:
-                raise SymcableError(f"output {name!r}: {whole!r} has {size} entries")
-            out.append((name, whole, None, entry))
-        elif entry is None and force is not None and force in mech.outputs:
-            out.append((name, force, how, None))
-        else:
-            known = sorted(set(mech.outputs) | {
-                (f"{n.rpartition('.')[0]}." if "." in n else "") + k
-                for n in mech.outputs for k, (v, _) in _DERIVED.items()
-                if n == v or n.endswith("." + v)})
-            raise SymcableError(f"output {name!r}: unknown; the static state's outputs: "
-                                f"{', '.join(known)} (an entry of a vector one as NAME[i])")
-    if not out:
-        raise SymcableError("outputs: give at least one")
-    return out
-
-
 def _entries(mech, F, outs, y, dy=None, mbl=None, dmbl=None, lines=()):
     """Each requested output's entries: (names, units, values, rows of dy or None);
     ``mbl``, ``dmbl``: :func:`breaking_loads` and its slopes (n, n_par) for the derived
@@ -278,25 +237,6 @@ def _grounded(name, source, lines, lift, aux, dlift, daux):
     return value, dlift * d_lift + d_own.ravel() @ daux[a:b]
 
 
-def _lines(scene) -> list:
-    """[(line name, number of sections, whether end A is held on the seabed)]; a one-line
-    scene's line is named ""."""
-    depth = scene.environment.depth
-
-    def on_bed(position) -> bool:
-        return depth is not None and position is not None \
-            and float(position[-1]) <= -depth + BED_REACH * depth
-    if not scene.lines:
-        e = scene.end_a
-        return [("", len(scene.sections), e.condition.value != "free" and on_bed(e.position))]
-    out = []
-    for ln in scene.lines:
-        pt = scene.points.get(ln.end_a) if isinstance(ln.end_a, str) else None
-        out.append((ln.name, len(ln.sections), pt is not None and not pt.is_free
-                    and pt.motion is None and on_bed(pt.position)))
-    return out
-
-
 def _check_state(scene, mech, F, y) -> None:
     """The static solve's own check of a free point or body floated above the surface
     (:func:`~symcable.api.above_water.check_above_water`), on the state's outputs ``y``."""
@@ -326,8 +266,8 @@ def static_values(scene, outputs, *, tol: float | None = None, start=None) -> di
     F = functions(mech)
     y = np.asarray(F.outputs(eq.q, np.zeros(mech.n_v), eq.z, 0.0, eq.p), float).ravel()
     _check_state(s0, mech, F, y)
-    names, _, values, _ = _entries(mech, F, _outputs(mech, outputs), y, None,
-                                   breaking_loads(s0), None, _lines(s0))
+    names, _, values, _ = _entries(mech, F, requested_outputs(mech, outputs), y, None,
+                                   breaking_loads(s0), None, lines_of(s0))
     out = dict(zip(names, values))
     if start is not None:
         out["state"] = (np.asarray(eq.q, float), np.asarray(eq.z, float),
@@ -335,9 +275,11 @@ def static_values(scene, outputs, *, tol: float | None = None, start=None) -> di
     return out
 
 
-def sensitivity(scene, outputs, parameters, *, step: float = DEFAULT_STEP) -> Sensitivity:
-    """Exact derivatives of named outputs of ``scene``'s static state with respect to named
-    numbers of the scene (module docstring).
+def sensitivity(scene, outputs, parameters, *, step: float = DEFAULT_STEP,
+                harmonics: int = 10) -> Sensitivity:
+    """Exact derivatives of named outputs of ``scene``'s static state, or of statistics
+    over its periodic steady state, with respect to named numbers of the scene (module
+    docstring; :mod:`symcable.api.periodic_sensitivity`).
 
     Parameters
     ----------
@@ -358,12 +300,19 @@ def sensitivity(scene, outputs, parameters, *, step: float = DEFAULT_STEP) -> Se
         negative: the anchor lifted by that length's weight; smooth through the lift-off);
         ``"NAME.horizontal_force"``, the horizontal magnitude of a point's or body's
         ``force`` (the lines' restoring force on a body at an offset), N.
+        Periodic: any of these scalars (not the grounded length) followed by
+        ``.range``, ``.max``, ``.min`` or ``.mean``, its statistic over one period of the
+        steady state under the scene's harmonic motion (``"line0.fairlead_tension.range"``,
+        N), the state by harmonic balance; static and periodic outputs in separate calls.
     parameters : str or list of str
         Dotted paths of numbers in the scene file's layout: ``"line_types.chain.diameter"``,
         ``"lines[0].sections[0].length"``, ``"points.anchor0.position"`` (a list: each
         entry a parameter, ``"...position[0]"`` ...), ``"environment.current[0]"``.
     step : float
         The central difference's relative step through the scene's arithmetic.
+    harmonics : int
+        Periodic outputs: the harmonic balance's harmonics (default 10, the periodic
+        solve's).
 
     Returns
     -------
@@ -374,6 +323,17 @@ def sensitivity(scene, outputs, parameters, *, step: float = DEFAULT_STEP) -> Se
         raise SymcableError(f"step = {step!r}: must be a float in (0, 0.01)")
     raw, base = _raw(scene)
     pars = _expand(raw, parameters)
+    names = [outputs] if isinstance(outputs, str) else list(outputs)
+    periodic = [n for n in names if split_statistic(str(n))]
+    if periodic:
+        if len(periodic) != len(names):
+            raise SymcableError(f"outputs: {periodic[0]!r} is a periodic statistic and "
+                                f"{next(n for n in names if n not in periodic)!r} a static "
+                                "output: ask for them in two calls (two states)")
+        return periodic_sensitivity(raw, base, names, [n for n, _, _ in pars],
+                                    [v for _, _, v in pars],
+                                    [lambda v, parts=parts: _set(raw, parts, v)
+                                     for _, parts, _ in pars], step, harmonics)
     return design_sensitivity(raw, base, outputs, [n for n, _, _ in pars],
                               [v for _, _, v in pars],
                               [lambda v, parts=parts: _set(raw, parts, v) for _, parts, _ in pars],
@@ -400,7 +360,7 @@ def design_sensitivity(raw: dict, base, outputs, names, values, raw_at, step=DEF
         raise SymcableError(f"scene {s0.name!r}: sensitivities are of 3D scenes (model = "
                             "'cable3d', 'rod' or 'hybrid') for now")
     mech, eq = scene_equilibrium(calm(s0), start=start)
-    outs = _outputs(mech, outputs)
+    outs = requested_outputs(mech, outputs)
     F = functions(mech)
     x0 = np.concatenate([np.asarray(eq.q, float), np.asarray(eq.z, float)])
     p0 = np.asarray(eq.p, float)
@@ -440,7 +400,7 @@ def design_sensitivity(raw: dict, base, outputs, names, values, raw_at, step=DEF
     y = np.asarray(F.outputs(q, v0, z, 0.0, p0), float).ravel()
     _check_state(s0, mech, F, y)
     onames, units, ovalues, rows = _entries(mech, F, outs, y, dy, breaking_loads(s0), dmbl,
-                                            _lines(s0))
+                                            lines_of(s0))
     return Sensitivity(s0.name, tuple(onames), tuple(units), tuple(names),
                        np.array(ovalues), np.array(values, float), np.array(rows),
                        {"parameter_steps": steps, "slopes": slopes_all, "slopes_reused": reused,

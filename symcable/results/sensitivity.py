@@ -11,7 +11,8 @@ __all__ = ["Sensitivity"]
 
 @dataclass(frozen=True)
 class Sensitivity:
-    """d(outputs)/d(parameters) at a scene's static state.
+    """d(outputs)/d(parameters) at a scene's static state, or of statistics over its
+    periodic steady state (:mod:`symcable.api.periodic_sensitivity`).
 
     Attributes
     ----------
@@ -35,7 +36,9 @@ class Sensitivity:
         model's numbers, :func:`symcable.sensitivity`), ``residual_norm`` (N) of the state,
         ``wall_time`` (s), ``slopes`` (the model's numbers' slopes, (n_p + n_aux, n_par),
         for another load case of the design), ``slopes_reused`` (whether they were taken
-        from one) and ``state`` ((q, z) of the static state, a start for a nearby design).
+        from one) and ``state`` ((q, z, p) of the static state, a start for a nearby
+        design); periodic: ``period`` (s), ``harmonics`` and ``residual`` (the harmonic
+        balance's, scaled) instead of the state's.
     """
 
     scene_name: str
@@ -78,7 +81,11 @@ class Sensitivity:
 
     def summary(self) -> str:
         """A table: each output with its value and its derivative in each parameter."""
-        rows = [f"sensitivities of scene {self.scene_name!r} at its static state"]
+        period = self.stats.get("period")
+        where = "at its static state" if period is None else (
+            f"over its periodic steady state (period {float(period):g} s, harmonic balance "
+            f"of {self.stats.get('harmonics')} harmonics)")
+        rows = [f"sensitivities of scene {self.scene_name!r} {where}"]
         for i, (name, unit) in enumerate(zip(self.outputs, self.units)):
             rows.append(f"  {name} = {self.values[i]:.6g} {unit}")
             for j, par in enumerate(self.parameters):

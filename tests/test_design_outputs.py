@@ -203,3 +203,22 @@ def test_review_refusals_and_keys():
     sea = {"kind": "regular", "height": 4.0, "period": 10.0}
     assert structure_key(sc.load_scene(_spar(rao, sea, segments=4))) is None
     assert structure_key(sc.load_scene(mooring(BASE))) is not None
+
+
+def test_reused_slopes_are_checked_row_by_row():
+    """Slopes another load case took are reused when the scene's numbers, or the equations
+    and outputs they drive, move as the slopes predict; one block of one column off by
+    1e-5 (line2's numbers in the d2 column) moves line2's rows by 1e-5 of their own move,
+    which the row-by-row check refuses (a check against the largest row's move would take
+    it: the grounded length's derivative then came out 50 % off)."""
+    from symcable.api.cable3d_static import cable3d_mechanism
+    first = sens((40.0, 0.0))
+    again = sens((40.0, 0.0), reuse=first.stats["slopes"])
+    assert again.stats["slopes_reused"]
+    dP = np.array(first.stats["slopes"], float)
+    mech = cable3d_mechanism(sc.load_scene(mooring(BASE, (40.0, 0.0))))
+    dP[mech.params.slice("line2.line"), NAMES.index("d2")] *= 1.0 + 1e-5
+    off = sens((40.0, 0.0), reuse=dP)
+    assert not off.stats["slopes_reused"]
+    np.testing.assert_allclose(off.jacobian, first.jacobian, rtol=0, atol=1e-12 * np.max(
+        np.abs(first.jacobian)))

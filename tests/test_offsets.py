@@ -149,3 +149,26 @@ def test_no_casadi_notice_and_round_off_drawn_flat(tmp_path):
     assert hi - lo >= 1e-3 * np.max(np.abs(res.force[:, :3])) / 1e3  # kN
     lo, hi = mx.get_ylim()
     assert hi - lo >= 1e-3 * np.max(np.abs(res.force[:, 3:])) / 1e6  # MN m
+
+
+def test_a_sweep_of_one_held_scene_then_another_of_its_structure():
+    """Two scenes whose fixed spar sits at other positions (or whose chains are longer)
+    share one structure (the body's position and the lines' numbers are parameters); a
+    sweep of the second after the first is the second's, not the first's built-in pose:
+    its line force at zero offset equals the second scene's static body force and moment
+    (to 1e-7 of the force, the solves' tolerance)."""
+    import copy
+    d = _moored(6)
+    d["bodies"]["spar"] = {"kind": "fixed", "position": [0.0, 0.0, -30.0]}
+    moved = copy.deepcopy(d)
+    moved["bodies"]["spar"]["position"] = [8.0, 0.0, -30.0]
+    longer = copy.deepcopy(d)
+    for ln in longer["lines"]:
+        ln["sections"][0]["length"] += 5.0
+    zero = np.zeros((1, 6))
+    sc.offset_sweep(d, "spar", zero, codegen=False)
+    for other in (moved, longer):
+        r = sc.offset_sweep(other, "spar", zero, codegen=False)
+        st = sc.solve_static(other, codegen=False, estimate=False)
+        ref = np.r_[st.bodies["spar"].force, st.bodies["spar"].moment]
+        np.testing.assert_allclose(r.line_force[0], ref, atol=1e-7 * np.max(np.abs(ref)))

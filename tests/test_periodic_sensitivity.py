@@ -67,8 +67,10 @@ def test_derivatives_equal_central_differences_of_periodic_solves(exact):
 
 
 def test_periodic_refusals():
-    """Mixed static and periodic outputs, the grounded length over a period, a motion's
-    amplitude (compiled in), a scene in waves and harmonics below one: one line each."""
+    """Mixed static and periodic outputs, the grounded length over a period, a vector
+    output without its entry, a motion's amplitude or period (compiled in), a free point's
+    drag area (compiled into the drag, which a check at rest does not see), a scene in
+    waves and harmonics below one: one line each."""
     with pytest.raises(SymcableError, match="two calls"):
         sc.sensitivity(LINE, ["fairlead_tension.range", "fairlead_tension"], PARS[0])
     with pytest.raises(SymcableError, match="harmonics"):
@@ -80,8 +82,37 @@ def test_periodic_refusals():
     with pytest.raises(SymcableError, match="compiled into"):
         sc.sensitivity(LINE, ["fairlead_tension.range"], ["end_b.motion.amplitude[0]"],
                        harmonics=H)
+    with pytest.raises(SymcableError, match="has 33 entries"):
+        sc.sensitivity(LINE, ["positions.mean"], PARS[0], harmonics=H)
+    phased = copy.deepcopy(LINE)  # (in phase, the motion at t = 0 does not see its period)
+    phased["end_b"]["motion"]["phase_deg"] = [0.0, 0.0, 0.0]
+    with pytest.raises(SymcableError, match="compiled into"):
+        sc.sensitivity(phased, ["fairlead_tension.range"], ["end_b.motion.period"],
+                       harmonics=H)
     on_bed = copy.deepcopy(LINE)
     on_bed["environment"]["depth"] = 180.0
     on_bed["seabed"] = {"stiffness": 1e5}
     with pytest.raises(SymcableError, match="grounded length is a static balance"):
         sc.sensitivity(on_bed, ["grounded_length.max"], PARS[0], harmonics=H)
+
+
+def test_a_number_compiled_into_the_motion_s_terms_is_refused():
+    """A free clump's drag area and added mass are compiled into its part's equations and
+    act only in motion (no current): the check on the equations of motion at samples of the
+    periodic state refuses them, where one at rest would take them as parameters of slope
+    zero."""
+    d = {"model": "cable3d", "environment": {"depth": 150.0},
+         "line_types": {"chain": {"EA": 3.8e8, "mass": 77.7, "diameter": 0.09}},
+         "points": {"anchor": {"kind": "fixed", "position": [-200.0, 0.0, -150.0]},
+                    "clump": {"kind": "free", "position": [-100.0, 0.0, -110.0],
+                              "mass": 3000.0, "volume": 0.5, "cd_area": [8.0, 8.0, 8.0],
+                              "ca": 1.0},
+                    "fair": {"kind": "vessel", "position": [0.0, 0.0, -10.0],
+                             "motion": dict(MOTION)}},
+         "lines": [{"name": "lower", "end_a": "anchor", "end_b": "clump",
+                    "sections": [{"type": "chain", "length": 120.0, "segments": 4}]},
+                   {"name": "upper", "end_a": "clump", "end_b": "fair",
+                    "sections": [{"type": "chain", "length": 150.0, "segments": 4}]}]}
+    with pytest.raises(SymcableError, match="compiled into"):
+        sc.sensitivity(d, ["upper.fairlead_tension.range"], ["points.clump.cd_area[0]"],
+                       harmonics=4)

@@ -147,36 +147,35 @@ def static_equilibrium(scene: Scene, *, tol: float | None = None, max_iter: int 
 def transferred_state(scene: Scene, near: Scene, sol) -> tuple | None:
     """``(q, z)`` of ``scene``'s Mechanism from ``sol``, the static solution of ``near``, a
     scene of the same lines, points and bodies with other segment counts or numbers (an
-    error estimate's half-segment or stiffer-bed scene): each line's nodes interpolated
-    along its unstretched arc length from the solution's, every other part's coordinates
-    and named states copied where their shapes agree (zeros elsewhere), z zero. A start for
-    :func:`static_equilibrium`, or None when ``sol`` has no unknowns or the parts differ."""
+    error estimate's half-segment or refined scene): each line's nodes interpolated along
+    its unstretched arc length from the solution's (a free point is a line's end node), a
+    free body's pose from the solution's, z zero and other first-order states zero. Read
+    from the solution alone (``near``'s Mechanism, which a long line's estimate releases, is
+    not built again). A start for :func:`static_equilibrium`, or None when ``sol`` has no
+    state or names other lines."""
     if getattr(sol, "unknowns", None) is None:
         return None
-    src, dst = cable3d_mechanism(calm(near)), cable3d_mechanism(calm(scene))
-    q_src = np.asarray(sol.unknowns, float)
-    if q_src.size != src.n_q or set(dst.layout.parts) != set(src.layout.parts):
-        return None
+    dst = cable3d_mechanism(calm(scene))
     lines = getattr(sol, "lines", None)
+    bodies = getattr(sol, "bodies", None) or {}
     q = np.zeros(dst.n_q)
     for name, part in dst.layout.parts.items():
-        old, idx = src.layout.parts[name], np.asarray(part.node_q, int)
+        idx = np.asarray(part.node_q, int)
         free = idx >= 0
         if part.kind == "line":
-            line = lines[name] if lines is not None else sol
+            line = sol if lines is None else lines.get(name)
+            if line is None:
+                return None
             s_old, pos = np.asarray(line.s, float), np.asarray(line.positions, float)
             s_new = np.asarray(part.s, float) * (s_old[-1] / part.s[-1])
             moved = np.column_stack([np.interp(s_new, s_old, pos[:, k]) for k in range(3)])
             q[idx[free]] = moved[free]
-        elif np.shape(old.node_q) == idx.shape:
-            src_idx = np.asarray(old.node_q, int)
-            both = free & (src_idx >= 0)
-            q[idx[both]] = q_src[src_idx[both]]
-    if dst.layout.states is not None and src.layout.states is not None:
-        where = {n: i for i, n in enumerate(src.layout.states.names)}
-        for i, n in enumerate(dst.layout.states.names):
-            if n in where:
-                q[dst.n_v + i] = q_src[src.n_v + where[n]]
+        elif part.kind == "body" and name in bodies and idx.shape == (2, 3):
+            e = np.ravel(bodies[name].orientation)  # (e0, e1, e2, e3)
+            q[idx[0][free[0]]] = np.ravel(bodies[name].position)[free[0]]
+            q[idx[1][free[1]]] = e[1:][free[1]]
+            if dst.layout.states is not None and f"{name}.e0" in dst.layout.states.names:
+                q[dst.n_v + dst.layout.states.names.index(f"{name}.e0")] = e[0]
     return q, np.zeros(dst.n_z)
 
 

@@ -46,6 +46,9 @@ from ..solvers.equilibrium import solve_equilibrium
 
 __all__ = ["ABOUT", "offset_sweep", "offsets_along"]
 
+#: held scenes whose sweep Functions are kept on their structure's Functions
+SWEEPS_KEPT = 4
+
 #: what the offsets are taken from
 ABOUT = ("equilibrium", "scene")
 
@@ -357,15 +360,20 @@ def offset_sweep(scene, body: str, offsets, *, about: str = "equilibrium",
         raise SceneError(f"body = {body!r}: no line is attached to it: nothing restores it")
     F = functions(mech)
     S = F.static_solver(codegen)
-    # built once per held scene (its Mechanism is cached by content, pose included)
+    # built once per held scene: F is its structure's (shared by scenes of other numbers,
+    # a fixed body's pose among them), so the key holds every number built in (the pose,
+    # the body's own numbers, the base parameters)
     cache = F.__dict__.setdefault("_offset_sweep", {})
-    if body not in cache:
+    key = (body, repr(b), pos.tobytes(), rpy.tobytes(), np.asarray(eq.p, float).tobytes())
+    if key not in cache:
         pose_p = _pose_params(mech, eq.p, pos, R0, ends)
         own = _own_loads(scene, b, pos, rpy)
-        cache[body] = {"pose_p": pose_p, "own": own, "weights": _line_loads(held),
-                       "tangents": _tangents(mech, F.static_solver(False), body, pose_p, own,
-                                             pos)}
-    funcs = cache[body]
+        while len(cache) >= SWEEPS_KEPT:
+            cache.pop(next(iter(cache)))
+        cache[key] = {"pose_p": pose_p, "own": own, "weights": _line_loads(held),
+                      "tangents": _tangents(mech, F.static_solver(False), body, pose_p, own,
+                                            pos)}
+    funcs = cache[key]
     pose_p, own = funcs["pose_p"], funcs["own"]
     x_base = np.concatenate([eq.q, eq.z])
     n, n_x = len(off), len(x_base)

@@ -147,7 +147,7 @@ class _Problem:
         self.cache: dict = {}
         self.solves = 0
         self.history: list = []
-        #: each case's last static state (q, z): the next design's solves start from it
+        #: each case's last static state (q, z, p): the next design's solves start from it
         self.state: dict = {}
         self.warm = True
 

@@ -8,11 +8,14 @@ import re
 
 from ..errors import SymcableError
 
-__all__ = ["BED_REACH", "DERIVED", "lines_of", "requested_outputs"]
+__all__ = ["BED_REACH", "DERIVED", "NO_MAGNITUDE", "lines_of", "requested_outputs"]
 
 #: an anchor within this share of the depth above the seabed rests on it
 #: (``LINE.grounded_length``)
 BED_REACH = 0.01
+#: a derived magnitude below this share of the scene's force scale is taken as zero, where
+#: it has no derivative
+NO_MAGNITUDE = 1e-6
 #: derived outputs: name suffix -> (the end force they read, how: its magnitude, its
 #: magnitude over the end's breaking load, its vertical entry)
 DERIVED = {"fairlead_tension": ("end_force_b", "norm"), "anchor_tension": ("end_force_a", "norm"),

@@ -40,11 +40,11 @@ from ..mechanism.functions import functions
 from ..results.sensitivity import Sensitivity
 from ..scene import load_scene
 from ..solvers.hbalance_mech import _d1, default_samples, hb_system
-from ..solvers.periodic_common import start_from_samples
+from ..solvers.periodic_common import spectral_derivative, start_from_samples
 from .cable3d import _period
 from .cable3d_periodic import periodic_p, solve_periodic_3d_state
-from .design_slopes import breaking_loads, parameter_slope
-from .output_names import lines_of, requested_outputs
+from .design_slopes import COMPILED_IN, breaking_loads, parameter_slope
+from .output_names import NO_MAGNITUDE, lines_of, requested_outputs
 from .scene3d import dynamics_mechanism, scene_mechanism
 
 __all__ = ["STATISTICS", "periodic_sensitivity", "split_statistic"]
@@ -92,6 +92,8 @@ def _series(mech, hbs, H: int, outs, sl) -> ca.Function:
             rows.append(block[2])
         elif how == "horizontal":
             rows.append(ca.norm_2(block[:2]))
+        elif how is None:  # a scalar output (requested_outputs' check in the caller)
+            rows.append(block[0])
         else:  # "norm", "ratio" (its breaking load applied outside)
             rows.append(ca.norm_2(block))
     return ca.Function("periodic_series", [w, P, t], [ca.vertcat(*rows)])
@@ -145,16 +147,49 @@ def _balanced(s0, mech, per, H: int):
     return hbs, np.asarray(sol["w"], float).ravel(), P, float(sol["residual"])
 
 
+def _in_motion(per, samples: int = 4):
+    """``differs(m, mech, p)`` for :func:`~symcable.api.design_slopes.parameter_slope`:
+    whether two Mechanisms' equations of motion (M a - f, g) or outputs differ at a few
+    times of the periodic state ``per`` (a number compiled into the drag, the added mass,
+    the seabed's damping or a motion, which the static checks at rest do not see)."""
+    a = spectral_derivative(np.asarray(per.v, float), float(per.period))
+    ks = np.linspace(0, len(per.time), samples, endpoint=False).astype(int)
+
+    def differs(m, mech, p) -> bool:
+        if m is mech or (m.functions_of or m) is (mech.functions_of or mech):
+            return False
+        Fm, F0 = functions(m), functions(mech)
+        for k in ks:
+            args = (per.q[k], per.v[k], a[k], per.z[k], per.time[k], p)
+            for x, y in zip(Fm.acc_residual(*args), F0.acc_residual(*args)):
+                if np.max(np.abs(np.asarray(x, float) - np.asarray(y, float)),
+                          initial=0.0) > COMPILED_IN * float(mech.scales.force):
+                    return True
+            y_m = np.asarray(Fm.outputs(*args[:2], *args[3:]), float).ravel()
+            y_0 = np.asarray(F0.outputs(*args[:2], *args[3:]), float).ravel()
+            if y_m.shape != y_0.shape or np.any(np.abs(y_m - y_0) > COMPILED_IN * (
+                    np.abs(y_m) + np.abs(y_0)) + 1e-15 * np.max(np.abs(y_0), initial=0.0)):
+                return True
+        return False
+    return differs
+
+
 def _slopes(base, mech, per, names, values, raw_at, step) -> tuple:
-    """``(dP (1 + n_p + aux, n_par), steps)``: the period's and the periodic solve's
-    parameters' slopes through the scene's arithmetic, then the breaking loads' (aux)."""
+    """``(dP (1 + n_p + aux, n_par), steps)``: the period's slope (zero: a number that
+    moves the motion's period is refused, the period being compiled into the motion) and
+    the periodic solve's parameters' slopes through the scene's arithmetic, then the
+    breaking loads' (aux)."""
     x0 = np.concatenate([per.q[0], per.z[0]])
+    differs = _in_motion(per)
     slopes, steps = [], []
     for name, value, at in zip(names, values, raw_at):
         dp, h = parameter_slope(at, base, mech, x0, name, float(value), step, None,
-                                p_of=periodic_p)
-        periods = [_period(load_scene(at(float(value) + s * h), base=base)) for s in (1, -1)]
-        slopes.append(np.concatenate([[(periods[0] - periods[1]) / (2 * h)], dp]))
+                                p_of=periodic_p, differs=differs)
+        if _period(load_scene(at(float(value) + h), base=base)) != float(per.period):
+            raise SymcableError(f"parameter {name!r}: it moves the motion's period, which is "
+                                "compiled into the equations, so it has no exact derivative "
+                                "yet")
+        slopes.append(np.concatenate([[0.0], dp]))
         steps.append(h)
     return np.column_stack(slopes), steps
 
@@ -223,17 +258,21 @@ def periodic_sensitivity(raw: dict, base, outputs, names, values, raw_at, step,
     started = time.perf_counter()
     s0 = load_scene(raw, base=base)
     wanted = _checked(s0, outputs, harmonics)
-    _, per = solve_periodic_3d_state(s0, "shooting", None, False, None, {})
     mech = dynamics_mechanism(s0, scene_mechanism(s0))
     if mech.kinematics is not None:
         raise SymcableError(f"scene {s0.name!r}: periodic sensitivities need a Mechanism "
-                            "without first-order states (seabed.friction_law = 'bristle' "
-                            "adds them; 'coulomb' models the same without)")
+                            "without first-order states (a free body's quaternion, a "
+                            "seabed.friction_law = 'bristle' add them): not built yet")
     outs = requested_outputs(mech, [o for o, _ in wanted])
-    for (name, _, how, _), (_, stat) in zip(outs, wanted):
+    for (name, source, how, entry), (_, stat) in zip(outs, wanted):
         if how == "ground":
             raise SymcableError(f"output {name}.{stat!r}: the grounded length is a static "
                                 "balance; over a period, ask for the anchor's uplift")
+        if how is None and entry is None and int(mech.outputs[source].expr.numel()) != 1:
+            raise SymcableError(f"output {name}.{stat!r}: {name!r} has "
+                                f"{int(mech.outputs[source].expr.numel())} entries: a "
+                                f"statistic is of one, {name}[i]")
+    _, per = solve_periodic_3d_state(s0, "shooting", None, False, None, {})
     hbs, w, P, residual = _balanced(s0, mech, per, harmonics)
     dP, steps = _slopes(base, mech, per, names, values, raw_at, step)
     dPp, daux = dP[:P.size], dP[P.size:]
@@ -246,6 +285,11 @@ def periodic_sensitivity(raw: dict, base, outputs, names, values, raw_at, step,
     names_out, units, vals, rows = [], [], [], []
     for i, ((name, source, how, _), (_, stat)) in enumerate(zip(outs, wanted)):
         value, row = _statistic(i, stat, f, df, w, P, dw, dPp, grid, Y)
+        if how in ("norm", "ratio", "horizontal") and stat in ("min", "range") and \
+                not np.min(Y[i]) > NO_MAGNITUDE * float(mech.scales.force):
+            raise SymcableError(f"output {name}.{stat!r}: the magnitude falls to "
+                                f"{np.min(Y[i]):.3g} N over the period: at zero it has no "
+                                "derivative (a direction's entry, NAME[i], has)")
         if how == "ratio":  # over the end section's breaking load, its slope included
             line = source.rpartition(".")[0]
             k = 2 * ([n[0] for n in lines].index(line) if line else 0) + source.endswith("_b")

@@ -42,7 +42,7 @@ from ..scene import Scene, load_scene
 from ..scene.load import _read_file
 from .cable3d_static import calm
 from .design_slopes import breaking_loads, parameter_slope, slopes_hold
-from .output_names import lines_of, requested_outputs
+from .output_names import NO_MAGNITUDE, lines_of, requested_outputs
 from .periodic_sensitivity import periodic_sensitivity, split_statistic
 from .scene3d import scene_equilibrium
 
@@ -52,9 +52,6 @@ __all__ = ["sensitivity", "design_sensitivity", "static_values", "breaking_loads
 #: the relative step of the central difference through the scene's arithmetic (module
 #: docstring)
 DEFAULT_STEP = 1e-6
-#: a derived magnitude below this share of the scene's force scale is taken as zero, where
-#: it has no derivative
-NO_MAGNITUDE = 1e-6
 
 
 def _raw(scene) -> tuple[dict, str | None]:

@@ -133,10 +133,12 @@ def to_csc(M: ca.DM):
     sp = M.sparsity()
     key = (sp.hash(), sp.size1(), sp.size2(), sp.nnz())
     pattern = _PATTERNS.get(key)
-    if pattern is None:
+    if pattern is None or not pattern[0].is_equal(sp):  # (a hash is no proof)
         if len(_PATTERNS) > 64:
             _PATTERNS.clear()
         colind, row = sp.get_ccs()
-        pattern = _PATTERNS[key] = (np.asarray(row, np.int32), np.asarray(colind, np.int32))
+        pattern = _PATTERNS[key] = (ca.Sparsity(sp), np.asarray(row, np.int32),
+                                    np.asarray(colind, np.int32))
     values = np.fromiter(M.nonzeros(), float, count=sp.nnz())
-    return csc_matrix((values, pattern[0], pattern[1]), shape=M.shape)
+    # (the index arrays copied: a caller pruning its matrix must not edit the kept pattern)
+    return csc_matrix((values, pattern[1].copy(), pattern[2].copy()), shape=M.shape)

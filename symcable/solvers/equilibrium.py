@@ -245,7 +245,8 @@ def solve_equilibrium(mech: Mechanism, p=None, *, tol: float | None = None,
 
     Attempts, until one passes the checks: from each start in turn, plain Newton fused into
     one call (``"newton"``) and Newton with a line search (``"damped newton"``), both at
-    ``p``; then from the starts tried, continuation from a start's own parameters when they
+    ``p`` (between them, for a start that is an equilibrium at its own parameters,
+    ``Start.exact``, the continuation from those to ``p``); then from the starts tried, continuation from a start's own parameters when they
     differ from ``p`` (``"continuation in <its homotopy>"``), in the block ``continuation``
     when one is named, and pseudo-transient continuation (``"pseudo-transient
     continuation"``, from starts at ``p``).

@@ -314,7 +314,7 @@ def test_an_error_estimates_solve_starts_from_the_answer_and_lands_where_a_cold_
     scene = sc.load_scene(make())
     sol = sc.solve_static(scene, estimate=False)
     half = scaled_segments(scene, {k: 0.5 for k in line_segments(scene)})
-    q, z = transferred_state(half, scene, sol)
+    q, z = transferred_state(half, sol)
     mech = cable3d_mechanism(half)
     for name, line in sol.lines.items():  # a node at a shared arc length sits where it was
         idx = np.asarray(mech.layout.parts[name].node_q, int)

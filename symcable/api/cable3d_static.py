@@ -144,13 +144,13 @@ def static_equilibrium(scene: Scene, *, tol: float | None = None, max_iter: int 
     return mech, eq
 
 
-def transferred_state(scene: Scene, near: Scene, sol) -> tuple | None:
-    """``(q, z)`` of ``scene``'s Mechanism from ``sol``, the static solution of ``near``, a
-    scene of the same lines, points and bodies with other segment counts or numbers (an
+def transferred_state(scene: Scene, sol) -> tuple | None:
+    """``(q, z)`` of ``scene``'s Mechanism from ``sol``, the static solution of a scene of
+    the same lines, points and bodies with other segment counts or numbers (an
     error estimate's half-segment or refined scene): each line's nodes interpolated along
     its unstretched arc length from the solution's (a free point is a line's end node), a
     free body's pose from the solution's, z zero and other first-order states zero. Read
-    from the solution alone (``near``'s Mechanism, which a long line's estimate releases, is
+    from the solution alone (that scene's Mechanism, which a long line's estimate releases, is
     not built again). A start for :func:`static_equilibrium`, or None when ``sol`` has no
     state or names other lines."""
     if getattr(sol, "unknowns", None) is None:
@@ -249,7 +249,7 @@ def solve_static_3d(scene: Scene, *, tol: float | None = None, max_iter: int = 5
     of a scene like it (other segment counts or numbers), whose state, carried over by
     :func:`transferred_state`, is tried first."""
     scene = calm(scene)
-    start = None if near is None else transferred_state(scene, *near)
+    start = None if near is None else transferred_state(scene, near[1])
     if scene.version == 2:
         return _solve_system(scene, tol=tol, max_iter=max_iter, continuation=continuation,
                              codegen=codegen, start=start)

@@ -16,7 +16,8 @@ from ..scene import Scene, load_scene
 from .cable3d_static import calm
 from .scene3d import scene_mechanism
 
-__all__ = ["AUX_STEP", "COMPILED_IN", "breaking_loads", "parameter_slope", "slopes_hold"]
+__all__ = ["AUX_STEP", "COMPILED_IN", "breaking_loads", "outputs_differ", "parameter_slope",
+           "slopes_hold"]
 
 #: the largest difference (relative to the force scale) between the base Mechanism's
 #: residual and a perturbed scene's own at the same state and parameters: above it the
@@ -69,7 +70,7 @@ def parameter_slope(raw_at, base, mech, x0, name, value, step, rows=None, p_of=N
             raise SymcableError(f"parameter {name!r}: changing it changes the model's structure "
                                 "(which terms it builds), so it has no derivative here")
         p = np.asarray(m.static_p if p_of is None else p_of(m), float)
-        if _compiled_in(m, mech, x0, p) or _outputs_differ(m, mech, x0, p, rows) \
+        if _compiled_in(m, mech, x0, p) or outputs_differ(m, mech, x0, p, rows) \
                 or (differs is not None and differs(m, mech, p)):
             raise SymcableError(f"parameter {name!r}: it is compiled into the equations or "
                                 "the outputs, not passed as a parameter (as the depth, the "
@@ -104,15 +105,16 @@ def _compiled_in(m, mech, x0, p) -> bool:
                 > COMPILED_IN * float(mech.scales.force))
 
 
-def _outputs_differ(m, mech, x0, p, rows=None) -> bool:
+def outputs_differ(m, mech, x0, p, rows=None, v=None, t: float = 0.0) -> bool:
     """Whether two Mechanisms' outputs (their entries ``rows``, default all) differ at one
-    state and one parameter vector (a number compiled into an output, as a free body's
-    own numbers into its net force)."""
+    state x0 = (q, z) (velocities ``v``, default rest; time ``t``) and one parameter vector
+    (a number compiled into an output, as a free body's own numbers into its net force)."""
     if m is mech or (m.functions_of or m) is (mech.functions_of or mech):
         return False
-    q, z, v = x0[:mech.n_q], x0[mech.n_q:], np.zeros(mech.n_v)
-    a = np.asarray(functions(m).outputs(q, v, z, 0.0, p), float).ravel()
-    b = np.asarray(functions(mech).outputs(q, v, z, 0.0, p), float).ravel()
+    q, z = x0[:mech.n_q], x0[mech.n_q:]
+    v = np.zeros(mech.n_v) if v is None else v
+    a = np.asarray(functions(m).outputs(q, v, z, t, p), float).ravel()
+    b = np.asarray(functions(mech).outputs(q, v, z, t, p), float).ravel()
     if a.shape != b.shape:
         return True
     if rows is not None:

@@ -43,7 +43,7 @@ from ..solvers.hbalance_mech import _d1, default_samples, hb_system
 from ..solvers.periodic_common import spectral_derivative, start_from_samples
 from .cable3d import _period
 from .cable3d_periodic import periodic_p, solve_periodic_3d_state
-from .design_slopes import COMPILED_IN, breaking_loads, parameter_slope
+from .design_slopes import COMPILED_IN, breaking_loads, outputs_differ, parameter_slope
 from .output_names import NO_MAGNITUDE, lines_of, requested_outputs
 from .scene3d import dynamics_mechanism, scene_mechanism
 
@@ -165,10 +165,8 @@ def _in_motion(per, samples: int = 4):
                 if np.max(np.abs(np.asarray(x, float) - np.asarray(y, float)),
                           initial=0.0) > COMPILED_IN * float(mech.scales.force):
                     return True
-            y_m = np.asarray(Fm.outputs(*args[:2], *args[3:]), float).ravel()
-            y_0 = np.asarray(F0.outputs(*args[:2], *args[3:]), float).ravel()
-            if y_m.shape != y_0.shape or np.any(np.abs(y_m - y_0) > COMPILED_IN * (
-                    np.abs(y_m) + np.abs(y_0)) + 1e-15 * np.max(np.abs(y_0), initial=0.0)):
+            if outputs_differ(m, mech, np.concatenate([per.q[k], per.z[k]]), p,
+                              v=per.v[k], t=per.time[k]):
                 return True
         return False
     return differs
